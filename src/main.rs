@@ -1,3 +1,192 @@
-fn main() {
-    println!("bondmech");
+//! The `bondmech` command line: a thin layer over the library.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use bondmech::{Error, FormulationKind, Model, Scene, SolveOptions};
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "bondmech", version, about = "Mechanisms as bond graphs, solved with SUNDIALS (IDA DAE / CVODE decoupled twin)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Clone)]
+struct SolveArgs {
+    /// Scene file (JSON, see docs/scene-format).
+    scene: PathBuf,
+    /// dae (GGL, IDA), compliant_ggl, or decoupled (stiff springs, CVODE).
+    #[arg(long)]
+    formulation: Option<String>,
+    /// Relative tolerance.
+    #[arg(long)]
+    rtol: Option<f64>,
+    /// Absolute tolerance.
+    #[arg(long)]
+    atol: Option<f64>,
+    /// End time (s).
+    #[arg(long = "t-end")]
+    t_end: Option<f64>,
+    /// Joint stiffness of the decoupled twin (N/m).
+    #[arg(long = "joint-stiffness")]
+    joint_stiffness: Option<f64>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a scene and write its trajectory as CSV.
+    Run {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// CSV output file (default: standard output).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Write the solver summary as JSON to this file.
+        #[arg(long)]
+        summary: Option<PathBuf>,
+        /// Print a short table instead of the CSV on standard output.
+        #[arg(long)]
+        table: bool,
+    },
+    /// Solve the DAE (IDA) and the decoupled twin (CVODE) side by side.
+    Compare {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// Write the comparison as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let msg = e.to_string().replace('\n', "; ");
+            eprintln!("bondmech: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
+    let scene = Scene::from_path(&args.scene)?;
+    let model = Model::new(&scene)?;
+    for w in model.warnings() {
+        eprintln!("bondmech: warning: {w}");
+    }
+    let mut opts = model.default_options();
+    if let Some(f) = &args.formulation {
+        opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
+            Error::Options(format!(
+                "--formulation: unknown '{f}' (expected dae, ggl, compliant_ggl or decoupled)"
+            ))
+        })?;
+    }
+    if let Some(r) = args.rtol {
+        opts.rtol = r;
+    }
+    if let Some(a) = args.atol {
+        opts.atol = a;
+    }
+    if let Some(k) = args.joint_stiffness {
+        if !(k > 0.0 && k.is_finite()) {
+            return Err(Error::Options(format!(
+                "--joint-stiffness: must be > 0 (got {k})"
+            )));
+        }
+        opts.joint_stiffness = k;
+    }
+    if let Some(t) = args.t_end {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
+        }
+        let step = scene
+            .solve
+            .output_step
+            .unwrap_or(t / 100.0)
+            .min(t);
+        opts.output_times = SolveOptions::times(t, step);
+    }
+    Ok((model, opts))
+}
+
+fn write(path: &Path, text: &str) -> Result<(), Error> {
+    std::fs::write(path, text).map_err(|source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    })
+}
+
+fn run(cli: Cli) -> Result<(), Error> {
+    match cli.command {
+        Command::Run {
+            args,
+            out,
+            summary,
+            table,
+        } => {
+            let (model, opts) = load(&args)?;
+            let sol = model.solve(&opts)?;
+            let csv = sol.to_csv();
+            match &out {
+                Some(p) => write(p, &csv)?,
+                None if !table => print!("{csv}"),
+                None => {}
+            }
+            if table {
+                print!("{}", short_table(&sol, 11));
+                let s = &sol.summary;
+                println!(
+                    "{}: {} steps, {} residual evals, {} Jacobians, CPU {:.3e} s, max constraint error {:.2e}, energy drift {:.2e}",
+                    s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
+                    s.max_constraint_error, s.energy_drift
+                );
+            }
+            if let Some(p) = &summary {
+                let j = serde_json::to_string_pretty(&sol.summary).expect("summary serialises");
+                write(p, &j)?;
+            }
+            Ok(())
+        }
+        Command::Compare { args, json } => {
+            let (model, opts) = load(&args)?;
+            let (cmp, _, _) = model.compare(&opts)?;
+            print!("{}", cmp.table());
+            if let Some(p) = &json {
+                let j = serde_json::to_string_pretty(&cmp).expect("comparison serialises");
+                write(p, &j)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// About `rows` evenly spaced rows of the first few columns.
+fn short_table(sol: &bondmech::Solution, rows: usize) -> String {
+    let cols: Vec<usize> = (0..sol.columns.len().min(6)).collect();
+    let mut s = format!("{:>8}", "t");
+    for &c in &cols {
+        s.push_str(&format!(" {:>14}", sol.columns[c]));
+    }
+    s.push('\n');
+    let n = sol.times.len();
+    let stride = (n.max(2) - 1).div_ceil(rows.max(2) - 1).max(1);
+    for k in (0..n).step_by(stride).chain(std::iter::once(n - 1)) {
+        if k % stride != 0 && k != n - 1 {
+            continue;
+        }
+        s.push_str(&format!("{:>8.3}", sol.times[k]));
+        for &c in &cols {
+            s.push_str(&format!(" {:>14.6}", sol.rows[k][c]));
+        }
+        s.push('\n');
+        if k == n - 1 {
+            break;
+        }
+    }
+    s
 }

@@ -1,1 +1,33 @@
-//! mech (placeholder)
+//! Mechanisms from the chapter: bodies, joints, springs and loads, expanded into the symbolic
+//! multibody system that the DAE and the decoupled formulations solve.
+//!
+//! * [`body`]: the kinematics of planar (16.3, 16.8) and spatial (16.1–16.2) bodies.
+//! * [`assemble`](mod@assemble): scene → [`MultibodySystem`].
+//! * [`system`]: the system `q' = K(q) v`, `M v' = Q − G_vᵀ λ`, `g(q) = 0`.
+
+pub mod assemble;
+pub mod body;
+pub mod system;
+
+pub use assemble::assemble;
+pub use system::{ConstraintRow, Coordinate, MultibodySystem, OutputColumn};
+
+/// A mechanism that cannot be built, with the JSON path of the culprit.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct MechError {
+    /// JSON path of the offending field, e.g. `joints[1].points[0]`.
+    pub path: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl MechError {
+    /// An error at `path`.
+    pub fn at(path: &str, message: impl Into<String>) -> Self {
+        MechError {
+            path: path.to_string(),
+            message: message.into(),
+        }
+    }
+}

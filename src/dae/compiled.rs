@@ -1,0 +1,203 @@
+//! Compiled residuals and right-hand sides with their exact Jacobians.
+//!
+//! An [`ImplicitDae`] holds `F(t, y, y')` and the structural non-zeros of `∂F/∂y` and `∂F/∂y'`,
+//! each compiled to a flat [`Tape`]; IDA's iteration matrix is assembled as
+//! `J = ∂F/∂y + c_j ∂F/∂y'`. An [`ExplicitOde`] holds `y' = f(t, y)` and `∂f/∂y` for CVODE.
+//! Variable slots: `0 = t`, `1..=n` the unknowns `y`, `n+1..=2n` their derivatives `y'`.
+
+use crate::expr::{Expr, ExprGraph, Tape};
+
+/// One structural non-zero of a Jacobian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// Row (equation).
+    pub row: usize,
+    /// Column (unknown).
+    pub col: usize,
+}
+
+/// A fully implicit DAE `F(t, y, y') = 0` with exact derivatives.
+#[derive(Clone, Debug)]
+pub struct ImplicitDae {
+    /// Number of unknowns (and equations).
+    pub n: usize,
+    residual: Tape,
+    jacobian: Tape,
+    dy: Vec<Entry>,
+    dyp: Vec<Entry>,
+}
+
+/// Preallocated buffers for evaluating a compiled system without allocating.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    vars: Vec<f64>,
+    work_r: Vec<f64>,
+    work_j: Vec<f64>,
+    jac: Vec<f64>,
+}
+
+impl ImplicitDae {
+    /// Differentiates `residual` (expressions over slots `[t, y, y']`) and compiles everything.
+    pub fn build(g: &mut ExprGraph, residual: &[Expr], n: usize) -> Self {
+        assert_eq!(residual.len(), n, "one residual per unknown");
+        let mut dy = Vec::new();
+        let mut dyp = Vec::new();
+        let mut dy_e = Vec::new();
+        let mut dyp_e = Vec::new();
+        for (row, &f) in residual.iter().enumerate() {
+            for v in g.vars(f) {
+                let v = v as usize;
+                if v == 0 {
+                    continue;
+                }
+                let d = g.diff(f, v as u32);
+                if g.is_zero(d) {
+                    continue;
+                }
+                if v <= n {
+                    dy.push(Entry { row, col: v - 1 });
+                    dy_e.push(d);
+                } else if v <= 2 * n {
+                    dyp.push(Entry { row, col: v - 1 - n });
+                    dyp_e.push(d);
+                }
+            }
+        }
+        let mut outs = dy_e;
+        outs.extend(dyp_e);
+        ImplicitDae {
+            n,
+            residual: g.compile(residual),
+            jacobian: g.compile(&outs),
+            dy,
+            dyp,
+        }
+    }
+
+    /// Buffers for [`Self::residual`] and [`Self::jacobian`].
+    pub fn workspace(&self) -> Workspace {
+        Workspace {
+            vars: vec![0.0; 1 + 2 * self.n],
+            work_r: self.residual.workspace(),
+            work_j: self.jacobian.workspace(),
+            jac: vec![0.0; self.dy.len() + self.dyp.len()],
+        }
+    }
+
+    /// Number of structural non-zeros of `∂F/∂y` and `∂F/∂y'`.
+    pub fn nonzeros(&self) -> (usize, usize) {
+        (self.dy.len(), self.dyp.len())
+    }
+
+    /// Evaluates `F(t, y, y')` into `r`.
+    pub fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+        fill_vars(&mut ws.vars, t, y, Some(yp));
+        self.residual.eval(&ws.vars, &mut ws.work_r, r);
+    }
+
+    /// Calls `put(row, col, value)` for every entry of `∂F/∂y + cj ∂F/∂y'` (entries may repeat:
+    /// the caller adds them).
+    pub fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        mut put: impl FnMut(usize, usize, f64),
+    ) {
+        fill_vars(&mut ws.vars, t, y, Some(yp));
+        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
+        let (a, b) = ws.jac.split_at(self.dy.len());
+        for (e, v) in self.dy.iter().zip(a) {
+            put(e.row, e.col, *v);
+        }
+        for (e, v) in self.dyp.iter().zip(b) {
+            put(e.row, e.col, cj * v);
+        }
+    }
+}
+
+/// An explicit ODE `y' = f(t, y)` with its exact Jacobian `∂f/∂y`.
+#[derive(Clone, Debug)]
+pub struct ExplicitOde {
+    /// Number of states.
+    pub n: usize,
+    rhs: Tape,
+    jacobian: Tape,
+    dy: Vec<Entry>,
+}
+
+impl ExplicitOde {
+    /// Differentiates `rhs` (expressions over slots `[t, y]`) and compiles it.
+    pub fn build(g: &mut ExprGraph, rhs: &[Expr]) -> Self {
+        let n = rhs.len();
+        let mut dy = Vec::new();
+        let mut dy_e = Vec::new();
+        for (row, &f) in rhs.iter().enumerate() {
+            for v in g.vars(f) {
+                let v = v as usize;
+                if v == 0 || v > n {
+                    continue;
+                }
+                let d = g.diff(f, v as u32);
+                if g.is_zero(d) {
+                    continue;
+                }
+                dy.push(Entry { row, col: v - 1 });
+                dy_e.push(d);
+            }
+        }
+        ExplicitOde {
+            n,
+            rhs: g.compile(rhs),
+            jacobian: g.compile(&dy_e),
+            dy,
+        }
+    }
+
+    /// Buffers for [`Self::rhs`] and [`Self::jacobian`].
+    pub fn workspace(&self) -> Workspace {
+        Workspace {
+            vars: vec![0.0; 1 + self.n],
+            work_r: self.rhs.workspace(),
+            work_j: self.jacobian.workspace(),
+            jac: vec![0.0; self.dy.len()],
+        }
+    }
+
+    /// Evaluates `f(t, y)` into `ydot`.
+    pub fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], ydot: &mut [f64]) {
+        fill_vars(&mut ws.vars, t, y, None);
+        self.rhs.eval(&ws.vars, &mut ws.work_r, ydot);
+    }
+
+    /// Calls `put(row, col, value)` for every structural non-zero of `∂f/∂y`.
+    pub fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        mut put: impl FnMut(usize, usize, f64),
+    ) {
+        fill_vars(&mut ws.vars, t, y, None);
+        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
+        for (e, v) in self.dy.iter().zip(&ws.jac) {
+            put(e.row, e.col, *v);
+        }
+    }
+
+    /// Number of structural non-zeros of `∂f/∂y`.
+    pub fn nonzeros(&self) -> usize {
+        self.dy.len()
+    }
+}
+
+fn fill_vars(vars: &mut [f64], t: f64, y: &[f64], yp: Option<&[f64]>) {
+    vars[0] = t;
+    let n = y.len();
+    vars[1..=n].copy_from_slice(y);
+    if let Some(yp) = yp {
+        vars[n + 1..=2 * n].copy_from_slice(yp);
+    }
+}

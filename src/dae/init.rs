@@ -1,0 +1,221 @@
+//! Consistent initial values, computed by bondmech (IDA's `IDACalcIC` cannot initialise GGL).
+//!
+//! 1. Positions: the least change `min ‖q − q₀‖` with `g(q) = 0`, by Gauss–Newton steps
+//!    `Δq = −G_q⁺ g(q)` (pseudo-inverse, so redundant rows do no harm).
+//! 2. Velocities: the least change with `G_v v = 0`: `v ← v − G_v⁺ G_v v`.
+//! 3. Accelerations and multipliers: `[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`, solved in the
+//!    least-squares sense; the rank of `G_v` tells which joints are redundant.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::mechanics::MechanicsTapes;
+use crate::mech::{ConstraintRow, MultibodySystem};
+
+/// A state that satisfies the position, velocity and acceleration constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConsistentState {
+    /// Coordinates.
+    pub q: Vec<f64>,
+    /// Velocities.
+    pub v: Vec<f64>,
+    /// Accelerations.
+    pub vdot: Vec<f64>,
+    /// Constraint forces (multipliers) λ.
+    pub lambda: Vec<f64>,
+    /// ‖q − q₀‖ of the position projection.
+    pub position_correction: f64,
+    /// ‖v − v₀‖ of the velocity projection.
+    pub velocity_correction: f64,
+    /// Rank of `G_v` at the initial state.
+    pub rank: usize,
+    /// Joints whose rows are linearly dependent at the initial state (redundant constraints).
+    pub redundant_joints: Vec<String>,
+}
+
+/// Why no consistent initial state exists.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InitError {
+    /// The position projection did not converge.
+    #[error("the initial positions cannot be projected onto the joints: |g| = {residual:.3e} after {iterations} iterations (worst row: joint '{joint}', {direction})")]
+    PositionProjection {
+        /// Final largest |g|.
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+        /// Joint of the worst row.
+        joint: String,
+        /// Its direction.
+        direction: String,
+    },
+    /// `[M G_vᵀ; G_v 0]` is singular beyond redundant constraints.
+    #[error("the mass–constraint matrix is singular: {what}")]
+    Singular {
+        /// Which coordinates are undetermined.
+        what: String,
+    },
+    /// Something evaluated to NaN or infinity.
+    #[error("the initial state evaluates to a non-finite value in {what}")]
+    NonFinite {
+        /// What was being evaluated.
+        what: String,
+    },
+}
+
+/// Relative threshold below which a singular value counts as zero.
+const RANK_TOL: f64 = 1e-9;
+
+fn matrix(tape: &crate::expr::Tape, t: f64, x: &[f64], rows: usize, cols: usize) -> DMatrix<f64> {
+    let vals = MechanicsTapes::eval(tape, t, x);
+    DMatrix::from_row_slice(rows, cols, &vals)
+}
+
+fn pinv_apply(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize) {
+    if a.nrows() == 0 || a.ncols() == 0 {
+        return (DVector::zeros(a.ncols()), 0);
+    }
+    let svd = a.clone().svd(true, true);
+    let smax = svd.singular_values.max();
+    let tol = RANK_TOL * smax.max(1e-300);
+    let rank = svd.singular_values.iter().filter(|&&s| s > tol).count();
+    let x = svd
+        .solve(b, tol)
+        .unwrap_or_else(|_| DVector::zeros(a.ncols()));
+    (x, rank)
+}
+
+/// Joints whose rows take part in a linear dependency of `a`'s rows: the eigenvectors of
+/// `a aᵀ` with (relatively) zero eigenvalue span the left null space.
+pub fn dependent_joints(a: &DMatrix<f64>, rows: &[ConstraintRow]) -> Vec<String> {
+    if a.nrows() == 0 {
+        return vec![];
+    }
+    let eig = (a * a.transpose()).symmetric_eigen();
+    let lmax = eig.eigenvalues.amax().max(1e-300);
+    let mut joints = Vec::new();
+    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+        if l.abs() <= 1e-12 * lmax {
+            for (i, &c) in eig.eigenvectors.column(k).iter().enumerate() {
+                if c.abs() > 1e-6 && !joints.contains(&rows[i].joint) {
+                    joints.push(rows[i].joint.clone());
+                }
+            }
+        }
+    }
+    joints
+}
+
+/// Projects the user's initial state onto the constraints (see the module documentation).
+pub fn consistent_state(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+) -> Result<ConsistentState, InitError> {
+    let (nq, nv, nc) = tapes.dims;
+    let x0 = sys.initial_state();
+    let mut x = x0.clone();
+    let finite = |v: &[f64], what: &str| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(InitError::NonFinite {
+                what: what.to_string(),
+            })
+        }
+    };
+    // 1. positions
+    let mut iterations = 0;
+    let scale = 1.0 + x0[..nq].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    loop {
+        let g = MechanicsTapes::eval(&tapes.g, t0, &x);
+        finite(&g, "the joint constraints g(q)")?;
+        let worst = g
+            .iter()
+            .enumerate()
+            .fold((0usize, 0.0f64), |a, (i, &v)| if v.abs() > a.1 { (i, v.abs()) } else { a });
+        if worst.1 <= 1e-13 * scale {
+            break;
+        }
+        if iterations >= 60 {
+            let r = &sys.rows[worst.0];
+            return Err(InitError::PositionProjection {
+                residual: worst.1,
+                iterations,
+                joint: r.joint.clone(),
+                direction: r.direction.clone(),
+            });
+        }
+        let gq = matrix(&tapes.gq, t0, &x, nc, nq);
+        finite(gq.as_slice(), "the constraint Jacobian")?;
+        let (dq, _) = pinv_apply(&gq, &DVector::from_vec(g));
+        for i in 0..nq {
+            x[i] -= dq[i];
+        }
+        iterations += 1;
+    }
+    let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
+    // 2. velocities
+    let gv = matrix(&tapes.gv, t0, &x, nc, nv);
+    finite(gv.as_slice(), "the velocity constraint Jacobian")?;
+    let v0 = DVector::from_column_slice(&x[nq..]);
+    let (dv, rank) = pinv_apply(&gv, &(&gv * &v0));
+    for j in 0..nv {
+        x[nq + j] -= dv[j];
+    }
+    let velocity_correction = dv.norm();
+    let redundant_joints = if rank < nc {
+        dependent_joints(&gv, &sys.rows)
+    } else {
+        vec![]
+    };
+    // 3. accelerations and multipliers
+    let q = MechanicsTapes::eval(&tapes.forces, t0, &x);
+    finite(&q, "the generalized forces")?;
+    let gamma = MechanicsTapes::eval(&tapes.gamma, t0, &x);
+    finite(&gamma, "the constraint acceleration terms")?;
+    let n = nv + nc;
+    let mut a = DMatrix::zeros(n, n);
+    for j in 0..nv {
+        a[(j, j)] = sys.mass[j];
+    }
+    for i in 0..nc {
+        for j in 0..nv {
+            a[(nv + i, j)] = gv[(i, j)];
+            a[(j, nv + i)] = gv[(i, j)];
+        }
+    }
+    let mut b = DVector::zeros(n);
+    for j in 0..nv {
+        b[j] = q[j];
+    }
+    for i in 0..nc {
+        b[nv + i] = -gamma[i];
+    }
+    let (sol, rank_a) = pinv_apply(&a, &b);
+    if rank_a < nv + rank {
+        let massless: Vec<&str> = sys
+            .velocities
+            .iter()
+            .zip(&sys.mass)
+            .filter(|(_, &m)| m == 0.0)
+            .map(|(c, _)| c.name.as_str())
+            .collect();
+        return Err(InitError::Singular {
+            what: format!(
+                "{} of {} accelerations are undetermined; massless coordinates: [{}] — a rotation without inertia must be fixed by the joints",
+                nv + rank - rank_a,
+                nv,
+                massless.join(", ")
+            ),
+        });
+    }
+    Ok(ConsistentState {
+        q: x[..nq].to_vec(),
+        v: x[nq..].to_vec(),
+        vdot: sol.rows(0, nv).iter().copied().collect(),
+        lambda: sol.rows(nv, nc).iter().copied().collect(),
+        position_correction,
+        velocity_correction,
+        rank,
+        redundant_joints,
+    })
+}

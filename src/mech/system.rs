@@ -1,0 +1,153 @@
+//! The symbolic multibody system a mechanism expands into.
+//!
+//! Every mechanism, planar or spatial, becomes
+//!
+//! ```text
+//!   q' = K(q) v                      (kinematics: identity for the seed's non-rotating frame, 16.8)
+//!   M v' = Q(t, q, v) − G_v(q)ᵀ λ    (the inertias: M is diagonal, one entry per I element)
+//!   0 = g(q)                         (one row per differential-causality inertia: the joints)
+//! ```
+//!
+//! with `G_v = (∂g/∂q)·K` the velocity-constraint Jacobian. The rows of `g` are the algebraic
+//! constraint rows that the chapter's differential-causality inertias stand for (16.5, 16.7); the
+//! forces `Q` collect gravity, springs, dampers, loads and the gyroscopic (MGY) terms.
+//!
+//! Expressions live in one [`ExprGraph`] whose variable slots follow the *state layout*
+//! `[t, q_0 … q_{nq−1}, v_0 … v_{nv−1}]`; formulations append their own unknowns after it.
+
+use crate::expr::{Expr, ExprGraph};
+
+/// What a generalized coordinate stands for (used for names, diagnostics and outputs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coordinate {
+    /// Readable name, e.g. `bar1.x` or `bar1.angle`.
+    pub name: String,
+    /// Initial value given by the user (before projection onto the constraints).
+    pub initial: f64,
+}
+
+/// One scalar position-level constraint row `g_i(q) = 0`, and the joint it comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintRow {
+    /// Name of the joint (as in the scene).
+    pub joint: String,
+    /// Which direction of the joint this row fixes (`x`, `y`, `z`, `normal`, `angle`, …).
+    pub direction: String,
+}
+
+/// A named scalar output (a CSV column) as an expression of the state `[t, q, v]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputColumn {
+    /// Column name, e.g. `bar2.A.x`.
+    pub name: String,
+    /// Its expression.
+    pub expr: Expr,
+    /// Angles whose continuous (unwrapped) value must be restored after evaluation
+    /// (Cardan angles computed with `atan2`).
+    pub unwrap: bool,
+}
+
+/// The symbolic multibody system: see the module documentation for the equations.
+#[derive(Clone, Debug)]
+pub struct MultibodySystem {
+    /// Expression arena holding every expression below.
+    pub graph: ExprGraph,
+    /// Generalized coordinates `q`.
+    pub coords: Vec<Coordinate>,
+    /// Velocity unknowns `v` (names), initial values.
+    pub velocities: Vec<Coordinate>,
+    /// Diagonal of the mass matrix `M` (one entry per velocity; 0 for a massless rotation).
+    pub mass: Vec<f64>,
+    /// `K(q) v`, one expression per coordinate.
+    pub kinematics: Vec<Expr>,
+    /// Generalized forces `Q(t, q, v)`, one per velocity.
+    pub forces: Vec<Expr>,
+    /// Position constraints `g(q)`.
+    pub constraints: Vec<Expr>,
+    /// Where each constraint row comes from.
+    pub rows: Vec<ConstraintRow>,
+    /// Total mechanical energy (kinetic + gravity + springs).
+    pub energy: Expr,
+    /// Kinetic energy alone (used to scale the energy drift).
+    pub kinetic: Expr,
+    /// Standard and requested output columns.
+    pub outputs: Vec<OutputColumn>,
+    /// Non-fatal remarks found while building (unconnected bodies, unmodelled rotations, …).
+    pub warnings: Vec<String>,
+}
+
+impl MultibodySystem {
+    /// Number of coordinates.
+    pub fn nq(&self) -> usize {
+        self.coords.len()
+    }
+    /// Number of velocities.
+    pub fn nv(&self) -> usize {
+        self.velocities.len()
+    }
+    /// Number of constraint rows.
+    pub fn nc(&self) -> usize {
+        self.constraints.len()
+    }
+    /// Number of variable slots of the state layout `[t, q, v]`.
+    pub fn n_state_slots(&self) -> usize {
+        1 + self.nq() + self.nv()
+    }
+    /// Slot of coordinate `i` in the state layout.
+    pub fn q_slot(&self, i: usize) -> u32 {
+        (1 + i) as u32
+    }
+    /// Slot of velocity `j` in the state layout.
+    pub fn v_slot(&self, j: usize) -> u32 {
+        (1 + self.nq() + j) as u32
+    }
+    /// Initial state vector `[q0, v0]` as given by the user.
+    pub fn initial_state(&self) -> Vec<f64> {
+        self.coords
+            .iter()
+            .chain(self.velocities.iter())
+            .map(|c| c.initial)
+            .collect()
+    }
+
+    /// `G_v(q) v` — the velocity-level constraints, built as `Σ_k ∂g_i/∂q_k · (K v)_k`.
+    pub fn velocity_constraints(&mut self) -> Vec<Expr> {
+        let nq = self.nq();
+        let mut out = Vec::with_capacity(self.nc());
+        for i in 0..self.nc() {
+            let gi = self.constraints[i];
+            let mut terms = Vec::new();
+            for k in 0..nq {
+                let slot = self.q_slot(k);
+                if !self.graph.depends_on(gi, slot) {
+                    continue;
+                }
+                let d = self.graph.diff(gi, slot);
+                terms.push(self.graph.mul(d, self.kinematics[k]));
+            }
+            out.push(self.graph.sum(&terms));
+        }
+        out
+    }
+
+    /// Rows of `G_v` as expressions: `G_v[i][j] = ∂(G_v v)_i / ∂v_j` (exact, since it is linear in `v`).
+    pub fn velocity_jacobian(&mut self, gv: &[Expr]) -> Vec<Vec<Expr>> {
+        let nv = self.nv();
+        let mut rows = Vec::with_capacity(gv.len());
+        for &e in gv {
+            let mut row = Vec::with_capacity(nv);
+            for j in 0..nv {
+                let slot = self.v_slot(j);
+                let d = self.graph.diff(e, slot);
+                row.push(d);
+            }
+            rows.push(row);
+        }
+        rows
+    }
+
+    /// Index of the output column called `name`.
+    pub fn output_index(&self, name: &str) -> Option<usize> {
+        self.outputs.iter().position(|c| c.name == name)
+    }
+}

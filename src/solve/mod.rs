@@ -1,0 +1,8 @@
+//! Running a mechanism: the formulation chosen in [`SolveOptions`] on IDA (GGL DAE) or CVODE
+//! (decoupled twin), with consistent initial values, output rows, energy and constraint error.
+
+pub mod options;
+pub mod run;
+
+pub use options::{FormulationKind, SolveOptions};
+pub use run::{solve_system, Row, Solution, Summary};

@@ -1,0 +1,452 @@
+//! Running a formulation on IDA or CVODE: consistent start, output rows, statistics.
+
+use std::ops::ControlFlow;
+use std::sync::Arc;
+
+use cpu_time::ThreadTime;
+use serde::Serialize;
+
+use super::options::{FormulationKind, SolveOptions};
+use crate::dae::{
+    consistent_state, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
+    MechanicsTapes,
+};
+use crate::mech::MultibodySystem;
+use crate::sundials::{
+    Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverStats,
+};
+use crate::Error;
+
+/// Statistics and quality figures of one solve (the `--summary` JSON).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Summary {
+    /// `ggl`, `compliant_ggl` or `decoupled`.
+    pub formulation: String,
+    /// `IDA` or `CVODE`.
+    pub solver: String,
+    /// Number of unknowns handed to the solver.
+    pub unknowns: usize,
+    /// Internal steps.
+    pub steps: u64,
+    /// Residual (IDA) or right-hand side (CVODE) evaluations.
+    pub residual_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobian_evals: u64,
+    /// Linear solver setups (factorisations).
+    pub linear_setups: u64,
+    /// Error test failures.
+    pub error_test_failures: u64,
+    /// Newton iterations.
+    pub nonlinear_iterations: u64,
+    /// Newton convergence failures.
+    pub nonlinear_conv_failures: u64,
+    /// Last step size.
+    pub last_step: f64,
+    /// CPU seconds of the integration (this thread; model building excluded).
+    pub cpu_seconds: f64,
+    /// CPU seconds spent building the model (scene → compiled tapes).
+    pub build_cpu_seconds: f64,
+    /// Largest |g(q)| at the output times (for the decoupled twin: the largest spring stretch).
+    pub max_constraint_error: f64,
+    /// `max |E(t) − E(0)| / max(|E(0)|, max T)`.
+    pub energy_drift: f64,
+    /// ‖q − q₀‖ of the initial projection onto the joints.
+    pub initial_position_correction: f64,
+    /// ‖v − v₀‖ of the initial projection.
+    pub initial_velocity_correction: f64,
+    /// Joints found redundant at the start (linearly dependent rows).
+    pub redundant_joints: Vec<String>,
+    /// Compliance ε used (0 for plain GGL).
+    pub compliance: f64,
+    /// Joint stiffness of the decoupled twin (0 otherwise).
+    pub joint_stiffness: f64,
+    /// Non-fatal remarks about the model.
+    pub warnings: Vec<String>,
+}
+
+/// A solved trajectory: one row per output time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Column names (without `t`).
+    pub columns: Vec<String>,
+    /// Output times.
+    pub times: Vec<f64>,
+    /// `rows[k][c]`: column `c` at `times[k]`.
+    pub rows: Vec<Vec<f64>>,
+    /// Statistics.
+    pub summary: Summary,
+}
+
+impl Solution {
+    /// The values of column `name` over time.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let c = self.columns.iter().position(|n| n == name)?;
+        Some(self.rows.iter().map(|r| r[c]).collect())
+    }
+
+    /// The value of column `name` at output index `k`.
+    pub fn value(&self, k: usize, name: &str) -> Option<f64> {
+        let c = self.columns.iter().position(|n| n == name)?;
+        self.rows.get(k).map(|r| r[c])
+    }
+
+    /// CSV text: header `t,<columns>`, one row per output time.
+    pub fn to_csv(&self) -> String {
+        let mut s = String::from("t");
+        for c in &self.columns {
+            s.push(',');
+            s.push_str(c);
+        }
+        s.push('\n');
+        for (t, r) in self.times.iter().zip(&self.rows) {
+            s.push_str(&format!("{t}"));
+            for v in r {
+                s.push_str(&format!(",{v:.17e}"));
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// One output row handed to a streaming observer.
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a> {
+    /// Time.
+    pub t: f64,
+    /// Column values (same order as [`Solution::columns`]).
+    pub values: &'a [f64],
+}
+
+/// Evaluates output rows from states `[q, v]`.
+struct OutputEval {
+    tapes: MechanicsTapes,
+    columns: Vec<String>,
+    unwrap: Vec<bool>,
+    want_constraint_error: bool,
+    vars: Vec<f64>,
+    work: Vec<f64>,
+    work_g: Vec<f64>,
+    out: Vec<f64>,
+    g: Vec<f64>,
+    energy0: Option<f64>,
+    energy_dev: f64,
+    kinetic_max: f64,
+    max_g: f64,
+    prev: Option<Vec<f64>>,
+}
+
+impl OutputEval {
+    fn new(sys: &MultibodySystem, tapes: MechanicsTapes) -> Self {
+        let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+        let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
+        // constraint_error is always written (it is cheap and always meaningful)
+        columns.push("constraint_error".into());
+        let n_out = tapes.outputs.n_outputs();
+        let nc = tapes.dims.2;
+        OutputEval {
+            work: tapes.outputs.workspace(),
+            work_g: tapes.g.workspace(),
+            vars: vec![0.0; 1 + tapes.dims.0 + tapes.dims.1],
+            out: vec![0.0; n_out],
+            g: vec![0.0; nc],
+            tapes,
+            columns,
+            unwrap,
+            want_constraint_error: true,
+            energy0: None,
+            energy_dev: 0.0,
+            kinetic_max: 0.0,
+            max_g: 0.0,
+            prev: None,
+        }
+    }
+
+    fn row(&mut self, t: f64, x: &[f64]) -> Vec<f64> {
+        self.vars[0] = t;
+        let n = self.vars.len() - 1;
+        self.vars[1..].copy_from_slice(&x[..n]);
+        self.tapes
+            .outputs
+            .eval(&self.vars, &mut self.work, &mut self.out);
+        self.tapes.g.eval(&self.vars, &mut self.work_g, &mut self.g);
+        let k = self.out.len();
+        let (energy, kinetic) = (self.out[k - 2], self.out[k - 1]);
+        let e0 = *self.energy0.get_or_insert(energy);
+        self.energy_dev = self.energy_dev.max((energy - e0).abs());
+        self.kinetic_max = self.kinetic_max.max(kinetic.abs());
+        let ge = self.g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        self.max_g = self.max_g.max(ge);
+        let mut row: Vec<f64> = self.out[..k - 2].to_vec();
+        // continuous angles: add the multiple of 2π closest to the previous value
+        if let Some(prev) = &self.prev {
+            for (i, u) in self.unwrap.iter().enumerate() {
+                if *u {
+                    let d = row[i] - prev[i];
+                    row[i] -= (d / std::f64::consts::TAU).round() * std::f64::consts::TAU;
+                }
+            }
+        }
+        self.prev = Some(row.clone());
+        if self.want_constraint_error {
+            row.push(ge);
+        }
+        row
+    }
+
+    fn energy_drift(&self) -> f64 {
+        let scale = self.energy0.unwrap_or(0.0).abs().max(self.kinetic_max);
+        if scale > 0.0 {
+            self.energy_dev / scale
+        } else {
+            self.energy_dev
+        }
+    }
+}
+
+/// Solves a multibody system with the chosen formulation, streaming rows to `observer`
+/// (return `ControlFlow::Break(())` to stop early; the rows so far are returned).
+pub fn solve_system(
+    mut sys: MultibodySystem,
+    opts: &SolveOptions,
+    build_cpu_seconds: f64,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    let t0 = *opts
+        .output_times
+        .first()
+        .ok_or_else(|| Error::Options("no output times".into()))?;
+    let clock = ThreadTime::now();
+    let c = ConstraintExprs::derive(&mut sys);
+    let tapes = MechanicsTapes::new(&mut sys, &c, None);
+    let init = consistent_state(&sys, &tapes, t0)?;
+    let mut summary = Summary {
+        initial_position_correction: init.position_correction,
+        initial_velocity_correction: init.velocity_correction,
+        redundant_joints: init.redundant_joints.clone(),
+        warnings: sys.warnings.clone(),
+        formulation: opts.formulation.name().into(),
+        ..Summary::default()
+    };
+    if !init.redundant_joints.is_empty() {
+        summary.warnings.push(format!(
+            "redundant constraints at t = {t0}: joints [{}] are linearly dependent; solved with the compliant GGL",
+            init.redundant_joints.join(", ")
+        ));
+    }
+    let mut build = build_cpu_seconds + clock.elapsed().as_secs_f64();
+    let result = match opts.formulation {
+        FormulationKind::Decoupled => {
+            let t = ThreadTime::now();
+            let dec = DecoupledFormulation::build(
+                &mut sys,
+                &c,
+                opts.joint_stiffness,
+                opts.joint_damping,
+            )?;
+            let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
+            build += t.elapsed().as_secs_f64();
+            summary.joint_stiffness = opts.joint_stiffness;
+            run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
+        }
+        FormulationKind::Ggl | FormulationKind::CompliantGgl => {
+            let t = ThreadTime::now();
+            let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
+            let eps_default = opts.compliance.unwrap_or(1e-10 / mref);
+            let eps = if opts.formulation == FormulationKind::CompliantGgl
+                || !init.redundant_joints.is_empty()
+            {
+                eps_default
+            } else {
+                0.0
+            };
+            let ggl = GglFormulation::build(&mut sys, &c, eps);
+            build += t.elapsed().as_secs_f64();
+            summary.compliance = eps;
+            run_ggl(&sys, ggl, tapes, &init, opts, &mut summary, observer)
+        }
+    };
+    let mut sol = result?;
+    sol.summary.build_cpu_seconds = build;
+    Ok(sol)
+}
+
+fn fill_stats(summary: &mut Summary, s: &SolverStats) {
+    summary.steps = s.steps;
+    summary.residual_evals = s.residual_evals;
+    summary.jacobian_evals = s.jacobian_evals;
+    summary.linear_setups = s.linear_setups;
+    summary.error_test_failures = s.error_test_failures;
+    summary.nonlinear_iterations = s.nonlinear_iterations;
+    summary.nonlinear_conv_failures = s.nonlinear_conv_failures;
+    summary.last_step = s.last_step;
+}
+
+fn run_ggl(
+    sys: &MultibodySystem,
+    ggl: GglFormulation,
+    tapes: MechanicsTapes,
+    init: &ConsistentState,
+    opts: &SolveOptions,
+    summary: &mut Summary,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+    let n = ggl.dae.n;
+    let t0 = opts.output_times[0];
+    let mut y0 = init.q.clone();
+    y0.extend(&init.v);
+    y0.extend(&init.lambda);
+    y0.extend(std::iter::repeat_n(0.0, nc));
+    let kv = MechanicsTapes::eval(&tapes.kinematics, t0, &y0[..nq + nv]);
+    let mut yp0 = kv;
+    yp0.extend(&init.vdot);
+    yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
+    let matol = opts.multiplier_atol.unwrap_or(opts.atol.max(1e-6));
+    let mut atol = vec![opts.atol; nq + nv];
+    atol.extend(std::iter::repeat_n(matol, 2 * nc));
+    let ida_opts = IdaOptions {
+        rtol: opts.rtol,
+        atol,
+        max_steps: opts.max_steps,
+        max_wall_clock: opts.max_wall_clock,
+        id: Some(ggl.id.clone()),
+        suppress_alg: true,
+        stop_time: opts.output_times.last().copied(),
+        ..IdaOptions::default()
+    };
+    let dae = Arc::new(ggl.dae);
+    let (d1, d2) = (dae.clone(), dae.clone());
+    let mut ws1 = d1.workspace();
+    let mut ws2 = d2.workspace();
+    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
+        d1.residual(&mut ws1, t, y, yp, r);
+        Ok(())
+    });
+    let jacobian = Box::new(
+        move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
+            jm.fill_zero();
+            d2.jacobian(&mut ws2, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
+            Ok(())
+        },
+    );
+    summary.solver = "IDA".into();
+    summary.unknowns = n;
+    let clock = ThreadTime::now();
+    let mut ida = Ida::new(t0, &y0, &yp0, residual, Some(jacobian), &ida_opts)?;
+    let mut out = OutputEval::new(sys, tapes);
+    let mut sol = Solution {
+        columns: out.columns.clone(),
+        times: Vec::new(),
+        rows: Vec::new(),
+        summary: Summary::default(),
+    };
+    let first = out.row(t0, &y0);
+    let stop = emit(&mut sol, observer, t0, first);
+    if !stop {
+        for &t in &opts.output_times[1..] {
+            let step = ida.solve_to(t);
+            let step = match step {
+                Ok(s) => s,
+                Err(e) => {
+                    fill_stats(summary, &ida.stats());
+                    return Err(Error::Solver(e));
+                }
+            };
+            let row = out.row(step.t, ida.y());
+            if emit(&mut sol, observer, step.t, row) {
+                break;
+            }
+        }
+    }
+    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+    fill_stats(summary, &ida.stats());
+    summary.max_constraint_error = out.max_g;
+    summary.energy_drift = out.energy_drift();
+    sol.summary = summary.clone();
+    Ok(sol)
+}
+
+fn run_decoupled(
+    sys: &MultibodySystem,
+    dec: DecoupledFormulation,
+    tapes: MechanicsTapes,
+    init: &ConsistentState,
+    opts: &SolveOptions,
+    summary: &mut Summary,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    let t0 = opts.output_times[0];
+    let mut y0 = init.q.clone();
+    y0.extend(&init.v);
+    let cv_opts = CvodeOptions {
+        rtol: opts.rtol,
+        atol: vec![opts.atol],
+        max_steps: opts.max_steps,
+        max_wall_clock: opts.max_wall_clock,
+        stop_time: opts.output_times.last().copied(),
+        ..CvodeOptions::default()
+    };
+    let ode = Arc::new(dec.ode);
+    let (o1, o2) = (ode.clone(), ode.clone());
+    let mut ws1 = o1.workspace();
+    let mut ws2 = o2.workspace();
+    let rhs = Box::new(move |t: f64, y: &[f64], yd: &mut [f64]| {
+        o1.rhs(&mut ws1, t, y, yd);
+        Ok(())
+    });
+    let jac = Box::new(
+        move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
+            jm.fill_zero();
+            o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
+            Ok(())
+        },
+    );
+    summary.solver = "CVODE".into();
+    summary.unknowns = ode.n;
+    let clock = ThreadTime::now();
+    let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
+    let mut out = OutputEval::new(sys, tapes);
+    let mut sol = Solution {
+        columns: out.columns.clone(),
+        times: Vec::new(),
+        rows: Vec::new(),
+        summary: Summary::default(),
+    };
+    let first = out.row(t0, &y0);
+    let stop = emit(&mut sol, observer, t0, first);
+    if !stop {
+        for &t in &opts.output_times[1..] {
+            let step = match cv.solve_to(t) {
+                Ok(s) => s,
+                Err(e) => {
+                    fill_stats(summary, &cv.stats());
+                    return Err(Error::Solver(e));
+                }
+            };
+            let row = out.row(step.t, cv.y());
+            if emit(&mut sol, observer, step.t, row) {
+                break;
+            }
+        }
+    }
+    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+    fill_stats(summary, &cv.stats());
+    summary.max_constraint_error = out.max_g;
+    summary.energy_drift = out.energy_drift();
+    sol.summary = summary.clone();
+    Ok(sol)
+}
+
+fn emit(
+    sol: &mut Solution,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    t: f64,
+    row: Vec<f64>,
+) -> bool {
+    let brk = observer(Row { t, values: &row }).is_break();
+    sol.times.push(t);
+    sol.rows.push(row);
+    brk
+}
+
