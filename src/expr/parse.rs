@@ -1,0 +1,339 @@
+//! Recursive-descent parser of infix expressions.
+//!
+//! Grammar (byte positions in errors are 0-based offsets into the source):
+//! ```text
+//! expr    := term (('+' | '-') term)*
+//! term    := unary (('*' | '/') unary)*
+//! unary   := ('-' | '+') unary | power
+//! power   := primary ('^' unary)?            -- right-associative; -x^2 = -(x^2)
+//! primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
+//! number  := digits ['.' digits] [('e'|'E') ['+'|'-'] digits]  |  '.' digits [...]
+//! name    := (letter | '_') (letter | digit | '_' | '.')*
+//! ```
+//! Functions: `sin cos tan sqrt abs exp ln log(=ln)` (one argument), `atan2 min max pow`
+//! (two). The name `pi` is the constant π; every other name goes to the resolver.
+
+use super::graph::{Expr, ExprGraph};
+
+/// Why a source string is not a valid expression, with the byte position.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParseError {
+    /// The resolver does not know this name.
+    #[error("at {pos}: unknown name '{name}'")]
+    UnknownName {
+        /// Byte offset of the name.
+        pos: usize,
+        /// The name as written.
+        name: String,
+    },
+    /// A name followed by `(` that is not a known function.
+    #[error("at {pos}: unknown function '{name}'")]
+    UnknownFunction {
+        /// Byte offset of the name.
+        pos: usize,
+        /// The name as written.
+        name: String,
+    },
+    /// A known function called with the wrong number of arguments.
+    #[error("at {pos}: function '{name}' takes {expected} argument(s), got {found}")]
+    WrongArity {
+        /// Byte offset of the function name.
+        pos: usize,
+        /// The function.
+        name: String,
+        /// Arguments it takes.
+        expected: usize,
+        /// Arguments given.
+        found: usize,
+    },
+    /// A malformed number literal.
+    #[error("at {pos}: invalid number '{text}'")]
+    BadNumber {
+        /// Byte offset of the literal.
+        pos: usize,
+        /// The literal as written.
+        text: String,
+    },
+    /// Something else was required here.
+    #[error("at {pos}: expected {expected}, found {found}")]
+    Expected {
+        /// Byte offset where it was expected.
+        pos: usize,
+        /// What was expected, e.g. `')'` or `an operand`.
+        expected: String,
+        /// What was found instead (`end of input` at the end).
+        found: String,
+    },
+}
+
+impl ParseError {
+    /// Byte offset of the error in the source.
+    pub fn pos(&self) -> usize {
+        match self {
+            ParseError::UnknownName { pos, .. }
+            | ParseError::UnknownFunction { pos, .. }
+            | ParseError::WrongArity { pos, .. }
+            | ParseError::BadNumber { pos, .. }
+            | ParseError::Expected { pos, .. } => *pos,
+        }
+    }
+}
+
+struct Parser<'a, 'r> {
+    src: &'a str,
+    pos: usize,
+    g: &'a mut ExprGraph,
+    resolve: &'r mut dyn FnMut(&str) -> Option<Expr>,
+    depth: usize,
+}
+
+/// Nesting limit, so hostile input cannot overflow the stack.
+const MAX_DEPTH: usize = 256;
+
+fn is_name_start(c: u8) -> bool {
+    c.is_ascii_alphabetic() || c == b'_'
+}
+
+fn is_name_char(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || c == b'_' || c == b'.'
+}
+
+impl Parser<'_, '_> {
+    fn bytes(&self) -> &[u8] {
+        self.src.as_bytes()
+    }
+
+    fn skip_ws(&mut self) {
+        while self.pos < self.src.len() && self.bytes()[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+    }
+
+    fn peek(&mut self) -> Option<u8> {
+        self.skip_ws();
+        self.bytes().get(self.pos).copied()
+    }
+
+    fn found(&self) -> String {
+        match self.src[self.pos..].chars().next() {
+            None => "end of input".to_string(),
+            Some(c) => format!("'{c}'"),
+        }
+    }
+
+    fn expected(&mut self, what: &str) -> ParseError {
+        self.skip_ws();
+        ParseError::Expected { pos: self.pos, expected: what.to_string(), found: self.found() }
+    }
+
+    fn expect(&mut self, c: u8) -> Result<(), ParseError> {
+        if self.peek() == Some(c) {
+            self.pos += 1;
+            Ok(())
+        } else {
+            Err(self.expected(&format!("'{}'", c as char)))
+        }
+    }
+
+    fn expr(&mut self) -> Result<Expr, ParseError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(self.expected("less deeply nested expression"));
+        }
+        let mut acc = self.term()?;
+        loop {
+            match self.peek() {
+                Some(b'+') => {
+                    self.pos += 1;
+                    let r = self.term()?;
+                    acc = self.g.add(acc, r);
+                }
+                Some(b'-') => {
+                    self.pos += 1;
+                    let r = self.term()?;
+                    acc = self.g.sub(acc, r);
+                }
+                _ => break,
+            }
+        }
+        self.depth -= 1;
+        Ok(acc)
+    }
+
+    fn term(&mut self) -> Result<Expr, ParseError> {
+        let mut acc = self.unary()?;
+        loop {
+            match self.peek() {
+                Some(b'*') => {
+                    self.pos += 1;
+                    let r = self.unary()?;
+                    acc = self.g.mul(acc, r);
+                }
+                Some(b'/') => {
+                    self.pos += 1;
+                    let r = self.unary()?;
+                    acc = self.g.div(acc, r);
+                }
+                _ => break,
+            }
+        }
+        Ok(acc)
+    }
+
+    fn unary(&mut self) -> Result<Expr, ParseError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(self.expected("less deeply nested expression"));
+        }
+        let r = match self.peek() {
+            Some(b'-') => {
+                self.pos += 1;
+                let a = self.unary()?;
+                Ok(self.g.neg(a))
+            }
+            Some(b'+') => {
+                self.pos += 1;
+                self.unary()
+            }
+            _ => self.power(),
+        };
+        self.depth -= 1;
+        r
+    }
+
+    fn power(&mut self) -> Result<Expr, ParseError> {
+        let base = self.primary()?;
+        if self.peek() == Some(b'^') {
+            self.pos += 1;
+            let exp = self.unary()?;
+            return Ok(self.g.pow(base, exp));
+        }
+        Ok(base)
+    }
+
+    fn primary(&mut self) -> Result<Expr, ParseError> {
+        match self.peek() {
+            Some(b'(') => {
+                self.pos += 1;
+                let e = self.expr()?;
+                self.expect(b')')?;
+                Ok(e)
+            }
+            Some(c) if c.is_ascii_digit() || c == b'.' => self.number(),
+            Some(c) if is_name_start(c) => self.name(),
+            _ => Err(self.expected("a number, a name or '('")),
+        }
+    }
+
+    fn digits(&mut self) -> usize {
+        let start = self.pos;
+        while self.pos < self.src.len() && self.bytes()[self.pos].is_ascii_digit() {
+            self.pos += 1;
+        }
+        self.pos - start
+    }
+
+    fn number(&mut self) -> Result<Expr, ParseError> {
+        let start = self.pos;
+        let mut n = self.digits();
+        if self.bytes().get(self.pos) == Some(&b'.') {
+            self.pos += 1;
+            n += self.digits();
+        }
+        let bad = |p: &Self| ParseError::BadNumber { pos: start, text: p.src[start..p.pos].to_string() };
+        if n == 0 {
+            return Err(bad(self));
+        }
+        if matches!(self.bytes().get(self.pos), Some(b'e' | b'E')) {
+            self.pos += 1;
+            if matches!(self.bytes().get(self.pos), Some(b'+' | b'-')) {
+                self.pos += 1;
+            }
+            if self.digits() == 0 {
+                return Err(bad(self));
+            }
+        }
+        if self.bytes().get(self.pos).is_some_and(|&c| is_name_char(c)) {
+            // e.g. "2x" or "1.5.3": consume the rest for the message.
+            while self.bytes().get(self.pos).is_some_and(|&c| is_name_char(c)) {
+                self.pos += 1;
+            }
+            return Err(bad(self));
+        }
+        match self.src[start..self.pos].parse::<f64>() {
+            Ok(v) => Ok(self.g.constant(v)),
+            Err(_) => Err(bad(self)),
+        }
+    }
+
+    fn name(&mut self) -> Result<Expr, ParseError> {
+        let start = self.pos;
+        while self.bytes().get(self.pos).is_some_and(|&c| is_name_char(c)) {
+            self.pos += 1;
+        }
+        let name = &self.src[start..self.pos];
+        if self.peek() == Some(b'(') {
+            self.pos += 1;
+            return self.call(name, start);
+        }
+        if name == "pi" {
+            return Ok(self.g.constant(std::f64::consts::PI));
+        }
+        (self.resolve)(name).ok_or_else(|| ParseError::UnknownName { pos: start, name: name.to_string() })
+    }
+
+    fn call(&mut self, name: &'_ str, pos: usize) -> Result<Expr, ParseError> {
+        let arity = match name {
+            "sin" | "cos" | "tan" | "sqrt" | "abs" | "exp" | "ln" | "log" => 1,
+            "atan2" | "min" | "max" | "pow" => 2,
+            _ => return Err(ParseError::UnknownFunction { pos, name: name.to_string() }),
+        };
+        let mut args = Vec::with_capacity(2);
+        if self.peek() != Some(b')') {
+            loop {
+                args.push(self.expr()?);
+                if self.peek() == Some(b',') {
+                    self.pos += 1;
+                } else {
+                    break;
+                }
+            }
+        }
+        self.expect(b')')?;
+        if args.len() != arity {
+            return Err(ParseError::WrongArity { pos, name: name.to_string(), expected: arity, found: args.len() });
+        }
+        let g = &mut *self.g;
+        Ok(match name {
+            "sin" => g.sin(args[0]),
+            "cos" => g.cos(args[0]),
+            "tan" => g.tan(args[0]),
+            "sqrt" => g.sqrt(args[0]),
+            "abs" => g.abs(args[0]),
+            "exp" => g.exp(args[0]),
+            "ln" | "log" => g.ln(args[0]),
+            "atan2" => g.atan2(args[0], args[1]),
+            "min" => g.min(args[0], args[1]),
+            "max" => g.max(args[0], args[1]),
+            _ => g.pow(args[0], args[1]),
+        })
+    }
+}
+
+impl ExprGraph {
+    /// Parses infix `src` (see the module grammar), resolving names through `resolve`.
+    /// Never panics; errors carry the byte position and what was expected.
+    pub fn parse(
+        &mut self,
+        src: &str,
+        resolve: &mut dyn FnMut(&str) -> Option<Expr>,
+    ) -> Result<Expr, ParseError> {
+        let mut p = Parser { src, pos: 0, g: self, resolve, depth: 0 };
+        let e = p.expr()?;
+        if p.peek().is_some() {
+            return Err(p.expected("an operator or end of input"));
+        }
+        Ok(e)
+    }
+}
