@@ -1,1 +1,71 @@
-fn main() {}
+//! Build script: insist on a system SUNDIALS 6.x install.
+//!
+//! `sundials-sys` silently falls back to building its vendored SUNDIALS 7.x with
+//! cmake when it cannot find system headers; bondmech is written against the 6.x
+//! API (see `vendor-notes/sundials.md`), so we check the headers here first and
+//! fail with an actionable message instead.
+
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+const INSTALL_HINT: &str = "apt-get install libsundials-dev libclang-dev pkg-config";
+const REQUIRED_HEADERS: [&str; 3] = ["ida/ida.h", "cvode/cvode.h", "sundials/sundials_config.h"];
+
+fn candidate_dirs() -> Vec<PathBuf> {
+    match env::var_os("SUNDIALS_INCLUDE_DIR") {
+        Some(dir) => vec![PathBuf::from(dir)],
+        None => vec![PathBuf::from("/usr/include"), PathBuf::from("/usr/local/include")],
+    }
+}
+
+fn has_all_headers(dir: &Path) -> bool {
+    REQUIRED_HEADERS.iter().all(|h| dir.join(h).is_file())
+}
+
+/// Value of `#define NAME value` in the config header, quotes stripped.
+fn define_value(config: &str, name: &str) -> Option<String> {
+    config.lines().find_map(|line| {
+        let mut parts = line.split_whitespace();
+        if parts.next()? != "#define" || parts.next()? != name {
+            return None;
+        }
+        Some(parts.next()?.trim_matches('"').to_string())
+    })
+}
+
+fn main() {
+    println!("cargo:rerun-if-env-changed=SUNDIALS_INCLUDE_DIR");
+    println!("cargo:rerun-if-env-changed=SUNDIALS_LIBRARY_DIR");
+    println!("cargo:rerun-if-changed=build.rs");
+
+    let dirs = candidate_dirs();
+    let Some(dir) = dirs.iter().find(|d| has_all_headers(d)) else {
+        let searched: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+        panic!(
+            "bondmech needs the system SUNDIALS 6.x headers ({}) but did not find them in [{}].\n\
+             Install them with:\n    {INSTALL_HINT}\n\
+             or point SUNDIALS_INCLUDE_DIR / SUNDIALS_LIBRARY_DIR at another SUNDIALS 6.x install.",
+            REQUIRED_HEADERS.join(", "),
+            searched.join(", ")
+        );
+    };
+    let config_path = dir.join("sundials/sundials_config.h");
+    println!("cargo:rerun-if-changed={}", config_path.display());
+    let config = fs::read_to_string(&config_path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", config_path.display()));
+    let major = define_value(&config, "SUNDIALS_VERSION_MAJOR");
+    let version = define_value(&config, "SUNDIALS_VERSION");
+    match (major.as_deref(), version) {
+        (Some("6"), Some(version)) => {
+            println!("cargo:rustc-env=BONDMECH_SUNDIALS_HEADER_VERSION={version}");
+        }
+        (major, _) => panic!(
+            "bondmech supports SUNDIALS 6.x only, but {} declares SUNDIALS_VERSION_MAJOR = {}.\n\
+             Install the 6.x headers with:\n    {INSTALL_HINT}\n\
+             or point SUNDIALS_INCLUDE_DIR / SUNDIALS_LIBRARY_DIR at a SUNDIALS 6.x install.",
+            config_path.display(),
+            major.unwrap_or("<missing>")
+        ),
+    }
+}

@@ -1,1 +1,46 @@
-//! sundials (placeholder)
+//! Safe wrapper around SUNDIALS 6.4 (IDA for DAEs `F(t, y, y') = 0`, CVODE for
+//! ODEs `y' = f(t, y)`), the only place in the crate that uses `unsafe`.
+//!
+//! Every solver owns its own `SUNContext`, so solvers are `Send` and nothing is
+//! global. Callbacks are boxed Rust closures; panics and errors inside them are
+//! caught and turned into [`SolverError`]s. Failing SUNDIALS return flags become
+//! typed errors naming the function, flag and time reached.
+//!
+//! Table of contents:
+//! - [`context`]: RAII `SUNContext`.
+//! - [`vector`], [`matrix`], [`linsol`]: RAII serial `N_Vector`, dense `SUNMatrix`, dense `SUNLinearSolver`.
+//! - [`error`]: [`SolverError`], [`CallbackError`] and flag-name lookup.
+//! - [`callback`]: panic-safe trampolines' shared state.
+//! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
+//! - [`stats`]: [`SolverStats`].
+//! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
+//! - [`ida`], [`cvode`]: the solvers.
+//! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
+//! - [`version`]: linked library version.
+
+pub mod callback;
+pub mod context;
+pub mod custom_ls;
+pub mod cvode;
+pub mod driver;
+pub mod error;
+pub mod ida;
+pub mod linsol;
+pub mod matrix;
+pub mod options;
+pub mod stats;
+pub mod vector;
+pub mod version;
+
+
+pub use callback::{
+    CvodeJacobianFn, CvodeRootFn, IdaJacobianFn, IdaRootFn, ResidualFn, RhsFn,
+};
+pub use custom_ls::IdaLinearSolver;
+pub use cvode::Cvode;
+pub use error::{CallbackError, CallbackResult, SolverError};
+pub use ida::Ida;
+pub use matrix::DenseMatrixMut;
+pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
+pub use stats::SolverStats;
+pub use version::{header_version, version};

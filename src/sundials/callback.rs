@@ -1,0 +1,108 @@
+//! Callback types and the panic-safe guard every trampoline runs closures under.
+//!
+//! A closure result maps to the SUNDIALS convention: `Ok` → 0, `Recoverable` → +1
+//! (retry with a smaller step), `Fatal` or a panic → -1 (stop); the fatal message or
+//! panic payload is remembered in [`CallbackStatus`] and surfaces from the solve call.
+
+use super::error::{CallbackError, CallbackResult, SolverError};
+use super::matrix::DenseMatrixMut;
+use std::os::raw::c_int;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// IDA residual `F(t, y, y') → r`.
+pub type ResidualFn = Box<dyn FnMut(f64, &[f64], &[f64], &mut [f64]) -> CallbackResult + Send>;
+/// IDA Jacobian `(t, cj, y, y', J)`: fill `J = ∂F/∂y + cj ∂F/∂y'`.
+pub type IdaJacobianFn =
+    Box<dyn FnMut(f64, f64, &[f64], &[f64], &mut DenseMatrixMut<'_>) -> CallbackResult + Send>;
+/// IDA root functions `g(t, y, y') → gout`.
+pub type IdaRootFn = Box<dyn FnMut(f64, &[f64], &[f64], &mut [f64]) -> CallbackResult + Send>;
+/// CVODE right-hand side `f(t, y) → ydot`.
+pub type RhsFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
+/// CVODE Jacobian `(t, y, f(t, y), J)`: fill `J = ∂f/∂y`.
+pub type CvodeJacobianFn =
+    Box<dyn FnMut(f64, &[f64], &[f64], &mut DenseMatrixMut<'_>) -> CallbackResult + Send>;
+/// CVODE root functions `g(t, y) → gout`.
+pub type CvodeRootFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
+
+/// What went wrong inside callbacks during the current solve call.
+#[derive(Debug, Default)]
+pub(crate) struct CallbackStatus {
+    panic: Option<(f64, String)>,
+    fatal: Option<(f64, String)>,
+    /// Last message SUNDIALS passed to the error handler.
+    pub(crate) last_message: Option<String>,
+}
+
+impl CallbackStatus {
+    pub(crate) fn clear(&mut self) {
+        *self = CallbackStatus::default();
+    }
+
+    /// Run `f`, translating its outcome to a SUNDIALS return code.
+    pub(crate) fn guard(&mut self, t: f64, f: impl FnOnce() -> CallbackResult) -> c_int {
+        if self.panic.is_some() || self.fatal.is_some() {
+            return -1;
+        }
+        match catch_unwind(AssertUnwindSafe(f)) {
+            Ok(Ok(())) => 0,
+            Ok(Err(CallbackError::Recoverable(_))) => 1,
+            Ok(Err(CallbackError::Fatal(message))) => {
+                self.fatal = Some((t, message));
+                -1
+            }
+            Err(payload) => {
+                let message = payload
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| payload.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "non-string panic payload".to_string());
+                self.panic = Some((t, message));
+                -1
+            }
+        }
+    }
+
+    /// Error recorded by a callback, preferred over the SUNDIALS flag it caused.
+    pub(crate) fn take_error(&mut self) -> Option<SolverError> {
+        if let Some((t, message)) = self.panic.take() {
+            return Some(SolverError::CallbackPanic { t, message });
+        }
+        self.fatal.take().map(|(t, message)| SolverError::CallbackFailed { t, message })
+    }
+}
+
+/// Like `guard`, but non-finite outputs turn success into a recoverable failure.
+pub(crate) fn finite_or_recoverable(code: c_int, out: &[f64]) -> c_int {
+    if code == 0 && out.iter().any(|x| !x.is_finite()) {
+        1
+    } else {
+        code
+    }
+}
+
+/// Error-handler trampoline (`IDASetErrHandlerFn`/`CVodeSetErrHandlerFn`): keep the
+/// last message in the [`CallbackStatus`] at `eh_data` instead of printing to stderr.
+pub(crate) unsafe extern "C" fn error_handler(
+    _code: c_int,
+    module: *const std::os::raw::c_char,
+    function: *const std::os::raw::c_char,
+    msg: *mut std::os::raw::c_char,
+    eh_data: *mut std::os::raw::c_void,
+) {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: eh_data is the CallbackStatus registered together with this handler,
+        // which lives in a Box owned by the solver for as long as the SUNDIALS memory;
+        // the strings are NUL-terminated C strings valid for this call (or NULL).
+        unsafe {
+            let status = &mut *(eh_data as *mut CallbackStatus);
+            let text = |p: *const std::os::raw::c_char| {
+                if p.is_null() {
+                    String::new()
+                } else {
+                    std::ffi::CStr::from_ptr(p).to_string_lossy().into_owned()
+                }
+            };
+            status.last_message = Some(format!("[{} {}] {}", text(module), text(function), text(msg)));
+        }
+    }));
+}

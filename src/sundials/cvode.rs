@@ -1,0 +1,375 @@
+//! CVODE: variable-order BDF (stiff) or Adams–Moulton (non-stiff) for ODEs
+//! `y' = f(t, y)`, with Newton iteration on `M = I - γ ∂f/∂y` solved by the dense
+//! linear solver (user Jacobian `∂f/∂y` or difference quotients) for both methods.
+
+use super::callback::{
+    error_handler, finite_or_recoverable, CallbackStatus, CvodeJacobianFn, CvodeRootFn, RhsFn,
+};
+use super::context::Context;
+use super::driver::{self, DriverState, RawEvent, Stepper};
+use super::error::{check, Package, SolverError};
+use super::linsol::LinearSolver;
+use super::matrix::{DenseMatrix, DenseMatrixMut};
+use super::options::{check_tolerances, check_vector, CvodeOptions, Multistep, Step};
+use super::stats::SolverStats;
+use super::vector::{slice_of, slice_of_mut, NVector};
+use std::os::raw::{c_int, c_long, c_void};
+use sundials_sys as sys;
+
+const P: Package = Package::Cvode;
+
+/// Closures and callback status; boxed so SUNDIALS can hold its address as `user_data`.
+struct CvodeData {
+    status: CallbackStatus,
+    n: usize,
+    nroots: usize,
+    rhs: RhsFn,
+    jacobian: Option<CvodeJacobianFn>,
+    roots: Option<CvodeRootFn>,
+}
+
+/// Owned CVODE memory, freed with `CVodeFree`.
+struct CvodeMem(*mut c_void);
+
+impl Drop for CvodeMem {
+    fn drop(&mut self) {
+        // SAFETY: the pointer came from CVodeCreate and is freed exactly once.
+        unsafe { sys::CVodeFree(&mut self.0) }
+    }
+}
+
+/// A CVODE integrator with its own SUNDIALS context.
+///
+/// Field order is drop order: CVODE memory, linear solver, matrix, vectors,
+/// closures, context last.
+pub struct Cvode {
+    mem: CvodeMem,
+    #[allow(dead_code)] // owned: freed after `mem`
+    ls: LinearSolver,
+    #[allow(dead_code)] // owned: freed after `ls`
+    mat: DenseMatrix,
+    y: NVector,
+    tmp: NVector,
+    data: Box<CvodeData>,
+    driver: DriverState,
+    #[allow(dead_code)] // owned: freed last
+    ctx: Context,
+}
+
+// SAFETY: a Cvode exclusively owns its context, memory, vectors and closures (all
+// `Send`); SUNDIALS keeps no global state across contexts, and nothing is shared.
+unsafe impl Send for Cvode {}
+
+unsafe extern "C" fn rhs_trampoline(t: f64, yy: sys::N_Vector, yd: sys::N_Vector, user_data: *mut c_void) -> c_int {
+    // SAFETY: user_data is the Box<CvodeData> registered with CVodeSetUserData, alive
+    // as long as the CVODE memory; yy and yd are distinct serial vectors of length n.
+    let (data, y, ydot) = unsafe {
+        let data = &mut *(user_data as *mut CvodeData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of_mut(yd, n))
+    };
+    let CvodeData { status, rhs, .. } = data;
+    let code = status.guard(t, || rhs(t, y, ydot));
+    finite_or_recoverable(code, ydot)
+}
+
+unsafe extern "C" fn jacobian_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    fy: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    _t1: sys::N_Vector,
+    _t2: sys::N_Vector,
+    _t3: sys::N_Vector,
+) -> c_int {
+    // SAFETY: as in rhs_trampoline; jac is the dense n x n matrix we attached.
+    let (data, y, f, mut j) = unsafe {
+        let data = &mut *(user_data as *mut CvodeData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of(fy, n), DenseMatrixMut::from_raw(jac))
+    };
+    j.fill_zero();
+    let CvodeData { status, jacobian, .. } = data;
+    let Some(jacobian) = jacobian.as_mut() else { return -1 };
+    let code = status.guard(t, || jacobian(t, y, f, &mut j));
+    finite_or_recoverable(code, j.as_mut_slice())
+}
+
+unsafe extern "C" fn root_trampoline(t: f64, yy: sys::N_Vector, gout: *mut f64, user_data: *mut c_void) -> c_int {
+    // SAFETY: as in rhs_trampoline; gout has room for the nroots registered.
+    let (data, y, g) = unsafe {
+        let data = &mut *(user_data as *mut CvodeData);
+        let n = data.n;
+        let g = std::slice::from_raw_parts_mut(gout, data.nroots);
+        (data, slice_of(yy, n), g)
+    };
+    let CvodeData { status, roots, .. } = data;
+    let Some(roots) = roots.as_mut() else { return -1 };
+    let code = status.guard(t, || roots(t, y, g));
+    if finite_or_recoverable(code, g) != 0 {
+        -1
+    } else {
+        0
+    }
+}
+
+impl Cvode {
+    /// Create a CVODE solver for `y' = f(t, y)` from `(t0, y0)`.
+    pub fn new(
+        method: Multistep,
+        t0: f64,
+        y0: &[f64],
+        rhs: RhsFn,
+        jacobian: Option<CvodeJacobianFn>,
+        opts: &CvodeOptions,
+    ) -> Result<Cvode, SolverError> {
+        let n = y0.len();
+        if n == 0 {
+            return Err(SolverError::InvalidInput("y0 is empty".into()));
+        }
+        if !t0.is_finite() {
+            return Err(SolverError::InvalidInput(format!("t0 must be finite, got {t0}")));
+        }
+        check_vector("y0", y0, n)?;
+        check_tolerances(opts.rtol, &opts.atol, n)?;
+        // Locals drop in reverse order: memory first, context last.
+        let ctx = Context::new()?;
+        let y = NVector::from_slice(&ctx, y0)?;
+        let tmp = NVector::from_slice(&ctx, y0)?;
+        let has_jac = jacobian.is_some();
+        let mut data = Box::new(CvodeData {
+            status: CallbackStatus::default(),
+            n,
+            nroots: 0,
+            rhs,
+            jacobian,
+            roots: None,
+        });
+        let mat = DenseMatrix::square(&ctx, n)?;
+        let ls = LinearSolver::dense(&ctx, &y, &mat)?;
+        let lmm = match method {
+            Multistep::Bdf => sys::CV_BDF,
+            Multistep::Adams => sys::CV_ADAMS,
+        };
+        // SAFETY: valid context; NULL checked below.
+        let raw = unsafe { sys::CVodeCreate(lmm, ctx.raw()) };
+        if raw.is_null() {
+            return Err(SolverError::InvalidInput("CVodeCreate failed".into()));
+        }
+        let mem = CvodeMem(raw);
+        let status_ptr = &mut data.status as *mut CallbackStatus as *mut c_void;
+        let data_ptr = &mut *data as *mut CvodeData as *mut c_void;
+        // SAFETY: mem, vectors, matrix and solver are live; user data and error-handler
+        // data point into the Box `data`, kept alive (unmoved) by the returned Cvode.
+        unsafe {
+            check(P, "CVodeSetErrHandlerFn", sys::CVodeSetErrHandlerFn(raw, Some(error_handler), status_ptr), t0)?;
+            check(P, "CVodeInit", sys::CVodeInit(raw, Some(rhs_trampoline), t0, y.raw()), t0)?;
+            if opts.atol.len() == 1 {
+                check(P, "CVodeSStolerances", sys::CVodeSStolerances(raw, opts.rtol, opts.atol[0]), t0)?;
+            } else {
+                let atol = NVector::from_slice(&ctx, &opts.atol)?;
+                check(P, "CVodeSVtolerances", sys::CVodeSVtolerances(raw, opts.rtol, atol.raw()), t0)?;
+            }
+            check(P, "CVodeSetUserData", sys::CVodeSetUserData(raw, data_ptr), t0)?;
+            check(P, "CVodeSetLinearSolver", sys::CVodeSetLinearSolver(raw, ls.raw(), mat.raw()), t0)?;
+            if has_jac {
+                check(P, "CVodeSetJacFn", sys::CVodeSetJacFn(raw, Some(jacobian_trampoline)), t0)?;
+            }
+            if let Some(v) = opts.max_order {
+                check(P, "CVodeSetMaxOrd", sys::CVodeSetMaxOrd(raw, v), t0)?;
+            }
+            if let Some(v) = opts.max_step {
+                check(P, "CVodeSetMaxStep", sys::CVodeSetMaxStep(raw, v), t0)?;
+            }
+            if let Some(v) = opts.init_step {
+                check(P, "CVodeSetInitStep", sys::CVodeSetInitStep(raw, v), t0)?;
+            }
+            if let Some(t) = opts.stop_time {
+                check(P, "CVodeSetStopTime", sys::CVodeSetStopTime(raw, t), t0)?;
+            }
+        }
+        Ok(Cvode {
+            mem,
+            ls,
+            mat,
+            y,
+            tmp,
+            data,
+            driver: DriverState::new(t0, opts.max_steps, opts.max_wall_clock),
+            ctx,
+        })
+    }
+
+    fn raw(&self) -> *mut c_void {
+        self.mem.0
+    }
+
+    /// Turn a failing flag into an error, preferring a callback's own error.
+    fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
+        if let Some(e) = self.data.status.take_error() {
+            return e;
+        }
+        let t = self.current_time();
+        if flag == sys::CV_TOO_MUCH_WORK {
+            if let Some(max_steps) = self.driver.max_steps {
+                return SolverError::TooMuchWork { t, max_steps };
+            }
+        }
+        check(P, function, flag, t).expect_err("flag is negative")
+    }
+
+    /// Register `n` root functions `g(t, y)`; sign changes stop `solve_to`.
+    pub fn set_roots(&mut self, n: usize, f: CvodeRootFn) -> Result<(), SolverError> {
+        self.data.roots = Some(f);
+        self.data.nroots = n;
+        // SAFETY: live CVODE memory; the trampoline reads closures from the registered user data.
+        let flag = unsafe { sys::CVodeRootInit(self.raw(), n as c_int, Some(root_trampoline)) };
+        if flag < 0 {
+            return Err(self.fail("CVodeRootInit", flag));
+        }
+        Ok(())
+    }
+
+    /// Integrate to `tout` (or an earlier root / stop time); `y()` then holds the state at `step.t`.
+    pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
+        driver::solve_to(self, tout)
+    }
+
+    /// Take one internal step toward `tout`.
+    pub fn step(&mut self, tout: f64) -> Result<Step, SolverError> {
+        driver::step(self, tout)
+    }
+
+    /// Time of the state in `y()`.
+    pub fn t(&self) -> f64 {
+        self.driver.t
+    }
+
+    /// State y at `t()`.
+    pub fn y(&self) -> &[f64] {
+        self.y.as_slice()
+    }
+
+    /// k-th derivative of the interpolating polynomial at `t` (within the last step).
+    pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
+        if out.len() != self.data.n {
+            return Err(SolverError::InvalidInput(format!(
+                "dky output has length {}, expected {}",
+                out.len(),
+                self.data.n
+            )));
+        }
+        // SAFETY: live CVODE memory; tmp is an owned vector of length n.
+        let flag = unsafe { sys::CVodeGetDky(self.raw(), t, k, self.tmp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("CVodeGetDky", flag));
+        }
+        out.copy_from_slice(self.tmp.as_slice());
+        Ok(())
+    }
+
+    /// Restart from `(t0, y0)` keeping options and closures.
+    pub fn reinit(&mut self, t0: f64, y0: &[f64]) -> Result<(), SolverError> {
+        check_vector("y0", y0, self.data.n)?;
+        self.y.as_mut_slice().copy_from_slice(y0);
+        // SAFETY: live CVODE memory and an owned vector of length n.
+        let flag = unsafe { sys::CVodeReInit(self.raw(), t0, self.y.raw()) };
+        if flag < 0 {
+            return Err(self.fail("CVodeReInit", flag));
+        }
+        self.driver.restart(t0);
+        Ok(())
+    }
+
+    /// Do not step past `t`.
+    pub fn set_stop_time(&mut self, t: f64) -> Result<(), SolverError> {
+        // SAFETY: live CVODE memory.
+        let flag = unsafe { sys::CVodeSetStopTime(self.raw(), t) };
+        if flag < 0 {
+            return Err(self.fail("CVodeSetStopTime", flag));
+        }
+        Ok(())
+    }
+
+    /// Last message SUNDIALS reported to the error handler (instead of printing it).
+    pub fn last_error_message(&self) -> Option<&str> {
+        self.data.status.last_message.as_deref()
+    }
+
+    /// Integrator counters (`residual_evals` counts right-hand-side evaluations).
+    pub fn stats(&self) -> SolverStats {
+        let mem = self.raw();
+        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
+            let mut v: c_long = 0;
+            // SAFETY: live CVODE memory and a valid out-pointer.
+            unsafe { f(mem, &mut v) };
+            v.max(0) as u64
+        };
+        let mut last_step = 0.0;
+        let mut last_order: c_int = 0;
+        // SAFETY: live CVODE memory and valid out-pointers.
+        unsafe {
+            sys::CVodeGetLastStep(mem, &mut last_step);
+            sys::CVodeGetLastOrder(mem, &mut last_order);
+        }
+        SolverStats {
+            steps: get(sys::CVodeGetNumSteps),
+            residual_evals: get(sys::CVodeGetNumRhsEvals),
+            jacobian_evals: get(sys::CVodeGetNumJacEvals),
+            linear_setups: get(sys::CVodeGetNumLinSolvSetups),
+            nonlinear_iterations: get(sys::CVodeGetNumNonlinSolvIters),
+            nonlinear_conv_failures: get(sys::CVodeGetNumNonlinSolvConvFails),
+            error_test_failures: get(sys::CVodeGetNumErrTestFails),
+            root_evals: get(sys::CVodeGetNumGEvals),
+            last_step,
+            last_order,
+        }
+    }
+}
+
+impl Stepper for Cvode {
+    fn driver(&mut self) -> &mut DriverState {
+        &mut self.driver
+    }
+
+    fn current_time(&self) -> f64 {
+        let mut t = self.driver.t;
+        // SAFETY: live CVODE memory and a valid out-pointer.
+        unsafe { sys::CVodeGetCurrentTime(self.raw(), &mut t) };
+        t
+    }
+
+    fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
+        let mut tret = self.driver.t;
+        // SAFETY: live CVODE memory, an owned vector of length n, valid out-pointer.
+        let flag = unsafe { sys::CVode(self.raw(), tout, self.y.raw(), &mut tret, sys::CV_ONE_STEP) };
+        match flag {
+            sys::CV_SUCCESS => Ok((tret, RawEvent::Success)),
+            sys::CV_ROOT_RETURN => Ok((tret, RawEvent::Root)),
+            sys::CV_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
+            f if f < 0 => Err(self.fail("CVode", f)),
+            _ => Ok((tret, RawEvent::Success)),
+        }
+    }
+
+    fn root_info(&mut self) -> Vec<i32> {
+        let mut info = vec![0 as c_int; self.data.nroots];
+        // SAFETY: live CVODE memory; `info` has room for nroots entries.
+        unsafe { sys::CVodeGetRootInfo(self.raw(), info.as_mut_ptr()) };
+        info
+    }
+
+    fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
+        // SAFETY: live CVODE memory and an owned vector of length n.
+        let flag = unsafe { sys::CVodeGetDky(self.raw(), t, 0, self.y.raw()) };
+        if flag < 0 {
+            return Err(self.fail("CVodeGetDky", flag));
+        }
+        Ok(())
+    }
+
+    fn clear_status(&mut self) {
+        self.data.status.clear();
+    }
+}

@@ -1,0 +1,139 @@
+//! The `solve_to` loop shared by IDA and CVODE: single internal steps
+//! (`*_ONE_STEP`) until the integrator passes `tout`, then interpolation of the
+//! state at `tout` (`IDAGetDky`/`CVodeGetDky`). Between steps the step and
+//! wall-clock budgets are checked. Roots and stop times found beyond `tout` are
+//! kept pending and returned by the next call.
+
+use super::error::SolverError;
+use super::options::{Step, StepEvent};
+use std::time::{Duration, Instant};
+
+/// Outcome of one internal step.
+pub(crate) enum RawEvent {
+    Success,
+    Root,
+    StopTime,
+}
+
+/// Minimal integrator interface the loop needs.
+pub(crate) trait Stepper {
+    /// Driver bookkeeping of this solver.
+    fn driver(&mut self) -> &mut DriverState;
+    /// Time the integrator has reached internally (`tn`).
+    fn current_time(&self) -> f64;
+    /// One internal step toward `tout`; the state vectors then hold values at the returned time.
+    fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError>;
+    /// Root directions after a root return.
+    fn root_info(&mut self) -> Vec<i32>;
+    /// Load the state vectors with the interpolant at `t` (within the last step).
+    fn interpolate(&mut self, t: f64) -> Result<(), SolverError>;
+    /// Forget callback errors from a previous call.
+    fn clear_status(&mut self);
+}
+
+/// Bookkeeping of the loop: last returned time, pending event, budgets.
+#[derive(Debug)]
+pub(crate) struct DriverState {
+    pub(crate) t: f64,
+    pub(crate) pending: Option<(f64, StepEvent)>,
+    pub(crate) max_steps: Option<u64>,
+    pub(crate) max_wall_clock: Option<Duration>,
+}
+
+impl DriverState {
+    pub(crate) fn new(t0: f64, max_steps: Option<u64>, max_wall_clock: Option<Duration>) -> Self {
+        DriverState { t: t0, pending: None, max_steps, max_wall_clock }
+    }
+
+    pub(crate) fn restart(&mut self, t0: f64) {
+        self.t = t0;
+        self.pending = None;
+    }
+}
+
+fn check_tout(t: f64, tout: f64) -> Result<(), SolverError> {
+    if !tout.is_finite() {
+        return Err(SolverError::InvalidInput(format!("tout must be finite, got {tout}")));
+    }
+    if tout < t {
+        return Err(SolverError::InvalidInput(format!(
+            "tout = {tout} is before the current time {t} (integration is forward only)"
+        )));
+    }
+    Ok(())
+}
+
+/// Advance to `tout` (or an earlier root / stop time).
+pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
+    let t_last = s.driver().t;
+    check_tout(t_last, tout)?;
+    s.clear_status();
+    if tout == t_last && s.driver().pending.is_none() {
+        return Ok(Step { t: tout, event: StepEvent::Reached });
+    }
+    let start = Instant::now();
+    let mut steps: u64 = 0;
+    loop {
+        if let Some((tp, _)) = &s.driver().pending {
+            if *tp <= tout {
+                let (tp, event) = s.driver().pending.take().expect("pending checked above");
+                s.interpolate(tp)?;
+                s.driver().t = tp;
+                return Ok(Step { t: tp, event });
+            }
+        }
+        let tn = s.current_time();
+        if tn >= tout {
+            s.interpolate(tout)?;
+            s.driver().t = tout;
+            return Ok(Step { t: tout, event: StepEvent::Reached });
+        }
+        if let Some(limit) = s.driver().max_wall_clock {
+            if start.elapsed() > limit {
+                return Err(SolverError::WallClock { t: tn, limit });
+            }
+        }
+        if let Some(max_steps) = s.driver().max_steps {
+            if steps >= max_steps {
+                return Err(SolverError::TooMuchWork { t: tn, max_steps });
+            }
+        }
+        let (tret, raw) = s.one_step(tout)?;
+        steps += 1;
+        let event = match raw {
+            RawEvent::Success => continue,
+            RawEvent::Root => StepEvent::Root(s.root_info()),
+            RawEvent::StopTime => StepEvent::StopTime,
+        };
+        if tret > tout {
+            s.driver().pending = Some((tret, event));
+            continue;
+        }
+        s.driver().t = tret;
+        return Ok(Step { t: tret, event });
+    }
+}
+
+/// Take exactly one internal step (or return a pending event).
+pub(crate) fn step<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
+    let t_last = s.driver().t;
+    if !tout.is_finite() || tout <= t_last {
+        return Err(SolverError::InvalidInput(format!(
+            "step: tout = {tout} must be finite and after the current time {t_last}"
+        )));
+    }
+    s.clear_status();
+    if let Some((tp, event)) = s.driver().pending.take() {
+        s.interpolate(tp)?;
+        s.driver().t = tp;
+        return Ok(Step { t: tp, event });
+    }
+    let (tret, raw) = s.one_step(tout)?;
+    let event = match raw {
+        RawEvent::Success => StepEvent::Reached,
+        RawEvent::Root => StepEvent::Root(s.root_info()),
+        RawEvent::StopTime => StepEvent::StopTime,
+    };
+    s.driver().t = tret;
+    Ok(Step { t: tret, event })
+}

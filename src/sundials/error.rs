@@ -1,0 +1,122 @@
+//! Errors: [`SolverError`] from solver calls, [`CallbackError`] from user closures.
+
+use std::ffi::CStr;
+use std::os::raw::{c_char, c_long, c_void};
+use std::time::Duration;
+
+extern "C" {
+    fn free(p: *mut c_void);
+}
+
+/// Failure reported by a user callback (residual, right-hand side, Jacobian, roots).
+#[derive(Clone, Debug, PartialEq)]
+pub enum CallbackError {
+    /// SUNDIALS may retry with a smaller step (callback returns +1).
+    Recoverable(String),
+    /// Stop the integration (callback returns -1); becomes [`SolverError::CallbackFailed`].
+    Fatal(String),
+}
+
+/// Result of a user callback.
+pub type CallbackResult = Result<(), CallbackError>;
+
+/// Error from a SUNDIALS solver call.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SolverError {
+    /// A SUNDIALS function returned a failing flag.
+    #[error("{function} failed with {name} ({flag}) at t = {t}")]
+    Flag {
+        /// SUNDIALS function name, e.g. `IDASolve`.
+        function: &'static str,
+        /// Raw return flag.
+        flag: i32,
+        /// Flag name from `IDAGetReturnFlagName`/`CVodeGetReturnFlagName`, e.g. `IDA_CONV_FAIL`.
+        name: String,
+        /// Time reached by the integrator.
+        t: f64,
+    },
+    /// A user callback panicked; the panic was caught.
+    #[error("callback panicked at t = {t}: {message}")]
+    CallbackPanic {
+        /// Time argument of the panicking call.
+        t: f64,
+        /// Panic payload.
+        message: String,
+    },
+    /// A user callback returned [`CallbackError::Fatal`].
+    #[error("callback failed at t = {t}: {message}")]
+    CallbackFailed {
+        /// Time argument of the failing call.
+        t: f64,
+        /// Message of the callback.
+        message: String,
+    },
+    /// The step budget of one solve call was exhausted.
+    #[error("too much work: {max_steps} steps taken, reached t = {t}")]
+    TooMuchWork {
+        /// Time reached.
+        t: f64,
+        /// The budget.
+        max_steps: u64,
+    },
+    /// The wall-clock budget of one solve call was exhausted.
+    #[error("wall-clock limit {limit:?} exceeded, reached t = {t}")]
+    WallClock {
+        /// Time reached.
+        t: f64,
+        /// The budget.
+        limit: Duration,
+    },
+    /// Bad arguments (lengths, non-finite values, ...).
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+}
+
+impl SolverError {
+    /// Integration time at which the error happened, if there is one.
+    pub fn time(&self) -> Option<f64> {
+        match self {
+            SolverError::Flag { t, .. }
+            | SolverError::CallbackPanic { t, .. }
+            | SolverError::CallbackFailed { t, .. }
+            | SolverError::TooMuchWork { t, .. }
+            | SolverError::WallClock { t, .. } => Some(*t),
+            SolverError::InvalidInput(_) => None,
+        }
+    }
+}
+
+/// Which SUNDIALS package a flag comes from (for flag names).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Package {
+    Ida,
+    Cvode,
+}
+
+/// Name of a return flag, e.g. `IDA_CONV_FAIL`.
+pub(crate) fn flag_name(package: Package, flag: i32) -> String {
+    // SAFETY: the Get*ReturnFlagName functions accept any flag value and return a
+    // malloc'ed NUL-terminated string (or NULL), which we copy and then free.
+    unsafe {
+        let p: *mut c_char = match package {
+            Package::Ida => sundials_sys::IDAGetReturnFlagName(flag as c_long),
+            Package::Cvode => sundials_sys::CVodeGetReturnFlagName(flag as c_long),
+        };
+        if p.is_null() {
+            return format!("UNKNOWN_FLAG_{flag}");
+        }
+        let name = CStr::from_ptr(p).to_string_lossy().into_owned();
+        free(p.cast());
+        name
+    }
+}
+
+/// `Ok(())` for non-negative flags, else a [`SolverError::Flag`].
+pub(crate) fn check(package: Package, function: &'static str, flag: i32, t: f64) -> Result<(), SolverError> {
+    if flag >= 0 {
+        Ok(())
+    } else {
+        Err(SolverError::Flag { function, flag, name: flag_name(package, flag), t })
+    }
+}

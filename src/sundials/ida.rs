@@ -1,0 +1,500 @@
+//! IDA: variable-order BDF for implicit DAEs `F(t, y, y') = 0`.
+//!
+//! Newton's method on the BDF corrector solves `F(t, y, α y + β) = 0` with the
+//! iteration matrix `J = ∂F/∂y + cj ∂F/∂y'` (user-supplied or difference quotients),
+//! factored by the dense linear solver or a user [`IdaLinearSolver`].
+
+use super::callback::{
+    error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn, ResidualFn,
+};
+use super::context::Context;
+use super::custom_ls::{self, IdaLinearSolver};
+use super::driver::{self, DriverState, RawEvent, Stepper};
+use super::error::{check, Package, SolverError};
+use super::linsol::LinearSolver;
+use super::matrix::{DenseMatrix, DenseMatrixMut};
+use super::options::{check_tolerances, check_vector, CalcIc, IdaOptions, Step};
+use super::stats::SolverStats;
+use super::vector::{slice_of, slice_of_mut, NVector};
+use std::os::raw::{c_int, c_long, c_void};
+use std::ptr;
+use sundials_sys as sys;
+
+const P: Package = Package::Ida;
+
+/// Closures and callback status; boxed so SUNDIALS can hold its address as `user_data`.
+pub(crate) struct IdaData {
+    pub(crate) status: CallbackStatus,
+    pub(crate) n: usize,
+    nroots: usize,
+    residual: ResidualFn,
+    jacobian: Option<IdaJacobianFn>,
+    roots: Option<IdaRootFn>,
+}
+
+/// Owned IDA memory, freed with `IDAFree`.
+struct IdaMem(*mut c_void);
+
+impl Drop for IdaMem {
+    fn drop(&mut self) {
+        // SAFETY: the pointer came from IDACreate and is freed exactly once.
+        unsafe { sys::IDAFree(&mut self.0) }
+    }
+}
+
+/// An IDA integrator with its own SUNDIALS context.
+///
+/// Field order is drop order: IDA memory, then linear solver, matrix, vectors,
+/// closures, and the context last, as SUNDIALS requires.
+pub struct Ida {
+    mem: IdaMem,
+    #[allow(dead_code)] // owned: freed after `mem`
+    ls: LinearSolver,
+    #[allow(dead_code)] // owned: freed after `ls`
+    mat: Option<DenseMatrix>,
+    y: NVector,
+    yp: NVector,
+    tmp: NVector,
+    data: Box<IdaData>,
+    driver: DriverState,
+    #[allow(dead_code)] // owned: freed last
+    ctx: Context,
+}
+
+// SAFETY: an Ida exclusively owns its context, memory, vectors and closures (all
+// `Send`); SUNDIALS keeps no global state across contexts, and nothing is shared.
+unsafe impl Send for Ida {}
+
+unsafe extern "C" fn residual_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    rr: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
+    // SAFETY: user_data is the Box<IdaData> registered with IDASetUserData, alive as
+    // long as the IDA memory; yy, yp, rr are distinct serial vectors of length n.
+    let (data, y, yp, r) = unsafe {
+        let data = &mut *(user_data as *mut IdaData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of(yp, n), slice_of_mut(rr, n))
+    };
+    let IdaData { status, residual, .. } = data;
+    let code = status.guard(t, || residual(t, y, yp, r));
+    finite_or_recoverable(code, r)
+}
+
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn jacobian_trampoline(
+    t: f64,
+    cj: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    _rr: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    _t1: sys::N_Vector,
+    _t2: sys::N_Vector,
+    _t3: sys::N_Vector,
+) -> c_int {
+    // SAFETY: as in residual_trampoline; jac is the dense n x n matrix we attached.
+    let (data, y, yp, mut j) = unsafe {
+        let data = &mut *(user_data as *mut IdaData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of(yp, n), DenseMatrixMut::from_raw(jac))
+    };
+    j.fill_zero();
+    let IdaData { status, jacobian, .. } = data;
+    let Some(jacobian) = jacobian.as_mut() else { return -1 };
+    let code = status.guard(t, || jacobian(t, cj, y, yp, &mut j));
+    finite_or_recoverable(code, j.as_mut_slice())
+}
+
+unsafe extern "C" fn root_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    gout: *mut f64,
+    user_data: *mut c_void,
+) -> c_int {
+    // SAFETY: as in residual_trampoline; gout has room for the nroots registered.
+    let (data, y, yp, g) = unsafe {
+        let data = &mut *(user_data as *mut IdaData);
+        let n = data.n;
+        let g = std::slice::from_raw_parts_mut(gout, data.nroots);
+        (data, slice_of(yy, n), slice_of(yp, n), g)
+    };
+    let IdaData { status, roots, .. } = data;
+    let Some(roots) = roots.as_mut() else { return -1 };
+    let code = status.guard(t, || roots(t, y, yp, g));
+    // Root functions may not return "recoverable": treat non-finite output as fatal.
+    if finite_or_recoverable(code, g) != 0 {
+        -1
+    } else {
+        0
+    }
+}
+
+enum Linear {
+    Dense(Option<IdaJacobianFn>),
+    Custom(Box<dyn IdaLinearSolver>),
+}
+
+impl Ida {
+    /// Create an IDA solver for `F(t, y, y') = 0` from `(t0, y0, yp0)` with the dense
+    /// linear solver (difference-quotient Jacobian if `jacobian` is `None`).
+    pub fn new(
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        residual: ResidualFn,
+        jacobian: Option<IdaJacobianFn>,
+        opts: &IdaOptions,
+    ) -> Result<Ida, SolverError> {
+        Ida::build(t0, y0, yp0, residual, Linear::Dense(jacobian), opts)
+    }
+
+    /// Create an IDA solver that solves its Newton systems with a user linear solver.
+    pub fn new_with_linear_solver(
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        residual: ResidualFn,
+        linear_solver: Box<dyn IdaLinearSolver>,
+        opts: &IdaOptions,
+    ) -> Result<Ida, SolverError> {
+        Ida::build(t0, y0, yp0, residual, Linear::Custom(linear_solver), opts)
+    }
+
+    fn build(
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        residual: ResidualFn,
+        linear: Linear,
+        opts: &IdaOptions,
+    ) -> Result<Ida, SolverError> {
+        let n = y0.len();
+        if n == 0 {
+            return Err(SolverError::InvalidInput("y0 is empty".into()));
+        }
+        if !t0.is_finite() {
+            return Err(SolverError::InvalidInput(format!("t0 must be finite, got {t0}")));
+        }
+        check_vector("y0", y0, n)?;
+        check_vector("yp0", yp0, n)?;
+        check_tolerances(opts.rtol, &opts.atol, n)?;
+        if let Some(id) = &opts.id {
+            check_vector("id", id, n)?;
+        }
+        if let Some(c) = &opts.constraints {
+            check_vector("constraints", c, n)?;
+        }
+        // Locals drop in reverse order: memory first, context last.
+        let ctx = Context::new()?;
+        let y = NVector::from_slice(&ctx, y0)?;
+        let yp = NVector::from_slice(&ctx, yp0)?;
+        let tmp = NVector::from_slice(&ctx, y0)?;
+        let (jacobian, custom) = match linear {
+            Linear::Dense(j) => (j, None),
+            Linear::Custom(c) => (None, Some(c)),
+        };
+        let has_jac = jacobian.is_some();
+        let mut data = Box::new(IdaData {
+            status: CallbackStatus::default(),
+            n,
+            nroots: 0,
+            residual,
+            jacobian,
+            roots: None,
+        });
+        let (mat, mut ls) = match custom {
+            None => {
+                let mat = DenseMatrix::square(&ctx, n)?;
+                let ls = LinearSolver::dense(&ctx, &y, &mat)?;
+                (Some(mat), ls)
+            }
+            Some(c) => (None, custom_ls::new_linear_solver(&ctx, c, n)?),
+        };
+        // SAFETY: valid context; NULL checked below.
+        let raw = unsafe { sys::IDACreate(ctx.raw()) };
+        if raw.is_null() {
+            return Err(SolverError::InvalidInput("IDACreate failed".into()));
+        }
+        let mem = IdaMem(raw);
+        let status_ptr = &mut data.status as *mut CallbackStatus as *mut c_void;
+        let data_ptr = &mut *data as *mut IdaData as *mut c_void;
+        // SAFETY: mem, vectors, matrix and solver are live; the user data and error
+        // handler data point into the Box `data`, which the returned Ida keeps alive
+        // (and does not move) for as long as the IDA memory.
+        unsafe {
+            check(P, "IDASetErrHandlerFn", sys::IDASetErrHandlerFn(raw, Some(error_handler), status_ptr), t0)?;
+            check(P, "IDAInit", sys::IDAInit(raw, Some(residual_trampoline), t0, y.raw(), yp.raw()), t0)?;
+            if opts.atol.len() == 1 {
+                check(P, "IDASStolerances", sys::IDASStolerances(raw, opts.rtol, opts.atol[0]), t0)?;
+            } else {
+                let atol = NVector::from_slice(&ctx, &opts.atol)?;
+                check(P, "IDASVtolerances", sys::IDASVtolerances(raw, opts.rtol, atol.raw()), t0)?;
+            }
+            check(P, "IDASetUserData", sys::IDASetUserData(raw, data_ptr), t0)?;
+            let a = mat.as_ref().map_or(ptr::null_mut(), |m| m.raw());
+            check(P, "IDASetLinearSolver", sys::IDASetLinearSolver(raw, ls.raw(), a), t0)?;
+            if has_jac {
+                check(P, "IDASetJacFn", sys::IDASetJacFn(raw, Some(jacobian_trampoline)), t0)?;
+            }
+            if mat.is_none() {
+                custom_ls::attach(&mut ls, raw, status_ptr as *mut CallbackStatus);
+            }
+            if let Some(v) = opts.max_order {
+                check(P, "IDASetMaxOrd", sys::IDASetMaxOrd(raw, v), t0)?;
+            }
+            if let Some(v) = opts.max_step {
+                check(P, "IDASetMaxStep", sys::IDASetMaxStep(raw, v), t0)?;
+            }
+            if let Some(v) = opts.init_step {
+                check(P, "IDASetInitStep", sys::IDASetInitStep(raw, v), t0)?;
+            }
+            if let Some(id) = &opts.id {
+                let v = NVector::from_slice(&ctx, id)?;
+                check(P, "IDASetId", sys::IDASetId(raw, v.raw()), t0)?;
+            }
+            if opts.suppress_alg {
+                check(P, "IDASetSuppressAlg", sys::IDASetSuppressAlg(raw, 1), t0)?;
+            }
+            if let Some(c) = &opts.constraints {
+                let v = NVector::from_slice(&ctx, c)?;
+                check(P, "IDASetConstraints", sys::IDASetConstraints(raw, v.raw()), t0)?;
+            }
+            if let Some(t) = opts.stop_time {
+                check(P, "IDASetStopTime", sys::IDASetStopTime(raw, t), t0)?;
+            }
+            if let Some(v) = opts.max_nonlin_iters {
+                check(P, "IDASetMaxNonlinIters", sys::IDASetMaxNonlinIters(raw, v), t0)?;
+            }
+            if let Some(v) = opts.max_conv_fails {
+                check(P, "IDASetMaxConvFails", sys::IDASetMaxConvFails(raw, v), t0)?;
+            }
+            if let Some(v) = opts.max_err_test_fails {
+                check(P, "IDASetMaxErrTestFails", sys::IDASetMaxErrTestFails(raw, v), t0)?;
+            }
+        }
+        Ok(Ida {
+            mem,
+            ls,
+            mat,
+            y,
+            yp,
+            tmp,
+            data,
+            driver: DriverState::new(t0, opts.max_steps, opts.max_wall_clock),
+            ctx,
+        })
+    }
+
+    fn raw(&self) -> *mut c_void {
+        self.mem.0
+    }
+
+    /// Turn a failing flag into an error, preferring a callback's own error.
+    fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
+        if let Some(e) = self.data.status.take_error() {
+            return e;
+        }
+        let t = self.current_time();
+        if flag == sys::IDA_TOO_MUCH_WORK {
+            if let Some(max_steps) = self.driver.max_steps {
+                return SolverError::TooMuchWork { t, max_steps };
+            }
+        }
+        check(P, function, flag, t).expect_err("flag is negative")
+    }
+
+    /// Register `n` root functions `g(t, y, y')`; sign changes stop `solve_to`.
+    pub fn set_roots(&mut self, n: usize, f: IdaRootFn) -> Result<(), SolverError> {
+        self.data.roots = Some(f);
+        self.data.nroots = n;
+        // SAFETY: live IDA memory; the trampoline reads closures from the registered user data.
+        let flag = unsafe { sys::IDARootInit(self.raw(), n as c_int, Some(root_trampoline)) };
+        if flag < 0 {
+            return Err(self.fail("IDARootInit", flag));
+        }
+        Ok(())
+    }
+
+    /// Compute consistent initial conditions (`IDACalcIC`); `y()`/`yp()` then hold them.
+    pub fn calc_ic(&mut self, mode: CalcIc, tout1: f64) -> Result<(), SolverError> {
+        self.data.status.clear();
+        let icopt = match mode {
+            CalcIc::AlgebraicAndDerivatives => sys::IDA_YA_YDP_INIT,
+            CalcIc::AllY => sys::IDA_Y_INIT,
+        };
+        // SAFETY: live IDA memory and owned vectors of length n.
+        let flag = unsafe { sys::IDACalcIC(self.raw(), icopt, tout1) };
+        if flag < 0 {
+            return Err(self.fail("IDACalcIC", flag));
+        }
+        // SAFETY: as above.
+        let flag = unsafe { sys::IDAGetConsistentIC(self.raw(), self.y.raw(), self.yp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDAGetConsistentIC", flag));
+        }
+        Ok(())
+    }
+
+    /// Integrate to `tout` (or an earlier root / stop time); `y()`/`yp()` then hold the state at `step.t`.
+    pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
+        driver::solve_to(self, tout)
+    }
+
+    /// Take one internal step toward `tout`.
+    pub fn step(&mut self, tout: f64) -> Result<Step, SolverError> {
+        driver::step(self, tout)
+    }
+
+    /// Time of the state in `y()`/`yp()`.
+    pub fn t(&self) -> f64 {
+        self.driver.t
+    }
+
+    /// State y at `t()`.
+    pub fn y(&self) -> &[f64] {
+        self.y.as_slice()
+    }
+
+    /// Derivative y' at `t()`.
+    pub fn yp(&self) -> &[f64] {
+        self.yp.as_slice()
+    }
+
+    /// k-th derivative of the interpolating polynomial at `t` (within the last step).
+    pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
+        if out.len() != self.data.n {
+            return Err(SolverError::InvalidInput(format!(
+                "dky output has length {}, expected {}",
+                out.len(),
+                self.data.n
+            )));
+        }
+        // SAFETY: live IDA memory; tmp is an owned vector of length n.
+        let flag = unsafe { sys::IDAGetDky(self.raw(), t, k, self.tmp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDAGetDky", flag));
+        }
+        out.copy_from_slice(self.tmp.as_slice());
+        Ok(())
+    }
+
+    /// Restart from `(t0, y0, yp0)` keeping options, closures and linear solver.
+    pub fn reinit(&mut self, t0: f64, y0: &[f64], yp0: &[f64]) -> Result<(), SolverError> {
+        let n = self.data.n;
+        check_vector("y0", y0, n)?;
+        check_vector("yp0", yp0, n)?;
+        self.y.as_mut_slice().copy_from_slice(y0);
+        self.yp.as_mut_slice().copy_from_slice(yp0);
+        // SAFETY: live IDA memory and owned vectors of length n.
+        let flag = unsafe { sys::IDAReInit(self.raw(), t0, self.y.raw(), self.yp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDAReInit", flag));
+        }
+        self.driver.restart(t0);
+        Ok(())
+    }
+
+    /// Do not step past `t`.
+    pub fn set_stop_time(&mut self, t: f64) -> Result<(), SolverError> {
+        // SAFETY: live IDA memory.
+        let flag = unsafe { sys::IDASetStopTime(self.raw(), t) };
+        if flag < 0 {
+            return Err(self.fail("IDASetStopTime", flag));
+        }
+        Ok(())
+    }
+
+    /// Last message SUNDIALS reported to the error handler (instead of printing it).
+    pub fn last_error_message(&self) -> Option<&str> {
+        self.data.status.last_message.as_deref()
+    }
+
+    /// Integrator counters.
+    pub fn stats(&self) -> SolverStats {
+        let mem = self.raw();
+        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
+            let mut v: c_long = 0;
+            // SAFETY: live IDA memory and a valid out-pointer.
+            unsafe { f(mem, &mut v) };
+            v.max(0) as u64
+        };
+        let mut last_step = 0.0;
+        let mut last_order: c_int = 0;
+        // SAFETY: live IDA memory and valid out-pointers.
+        unsafe {
+            sys::IDAGetLastStep(mem, &mut last_step);
+            sys::IDAGetLastOrder(mem, &mut last_order);
+        }
+        SolverStats {
+            steps: get(sys::IDAGetNumSteps),
+            residual_evals: get(sys::IDAGetNumResEvals),
+            jacobian_evals: get(sys::IDAGetNumJacEvals),
+            linear_setups: get(sys::IDAGetNumLinSolvSetups),
+            nonlinear_iterations: get(sys::IDAGetNumNonlinSolvIters),
+            nonlinear_conv_failures: get(sys::IDAGetNumNonlinSolvConvFails),
+            error_test_failures: get(sys::IDAGetNumErrTestFails),
+            root_evals: get(sys::IDAGetNumGEvals),
+            last_step,
+            last_order,
+        }
+    }
+}
+
+impl Stepper for Ida {
+    fn driver(&mut self) -> &mut DriverState {
+        &mut self.driver
+    }
+
+    fn current_time(&self) -> f64 {
+        let mut t = self.driver.t;
+        // SAFETY: live IDA memory and a valid out-pointer.
+        unsafe { sys::IDAGetCurrentTime(self.raw(), &mut t) };
+        t
+    }
+
+    fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
+        let mut tret = self.driver.t;
+        // SAFETY: live IDA memory, owned vectors of length n, valid out-pointer.
+        let flag = unsafe {
+            sys::IDASolve(self.raw(), tout, &mut tret, self.y.raw(), self.yp.raw(), sys::IDA_ONE_STEP)
+        };
+        match flag {
+            sys::IDA_SUCCESS => Ok((tret, RawEvent::Success)),
+            sys::IDA_ROOT_RETURN => Ok((tret, RawEvent::Root)),
+            sys::IDA_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
+            f if f < 0 => Err(self.fail("IDASolve", f)),
+            _ => Ok((tret, RawEvent::Success)),
+        }
+    }
+
+    fn root_info(&mut self) -> Vec<i32> {
+        let mut info = vec![0 as c_int; self.data.nroots];
+        // SAFETY: live IDA memory; `info` has room for nroots entries.
+        unsafe { sys::IDAGetRootInfo(self.raw(), info.as_mut_ptr()) };
+        info
+    }
+
+    fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
+        // SAFETY: live IDA memory and owned vectors of length n.
+        let flag = unsafe { sys::IDAGetDky(self.raw(), t, 0, self.y.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDAGetDky", flag));
+        }
+        // SAFETY: as above.
+        let flag = unsafe { sys::IDAGetDky(self.raw(), t, 1, self.yp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDAGetDky", flag));
+        }
+        Ok(())
+    }
+
+    fn clear_status(&mut self) {
+        self.data.status.clear();
+    }
+}
