@@ -60,6 +60,7 @@ impl Model {
         let formulation = match s.formulation {
             Formulation::Decoupled => FormulationKind::Decoupled,
             Formulation::CompliantGgl => FormulationKind::CompliantGgl,
+            Formulation::Index1 => FormulationKind::Index1,
             _ => FormulationKind::Ggl,
         };
         SolveOptions {

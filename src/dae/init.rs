@@ -110,8 +110,18 @@ pub fn consistent_state(
     tapes: &MechanicsTapes,
     t0: f64,
 ) -> Result<ConsistentState, InitError> {
+    consistent_state_from(sys, tapes, t0, &sys.initial_state())
+}
+
+/// As [`consistent_state`], from the state `x0 = [q, v]` instead of the user's initial values.
+pub fn consistent_state_from(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+    x0: &[f64],
+) -> Result<ConsistentState, InitError> {
     let (nq, nv, nc) = tapes.dims;
-    let x0 = sys.initial_state();
+    let x0 = x0.to_vec();
     let mut x = x0.clone();
     let finite = |v: &[f64], what: &str| {
         if v.iter().all(|x| x.is_finite()) {

@@ -3,17 +3,20 @@
 //! * [`mechanics`]: the constraint calculus (`g`, `G_q`, `G_v`, `γ`) shared by all formulations.
 //! * [`init`]: consistent initial values (projection onto the joints).
 //! * [`ggl`]: stabilized index-2 DAE (Gear–Gupta–Leimkuhler), plain or compliant, for IDA.
+//! * [`index1`]: index-1 with dummy derivatives (dependent velocities re-selected as needed).
 //! * [`decoupled`]: the stiff-spring twin (seed 16.6), an ODE for CVODE.
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
 pub mod compiled;
 pub mod decoupled;
 pub mod ggl;
+pub mod index1;
 pub mod init;
 pub mod mechanics;
 
 pub use compiled::{ExplicitOde, ImplicitDae, Workspace};
 pub use decoupled::DecoupledFormulation;
 pub use ggl::GglFormulation;
-pub use init::{consistent_state, ConsistentState, InitError};
+pub use index1::{dependent_condition, select_dependent, Index1Formulation};
+pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MechanicsTapes};

@@ -11,6 +11,9 @@ pub enum FormulationKind {
     Ggl,
     /// GGL with compliance ε from the start (`g − εμ = 0`, `G v − ελ = 0`).
     CompliantGgl,
+    /// Index 1 at acceleration level with dummy derivatives; the dependent velocities are
+    /// re-selected when their block of `G_v` becomes ill-conditioned.
+    Index1,
     /// Joints replaced by stiff springs (the decoupled twin), an ODE on CVODE BDF.
     Decoupled,
 }
@@ -21,6 +24,7 @@ impl FormulationKind {
         match self {
             FormulationKind::Ggl => "ggl",
             FormulationKind::CompliantGgl => "compliant_ggl",
+            FormulationKind::Index1 => "index1",
             FormulationKind::Decoupled => "decoupled",
         }
     }
@@ -30,6 +34,7 @@ impl FormulationKind {
         match s {
             "dae" | "ggl" => Some(FormulationKind::Ggl),
             "compliant_ggl" | "compliant" => Some(FormulationKind::CompliantGgl),
+            "index1" | "index-1" => Some(FormulationKind::Index1),
             "decoupled" | "ode" => Some(FormulationKind::Decoupled),
             _ => None,
         }

@@ -7,9 +7,12 @@ use cpu_time::ThreadTime;
 use serde::Serialize;
 
 use super::options::{FormulationKind, SolveOptions};
+use nalgebra::DMatrix;
+
 use crate::dae::{
-    consistent_state, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
-    MechanicsTapes,
+    consistent_state, consistent_state_from, dependent_condition, select_dependent,
+    ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation, ImplicitDae,
+    Index1Formulation, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::sundials::{
@@ -137,7 +140,8 @@ struct OutputEval {
 }
 
 impl OutputEval {
-    fn new(sys: &MultibodySystem, tapes: MechanicsTapes) -> Self {
+    fn new(sys: impl std::borrow::Borrow<MultibodySystem>, tapes: MechanicsTapes) -> Self {
+        let sys = sys.borrow();
         let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
         let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
         // constraint_error is always written (it is cheap and always meaningful)
@@ -249,6 +253,10 @@ pub fn solve_system(
             summary.joint_stiffness = opts.joint_stiffness;
             run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
         }
+        FormulationKind::Index1 => {
+            summary.formulation = "index1".into();
+            run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
+        }
         FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let t = ThreadTime::now();
             let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
@@ -282,41 +290,31 @@ fn fill_stats(summary: &mut Summary, s: &SolverStats) {
     summary.last_step = s.last_step;
 }
 
-fn run_ggl(
-    sys: &MultibodySystem,
-    ggl: GglFormulation,
-    tapes: MechanicsTapes,
-    init: &ConsistentState,
+/// An implicit DAE ready for IDA.
+struct IdaSetup {
+    dae: Arc<ImplicitDae>,
+    id: Vec<f64>,
+    atol: Vec<f64>,
+}
+
+fn make_ida(
+    setup: &IdaSetup,
+    t0: f64,
+    y0: &[f64],
+    yp0: &[f64],
     opts: &SolveOptions,
-    summary: &mut Summary,
-    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
-    let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let n = ggl.dae.n;
-    let t0 = opts.output_times[0];
-    let mut y0 = init.q.clone();
-    y0.extend(&init.v);
-    y0.extend(&init.lambda);
-    y0.extend(std::iter::repeat_n(0.0, nc));
-    let kv = MechanicsTapes::eval(&tapes.kinematics, t0, &y0[..nq + nv]);
-    let mut yp0 = kv;
-    yp0.extend(&init.vdot);
-    yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
-    let matol = opts.multiplier_atol.unwrap_or(opts.atol.max(1e-6));
-    let mut atol = vec![opts.atol; nq + nv];
-    atol.extend(std::iter::repeat_n(matol, 2 * nc));
+) -> Result<Ida, Error> {
     let ida_opts = IdaOptions {
         rtol: opts.rtol,
-        atol,
+        atol: setup.atol.clone(),
         max_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
-        id: Some(ggl.id.clone()),
+        id: Some(setup.id.clone()),
         suppress_alg: true,
         stop_time: opts.output_times.last().copied(),
         ..IdaOptions::default()
     };
-    let dae = Arc::new(ggl.dae);
-    let (d1, d2) = (dae.clone(), dae.clone());
+    let (d1, d2) = (setup.dae.clone(), setup.dae.clone());
     let mut ws1 = d1.workspace();
     let mut ws2 = d2.workspace();
     let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
@@ -330,10 +328,42 @@ fn run_ggl(
             Ok(())
         },
     );
+    Ok(Ida::new(t0, y0, yp0, residual, Some(jacobian), &ida_opts)?)
+}
+
+fn multiplier_atol(opts: &SolveOptions) -> f64 {
+    opts.multiplier_atol.unwrap_or(opts.atol.max(1e-6))
+}
+
+fn run_ggl(
+    sys: &MultibodySystem,
+    ggl: GglFormulation,
+    tapes: MechanicsTapes,
+    init: &ConsistentState,
+    opts: &SolveOptions,
+    summary: &mut Summary,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+    let t0 = opts.output_times[0];
+    let mut y0 = init.q.clone();
+    y0.extend(&init.v);
+    y0.extend(&init.lambda);
+    y0.extend(std::iter::repeat_n(0.0, nc));
+    let mut yp0 = MechanicsTapes::eval(&tapes.kinematics, t0, &y0[..nq + nv]);
+    yp0.extend(&init.vdot);
+    yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
+    let mut atol = vec![opts.atol; nq + nv];
+    atol.extend(std::iter::repeat_n(multiplier_atol(opts), 2 * nc));
+    let setup = IdaSetup {
+        dae: Arc::new(ggl.dae),
+        id: ggl.id,
+        atol,
+    };
     summary.solver = "IDA".into();
-    summary.unknowns = n;
+    summary.unknowns = setup.dae.n;
     let clock = ThreadTime::now();
-    let mut ida = Ida::new(t0, &y0, &yp0, residual, Some(jacobian), &ida_opts)?;
+    let mut ida = make_ida(&setup, t0, &y0, &yp0, opts)?;
     let mut out = OutputEval::new(sys, tapes);
     let mut sol = Solution {
         columns: out.columns.clone(),
@@ -342,11 +372,9 @@ fn run_ggl(
         summary: Summary::default(),
     };
     let first = out.row(t0, &y0);
-    let stop = emit(&mut sol, observer, t0, first);
-    if !stop {
+    if !emit(&mut sol, observer, t0, first) {
         for &t in &opts.output_times[1..] {
-            let step = ida.solve_to(t);
-            let step = match step {
+            let step = match ida.solve_to(t) {
                 Ok(s) => s,
                 Err(e) => {
                     fill_stats(summary, &ida.stats());
@@ -361,6 +389,116 @@ fn run_ggl(
     }
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &ida.stats());
+    summary.max_constraint_error = out.max_g;
+    summary.energy_drift = out.energy_drift();
+    sol.summary = summary.clone();
+    Ok(sol)
+}
+
+/// Condition number of `G_v[:, D]` above which the dependent velocities are re-selected.
+const INDEX1_MAX_CONDITION: f64 = 1e4;
+
+fn run_index1(
+    mut sys: MultibodySystem,
+    c: &ConstraintExprs,
+    tapes: MechanicsTapes,
+    init: &ConsistentState,
+    opts: &SolveOptions,
+    summary: &mut Summary,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+    let t0 = opts.output_times[0];
+    let gv_at = |tapes: &MechanicsTapes, t: f64, x: &[f64]| {
+        DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, x))
+    };
+    let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+    let mut state = init.clone();
+    summary.solver = "IDA".into();
+    let clock = ThreadTime::now();
+    let mut total = SolverStats::default();
+    let mut out = OutputEval::new(sys.clone(), tapes.clone());
+    let mut sol = Solution {
+        columns: out.columns.clone(),
+        times: Vec::new(),
+        rows: Vec::new(),
+        summary: Summary::default(),
+    };
+    let first = out.row(t0, &x);
+    if emit(&mut sol, observer, t0, first) {
+        sol.summary = summary.clone();
+        return Ok(sol);
+    }
+    let mut t_start = t0;
+    let mut k_next = 1;
+    let mut reselections = 0usize;
+    'restart: loop {
+        let gv = gv_at(&tapes, t_start, &x);
+        let dependent = select_dependent(&gv).ok_or_else(|| {
+            Error::Init(crate::dae::InitError::Singular {
+                what: format!(
+                    "the joints lose rank at t = {t_start}: no set of dependent velocities exists; use the ggl formulation"
+                ),
+            })
+        })?;
+        let f = Index1Formulation::build(&mut sys, c, &dependent)?;
+        summary.unknowns = f.dae.n;
+        let mut y0 = state.q.clone();
+        y0.extend(&state.v);
+        y0.extend(dependent.iter().map(|&j| state.vdot[j]));
+        y0.extend(&state.lambda);
+        let mut yp0 = state.v.clone();
+        yp0.extend(&state.vdot);
+        yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
+        let mut atol = vec![opts.atol; nq + nv];
+        atol.extend(std::iter::repeat_n(opts.atol, nc));
+        atol.extend(std::iter::repeat_n(multiplier_atol(opts), nc));
+        let setup = IdaSetup {
+            dae: Arc::new(f.dae),
+            id: f.id,
+            atol,
+        };
+        let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        while k_next < opts.output_times.len() {
+            let t = opts.output_times[k_next];
+            let step = match ida.solve_to(t) {
+                Ok(s) => s,
+                Err(e) => {
+                    total.accumulate(&ida.stats());
+                    fill_stats(summary, &total);
+                    return Err(Error::Solver(e));
+                }
+            };
+            k_next += 1;
+            x.copy_from_slice(&ida.y()[..nq + nv]);
+            let row = out.row(step.t, &x);
+            if emit(&mut sol, observer, step.t, row) {
+                k_next = opts.output_times.len();
+                break;
+            }
+            let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
+            if cond > INDEX1_MAX_CONDITION && k_next < opts.output_times.len() {
+                let better = select_dependent(&gv_at(&tapes, step.t, &x));
+                if let Some(b) = better {
+                    if b != dependent {
+                        total.accumulate(&ida.stats());
+                        reselections += 1;
+                        t_start = step.t;
+                        state = consistent_state_from(&sys, &tapes, t_start, &x)?;
+                        summary.warnings.push(format!(
+                            "index1: dependent velocities re-selected at t = {t_start:.6} (condition {cond:.1e})"
+                        ));
+                        continue 'restart;
+                    }
+                }
+            }
+        }
+        total.accumulate(&ida.stats());
+        break;
+    }
+    let _ = reselections;
+    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+    fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
     summary.energy_drift = out.energy_drift();
     sol.summary = summary.clone();

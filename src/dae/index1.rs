@@ -1,0 +1,179 @@
+//! Index-1 formulation with dummy derivatives (Mattsson–Söderlind), acceleration level.
+//!
+//! The velocities split into independent `I` and dependent `D` ones (`|D|` = number of
+//! constraint rows, `G_v[:, D]` nonsingular) — the dependent ones are those the bond graph gives
+//! differential causality. The derivatives of the dependent quantities become algebraic
+//! "dummy" unknowns `a_D`, and the position and velocity constraints are kept, so nothing drifts:
+//!
+//! ```text
+//!   q_I' = v_I                        (differential)
+//!   0 = g(q)                          (determines q_D)
+//!   M_I v_I' = Q_I − G_Iᵀ λ           (differential)
+//!   0 = G_v v                         (determines v_D)
+//!   M_D a_D = Q_D − G_Dᵀ λ            (dummy derivatives a_D = v_D')
+//!   0 = G_I v_I' + G_D a_D + γ        (acceleration-level constraint, determines λ)
+//! ```
+//!
+//! Valid where `G_D` is well conditioned; the runner watches its condition number and re-selects
+//! `D` (restarting IDA) when it degrades. Needs `q' = v` (the seed's non-rotating planar frame).
+
+use nalgebra::DMatrix;
+
+use super::compiled::ImplicitDae;
+use super::mechanics::ConstraintExprs;
+use crate::expr::Expr;
+use crate::mech::{MechError, MultibodySystem};
+
+/// The compiled index-1 residual for one choice of dependent velocities.
+#[derive(Clone, Debug)]
+pub struct Index1Formulation {
+    /// The compiled residual.
+    pub dae: ImplicitDae,
+    /// Dependent velocity indices (sorted).
+    pub dependent: Vec<usize>,
+    /// 1 for differential unknowns, 0 for algebraic.
+    pub id: Vec<f64>,
+}
+
+/// Picks `nc` columns of `G_v` by Gram–Schmidt with column pivoting (largest remaining norm
+/// first). Returns `None` when `G_v` has lower rank than its number of rows.
+pub fn select_dependent(gv: &DMatrix<f64>) -> Option<Vec<usize>> {
+    let (m, n) = gv.shape();
+    let mut cols: Vec<nalgebra::DVector<f64>> = (0..n).map(|j| gv.column(j).into_owned()).collect();
+    let scale = cols.iter().map(|c| c.norm()).fold(0.0f64, f64::max);
+    let mut chosen = Vec::with_capacity(m);
+    for _ in 0..m {
+        let (best, norm) = (0..n)
+            .filter(|j| !chosen.contains(j))
+            .map(|j| (j, cols[j].norm()))
+            .fold((usize::MAX, -1.0), |a, b| if b.1 > a.1 { b } else { a });
+        if best == usize::MAX || norm <= 1e-10 * scale.max(1e-300) {
+            return None;
+        }
+        chosen.push(best);
+        let u = cols[best].clone() / norm;
+        for c in cols.iter_mut() {
+            let p = u.dot(c);
+            *c -= &u * p;
+        }
+    }
+    chosen.sort_unstable();
+    Some(chosen)
+}
+
+/// Condition number (2-norm) of `G_v[:, D]`.
+pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
+    let m = gv.nrows();
+    if m == 0 {
+        return 1.0;
+    }
+    let sub = DMatrix::from_fn(m, dependent.len(), |i, k| gv[(i, dependent[k])]);
+    let s = sub.singular_values();
+    let (mx, mn) = (s.max(), s.min());
+    if mn <= 0.0 {
+        f64::INFINITY
+    } else {
+        mx / mn
+    }
+}
+
+impl Index1Formulation {
+    /// Builds the residual for the dependent set `dependent` (velocity indices).
+    ///
+    /// Slots: `y = [q, v, a_D, λ]` at `1..=n`, `y'` at `n+1..=2n`.
+    pub fn build(
+        sys: &mut MultibodySystem,
+        c: &ConstraintExprs,
+        dependent: &[usize],
+    ) -> Result<Self, MechError> {
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let identity = nq == nv
+            && (0..nq).all(|i| {
+                let s = sys.v_slot(i);
+                let v = sys.graph.var(s);
+                sys.kinematics[i] == v
+            });
+        if !identity {
+            return Err(MechError::at(
+                "solve.formulation",
+                "the index-1 formulation needs q' = v (planar bodies in the default non-rotating frame); use ggl",
+            ));
+        }
+        if dependent.len() != nc {
+            return Err(MechError::at(
+                "solve.formulation",
+                format!("index-1 needs {nc} dependent velocities, got {}", dependent.len()),
+            ));
+        }
+        let n = nq + nv + 2 * nc;
+        let a_slot = |k: usize| (1 + nq + nv + k) as u32;
+        let lam = |k: usize| (1 + nq + nv + nc + k) as u32;
+        let qp = |i: usize| (1 + n + i) as u32;
+        let vp = |j: usize| (1 + n + nq + j) as u32;
+        let dpos = |j: usize| dependent.iter().position(|&d| d == j);
+        let g = &mut sys.graph;
+        let mut res: Vec<Expr> = Vec::with_capacity(n);
+        // q rows
+        for i in 0..nq {
+            match dpos(i) {
+                Some(k) => res.push(c.g[k]),
+                None => {
+                    let a = g.var(qp(i));
+                    res.push(g.sub(a, sys.kinematics[i]));
+                }
+            }
+        }
+        // dynamics with the multipliers, for v_j' (independent) or a_j (dependent)
+        let mut dyn_row = |g: &mut crate::expr::ExprGraph, j: usize, acc: Expr| {
+            let mut terms = vec![g.scale(sys.mass[j], acc)];
+            terms.push(g.neg(sys.forces[j]));
+            for k in 0..nc {
+                if !g.is_zero(c.gv[k][j]) {
+                    let l = g.var(lam(k));
+                    terms.push(g.mul(c.gv[k][j], l));
+                }
+            }
+            g.sum(&terms)
+        };
+        for j in 0..nv {
+            match dpos(j) {
+                Some(k) => res.push(c.gvv[k]),
+                None => {
+                    let a = g.var(vp(j));
+                    res.push(dyn_row(g, j, a));
+                }
+            }
+        }
+        for (k, &j) in dependent.iter().enumerate() {
+            let a = g.var(a_slot(k));
+            res.push(dyn_row(g, j, a));
+        }
+        for k in 0..nc {
+            let mut terms = vec![c.gamma[k]];
+            for j in 0..nv {
+                if g.is_zero(c.gv[k][j]) {
+                    continue;
+                }
+                let acc = match dpos(j) {
+                    Some(kk) => g.var(a_slot(kk)),
+                    None => g.var(vp(j)),
+                };
+                terms.push(g.mul(c.gv[k][j], acc));
+            }
+            res.push(g.sum(&terms));
+        }
+        let mut id = Vec::with_capacity(n);
+        for i in 0..nq {
+            id.push(if dpos(i).is_some() { 0.0 } else { 1.0 });
+        }
+        for j in 0..nv {
+            id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
+        }
+        id.extend(std::iter::repeat_n(0.0, 2 * nc));
+        Ok(Index1Formulation {
+            dae: ImplicitDae::build(g, &res, n),
+            dependent: dependent.to_vec(),
+            id,
+        })
+    }
+}
