@@ -1,0 +1,96 @@
+//! Chain of N parallelogram four-bar linkages in series, 1 DOF.
+//!
+//! N + 1 cranks (uniform bars, mass m, length L) are pinned to the ground at
+//! their ends O, at x = 0, 1·L_pitch, …, N·L_pitch on y = 0 (pitch = coupler
+//! length = L here), and joined at their tops A by N couplers (the same bars).
+//! On the parallelogram branch every crank has the same angle φ (from X;
+//! upright φ = π/2) and the couplers translate without rotating, their centres
+//! moving like the crank tips L(cos φ, sin φ) + const. So
+//!
+//! T = ½ (N+1)(m L²/3) φ̇² + ½ N m L² φ̇² = ½ J φ̇²,
+//! V = (N+1) m g (L/2) sin φ + N m g L sin φ = W sin φ,
+//!
+//! and Lagrange gives J φ̈ = −W cos φ: a physical pendulum about φ = −π/2 of
+//! equivalent length J g / W.
+
+use super::integrate::integrate;
+use super::{REFERENCE_ATOL, REFERENCE_RTOL};
+
+/// Parameters of the four-bar chain.
+#[derive(Clone, Copy, Debug)]
+pub struct FourBarChain {
+    /// Number of four-bar loops N (N + 1 cranks, N couplers).
+    pub loops: usize,
+    /// Mass of every bar (kg).
+    pub m: f64,
+    /// Length of every bar (m).
+    pub l: f64,
+    /// Gravity magnitude g (m/s²), acting along −Y.
+    pub g: f64,
+}
+
+/// State of the chain at one time.
+#[derive(Clone, Copy, Debug)]
+pub struct FourBarChainState {
+    /// Time (s).
+    pub t: f64,
+    /// Common crank angle φ (rad).
+    pub phi: f64,
+    /// Common crank rate φ̇ (rad/s).
+    pub phi_dot: f64,
+    /// Top (point A) of the first crank, pinned at the origin.
+    pub first_crank_top: [f64; 2],
+    /// Kinetic + gravitational energy (J), V = 0 with every centre at y = 0.
+    pub energy: f64,
+}
+
+impl FourBarChain {
+    /// Reduced inertia J = (N+1) m L²/3 + N m L².
+    pub fn reduced_inertia(&self) -> f64 {
+        let n = self.loops as f64;
+        (n + 1.0) * self.m * self.l * self.l / 3.0 + n * self.m * self.l * self.l
+    }
+
+    /// Gravity coefficient W with V = W sin φ: W = (N+1) m g L/2 + N m g L.
+    pub fn weight_moment(&self) -> f64 {
+        let n = self.loops as f64;
+        (n + 1.0) * self.m * self.g * self.l / 2.0 + n * self.m * self.g * self.l
+    }
+
+    /// Length of the simple pendulum with the same motion, J g / W.
+    pub fn equivalent_length(&self) -> f64 {
+        self.reduced_inertia() * self.g / self.weight_moment()
+    }
+
+    /// The state for (φ, φ̇) at time `t`.
+    pub fn state(&self, t: f64, phi: f64, phi_dot: f64) -> FourBarChainState {
+        let (s, c) = phi.sin_cos();
+        FourBarChainState {
+            t,
+            phi,
+            phi_dot,
+            first_crank_top: [self.l * c, self.l * s],
+            energy: 0.5 * self.reduced_inertia() * phi_dot * phi_dot + self.weight_moment() * s,
+        }
+    }
+}
+
+/// Integrates the chain from (φ, φ̇) = `initial` at t = 0 and returns the
+/// state at each of `times` (sorted, ≥ 0).
+pub fn simulate_four_bar_chain(
+    p: &FourBarChain,
+    initial: [f64; 2],
+    times: &[f64],
+) -> Vec<FourBarChainState> {
+    let (j, w) = (p.reduced_inertia(), p.weight_moment());
+    let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -w * y[0].cos() / j;
+    };
+    let ys = integrate(rhs, 0.0, &initial, times, REFERENCE_RTOL, REFERENCE_ATOL);
+    times
+        .iter()
+        .zip(ys)
+        .map(|(&t, y)| p.state(t, y[0], y[1]))
+        .collect()
+}

@@ -1,0 +1,28 @@
+//! Independent reference models for bondmech's accuracy tests.
+//!
+//! Every model here is derived by hand in minimal coordinates (Lagrange's
+//! equations in joint angles) and integrated by [`integrate::integrate`], an
+//! adaptive Dormand–Prince 5(4) integrator written for these tests. Nothing in
+//! this module uses `bondmech`: the references must stay independent of the
+//! code they check.
+//!
+//! Conventions (those of `docs/scene-format.md`): planar, global X right, Y up,
+//! gravity (0, −g); a body's angle is the angle of its body x-axis from global
+//! X, counter-clockwise; a uniform bar of length L has its points O = (−L/2, 0)
+//! and A = (+L/2, 0) in body coordinates and inertia m L²/12 about its centre.
+//! Results are returned in global terms (centre positions, absolute angles,
+//! their rates, named point positions, energy).
+#![allow(dead_code)]
+
+pub mod double_pendulum;
+pub mod elliptic;
+pub mod four_bar_chain;
+pub mod integrate;
+pub mod n_link;
+pub mod rigid_body;
+pub mod slider_crank;
+
+/// Relative tolerance used by every reference model.
+pub const REFERENCE_RTOL: f64 = 1e-13;
+/// Absolute tolerance used by every reference model.
+pub const REFERENCE_ATOL: f64 = 1e-13;
