@@ -19,7 +19,10 @@ fn assert_matches_fd(g: &mut ExprGraph, e: Expr, pt: &[f64], what: &str) {
         let sym = g.eval(d, pt);
         let num = fd(g, e, v, pt, 1e-6);
         let tol = 1e-6 * (1.0 + sym.abs() + g.eval(e, pt).abs());
-        assert!((sym - num).abs() <= tol, "{what}: d/dx{v} at {pt:?}: symbolic {sym}, FD {num}");
+        assert!(
+            (sym - num).abs() <= tol,
+            "{what}: d/dx{v} at {pt:?}: symbolic {sym}, FD {num}"
+        );
     }
 }
 
@@ -151,10 +154,22 @@ fn derivatives_are_memoised_and_of_constants_are_zero() {
     let n = g.len();
     assert_eq!(g.diff(e, 0), d1);
     assert_eq!(g.len(), n);
-    assert!({ let t = g.diff(e, 1); g.is_zero(t) });
+    assert!({
+        let t = g.diff(e, 1);
+        g.is_zero(t)
+    });
     let c = g.constant(3.0);
-    assert!({ let t = g.diff(c, 0); g.is_zero(t) });
-    assert_eq!({ let t = g.diff(x, 0); g.as_const(t) }, Some(1.0));
+    assert!({
+        let t = g.diff(c, 0);
+        g.is_zero(t)
+    });
+    assert_eq!(
+        {
+            let t = g.diff(x, 0);
+            g.as_const(t)
+        },
+        Some(1.0)
+    );
 }
 
 #[test]
@@ -180,11 +195,25 @@ fn table_slope_is_the_segment_slope_and_zero_outside() {
     let x = g.var(0);
     let e = g.table(&[0.0, 1.0, 3.0], &[2.0, 4.0, 3.0], x);
     let d = g.diff(e, 0);
-    let cases = [(-1.0, 0.0), (0.0, 2.0), (0.5, 2.0), (1.0, -0.5), (2.0, -0.5), (3.0, 0.0), (9.0, 0.0)];
+    let cases = [
+        (-1.0, 0.0),
+        (0.0, 2.0),
+        (0.5, 2.0),
+        (1.0, -0.5),
+        (2.0, -0.5),
+        (3.0, 0.0),
+        (9.0, 0.0),
+    ];
     for (t, slope) in cases {
         assert_eq!(g.eval(d, &[t]), slope, "slope at {t}");
     }
-    assert!({ let t = g.diff(d, 0); g.is_zero(t) }, "table slope is piecewise constant");
+    assert!(
+        {
+            let t = g.diff(d, 0);
+            g.is_zero(t)
+        },
+        "table slope is piecewise constant"
+    );
 }
 
 #[test]
@@ -197,10 +226,22 @@ fn abs_min_max_derivatives_select_the_active_branch() {
     assert_eq!(g.eval(da, &[2.0, 0.0]), 1.0);
     let m = g.min(x, y);
     let (dmx, dmy) = (g.diff(m, 0), g.diff(m, 1));
-    assert_eq!((g.eval(dmx, &[1.0, 2.0]), g.eval(dmy, &[1.0, 2.0])), (1.0, 0.0));
-    assert_eq!((g.eval(dmx, &[3.0, 2.0]), g.eval(dmy, &[3.0, 2.0])), (0.0, 1.0));
+    assert_eq!(
+        (g.eval(dmx, &[1.0, 2.0]), g.eval(dmy, &[1.0, 2.0])),
+        (1.0, 0.0)
+    );
+    assert_eq!(
+        (g.eval(dmx, &[3.0, 2.0]), g.eval(dmy, &[3.0, 2.0])),
+        (0.0, 1.0)
+    );
     let mx = g.max(x, y);
     let (dmx, dmy) = (g.diff(mx, 0), g.diff(mx, 1));
-    assert_eq!((g.eval(dmx, &[1.0, 2.0]), g.eval(dmy, &[1.0, 2.0])), (0.0, 1.0));
-    assert_eq!((g.eval(dmx, &[3.0, 2.0]), g.eval(dmy, &[3.0, 2.0])), (1.0, 0.0));
+    assert_eq!(
+        (g.eval(dmx, &[1.0, 2.0]), g.eval(dmy, &[1.0, 2.0])),
+        (0.0, 1.0)
+    );
+    assert_eq!(
+        (g.eval(dmx, &[3.0, 2.0]), g.eval(dmy, &[3.0, 2.0])),
+        (1.0, 0.0)
+    );
 }

@@ -88,7 +88,10 @@ fn build(g: &mut ExprGraph, steps: &[Step], safe: bool) -> Expr {
 }
 
 fn steps() -> impl Strategy<Value = Vec<Step>> {
-    prop::collection::vec((any::<u8>(), any::<usize>(), any::<usize>(), -2.0f64..2.0), 1..10)
+    prop::collection::vec(
+        (any::<u8>(), any::<usize>(), any::<usize>(), -2.0f64..2.0),
+        1..10,
+    )
 }
 
 fn point() -> impl Strategy<Value = Vec<f64>> {
@@ -105,7 +108,13 @@ fn fd(g: &ExprGraph, e: Expr, v: usize, pt: &[f64], h: f64) -> f64 {
 
 /// Checks `d` = ∂e/∂x_v against FD unless FD itself is unreliable here (a kink or branch
 /// cut within reach, or huge values): FD with steps 1e-5 and 1e-6 must agree first.
-fn check_against_fd(g: &ExprGraph, e: Expr, d: Expr, v: usize, pt: &[f64]) -> Result<(), TestCaseError> {
+fn check_against_fd(
+    g: &ExprGraph,
+    e: Expr,
+    d: Expr,
+    v: usize,
+    pt: &[f64],
+) -> Result<(), TestCaseError> {
     let f = g.eval(e, pt);
     if !f.is_finite() || f.abs() > 1e4 {
         return Ok(());
@@ -116,7 +125,14 @@ fn check_against_fd(g: &ExprGraph, e: Expr, d: Expr, v: usize, pt: &[f64]) -> Re
     }
     let sym = g.eval(d, pt);
     let tol = 1e-5 * (1.0 + sym.abs() + f.abs());
-    prop_assert!((sym - f1).abs() <= tol, "∂/∂x{} at {:?}: symbolic {} vs FD {}", v, pt, sym, f1);
+    prop_assert!(
+        (sym - f1).abs() <= tol,
+        "∂/∂x{} at {:?}: symbolic {} vs FD {}",
+        v,
+        pt,
+        sym,
+        f1
+    );
     Ok(())
 }
 

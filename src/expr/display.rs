@@ -70,11 +70,31 @@ impl ExprGraph {
                 call(f, &[a])
             }
             Node::Bin(op, a, b) => match op {
-                BinOp::Add => format!("{} + {}", self.operand(a, ADD, name), self.operand(b, ADD, name)),
-                BinOp::Sub => format!("{} - {}", self.operand(a, ADD, name), self.operand(b, MUL, name)),
-                BinOp::Mul => format!("{} * {}", self.operand(a, MUL, name), self.operand(b, MUL, name)),
-                BinOp::Div => format!("{} / {}", self.operand(a, MUL, name), self.operand(b, NEG, name)),
-                BinOp::Pow => format!("{}^{}", self.operand(a, ATOM, name), self.operand(b, NEG, name)),
+                BinOp::Add => format!(
+                    "{} + {}",
+                    self.operand(a, ADD, name),
+                    self.operand(b, ADD, name)
+                ),
+                BinOp::Sub => format!(
+                    "{} - {}",
+                    self.operand(a, ADD, name),
+                    self.operand(b, MUL, name)
+                ),
+                BinOp::Mul => format!(
+                    "{} * {}",
+                    self.operand(a, MUL, name),
+                    self.operand(b, MUL, name)
+                ),
+                BinOp::Div => format!(
+                    "{} / {}",
+                    self.operand(a, MUL, name),
+                    self.operand(b, NEG, name)
+                ),
+                BinOp::Pow => format!(
+                    "{}^{}",
+                    self.operand(a, ATOM, name),
+                    self.operand(b, NEG, name)
+                ),
                 BinOp::Atan2 => call("atan2", &[a, b]),
                 BinOp::Min => call("min", &[a, b]),
                 BinOp::Max => call("max", &[a, b]),

@@ -21,6 +21,7 @@
 mod diff;
 mod display;
 mod graph;
+mod hash;
 mod ops;
 mod parse;
 mod tape;
