@@ -245,3 +245,30 @@ fn abs_min_max_derivatives_select_the_active_branch() {
         (1.0, 0.0)
     );
 }
+
+#[test]
+fn sparse_jacobian_lists_only_structural_nonzeros() {
+    // f₀ = x·y, f₁ = sin z, f₂ = 3 (no dependence); columns ordered (z, x, y).
+    let mut g = ExprGraph::new();
+    let (x, y, z) = (g.var(0), g.var(1), g.var(2));
+    let f0 = g.mul(x, y);
+    let f1 = g.sin(z);
+    let f2 = g.constant(3.0);
+    let jac = g.jacobian(&[f0, f1, f2], &[2, 0, 1]);
+    let pt = [2.0, 5.0, 0.25];
+    let got: Vec<(usize, usize, f64)> = jac
+        .iter()
+        .map(|&(i, j, d)| (i, j, g.eval(d, &pt)))
+        .collect();
+    assert_eq!(got, vec![(0, 1, 5.0), (0, 2, 2.0), (1, 0, 0.25f64.cos())]);
+    // A variable outside `wrt` gives no column.
+    assert!(g.jacobian(&[f1], &[0, 1]).is_empty());
+}
+
+#[test]
+fn graph_and_tape_are_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<ExprGraph>();
+    check::<bondmech::expr::Tape>();
+    check::<bondmech::expr::ParseError>();
+}
