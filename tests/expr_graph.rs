@@ -261,3 +261,26 @@ fn display_uses_minimal_parentheses_and_round_trips_through_parse() {
         );
     }
 }
+
+#[test]
+fn display_of_exponentially_shared_or_very_deep_dags_is_bounded() {
+    let mut g = ExprGraph::new();
+    let x = g.var(0);
+    let mut e = g.sin(x);
+    for _ in 0..60 {
+        e = g.mul(e, e); // tree form would have 2^60 leaves
+    }
+    let s = g.display(e, &name);
+    assert!(
+        s.len() < 2 * bondmech::expr::DISPLAY_MAX_CHARS,
+        "len {}",
+        s.len()
+    );
+    assert!(s.contains('…'));
+    let mut d = x;
+    for _ in 0..100_000 {
+        d = g.sin(d);
+    }
+    let s = g.display(d, &name);
+    assert!(s.starts_with("sin(sin(") && s.contains('…'));
+}

@@ -26,6 +26,7 @@ mod ops;
 mod parse;
 mod tape;
 
+pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
 pub use graph::{Expr, ExprGraph};
 pub use parse::ParseError;
 pub use tape::Tape;
