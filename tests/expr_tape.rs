@@ -204,3 +204,21 @@ fn report_compile_and_eval_time_of_a_200_node_expression() {
         time(&jt)
     );
 }
+
+#[test]
+fn eval_parts_reads_consecutive_slices_as_one_input_vector() {
+    // Residual of y' = -2y + sin t as F(t, y, y') = y' + 2y - sin t, with t = var 0, y = var 1, y' = var 2.
+    let mut g = ExprGraph::new();
+    let (t, y, yp) = (g.var(0), g.var(1), g.var(2));
+    let ty = g.scale(2.0, y);
+    let s = g.sin(t);
+    let a = g.add(yp, ty);
+    let f = g.sub(a, s);
+    let tape = g.compile(&[f]);
+    let (mut w, mut out) = (tape.workspace(), [0.0]);
+    tape.eval_parts(&[&[0.5], &[3.0], &[-1.0, 99.0]], &mut w, &mut out);
+    assert_eq!(out[0], -1.0 + 6.0 - 0.5f64.sin());
+    let mut out2 = [0.0];
+    tape.eval(&[0.5, 3.0, -1.0], &mut w, &mut out2);
+    assert_eq!(out, out2);
+}

@@ -213,8 +213,43 @@ impl Tape {
             work.len()
         );
         assert_eq!(out.len(), self.outputs.len(), "tape output length");
+        work[..self.n_vars].copy_from_slice(&vars[..self.n_vars]);
+        self.run(work, out);
+    }
+
+    /// Like [`Tape::eval`] with the input vector given as consecutive pieces, e.g.
+    /// `[&[t], y, y']` for variables numbered `t = 0`, `y = 1..=n`, `y' = n+1..=2n`.
+    /// Does not allocate.
+    ///
+    /// # Panics
+    /// If the pieces hold fewer than `n_vars()` values in total, or as [`Tape::eval`].
+    pub fn eval_parts(&self, parts: &[&[f64]], work: &mut [f64], out: &mut [f64]) {
+        let total: usize = parts.iter().map(|p| p.len()).sum();
+        assert!(
+            total >= self.n_vars,
+            "tape needs {} variables, got {}",
+            self.n_vars,
+            total
+        );
+        assert!(
+            work.len() >= self.work_len,
+            "tape workspace needs {} slots, got {}",
+            self.work_len,
+            work.len()
+        );
+        assert_eq!(out.len(), self.outputs.len(), "tape output length");
+        let mut at = 0;
+        for p in parts {
+            let take = p.len().min(self.n_vars - at);
+            work[at..at + take].copy_from_slice(&p[..take]);
+            at += take;
+        }
+        self.run(work, out);
+    }
+
+    /// Executes the instructions once the variables are in `work[..n_vars]`.
+    fn run(&self, work: &mut [f64], out: &mut [f64]) {
         let nv = self.n_vars;
-        work[..nv].copy_from_slice(&vars[..nv]);
         work[nv..nv + self.consts.len()].copy_from_slice(&self.consts);
         for ins in &self.instrs {
             match *ins {
