@@ -22,6 +22,11 @@ fn building_the_same_node_twice_returns_the_same_handle() {
     let p1 = g.pow(x, y);
     let p2 = g.pow(x, y);
     assert_eq!(p1, p2);
+    let t1 = g.table(&[0.0, 1.0], &[2.0, 3.0], x);
+    let t2 = g.table(&[0.0, 1.0], &[2.0, 3.0], x);
+    let t3 = g.table(&[0.0, 1.0], &[2.0, 4.0], x);
+    assert_eq!(t1, t2, "equal tables share one node");
+    assert_ne!(t1, t3);
 }
 
 #[test]
