@@ -3,7 +3,9 @@
 use bondmech::expr::ExprGraph;
 
 fn name(i: u32) -> String {
-    ["x", "y", "z"].get(i as usize).map_or(format!("v{i}"), |s| s.to_string())
+    ["x", "y", "z"]
+        .get(i as usize)
+        .map_or(format!("v{i}"), |s| s.to_string())
 }
 
 #[test]
@@ -20,6 +22,11 @@ fn building_the_same_node_twice_returns_the_same_handle() {
     let p1 = g.pow(x, y);
     let p2 = g.pow(x, y);
     assert_eq!(p1, p2);
+    let t1 = g.table(&[0.0, 1.0], &[2.0, 3.0], x);
+    let t2 = g.table(&[0.0, 1.0], &[2.0, 3.0], x);
+    let t3 = g.table(&[0.0, 1.0], &[2.0, 4.0], x);
+    assert_eq!(t1, t2, "equal tables share one node");
+    assert_ne!(t1, t3);
 }
 
 #[test]
@@ -97,14 +104,32 @@ fn identity_elements_and_annihilators_simplify() {
     assert_eq!(g.sub(zero, x), nx);
     assert_eq!(g.mul(x, one), x);
     assert_eq!(g.mul(one, x), x);
-    assert!({ let t = g.mul(x, zero); g.is_zero(t) });
-    assert!({ let t = g.mul(zero, x); g.is_zero(t) });
+    assert!({
+        let t = g.mul(x, zero);
+        g.is_zero(t)
+    });
+    assert!({
+        let t = g.mul(zero, x);
+        g.is_zero(t)
+    });
     assert_eq!(g.div(x, one), x);
-    assert!({ let t = g.div(zero, x); g.is_zero(t) });
+    assert!({
+        let t = g.div(zero, x);
+        g.is_zero(t)
+    });
     assert_eq!(g.pow(x, one), x);
-    assert_eq!({ let t = g.pow(x, zero); g.as_const(t) }, Some(1.0));
+    assert_eq!(
+        {
+            let t = g.pow(x, zero);
+            g.as_const(t)
+        },
+        Some(1.0)
+    );
     assert_eq!(g.neg(nx), x);
-    assert!({ let t = g.sub(x, x); g.is_zero(t) });
+    assert!({
+        let t = g.sub(x, x);
+        g.is_zero(t)
+    });
     let m1 = g.constant(-1.0);
     assert_eq!(g.mul(m1, x), nx);
     assert_eq!(g.min(x, x), x);
@@ -119,9 +144,24 @@ fn zero_times_a_constant_inf_or_nan_follows_ieee_not_algebra() {
     let zero = g.zero();
     let inf = g.constant(f64::INFINITY);
     let nan = g.constant(f64::NAN);
-    assert!({ let t = g.mul(zero, inf); g.as_const(t) }.unwrap().is_nan());
-    assert!({ let t = g.mul(nan, zero); g.as_const(t) }.unwrap().is_nan());
-    assert!({ let t = g.div(zero, zero); g.as_const(t) }.unwrap().is_nan());
+    assert!({
+        let t = g.mul(zero, inf);
+        g.as_const(t)
+    }
+    .unwrap()
+    .is_nan());
+    assert!({
+        let t = g.mul(nan, zero);
+        g.as_const(t)
+    }
+    .unwrap()
+    .is_nan());
+    assert!({
+        let t = g.div(zero, zero);
+        g.as_const(t)
+    }
+    .unwrap()
+    .is_nan());
 }
 
 #[test]
@@ -163,7 +203,10 @@ fn sum_scale_and_dot_match_hand_values() {
     let c: Vec<_> = [2.0, -1.0, 0.5].iter().map(|&c| g.constant(c)).collect();
     let d = g.dot(&c, &v);
     assert_eq!(g.eval(d, &[1.0, 2.0, 4.0]), 2.0);
-    assert!({ let t = g.sum(&[]); g.is_zero(t) });
+    assert!({
+        let t = g.sum(&[]);
+        g.is_zero(t)
+    });
 }
 
 #[test]
@@ -209,10 +252,40 @@ fn display_uses_minimal_parentheses_and_round_trips_through_parse() {
         let shown = g.display(e, &name);
         // Canonical operand order may swap commutative operands; compare values and re-parse.
         let back = g.parse(&shown, &mut resolve).unwrap();
-        assert_eq!(back, e, "{src} displayed as {shown} did not parse back to the same node");
+        assert_eq!(
+            back, e,
+            "{src} displayed as {shown} did not parse back to the same node"
+        );
         let pt = [0.7, 1.3, 0.4];
         let want_e = g.parse(want, &mut resolve).unwrap();
         assert_eq!(g.eval(e, &pt), g.eval(want_e, &pt));
-        assert_eq!(shown.matches('(').count(), want.matches('(').count(), "parentheses in {shown} vs {want}");
+        assert_eq!(
+            shown.matches('(').count(),
+            want.matches('(').count(),
+            "parentheses in {shown} vs {want}"
+        );
     }
+}
+
+#[test]
+fn display_of_exponentially_shared_or_very_deep_dags_is_bounded() {
+    let mut g = ExprGraph::new();
+    let x = g.var(0);
+    let mut e = g.sin(x);
+    for _ in 0..60 {
+        e = g.mul(e, e); // tree form would have 2^60 leaves
+    }
+    let s = g.display(e, &name);
+    assert!(
+        s.len() < 2 * bondmech::expr::DISPLAY_MAX_CHARS,
+        "len {}",
+        s.len()
+    );
+    assert!(s.contains('…'));
+    let mut d = x;
+    for _ in 0..100_000 {
+        d = g.sin(d);
+    }
+    let s = g.display(d, &name);
+    assert!(s.starts_with("sin(sin(") && s.contains('…'));
 }

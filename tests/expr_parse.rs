@@ -23,7 +23,8 @@ fn value(src: &str) -> f64 {
 fn error(src: &str) -> ParseError {
     let mut g = ExprGraph::new();
     let x = g.var(0);
-    g.parse(src, &mut |n| (n == "x").then_some(x)).expect_err(src)
+    g.parse(src, &mut |n| (n == "x").then_some(x))
+        .expect_err(src)
 }
 
 #[test]
@@ -77,7 +78,13 @@ fn functions_constants_and_dotted_names() {
 #[test]
 fn unknown_names_are_reported_with_their_position() {
     let e = error("2 * alpah + 1");
-    assert_eq!(e, ParseError::UnknownName { pos: 4, name: "alpah".into() });
+    assert_eq!(
+        e,
+        ParseError::UnknownName {
+            pos: 4,
+            name: "alpah".into()
+        }
+    );
     assert_eq!(e.to_string(), "at 4: unknown name 'alpah'");
     assert_eq!(error("foo(x)").to_string(), "at 0: unknown function 'foo'");
 }
@@ -92,12 +99,36 @@ fn syntax_errors_name_the_position_and_what_was_expected() {
     assert_eq!(error("x 2").pos(), 2);
     assert_eq!(error("").pos(), 0);
     assert_eq!(error("sin(x").pos(), 5);
-    assert_eq!(error("x)").to_string(), "at 1: expected an operator or end of input, found ')'");
-    assert!(matches!(error("atan2(x)"), ParseError::WrongArity { pos: 0, expected: 2, found: 1, .. }));
-    assert!(matches!(error("sin(x, x)"), ParseError::WrongArity { expected: 1, found: 2, .. }));
+    assert_eq!(
+        error("x)").to_string(),
+        "at 1: expected an operator or end of input, found ')'"
+    );
+    assert!(matches!(
+        error("atan2(x)"),
+        ParseError::WrongArity {
+            pos: 0,
+            expected: 2,
+            found: 1,
+            ..
+        }
+    ));
+    assert!(matches!(
+        error("sin(x, x)"),
+        ParseError::WrongArity {
+            expected: 1,
+            found: 2,
+            ..
+        }
+    ));
     assert!(matches!(error("1e"), ParseError::BadNumber { pos: 0, .. }));
-    assert!(matches!(error("x + 2x"), ParseError::BadNumber { pos: 4, .. }));
-    assert!(matches!(error("1.2.3"), ParseError::BadNumber { pos: 0, .. }));
+    assert!(matches!(
+        error("x + 2x"),
+        ParseError::BadNumber { pos: 4, .. }
+    ));
+    assert!(matches!(
+        error("1.2.3"),
+        ParseError::BadNumber { pos: 0, .. }
+    ));
     assert_eq!(error("x # 1").pos(), 2);
 }
 

@@ -44,6 +44,30 @@ impl ExprGraph {
         self.diff_memo[&(e, var)]
     }
 
+    /// Sparse Jacobian `∂fᵢ/∂x_{wrt[j]}`: the entries `(i, j, derivative)` that are not
+    /// identically zero, row by row, columns ascending. Only variables each `fᵢ` actually
+    /// mentions are differentiated.
+    pub fn jacobian(&mut self, f: &[Expr], wrt: &[u32]) -> Vec<(usize, usize, Expr)> {
+        let mut col: Vec<(u32, usize)> = wrt.iter().enumerate().map(|(j, &v)| (v, j)).collect();
+        col.sort_unstable();
+        let mut entries = Vec::new();
+        for (i, &fi) in f.iter().enumerate() {
+            let mut row: Vec<(usize, Expr)> = Vec::new();
+            for v in self.vars(fi) {
+                let lo = col.partition_point(|&(w, _)| w < v);
+                for &(_, j) in col[lo..].iter().take_while(|&&(w, _)| w == v) {
+                    let d = self.diff(fi, v);
+                    if !self.is_zero(d) {
+                        row.push((j, d));
+                    }
+                }
+            }
+            row.sort_unstable_by_key(|&(j, _)| j);
+            entries.extend(row.into_iter().map(|(j, d)| (i, j, d)));
+        }
+        entries
+    }
+
     /// Derivative of node `e` once all children's derivatives are memoised.
     fn diff_node(&mut self, e: Expr, var: u32) -> Expr {
         let d = |g: &Self, x: Expr| g.diff_memo[&(x, var)];

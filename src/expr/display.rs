@@ -10,6 +10,11 @@ const NEG: u8 = 3;
 const POW: u8 = 4;
 const ATOM: u8 = 5;
 
+/// Length beyond which [`ExprGraph::display`] elides the rest as `…`.
+pub const DISPLAY_MAX_CHARS: usize = 20_000;
+/// Nesting depth beyond which [`ExprGraph::display`] elides subexpressions as `…`.
+pub const DISPLAY_MAX_DEPTH: usize = 200;
+
 /// Formats a constant: integers without a fraction, others in shortest round-trip form.
 pub(crate) fn fmt_const(c: f64) -> String {
     if c == c.trunc() && c.abs() < 1e15 {
@@ -21,8 +26,13 @@ pub(crate) fn fmt_const(c: f64) -> String {
 
 impl ExprGraph {
     /// Readable infix form of `e`, naming variable `i` by `name(i)`.
+    ///
+    /// Shared subexpressions are written out at every use, so the text of a deep DAG
+    /// can be exponentially long: past [`DISPLAY_MAX_CHARS`] characters or
+    /// [`DISPLAY_MAX_DEPTH`] levels of nesting the remainder is elided as `…`.
     pub fn display(&self, e: Expr, name: &dyn Fn(u32) -> String) -> String {
-        self.fmt(e, name).0
+        let mut budget = DISPLAY_MAX_CHARS;
+        self.fmt(e, name, &mut budget, 0).0
     }
 
     fn prec(&self, e: Expr) -> u8 {
@@ -37,8 +47,15 @@ impl ExprGraph {
     }
 
     /// Text of `e` wrapped in parentheses when its precedence is below `min`.
-    fn operand(&self, e: Expr, min: u8, name: &dyn Fn(u32) -> String) -> String {
-        let (s, p) = self.fmt(e, name);
+    fn operand(
+        &self,
+        e: Expr,
+        min: u8,
+        name: &dyn Fn(u32) -> String,
+        budget: &mut usize,
+        depth: usize,
+    ) -> String {
+        let (s, p) = self.fmt(e, name, budget, depth);
         if p < min {
             format!("({s})")
         } else {
@@ -46,16 +63,29 @@ impl ExprGraph {
         }
     }
 
-    fn fmt(&self, e: Expr, name: &dyn Fn(u32) -> String) -> (String, u8) {
+    fn fmt(
+        &self,
+        e: Expr,
+        name: &dyn Fn(u32) -> String,
+        budget: &mut usize,
+        depth: usize,
+    ) -> (String, u8) {
+        if *budget == 0 || depth > DISPLAY_MAX_DEPTH {
+            return ("…".to_string(), ATOM);
+        }
+        let depth = depth + 1;
         let p = self.prec(e);
-        let call = |f: &str, args: &[Expr]| {
-            let parts: Vec<String> = args.iter().map(|&a| self.fmt(a, name).0).collect();
+        let call = |f: &str, args: &[Expr], budget: &mut usize| {
+            let parts: Vec<String> = args
+                .iter()
+                .map(|&a| self.fmt(a, name, budget, depth).0)
+                .collect();
             format!("{f}({})", parts.join(", "))
         };
         let s = match self.node(e) {
             Node::Const(b) => fmt_const(f64::from_bits(b)),
             Node::Var(k) => name(k),
-            Node::Un(UnOp::Neg, a) => format!("-{}", self.operand(a, NEG, name)),
+            Node::Un(UnOp::Neg, a) => format!("-{}", self.operand(a, NEG, name, budget, depth)),
             Node::Un(op, a) => {
                 let f = match op {
                     UnOp::Sin => "sin",
@@ -67,22 +97,43 @@ impl ExprGraph {
                     UnOp::Ln => "ln",
                     UnOp::Sign | UnOp::Neg => "sign",
                 };
-                call(f, &[a])
+                call(f, &[a], budget)
             }
             Node::Bin(op, a, b) => match op {
-                BinOp::Add => format!("{} + {}", self.operand(a, ADD, name), self.operand(b, ADD, name)),
-                BinOp::Sub => format!("{} - {}", self.operand(a, ADD, name), self.operand(b, MUL, name)),
-                BinOp::Mul => format!("{} * {}", self.operand(a, MUL, name), self.operand(b, MUL, name)),
-                BinOp::Div => format!("{} / {}", self.operand(a, MUL, name), self.operand(b, NEG, name)),
-                BinOp::Pow => format!("{}^{}", self.operand(a, ATOM, name), self.operand(b, NEG, name)),
-                BinOp::Atan2 => call("atan2", &[a, b]),
-                BinOp::Min => call("min", &[a, b]),
-                BinOp::Max => call("max", &[a, b]),
+                BinOp::Add => format!(
+                    "{} + {}",
+                    self.operand(a, ADD, name, budget, depth),
+                    self.operand(b, ADD, name, budget, depth)
+                ),
+                BinOp::Sub => format!(
+                    "{} - {}",
+                    self.operand(a, ADD, name, budget, depth),
+                    self.operand(b, MUL, name, budget, depth)
+                ),
+                BinOp::Mul => format!(
+                    "{} * {}",
+                    self.operand(a, MUL, name, budget, depth),
+                    self.operand(b, MUL, name, budget, depth)
+                ),
+                BinOp::Div => format!(
+                    "{} / {}",
+                    self.operand(a, MUL, name, budget, depth),
+                    self.operand(b, NEG, name, budget, depth)
+                ),
+                BinOp::Pow => format!(
+                    "{}^{}",
+                    self.operand(a, ATOM, name, budget, depth),
+                    self.operand(b, NEG, name, budget, depth)
+                ),
+                BinOp::Atan2 => call("atan2", &[a, b], budget),
+                BinOp::Min => call("min", &[a, b], budget),
+                BinOp::Max => call("max", &[a, b], budget),
             },
-            Node::Select(c, a, b) => call("select", &[c, a, b]),
-            Node::Table(k, a) => call(&format!("table{k}"), &[a]),
-            Node::TableSlope(k, a) => call(&format!("table{k}_slope"), &[a]),
+            Node::Select(c, a, b) => call("select", &[c, a, b], budget),
+            Node::Table(k, a) => call(&format!("table{k}"), &[a], budget),
+            Node::TableSlope(k, a) => call(&format!("table{k}_slope"), &[a], budget),
         };
+        *budget = budget.saturating_sub(s.len());
         (s, p)
     }
 }

@@ -18,8 +18,7 @@
 //! does; it differs from IEEE only where `x` evaluates to `inf` or `NaN`.
 //! Constants are normalised: `−0.0` is stored as `0.0` and every NaN as the canonical NaN.
 
-use std::collections::HashMap;
-
+use super::hash::{FxMap, FxSet};
 use super::ops::{apply_bin, apply_un, select, BinOp, TableData, UnOp};
 
 /// Handle of a node in an [`ExprGraph`]. Only meaningful with the graph that made it.
@@ -67,10 +66,10 @@ impl Node {
 #[derive(Clone, Debug, Default)]
 pub struct ExprGraph {
     pub(crate) nodes: Vec<Node>,
-    index: HashMap<Node, Expr>,
+    index: FxMap<Node, Expr>,
     pub(crate) tables: Vec<TableData>,
-    table_index: HashMap<Vec<u64>, u32>,
-    pub(crate) diff_memo: HashMap<(Expr, u32), Expr>,
+    table_index: FxMap<Vec<u64>, u32>,
+    pub(crate) diff_memo: FxMap<(Expr, u32), Expr>,
 }
 
 fn normalise(c: f64) -> f64 {
@@ -166,7 +165,11 @@ impl ExprGraph {
         if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b)) {
             return self.constant(apply_bin(op, x, y));
         }
-        let (a, b) = if op.is_commutative() { self.order(a, b) } else { (a, b) };
+        let (a, b) = if op.is_commutative() {
+            self.order(a, b)
+        } else {
+            (a, b)
+        };
         self.intern(Node::Bin(op, a, b))
     }
 
@@ -395,7 +398,10 @@ impl ExprGraph {
     /// extra entries of the longer slice are ignored.
     pub fn table(&mut self, t: &[f64], v: &[f64], arg: Expr) -> Expr {
         let n = t.len().min(v.len());
-        let data = TableData { t: t[..n].to_vec(), v: v[..n].to_vec() };
+        let data = TableData {
+            t: t[..n].to_vec(),
+            v: v[..n].to_vec(),
+        };
         if let Some(x) = self.as_const(arg) {
             return self.constant(data.value(x));
         }
@@ -404,7 +410,13 @@ impl ExprGraph {
     }
 
     fn table_id(&mut self, data: TableData) -> u32 {
-        let key: Vec<u64> = data.t.iter().chain(&data.v).map(|x| x.to_bits()).chain([data.t.len() as u64]).collect();
+        let key: Vec<u64> = data
+            .t
+            .iter()
+            .chain(&data.v)
+            .map(|x| x.to_bits())
+            .chain([data.t.len() as u64])
+            .collect();
         if let Some(&k) = self.table_index.get(&key) {
             return k;
         }
@@ -425,7 +437,7 @@ impl ExprGraph {
 
     /// Nodes reachable from `roots`, in ascending arena (= topological) order.
     pub(crate) fn reachable(&self, roots: &[Expr]) -> Vec<u32> {
-        let mut seen = std::collections::HashSet::new();
+        let mut seen = FxSet::default();
         let mut stack: Vec<Expr> = roots.to_vec();
         let mut order = Vec::new();
         while let Some(e) = stack.pop() {
@@ -461,7 +473,10 @@ impl ExprGraph {
         match self.index.get(&target) {
             None => false,
             Some(&v) if v > e => false,
-            Some(_) => self.reachable(&[e]).into_iter().any(|i| self.nodes[i as usize] == target),
+            Some(_) => self
+                .reachable(&[e])
+                .into_iter()
+                .any(|i| self.nodes[i as usize] == target),
         }
     }
 
@@ -469,7 +484,7 @@ impl ExprGraph {
     /// Slow (allocates); use [`ExprGraph::compile`] for repeated evaluation.
     pub fn eval(&self, e: Expr, vars: &[f64]) -> f64 {
         let order = self.reachable(&[e]);
-        let mut val: HashMap<u32, f64> = HashMap::with_capacity(order.len());
+        let mut val: FxMap<u32, f64> = FxMap::default();
         for &i in &order {
             let g = |x: Expr| val[&x.0];
             let y = match self.nodes[i as usize] {

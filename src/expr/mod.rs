@@ -21,10 +21,12 @@
 mod diff;
 mod display;
 mod graph;
+mod hash;
 mod ops;
 mod parse;
 mod tape;
 
+pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
 pub use graph::{Expr, ExprGraph};
 pub use parse::ParseError;
 pub use tape::Tape;

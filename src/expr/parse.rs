@@ -124,7 +124,11 @@ impl Parser<'_, '_> {
 
     fn expected(&mut self, what: &str) -> ParseError {
         self.skip_ws();
-        ParseError::Expected { pos: self.pos, expected: what.to_string(), found: self.found() }
+        ParseError::Expected {
+            pos: self.pos,
+            expected: what.to_string(),
+            found: self.found(),
+        }
     }
 
     fn expect(&mut self, c: u8) -> Result<(), ParseError> {
@@ -241,7 +245,10 @@ impl Parser<'_, '_> {
             self.pos += 1;
             n += self.digits();
         }
-        let bad = |p: &Self| ParseError::BadNumber { pos: start, text: p.src[start..p.pos].to_string() };
+        let bad = |p: &Self| ParseError::BadNumber {
+            pos: start,
+            text: p.src[start..p.pos].to_string(),
+        };
         if n == 0 {
             return Err(bad(self));
         }
@@ -280,14 +287,22 @@ impl Parser<'_, '_> {
         if name == "pi" {
             return Ok(self.g.constant(std::f64::consts::PI));
         }
-        (self.resolve)(name).ok_or_else(|| ParseError::UnknownName { pos: start, name: name.to_string() })
+        (self.resolve)(name).ok_or_else(|| ParseError::UnknownName {
+            pos: start,
+            name: name.to_string(),
+        })
     }
 
     fn call(&mut self, name: &'_ str, pos: usize) -> Result<Expr, ParseError> {
         let arity = match name {
             "sin" | "cos" | "tan" | "sqrt" | "abs" | "exp" | "ln" | "log" => 1,
             "atan2" | "min" | "max" | "pow" => 2,
-            _ => return Err(ParseError::UnknownFunction { pos, name: name.to_string() }),
+            _ => {
+                return Err(ParseError::UnknownFunction {
+                    pos,
+                    name: name.to_string(),
+                })
+            }
         };
         let mut args = Vec::with_capacity(2);
         if self.peek() != Some(b')') {
@@ -302,7 +317,12 @@ impl Parser<'_, '_> {
         }
         self.expect(b')')?;
         if args.len() != arity {
-            return Err(ParseError::WrongArity { pos, name: name.to_string(), expected: arity, found: args.len() });
+            return Err(ParseError::WrongArity {
+                pos,
+                name: name.to_string(),
+                expected: arity,
+                found: args.len(),
+            });
         }
         let g = &mut *self.g;
         Ok(match name {
@@ -329,7 +349,13 @@ impl ExprGraph {
         src: &str,
         resolve: &mut dyn FnMut(&str) -> Option<Expr>,
     ) -> Result<Expr, ParseError> {
-        let mut p = Parser { src, pos: 0, g: self, resolve, depth: 0 };
+        let mut p = Parser {
+            src,
+            pos: 0,
+            g: self,
+            resolve,
+            depth: 0,
+        };
         let e = p.expr()?;
         if p.peek().is_some() {
             return Err(p.expected("an operator or end of input"));

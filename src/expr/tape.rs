@@ -6,8 +6,6 @@
 //! last instruction that reads it (outputs stay live to the end). [`Tape::eval`] does
 //! not allocate.
 
-use std::collections::HashMap;
-
 use super::graph::{Expr, ExprGraph, Node};
 use super::ops::{apply_bin, apply_un, select, BinOp, TableData, UnOp};
 
@@ -45,84 +43,106 @@ impl ExprGraph {
             .max()
             .unwrap_or(0);
 
-        // Slots of leaves; position of the last instruction reading each computed node.
-        let mut slot: HashMap<u32, u32> = HashMap::with_capacity(order.len());
+        // Dense per-reachable-node tables, indexed by position in `order` (found by binary
+        // search: `order` is sorted), so compiling costs no hashing.
+        let pos_of = |e: Expr| {
+            order
+                .binary_search(&e.0)
+                .expect("child of a reachable node is reachable")
+        };
+        const NONE: u32 = u32::MAX;
+        let mut slot: Vec<u32> = vec![NONE; order.len()];
+        let mut last_use: Vec<u32> = vec![NONE; order.len()]; // instruction index of last read
         let mut consts = Vec::new();
-        let mut last_use: HashMap<u32, usize> = HashMap::new();
-        let mut n_instr = 0usize;
-        for &i in &order {
+        let mut n_instr = 0u32;
+        for (p, &i) in order.iter().enumerate() {
             match self.nodes[i as usize] {
-                Node::Var(k) => {
-                    slot.insert(i, k);
-                }
+                Node::Var(k) => slot[p] = k,
                 Node::Const(b) => {
-                    slot.insert(i, (n_vars + consts.len()) as u32);
+                    slot[p] = (n_vars + consts.len()) as u32;
                     consts.push(f64::from_bits(b));
                 }
                 n => {
                     let (ch, m) = n.children();
                     for c in &ch[..m] {
-                        last_use.insert(c.0, n_instr);
+                        last_use[pos_of(*c)] = n_instr;
                     }
                     n_instr += 1;
                 }
             }
         }
+        const LIVE_TO_END: u32 = u32::MAX - 1;
         for o in outputs {
-            last_use.insert(o.0, usize::MAX);
+            last_use[pos_of(*o)] = LIVE_TO_END;
         }
 
         let base = (n_vars + consts.len()) as u32;
         let mut free: Vec<u32> = Vec::new();
         let mut n_regs = 0u32;
         let mut tables: Vec<TableData> = Vec::new();
-        let mut table_map: HashMap<u32, u32> = HashMap::new();
-        let mut instrs = Vec::with_capacity(n_instr);
-        for &i in &order {
+        let mut table_map: Vec<(u32, u32)> = Vec::new();
+        let mut instrs = Vec::with_capacity(n_instr as usize);
+        for (p, &i) in order.iter().enumerate() {
             let node = self.nodes[i as usize];
             if matches!(node, Node::Var(_) | Node::Const(_)) {
                 continue;
             }
-            let pos = instrs.len();
+            let here = instrs.len() as u32;
             let (ch, m) = node.children();
-            let s = |c: Expr| slot[&c.0];
+            let mut cs = [0u32; 3];
             // Free operands whose last reader is this instruction (before allocating dst,
             // so dst may overwrite an operand: every instruction reads before it writes).
-            for (j, c) in ch[..m].iter().enumerate() {
-                if ch[..j].contains(c) {
-                    continue;
-                }
-                let cs = slot[&c.0];
-                if cs >= base && last_use.get(&c.0) == Some(&pos) {
-                    free.push(cs);
+            for j in 0..m {
+                let cp = pos_of(ch[j]);
+                cs[j] = slot[cp];
+                if cs[j] >= base && last_use[cp] == here && !ch[..j].contains(&ch[j]) {
+                    free.push(cs[j]);
                 }
             }
             let dst = free.pop().unwrap_or_else(|| {
                 n_regs += 1;
                 base + n_regs - 1
             });
-            let mut tab = |k: u32| {
-                *table_map.entry(k).or_insert_with(|| {
+            let mut tab = |k: u32| match table_map.iter().find(|(g, _)| *g == k) {
+                Some(&(_, t)) => t,
+                None => {
                     tables.push(self.tables[k as usize].clone());
-                    (tables.len() - 1) as u32
-                })
+                    let t = (tables.len() - 1) as u32;
+                    table_map.push((k, t));
+                    t
+                }
             };
+            let [c0, c1, c2] = cs;
             let ins = match node {
-                Node::Un(op, a) => Instr::Un { op, dst, a: s(a) },
-                Node::Bin(op, a, b) => Instr::Bin { op, dst, a: s(a), b: s(b) },
-                Node::Select(c, a, b) => Instr::Select { dst, c: s(c), a: s(a), b: s(b) },
-                Node::Table(k, a) => Instr::Table { dst, table: tab(k), a: s(a) },
-                Node::TableSlope(k, a) => Instr::TableSlope { dst, table: tab(k), a: s(a) },
+                Node::Un(op, _) => Instr::Un { op, dst, a: c0 },
+                Node::Bin(op, ..) => Instr::Bin {
+                    op,
+                    dst,
+                    a: c0,
+                    b: c1,
+                },
+                Node::Select(..) => Instr::Select {
+                    dst,
+                    c: c0,
+                    a: c1,
+                    b: c2,
+                },
+                Node::Table(k, _) => Instr::Table {
+                    dst,
+                    table: tab(k),
+                    a: c0,
+                },
+                Node::TableSlope(k, _) => Instr::TableSlope {
+                    dst,
+                    table: tab(k),
+                    a: c0,
+                },
                 Node::Var(_) | Node::Const(_) => unreachable!("leaves are skipped"),
             };
             instrs.push(ins);
-            slot.insert(i, dst);
-            // A node nobody reads (cannot happen for reachable non-outputs) frees at once.
-            if !last_use.contains_key(&i) {
-                free.push(dst);
-            }
+            slot[p] = dst;
         }
-        let outputs = outputs.iter().map(|o| slot[&o.0]).collect();
+        let outputs = outputs.iter().map(|o| slot[pos_of(*o)]).collect();
         Tape {
             n_vars,
             work_len: base as usize + n_regs as usize,
@@ -180,11 +200,56 @@ impl Tape {
     /// If `vars.len() < n_vars()`, `work.len() < workspace_len()` or
     /// `out.len() != n_outputs()` (programming errors).
     pub fn eval(&self, vars: &[f64], work: &mut [f64], out: &mut [f64]) {
-        assert!(vars.len() >= self.n_vars, "tape needs {} variables, got {}", self.n_vars, vars.len());
-        assert!(work.len() >= self.work_len, "tape workspace needs {} slots, got {}", self.work_len, work.len());
+        assert!(
+            vars.len() >= self.n_vars,
+            "tape needs {} variables, got {}",
+            self.n_vars,
+            vars.len()
+        );
+        assert!(
+            work.len() >= self.work_len,
+            "tape workspace needs {} slots, got {}",
+            self.work_len,
+            work.len()
+        );
         assert_eq!(out.len(), self.outputs.len(), "tape output length");
+        work[..self.n_vars].copy_from_slice(&vars[..self.n_vars]);
+        self.run(work, out);
+    }
+
+    /// Like [`Tape::eval`] with the input vector given as consecutive pieces, e.g.
+    /// `[&[t], y, y']` for variables numbered `t = 0`, `y = 1..=n`, `y' = n+1..=2n`.
+    /// Does not allocate.
+    ///
+    /// # Panics
+    /// If the pieces hold fewer than `n_vars()` values in total, or as [`Tape::eval`].
+    pub fn eval_parts(&self, parts: &[&[f64]], work: &mut [f64], out: &mut [f64]) {
+        let total: usize = parts.iter().map(|p| p.len()).sum();
+        assert!(
+            total >= self.n_vars,
+            "tape needs {} variables, got {}",
+            self.n_vars,
+            total
+        );
+        assert!(
+            work.len() >= self.work_len,
+            "tape workspace needs {} slots, got {}",
+            self.work_len,
+            work.len()
+        );
+        assert_eq!(out.len(), self.outputs.len(), "tape output length");
+        let mut at = 0;
+        for p in parts {
+            let take = p.len().min(self.n_vars - at);
+            work[at..at + take].copy_from_slice(&p[..take]);
+            at += take;
+        }
+        self.run(work, out);
+    }
+
+    /// Executes the instructions once the variables are in `work[..n_vars]`.
+    fn run(&self, work: &mut [f64], out: &mut [f64]) {
         let nv = self.n_vars;
-        work[..nv].copy_from_slice(&vars[..nv]);
         work[nv..nv + self.consts.len()].copy_from_slice(&self.consts);
         for ins in &self.instrs {
             match *ins {
@@ -193,7 +258,8 @@ impl Tape {
                     work[dst as usize] = apply_bin(op, work[a as usize], work[b as usize])
                 }
                 Instr::Select { dst, c, a, b } => {
-                    work[dst as usize] = select(work[c as usize], work[a as usize], work[b as usize])
+                    work[dst as usize] =
+                        select(work[c as usize], work[a as usize], work[b as usize])
                 }
                 Instr::Table { dst, table, a } => {
                     work[dst as usize] = self.tables[table as usize].value(work[a as usize])
