@@ -124,7 +124,7 @@ impl Index1Formulation {
             }
         }
         // dynamics with the multipliers, for v_j' (independent) or a_j (dependent)
-        let mut dyn_row = |g: &mut crate::expr::ExprGraph, j: usize, acc: Expr| {
+        let dyn_row = |g: &mut crate::expr::ExprGraph, j: usize, acc: Expr| {
             let mut terms = vec![g.scale(sys.mass[j], acc)];
             terms.push(g.neg(sys.forces[j]));
             for k in 0..nc {

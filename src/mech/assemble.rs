@@ -487,6 +487,7 @@ impl<'a> Assembler<'a> {
             let path = format!("springs[{si}]");
             let pa = self.point(&sp.bodies[0], &sp.points[0], &format!("{path}.points[0]"))?;
             let pb = self.point(&sp.bodies[1], &sp.points[1], &format!("{path}.points[1]"))?;
+            let x0 = self.initial_slots();
             let g = &mut self.g;
             let d: Vec<Expr> = (0..pa.position.len())
                 .map(|k| g.sub(pb.position[k], pa.position[k]))
@@ -498,7 +499,6 @@ impl<'a> Assembler<'a> {
                 Some(l) => l,
                 None => {
                     // initial distance
-                    let x0 = self.initial_slots();
                     let dd = g.dot(&d, &d);
                     g.eval(dd, &x0).sqrt()
                 }

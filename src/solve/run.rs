@@ -473,8 +473,8 @@ fn run_index1(
             x.copy_from_slice(&ida.y()[..nq + nv]);
             let row = out.row(step.t, &x);
             if emit(&mut sol, observer, step.t, row) {
-                k_next = opts.output_times.len();
-                break;
+                total.accumulate(&ida.stats());
+                break 'restart;
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
             if cond > INDEX1_MAX_CONDITION && k_next < opts.output_times.len() {
