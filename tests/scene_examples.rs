@@ -24,10 +24,17 @@ fn load(name: &str) -> Scene {
 #[test]
 fn every_example_scene_passes_validation() {
     let paths = example_paths();
-    assert!(paths.len() >= 6, "expected the six seed examples, found {paths:?}");
+    assert!(
+        paths.len() >= 6,
+        "expected the six seed examples, found {paths:?}"
+    );
     for p in paths {
         let s = Scene::from_path(&p).unwrap_or_else(|e| panic!("{}:\n{e}", p.display()));
-        assert!(s.description.is_some(), "{} names its seed figure", p.display());
+        assert!(
+            s.description.is_some(),
+            "{} names its seed figure",
+            p.display()
+        );
     }
 }
 

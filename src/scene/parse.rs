@@ -34,7 +34,10 @@ impl<'a> Fields<'a> {
             if entries[..i].iter().any(|(k2, _)| k2 == k) {
                 p.push(kp, "duplicate key");
             } else if k != COMMENT && !allowed.contains(&k.as_str()) {
-                p.push(kp, format!("unknown field (expected one of: {})", allowed.join(", ")));
+                p.push(
+                    kp,
+                    format!("unknown field (expected one of: {})", allowed.join(", ")),
+                );
             }
         }
         Some(Fields {
@@ -81,7 +84,10 @@ impl<'a> Fields<'a> {
             None => &[],
             Some(Json::Array(a)) => a,
             Some(j) => {
-                p.push(self.path(key), format!("expected an array, got {}", j.kind()));
+                p.push(
+                    self.path(key),
+                    format!("expected an array, got {}", j.kind()),
+                );
                 &[]
             }
         }
@@ -110,7 +116,10 @@ fn string(p: &mut Problems, path: &str, j: &Json) -> Option<String> {
 
 fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
     let Json::Array(items) = j else {
-        p.push(path, format!("expected an array of numbers, got {}", j.kind()));
+        p.push(
+            path,
+            format!("expected an array of numbers, got {}", j.kind()),
+        );
         return None;
     };
     let mut out = Vec::with_capacity(items.len());
@@ -124,7 +133,12 @@ fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
     ok.then_some(out)
 }
 
-fn pair<T>(p: &mut Problems, path: &str, j: &Json, f: impl Fn(&mut Problems, &str, &Json) -> Option<T>) -> Option<[T; 2]> {
+fn pair<T>(
+    p: &mut Problems,
+    path: &str,
+    j: &Json,
+    f: impl Fn(&mut Problems, &str, &Json) -> Option<T>,
+) -> Option<[T; 2]> {
     match j {
         Json::Array(items) if items.len() == 2 => {
             let a = f(p, &index(path, 0), &items[0]);
@@ -136,7 +150,10 @@ fn pair<T>(p: &mut Problems, path: &str, j: &Json, f: impl Fn(&mut Problems, &st
             None
         }
         _ => {
-            p.push(path, format!("expected an array of 2 entries, got {}", j.kind()));
+            p.push(
+                path,
+                format!("expected an array of 2 entries, got {}", j.kind()),
+            );
             None
         }
     }
@@ -147,7 +164,10 @@ fn point_ref(p: &mut Problems, path: &str, j: &Json) -> Option<PointRef> {
         Json::String(s) => Some(PointRef::Named(s.clone())),
         Json::Array(_) => vector(p, path, j).map(PointRef::Coords),
         _ => {
-            p.push(path, format!("expected a point name or coordinates, got {}", j.kind()));
+            p.push(
+                path,
+                format!("expected a point name or coordinates, got {}", j.kind()),
+            );
             None
         }
     }
@@ -199,11 +219,16 @@ const SCENE_KEYS: &[&str] = &[
 
 fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
     if !matches!(j, Json::Object(_)) {
-        p.push("", format!("a scene must be a JSON object, got {}", j.kind()));
+        p.push(
+            "",
+            format!("a scene must be a JSON object, got {}", j.kind()),
+        );
         return None;
     }
     let f = Fields::new(p, "", j, SCENE_KEYS)?;
-    let name = f.string(p, "name").unwrap_or_else(|| default_name.to_string());
+    let name = f
+        .string(p, "name")
+        .unwrap_or_else(|| default_name.to_string());
     let description = f.string(p, "description");
     let dimension = match f.get("dimension") {
         None => Dimension::Planar,
@@ -214,7 +239,10 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
             Dimension::Planar
         }
         Some(other) => {
-            p.push("dimension", format!("must be 2 or 3 (got {})", other.kind()));
+            p.push(
+                "dimension",
+                format!("must be 2 or 3 (got {})", other.kind()),
+            );
             Dimension::Planar
         }
     };
@@ -286,13 +314,16 @@ const BODY_KEYS: &[&str] = &[
 
 fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> {
     let f = Fields::new(p, path, j, BODY_KEYS)?;
-    let name = f.required(p, "name").and_then(|j| string(p, &f.path("name"), j));
+    let name = f
+        .required(p, "name")
+        .and_then(|j| string(p, &f.path("name"), j));
     let mass = f.required_number(p, "mass");
     let inertia = match f.required(p, "inertia") {
         None => None,
         Some(Json::Number(x)) => Some(Inertia::Planar(*x)),
-        Some(j @ Json::Array(items)) if items.len() == 3 => vector(p, &f.path("inertia"), j)
-            .map(|v| Inertia::Principal([v[0], v[1], v[2]])),
+        Some(j @ Json::Array(items)) if items.len() == 3 => {
+            vector(p, &f.path("inertia"), j).map(|v| Inertia::Principal([v[0], v[1], v[2]]))
+        }
         Some(j) => {
             p.push(
                 f.path("inertia"),
@@ -336,32 +367,48 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
         Some(other) => {
             p.push(
                 f.path("points"),
-                format!("expected an object {{\"name\": [x, y], ...}}, got {}", other.kind()),
+                format!(
+                    "expected an object {{\"name\": [x, y], ...}}, got {}",
+                    other.kind()
+                ),
             );
             None
         }
     };
-    let position = f.vector(p, "position").unwrap_or_else(|| vec![0.0; dim.coords()]);
+    let position = f
+        .vector(p, "position")
+        .unwrap_or_else(|| vec![0.0; dim.coords()]);
     let angle = f.number(p, "angle");
     if angle.is_some() && dim == Dimension::Spatial {
-        p.push(f.path("angle"), "only planar bodies have an angle; use \"cardan\": [psi, theta, phi]");
+        p.push(
+            f.path("angle"),
+            "only planar bodies have an angle; use \"cardan\": [psi, theta, phi]",
+        );
     }
     let cardan = match f.get("cardan") {
         None => Some([0.0; 3]),
         Some(_) if dim == Dimension::Planar => {
-            p.push(f.path("cardan"), "only spatial bodies have Cardan angles; use \"angle\"");
+            p.push(
+                f.path("cardan"),
+                "only spatial bodies have Cardan angles; use \"angle\"",
+            );
             None
         }
         Some(j) => match vector(p, &f.path("cardan"), j) {
             Some(v) if v.len() == 3 => Some([v[0], v[1], v[2]]),
             Some(v) => {
-                p.push(f.path("cardan"), format!("expected [psi, theta, phi], got {} numbers", v.len()));
+                p.push(
+                    f.path("cardan"),
+                    format!("expected [psi, theta, phi], got {} numbers", v.len()),
+                );
                 None
             }
             None => None,
         },
     };
-    let velocity = f.vector(p, "velocity").unwrap_or_else(|| vec![0.0; dim.coords()]);
+    let velocity = f
+        .vector(p, "velocity")
+        .unwrap_or_else(|| vec![0.0; dim.coords()]);
     let angular_velocity = match f.get("angular_velocity") {
         None => vec![0.0; dim.rotations()],
         Some(Json::Number(x)) => vec![*x],
@@ -394,7 +441,9 @@ fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     let path = index("joints", i);
     let f = Fields::new(p, &path, j, JOINT_KEYS)?;
     let name = f.string(p, "name").unwrap_or_else(|| format!("joint{i}"));
-    let kind_name = f.required(p, "type").and_then(|j| string(p, &f.path("type"), j));
+    let kind_name = f
+        .required(p, "type")
+        .and_then(|j| string(p, &f.path("type"), j));
     let axis = f.vector(p, "axis");
     let kind = match kind_name.as_deref() {
         None => None,
@@ -439,7 +488,14 @@ fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     })
 }
 
-const SPRING_KEYS: &[&str] = &["name", "bodies", "points", "stiffness", "rest_length", "damping"];
+const SPRING_KEYS: &[&str] = &[
+    "name",
+    "bodies",
+    "points",
+    "stiffness",
+    "rest_length",
+    "damping",
+];
 
 fn spring(p: &mut Problems, i: usize, j: &Json) -> Option<Spring> {
     let path = index("springs", i);
@@ -473,21 +529,32 @@ fn load(p: &mut Problems, i: usize, j: &Json) -> Option<Load> {
     let path = index("loads", i);
     let f = Fields::new(p, &path, j, LOAD_KEYS)?;
     let name = f.string(p, "name").unwrap_or_else(|| format!("load{i}"));
-    let kind = match f.required(p, "type").and_then(|j| string(p, &f.path("type"), j)).as_deref() {
+    let kind = match f
+        .required(p, "type")
+        .and_then(|j| string(p, &f.path("type"), j))
+        .as_deref()
+    {
         None => None,
         Some("force") => Some(LoadKind::Force),
         Some("torque") => Some(LoadKind::Torque),
         Some(other) => {
-            p.push(f.path("type"), format!("must be \"force\" or \"torque\" (got \"{other}\")"));
+            p.push(
+                f.path("type"),
+                format!("must be \"force\" or \"torque\" (got \"{other}\")"),
+            );
             None
         }
     };
-    let body = f.required(p, "body").and_then(|j| string(p, &f.path("body"), j));
+    let body = f
+        .required(p, "body")
+        .and_then(|j| string(p, &f.path("body"), j));
     let point = match f.get("point") {
         None => Some(None),
         Some(j) => point_ref(p, &f.path("point"), j).map(Some),
     };
-    let value = f.required(p, "value").and_then(|j| load_value(p, &f.path("value"), j));
+    let value = f
+        .required(p, "value")
+        .and_then(|j| load_value(p, &f.path("value"), j));
     Some(Load {
         name,
         kind: kind?,
@@ -517,7 +584,13 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
                     Json::String(s) => out.push(s.clone()),
                     Json::Number(x) => out.push(format!("{x}")),
                     other => {
-                        p.push(index(path, k), format!("expected an expression string or a number, got {}", other.kind()));
+                        p.push(
+                            index(path, k),
+                            format!(
+                                "expected an expression string or a number, got {}",
+                                other.kind()
+                            ),
+                        );
                         ok = false;
                     }
                 }
@@ -545,7 +618,10 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
                     rows.into_iter().collect::<Option<Vec<_>>>()
                 }
                 Some(other) => {
-                    p.push(vp, format!("expected an array of values, got {}", other.kind()));
+                    p.push(
+                        vp,
+                        format!("expected an array of values, got {}", other.kind()),
+                    );
                     None
                 }
             };
@@ -554,7 +630,10 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
         other => {
             p.push(
                 path,
-                format!("expected a constant, an expression string or {{\"table\": ...}}, got {}", other.kind()),
+                format!(
+                    "expected a constant, an expression string or {{\"table\": ...}}, got {}",
+                    other.kind()
+                ),
             );
             None
         }
@@ -599,7 +678,10 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         None => None,
         Some(x) if x >= 1.0 && x.fract() == 0.0 && x <= u64::MAX as f64 => Some(x as u64),
         Some(x) => {
-            p.push(f.path("max_steps"), format!("must be a positive integer (got {x})"));
+            p.push(
+                f.path("max_steps"),
+                format!("must be a positive integer (got {x})"),
+            );
             None
         }
     };

@@ -23,10 +23,16 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
     let mut p = Problems::default();
     let dim = scene.dimension;
     if scene.bodies.is_empty() && scene.bond_graph.is_none() {
-        p.push("bodies", "a scene needs bodies or a bond_graph (neither is given)");
+        p.push(
+            "bodies",
+            "a scene needs bodies or a bond_graph (neither is given)",
+        );
     }
     if scene.bond_graph.is_some() && !(scene.bodies.is_empty() && scene.joints.is_empty()) {
-        p.push("bond_graph", "give either bodies/joints or a bond_graph, not both");
+        p.push(
+            "bond_graph",
+            "give either bodies/joints or a bond_graph, not both",
+        );
     }
     vec_len(&mut p, "gravity", &scene.gravity, dim.coords());
     for (i, b) in scene.bodies.iter().enumerate() {
@@ -36,7 +42,10 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
     for (i, j) in scene.joints.iter().enumerate() {
         let path = index("joints", i);
         if joint_names.contains(&j.name.as_str()) {
-            p.push(field(&path, "name"), format!("duplicate joint name '{}'", j.name));
+            p.push(
+                field(&path, "name"),
+                format!("duplicate joint name '{}'", j.name),
+            );
         }
         joint_names.push(&j.name);
         joint(&mut p, scene, &path, j);
@@ -67,8 +76,14 @@ pub fn warnings(scene: &Scene) -> Vec<Problem> {
         return Vec::new();
     }
     let touched = |name: &str| {
-        scene.joints.iter().any(|j| j.bodies.iter().any(|b| b == name))
-            || scene.springs.iter().any(|s| s.bodies.iter().any(|b| b == name))
+        scene
+            .joints
+            .iter()
+            .any(|j| j.bodies.iter().any(|b| b == name))
+            || scene
+                .springs
+                .iter()
+                .any(|s| s.bodies.iter().any(|b| b == name))
             || scene.loads.iter().any(|l| l.body == name)
     };
     scene
@@ -121,9 +136,15 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
     if b.name.is_empty() {
         p.push(&np, "must not be empty");
     } else if b.name == GROUND {
-        p.push(&np, "'ground' is reserved for the fixed body; do not list it");
+        p.push(
+            &np,
+            "'ground' is reserved for the fixed body; do not list it",
+        );
     } else if b.name.contains('.') {
-        p.push(&np, format!("'{}' must not contain '.' (outputs use body.point)", b.name));
+        p.push(
+            &np,
+            format!("'{}' must not contain '.' (outputs use body.point)", b.name),
+        );
     } else if scene.bodies[..i].iter().any(|o| o.name == b.name) {
         p.push(&np, format!("duplicate body name '{}'", b.name));
     }
@@ -161,7 +182,13 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
     vec_len(p, &field(&path, "velocity"), &b.velocity, dim.coords());
     let wp = field(&path, "angular_velocity");
     if dim == Dimension::Planar && b.angular_velocity.len() != 1 {
-        p.push(&wp, format!("a planar body has one angular velocity, got {}", b.angular_velocity.len()));
+        p.push(
+            &wp,
+            format!(
+                "a planar body has one angular velocity, got {}",
+                b.angular_velocity.len()
+            ),
+        );
     } else {
         vec_len(p, &wp, &b.angular_velocity, dim.rotations());
     }
@@ -172,7 +199,14 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
 }
 
 /// Checks a body name and a point on it; returns the body (None for ground or unknown).
-fn point_on(p: &mut Problems, scene: &Scene, body_path: &str, name: &str, point_path: &str, point: &PointRef) {
+fn point_on(
+    p: &mut Problems,
+    scene: &Scene,
+    body_path: &str,
+    name: &str,
+    point_path: &str,
+    point: &PointRef,
+) {
     let dim = scene.dimension;
     if name == GROUND {
         match point {
@@ -199,20 +233,39 @@ fn point_on(p: &mut Problems, scene: &Scene, body_path: &str, name: &str, point_
                 } else {
                     format!("it has: {}", names.join(", "))
                 };
-                p.push(point_path, format!("body '{name}' has no point '{n}' ({has})"));
+                p.push(
+                    point_path,
+                    format!("body '{name}' has no point '{n}' ({has})"),
+                );
             }
         }
     }
 }
 
-fn attachment(p: &mut Problems, scene: &Scene, path: &str, bodies: &[String; 2], points: &[PointRef; 2]) {
+fn attachment(
+    p: &mut Problems,
+    scene: &Scene,
+    path: &str,
+    bodies: &[String; 2],
+    points: &[PointRef; 2],
+) {
     let bp = field(path, "bodies");
     let pp = field(path, "points");
     for k in 0..2 {
-        point_on(p, scene, &index(&bp, k), &bodies[k], &index(&pp, k), &points[k]);
+        point_on(
+            p,
+            scene,
+            &index(&bp, k),
+            &bodies[k],
+            &index(&pp, k),
+            &points[k],
+        );
     }
     if bodies[0] == bodies[1] {
-        p.push(bp, format!("both ends are on the same body '{}'", bodies[0]));
+        p.push(
+            bp,
+            format!("both ends are on the same body '{}'", bodies[0]),
+        );
     }
 }
 
@@ -223,12 +276,14 @@ fn joint(p: &mut Problems, scene: &Scene, path: &str, j: &Joint) {
     attachment(p, scene, path, &j.bodies, &j.points);
     let tp = field(path, "type");
     match (&j.kind, scene.dimension) {
-        (JointKind::Spherical, Dimension::Planar) => {
-            p.push(tp, "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane")
-        }
-        (JointKind::Revolute, Dimension::Spatial) => {
-            p.push(tp, "revolute is a planar pin; a spatial scene supports spherical, prismatic and weld")
-        }
+        (JointKind::Spherical, Dimension::Planar) => p.push(
+            tp,
+            "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane",
+        ),
+        (JointKind::Revolute, Dimension::Spatial) => p.push(
+            tp,
+            "revolute is a planar pin; a spatial scene supports spherical, prismatic and weld",
+        ),
         (JointKind::Prismatic { axis }, dim) => {
             let ap = field(path, "axis");
             vec_len(p, &ap, axis, dim.coords());
@@ -262,7 +317,11 @@ fn load(p: &mut Problems, scene: &Scene, path: &str, l: &Load) {
                 p.push(&vp, format!("expected {n} expressions, got {}", e.len()));
             }
             for (k, s) in e.iter().enumerate() {
-                let ep = if e.len() == 1 { vp.clone() } else { index(&vp, k) };
+                let ep = if e.len() == 1 {
+                    vp.clone()
+                } else {
+                    index(&vp, k)
+                };
                 expression(p, &ep, s);
             }
         }
@@ -280,7 +339,14 @@ fn load(p: &mut Problems, scene: &Scene, path: &str, l: &Load) {
             }
             let v_path = field(&tp, "v");
             if v.len() != t.len() {
-                p.push(&v_path, format!("expected {} values (one per time in t), got {}", t.len(), v.len()));
+                p.push(
+                    &v_path,
+                    format!(
+                        "expected {} values (one per time in t), got {}",
+                        t.len(),
+                        v.len()
+                    ),
+                );
             }
             for (k, row) in v.iter().enumerate() {
                 vec_len(p, &index(&v_path, k), row, n);
@@ -315,23 +381,38 @@ fn solve(p: &mut Problems, s: &SolveSettings) {
     positive(p, "solve.t_end", s.t_end);
     if let Some(h) = s.output_step {
         if !(h > 0.0 && h.is_finite()) {
-            p.push("solve.output_step", format!("must be > 0 and finite (got {h})"));
+            p.push(
+                "solve.output_step",
+                format!("must be > 0 and finite (got {h})"),
+            );
         } else if s.t_end.is_finite() && h > s.t_end {
-            p.push("solve.output_step", format!("must be <= t_end = {} (got {h})", s.t_end));
+            p.push(
+                "solve.output_step",
+                format!("must be <= t_end = {} (got {h})", s.t_end),
+            );
         } else if s.t_end / h > MAX_OUTPUT_TIMES {
-            p.push("solve.output_step", format!("gives more than {MAX_OUTPUT_TIMES:e} output times"));
+            p.push(
+                "solve.output_step",
+                format!("gives more than {MAX_OUTPUT_TIMES:e} output times"),
+            );
         }
     }
     if let Some(times) = &s.output_times {
         if s.output_step.is_some() {
-            p.push("solve.output_times", "give output_step or output_times, not both");
+            p.push(
+                "solve.output_times",
+                "give output_step or output_times, not both",
+            );
         }
         if times.is_empty() {
             p.push("solve.output_times", "needs at least one time");
         }
         for (k, t) in times.iter().enumerate() {
             if !(t.is_finite() && *t >= 0.0 && *t <= s.t_end) {
-                p.push(index("solve.output_times", k), format!("must lie in [0, t_end = {}] (got {t})", s.t_end));
+                p.push(
+                    index("solve.output_times", k),
+                    format!("must lie in [0, t_end = {}] (got {t})", s.t_end),
+                );
             }
         }
         if times.windows(2).any(|w| !(w[1] > w[0])) {
@@ -356,7 +437,10 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
             if !SCALAR_OUTPUTS.contains(&o) {
                 p.push(
                     path,
-                    format!("unknown output '{o}' (expected body.point, body.column or one of: {})", SCALAR_OUTPUTS.join(", ")),
+                    format!(
+                        "unknown output '{o}' (expected body.point, body.column or one of: {})",
+                        SCALAR_OUTPUTS.join(", ")
+                    ),
                 );
             }
         }
@@ -370,7 +454,10 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                 let names: Vec<&str> = body.point_names().collect();
                 p.push(
                     path,
-                    format!("body '{b}' has no point '{rest}' (it has: {})", names.join(", ")),
+                    format!(
+                        "body '{b}' has no point '{rest}' (it has: {})",
+                        names.join(", ")
+                    ),
                 );
             }
         }

@@ -22,7 +22,12 @@ fn text(s: &str) -> Json {
 }
 
 fn obj(entries: Vec<(&str, Json)>) -> Json {
-    Json::Object(entries.into_iter().map(|(k, v)| (k.to_string(), v)).collect())
+    Json::Object(
+        entries
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+    )
 }
 
 fn point_ref(p: &PointRef) -> Json {
@@ -78,8 +83,14 @@ fn joint(j: &Joint) -> Json {
         JointKind::Weld => "weld",
     };
     e.push(("type", text(kind)));
-    e.push(("bodies", Json::Array(j.bodies.iter().map(|b| text(b)).collect())));
-    e.push(("points", Json::Array(j.points.iter().map(point_ref).collect())));
+    e.push((
+        "bodies",
+        Json::Array(j.bodies.iter().map(|b| text(b)).collect()),
+    ));
+    e.push((
+        "points",
+        Json::Array(j.points.iter().map(point_ref).collect()),
+    ));
     if let JointKind::Prismatic { axis } = &j.kind {
         e.push(("axis", nums(axis)));
     }
@@ -89,8 +100,14 @@ fn joint(j: &Joint) -> Json {
 fn spring(s: &Spring) -> Json {
     let mut e = vec![
         ("name", text(&s.name)),
-        ("bodies", Json::Array(s.bodies.iter().map(|b| text(b)).collect())),
-        ("points", Json::Array(s.points.iter().map(point_ref).collect())),
+        (
+            "bodies",
+            Json::Array(s.bodies.iter().map(|b| text(b)).collect()),
+        ),
+        (
+            "points",
+            Json::Array(s.points.iter().map(point_ref).collect()),
+        ),
         ("stiffness", num(s.stiffness)),
     ];
     if let Some(l0) = s.rest_length {
@@ -132,7 +149,10 @@ fn load(l: &Load) -> Json {
             "table",
             obj(vec![
                 ("t", nums(t)),
-                ("v", Json::Array(v.iter().map(|row| components(row)).collect())),
+                (
+                    "v",
+                    Json::Array(v.iter().map(|row| components(row)).collect()),
+                ),
             ]),
         )]),
     };
@@ -173,12 +193,21 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
     }
     e.push(("dimension", num(dim.coords() as f64)));
     e.push(("gravity", nums(&s.gravity)));
-    e.push(("bodies", Json::Array(s.bodies.iter().map(|b| body(b, dim)).collect())));
+    e.push((
+        "bodies",
+        Json::Array(s.bodies.iter().map(|b| body(b, dim)).collect()),
+    ));
     e.push(("joints", Json::Array(s.joints.iter().map(joint).collect())));
-    e.push(("springs", Json::Array(s.springs.iter().map(spring).collect())));
+    e.push((
+        "springs",
+        Json::Array(s.springs.iter().map(spring).collect()),
+    ));
     e.push(("loads", Json::Array(s.loads.iter().map(load).collect())));
     e.push(("solve", solve(&s.solve)));
-    e.push(("outputs", Json::Array(s.outputs.iter().map(|o| text(o)).collect())));
+    e.push((
+        "outputs",
+        Json::Array(s.outputs.iter().map(|o| text(o)).collect()),
+    ));
     if let Some(g) = &s.bond_graph {
         e.push(("bond_graph", Json::from_value(g)));
     }
