@@ -7,9 +7,10 @@
 //! `ground`, joints/springs/loads naming known bodies and points, no joint
 //! between a body and itself, prismatic axis non-zero, no spherical joint in a
 //! plane and no planar pin in space, t_end > 0, output_step in (0, t_end],
-//! output_times strictly increasing in [0, t_end], rtol/atol/joint_stiffness
-//! > 0, non-empty expressions, tables with strictly increasing times, outputs
+//! output_times strictly increasing in [0, t_end], positive rtol, atol and
+//! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
 //! naming known bodies/points, and bodies or a bond graph present.
+//!
 //! Warnings (not refusals): bodies that no joint, spring or load touches.
 
 use super::error::{field, index, Problem, Problems};
@@ -334,7 +335,7 @@ fn load(p: &mut Problems, scene: &Scene, path: &str, l: &Load) {
             for (k, x) in t.iter().enumerate() {
                 finite(p, &index(&t_path, k), *x);
             }
-            if t.windows(2).any(|w| !(w[1] > w[0])) {
+            if !t.windows(2).all(|w| w[1] > w[0]) {
                 p.push(&t_path, "must be strictly increasing");
             }
             let v_path = field(&tp, "v");
@@ -415,7 +416,7 @@ fn solve(p: &mut Problems, s: &SolveSettings) {
                 );
             }
         }
-        if times.windows(2).any(|w| !(w[1] > w[0])) {
+        if !times.windows(2).all(|w| w[1] > w[0]) {
             p.push("solve.output_times", "must be strictly increasing");
         }
     }
