@@ -199,7 +199,7 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
     }
 }
 
-/// Checks a body name and a point on it; returns the body (None for ground or unknown).
+/// Checks that `name` is ground or a known body and that `point` exists on it.
 fn point_on(
     p: &mut Problems,
     scene: &Scene,
