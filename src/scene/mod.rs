@@ -1,1 +1,101 @@
-//! scene (placeholder)
+//! Scene format v1: JSON scenes (serde), validated with the JSON path of every bad field.
+//!
+//! The public contract is `docs/scene-format.md`; every field there keeps its
+//! name and meaning. A scene is loaded in two stages, each reporting *all* of
+//! its problems as `path: message` lines:
+//!
+//! 1. [`parse`]: JSON syntax (line and column), types, required fields,
+//!    unknown or duplicated keys, enumeration spellings;
+//! 2. [`validate`]: meaning — lengths for the dimension, finite numbers,
+//!    signs, references between bodies, joints, springs, loads and outputs.
+//!
+//! ```
+//! use bondmech::scene::Scene;
+//! let s = Scene::from_json_str(r#"{
+//!   "dimension": 2, "gravity": [0, -9.81],
+//!   "bodies": [{ "name": "bob", "mass": 1, "inertia": 0,
+//!                "points": { "O": [-1, 0] }, "position": [1, 0] }],
+//!   "joints": [{ "type": "revolute", "bodies": ["ground", "bob"], "points": [[0, 0], "O"] }],
+//!   "solve": { "t_end": 1, "output_step": 0.5 } }"#).unwrap();
+//! assert_eq!(s.output_times(), vec![0.0, 0.5, 1.0]);
+//! ```
+//!
+//! Fields added to the contract (all optional):
+//! - everywhere: `"comment"` (ignored); top level: `"description"` (kept).
+//! - joints: `"name"` defaults to `"joint<i>"`; loads: `"name"` (default `"load<i>"`);
+//!   springs: `"name"` (default `"spring<i>"`).
+//! - body (spatial): `"cardan"` defaults to `[0, 0, 0]`; `"frame"` as in the plane.
+//! - torque in a spatial scene: `[tx, ty, tz]` in the global frame.
+//! - load `value`: an array mixing numbers and expression strings is an expression
+//!   per component (numbers become constant expressions); a table's `"v"` holds
+//!   one value per time, a scalar for a planar torque or an array otherwise.
+//! - `solve`: `"formulation"` also accepts `"ggl"`, `"index1"`, `"compliant_ggl"`;
+//!   `"output_step"` defaults to `t_end / 100`; `"max_wall_seconds"`.
+//! - `outputs`: `body.point`, `body.<standard column>` or one of
+//!   [`model::SCALAR_OUTPUTS`].
+//!
+//! Defaults: `dimension` 2, `gravity` zero, `frame` `"inertial"`, `position`,
+//! `velocity`, `angular_velocity`, `angle` zero, `rtol` 1e-6, `atol` 1e-8,
+//! `joint_stiffness` 1e8, `joint_damping` 0, spring `damping` 0,
+//! `rest_length` = initial distance. `name` defaults to the file stem.
+
+mod error;
+pub mod model;
+pub mod parse;
+mod tree;
+pub mod validate;
+mod write;
+
+pub use error::{Problem, SceneError};
+pub use model::*;
+
+use std::path::Path;
+
+impl Scene {
+    /// Parses and validates scene text; the error lists every problem with its JSON path.
+    pub fn from_json_str(s: &str) -> Result<Scene, SceneError> {
+        Self::from_json_named(s, "scene")
+    }
+
+    /// Reads, parses and validates a scene file; `name` defaults to the file stem.
+    pub fn from_path(p: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(p).map_err(|source| SceneError::Io {
+            path: p.to_path_buf(),
+            source,
+        })?;
+        let stem = p
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".to_string());
+        Self::from_json_named(&text, &stem)
+    }
+
+    fn from_json_named(s: &str, default_name: &str) -> Result<Scene, SceneError> {
+        let scene = parse::parse_scene(s, default_name)
+            .map_err(|problems| SceneError::Invalid { problems })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Checks the meaning of the scene (see [`validate::validate`]).
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let problems = validate::validate(self);
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(SceneError::Invalid { problems })
+        }
+    }
+
+    /// Things worth telling the user that do not make the scene invalid
+    /// (see [`validate::warnings`]).
+    pub fn warnings(&self) -> Vec<Problem> {
+        validate::warnings(self)
+    }
+
+    /// The scene as pretty-printed JSON (format v1), named points in their order.
+    pub fn to_json_string(&self) -> String {
+        serde_json::to_string_pretty(&write::scene_tree(self))
+            .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+}

@@ -1,0 +1,370 @@
+//! Scene data: plain `pub` types that the mechanism layer consumes.
+//!
+//! A `Scene` is what a valid scene file says, with every default filled in:
+//! vectors have the scene's dimension (2 or 3 components), omitted initial
+//! velocities are zero, omitted solver settings take the defaults listed on
+//! [`SolveSettings`]. The fixed body is the reserved name [`GROUND`]; it is
+//! never listed in [`Scene::bodies`].
+
+/// The reserved name of the fixed body.
+pub const GROUND: &str = "ground";
+
+/// Outputs that are not tied to a body (`"energy"`, `"constraint_error"`, ...).
+pub const SCALAR_OUTPUTS: &[&str] = &[
+    "energy",
+    "kinetic_energy",
+    "potential_energy",
+    "constraint_error",
+];
+
+/// Standard per-body columns a `b.<column>` output or expression may name.
+pub const BODY_COLUMNS: &[&str] = &[
+    "x", "y", "z", "angle", "vx", "vy", "vz", "omega", "wx", "wy", "wz", "wX", "wY", "wZ", "psi",
+    "theta", "phi",
+];
+
+/// A mechanism scene (scene format v1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Scene name (default: the file stem, or `"scene"`).
+    pub name: String,
+    /// Planar (`"dimension": 2`, the default) or spatial (`3`).
+    pub dimension: Dimension,
+    /// Gravitational acceleration, global frame, one component per dimension (default zero).
+    pub gravity: Vec<f64>,
+    /// The moving bodies (ground excluded).
+    pub bodies: Vec<Body>,
+    /// Joints between bodies (or a body and ground).
+    pub joints: Vec<Joint>,
+    /// Point-to-point spring-dampers.
+    pub springs: Vec<Spring>,
+    /// Applied forces and torques.
+    pub loads: Vec<Load>,
+    /// Solver settings.
+    pub solve: SolveSettings,
+    /// Extra output columns (`"bar2.A"`, `"energy"`, `"constraint_error"`).
+    pub outputs: Vec<String>,
+    /// A raw bond graph given instead of bodies and joints (validated by `bond`).
+    pub bond_graph: Option<serde_json::Value>,
+    /// Free text, e.g. the seed figure the scene follows.
+    pub description: Option<String>,
+}
+
+/// Planar (2D) or spatial (3D) mechanism.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    /// `"dimension": 2`.
+    Planar,
+    /// `"dimension": 3`.
+    Spatial,
+}
+
+impl Dimension {
+    /// Number of coordinates of a point or vector: 2 or 3.
+    pub fn coords(self) -> usize {
+        match self {
+            Dimension::Planar => 2,
+            Dimension::Spatial => 3,
+        }
+    }
+
+    /// Number of angular velocity components: 1 in the plane, 3 in space.
+    pub fn rotations(self) -> usize {
+        match self {
+            Dimension::Planar => 1,
+            Dimension::Spatial => 3,
+        }
+    }
+}
+
+/// Rotational inertia about the centre of mass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Inertia {
+    /// Planar moment of inertia about the z axis (`"inertia": J`); 0 is a point mass.
+    Planar(f64),
+    /// Principal moments `[Jx, Jy, Jz]` in the body frame (`"inertia": [Jx, Jy, Jz]`).
+    Principal([f64; 3]),
+}
+
+/// The frame in which a planar body's equations are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BodyFrame {
+    /// `"inertial"`: non-rotating frame at the centre of mass (seed 16.8); the default.
+    #[default]
+    Inertial,
+    /// `"body"`: body-fixed frame (seed 16.3, 16.1).
+    BodyFixed,
+}
+
+/// A rigid body and its initial state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Unique name; not `"ground"`, no `.` in it.
+    pub name: String,
+    /// Mass in kg (> 0).
+    pub mass: f64,
+    /// Inertia about the centre of mass.
+    pub inertia: Inertia,
+    /// Formulation frame (planar bodies).
+    pub frame: BodyFrame,
+    /// Named points in body coordinates relative to the centre of mass, in the user's order.
+    pub points: Vec<(String, Vec<f64>)>,
+    /// Initial position of the centre of mass (global frame).
+    pub position: Vec<f64>,
+    /// Initial angle (planar scenes; 0 in spatial scenes).
+    pub angle: f64,
+    /// Initial Cardan angles `[psi, theta, phi]` (spatial scenes; zeros in planar scenes).
+    pub cardan: [f64; 3],
+    /// Initial velocity of the centre of mass (global frame).
+    pub velocity: Vec<f64>,
+    /// Initial angular velocity: `[omega]` in the plane, `[wx, wy, wz]` (body frame) in space.
+    pub angular_velocity: Vec<f64>,
+}
+
+impl Body {
+    /// Coordinates (body frame) of the named point, if the body has it.
+    pub fn point(&self, name: &str) -> Option<&[f64]> {
+        self.points
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, c)| c.as_slice())
+    }
+
+    /// The point names, in the user's order.
+    pub fn point_names(&self) -> impl Iterator<Item = &str> {
+        self.points.iter().map(|(n, _)| n.as_str())
+    }
+}
+
+/// A point on a body: by name, or by coordinates (body frame; global for ground).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointRef {
+    /// A named point of the body.
+    Named(String),
+    /// Coordinates in the body frame (global frame for ground).
+    Coords(Vec<f64>),
+}
+
+/// The kind of a joint.
+#[derive(Debug, Clone, PartialEq)]
+pub enum JointKind {
+    /// `"revolute"`: planar pin (the two points coincide).
+    Revolute,
+    /// `"prismatic"`: slider along `axis` (frame of the first body); relative angle fixed.
+    Prismatic {
+        /// Sliding direction in the frame of the first body (non-zero; not normalised).
+        axis: Vec<f64>,
+    },
+    /// `"spherical"`: 3D ball joint.
+    Spherical,
+    /// `"weld"`: the two bodies are fixed together.
+    Weld,
+}
+
+/// A joint between two bodies (either may be ground).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    /// Unique name (default `"joint<i>"`).
+    pub name: String,
+    /// Revolute, prismatic, spherical or weld.
+    pub kind: JointKind,
+    /// The two bodies, by name.
+    pub bodies: [String; 2],
+    /// The joint point on each body.
+    pub points: [PointRef; 2],
+}
+
+/// A point-to-point spring-damper.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spring {
+    /// Name (default `"spring<i>"`).
+    pub name: String,
+    /// The two bodies, by name.
+    pub bodies: [String; 2],
+    /// The attachment point on each body.
+    pub points: [PointRef; 2],
+    /// Stiffness k in N/m (>= 0).
+    pub stiffness: f64,
+    /// Rest length l0 in m; `None` = the initial distance between the points.
+    pub rest_length: Option<f64>,
+    /// Damping c in N·s/m (>= 0, default 0).
+    pub damping: f64,
+}
+
+/// Force or torque.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoadKind {
+    /// A force (global frame) applied at a point.
+    Force,
+    /// A torque (scalar in the plane; global `[tx, ty, tz]` in space).
+    Torque,
+}
+
+/// The value of a load as a function of time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadValue {
+    /// Constant components (a planar torque has one component).
+    Const(Vec<f64>),
+    /// Piecewise linear in time: `v[k]` is the value (all components) at `t[k]`.
+    Table {
+        /// Strictly increasing sample times.
+        t: Vec<f64>,
+        /// One value per sample time, each with the load's number of components.
+        v: Vec<Vec<f64>>,
+    },
+    /// One expression per component, in `t` and the scene's outputs (e.g. `crank.angle`).
+    Expr(Vec<String>),
+}
+
+/// An applied force or torque.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    /// Name (default `"load<i>"`).
+    pub name: String,
+    /// Force or torque.
+    pub kind: LoadKind,
+    /// The loaded body (not ground).
+    pub body: String,
+    /// Point of application of a force (`None` = centre of mass); always `None` for a torque.
+    pub point: Option<PointRef>,
+    /// The value.
+    pub value: LoadValue,
+}
+
+impl Load {
+    /// Number of components of the value: force = dimension, torque = 1 (plane) or 3 (space).
+    pub fn components(&self, dimension: Dimension) -> usize {
+        match self.kind {
+            LoadKind::Force => dimension.coords(),
+            LoadKind::Torque => dimension.rotations(),
+        }
+    }
+}
+
+/// How the mechanism is turned into equations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Formulation {
+    /// `"dae"`: the pinned mechanism as a DAE with IDA (currently GGL); the default.
+    #[default]
+    Dae,
+    /// `"ggl"`: stabilised index 2 (Gear–Gupta–Leimkuhler).
+    Ggl,
+    /// `"index1"`: acceleration-level index 1.
+    Index1,
+    /// `"decoupled"`: joints replaced by stiff springs, ODE with CVODE.
+    Decoupled,
+    /// `"compliant_ggl"`: GGL with a small compliance, passes singular configurations.
+    CompliantGgl,
+}
+
+impl Formulation {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Formulation::Dae => "dae",
+            Formulation::Ggl => "ggl",
+            Formulation::Index1 => "index1",
+            Formulation::Decoupled => "decoupled",
+            Formulation::CompliantGgl => "compliant_ggl",
+        }
+    }
+
+    /// Parses a JSON name (`"dae"`, `"ggl"`, `"index1"`, `"decoupled"`, `"compliant_ggl"`).
+    pub fn from_name(name: &str) -> Option<Formulation> {
+        [
+            Formulation::Dae,
+            Formulation::Ggl,
+            Formulation::Index1,
+            Formulation::Decoupled,
+            Formulation::CompliantGgl,
+        ]
+        .into_iter()
+        .find(|f| f.as_str() == name)
+    }
+}
+
+/// Solver settings (`"solve"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveSettings {
+    /// Formulation (default `dae`).
+    pub formulation: Formulation,
+    /// End time in s (> 0, required).
+    pub t_end: f64,
+    /// Output interval (default `t_end / 100` when neither this nor `output_times` is given).
+    pub output_step: Option<f64>,
+    /// Explicit output times, strictly increasing in `[0, t_end]`.
+    pub output_times: Option<Vec<f64>>,
+    /// Relative tolerance (default 1e-6).
+    pub rtol: f64,
+    /// Absolute tolerance (default 1e-8).
+    pub atol: f64,
+    /// Stiffness of the decoupling springs in N/m (default 1e8).
+    pub joint_stiffness: f64,
+    /// Damping of the decoupling springs in N·s/m (default 0).
+    pub joint_damping: f64,
+    /// Step budget (none by default).
+    pub max_steps: Option<u64>,
+    /// Wall-clock budget in s (none by default).
+    pub max_wall_seconds: Option<f64>,
+}
+
+impl SolveSettings {
+    /// Default relative tolerance.
+    pub const DEFAULT_RTOL: f64 = 1e-6;
+    /// Default absolute tolerance.
+    pub const DEFAULT_ATOL: f64 = 1e-8;
+    /// Default decoupling spring stiffness.
+    pub const DEFAULT_JOINT_STIFFNESS: f64 = 1e8;
+    /// Default number of output intervals when no output step or times are given.
+    pub const DEFAULT_OUTPUT_INTERVALS: usize = 100;
+
+    /// Settings with all defaults and the given end time.
+    pub fn with_t_end(t_end: f64) -> Self {
+        SolveSettings {
+            formulation: Formulation::Dae,
+            t_end,
+            output_step: None,
+            output_times: None,
+            rtol: Self::DEFAULT_RTOL,
+            atol: Self::DEFAULT_ATOL,
+            joint_stiffness: Self::DEFAULT_JOINT_STIFFNESS,
+            joint_damping: 0.0,
+            max_steps: None,
+            max_wall_seconds: None,
+        }
+    }
+}
+
+impl Scene {
+    /// Index of the named body in `bodies` (`None` for ground or an unknown name).
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The output times: `output_times` if given, else `0, h, 2h, ...` up to and
+    /// including `t_end` (the last interval may be shorter), with `h = output_step`
+    /// or `t_end / 100`.
+    pub fn output_times(&self) -> Vec<f64> {
+        let s = &self.solve;
+        if let Some(times) = &s.output_times {
+            return times.clone();
+        }
+        let t_end = s.t_end;
+        if !(t_end > 0.0 && t_end.is_finite()) {
+            return vec![0.0];
+        }
+        let h = match s.output_step {
+            Some(h) if h > 0.0 && h.is_finite() => h,
+            _ => t_end / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
+        };
+        let tol = 1e-9 * t_end;
+        // At most 10^7 intervals (validation refuses more), so this never hangs.
+        let n = ((t_end + tol) / h).floor().min(1e7) as usize;
+        let mut times: Vec<f64> = (0..=n).map(|k| k as f64 * h).collect();
+        match times.last_mut() {
+            Some(last) if (t_end - *last).abs() <= tol => *last = t_end,
+            _ => times.push(t_end),
+        }
+        times
+    }
+}

@@ -1,0 +1,701 @@
+//! Reading a scene: JSON text → order-preserving tree → [`Scene`].
+//!
+//! This stage checks the *shape* of the document: JSON syntax (with line and
+//! column from serde_json), object/array/number/string types, required
+//! fields, unknown or duplicated keys (a typo must not be silently ignored;
+//! `"comment"` is allowed in every object and `"description"` at the top),
+//! and the spellings of enumerations. Every shape problem in the document is
+//! reported, each with its JSON path. Meaning (lengths for the dimension,
+//! signs, names that refer to other things) is checked afterwards by
+//! [`super::validate`].
+
+use super::error::{field, index, Problems};
+use super::model::*;
+use super::tree::Json;
+
+/// Keys allowed in every object.
+const COMMENT: &str = "comment";
+
+/// The keys of one JSON object, checked for duplicates and unknown names.
+struct Fields<'a> {
+    path: String,
+    entries: &'a [(String, Json)],
+}
+
+impl<'a> Fields<'a> {
+    /// Reads `j` as an object whose keys must be among `allowed` (plus `"comment"`).
+    fn new(p: &mut Problems, path: &str, j: &'a Json, allowed: &[&str]) -> Option<Fields<'a>> {
+        let Json::Object(entries) = j else {
+            p.push(path, format!("expected an object, got {}", j.kind()));
+            return None;
+        };
+        for (i, (k, _)) in entries.iter().enumerate() {
+            let kp = field(path, k);
+            if entries[..i].iter().any(|(k2, _)| k2 == k) {
+                p.push(kp, "duplicate key");
+            } else if k != COMMENT && !allowed.contains(&k.as_str()) {
+                p.push(
+                    kp,
+                    format!("unknown field (expected one of: {})", allowed.join(", ")),
+                );
+            }
+        }
+        Some(Fields {
+            path: path.to_string(),
+            entries,
+        })
+    }
+
+    fn get(&self, key: &str) -> Option<&'a Json> {
+        self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+    }
+
+    fn path(&self, key: &str) -> String {
+        field(&self.path, key)
+    }
+
+    fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
+        let v = self.get(key);
+        if v.is_none() {
+            p.push(self.path(key), "required field is missing");
+        }
+        v
+    }
+
+    fn number(&self, p: &mut Problems, key: &str) -> Option<f64> {
+        self.get(key).and_then(|j| number(p, &self.path(key), j))
+    }
+
+    fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
+        self.required(p, key)
+            .and_then(|j| number(p, &self.path(key), j))
+    }
+
+    fn string(&self, p: &mut Problems, key: &str) -> Option<String> {
+        self.get(key).and_then(|j| string(p, &self.path(key), j))
+    }
+
+    fn vector(&self, p: &mut Problems, key: &str) -> Option<Vec<f64>> {
+        self.get(key).and_then(|j| vector(p, &self.path(key), j))
+    }
+
+    fn array(&self, p: &mut Problems, key: &str) -> &'a [Json] {
+        match self.get(key) {
+            None => &[],
+            Some(Json::Array(a)) => a,
+            Some(j) => {
+                p.push(
+                    self.path(key),
+                    format!("expected an array, got {}", j.kind()),
+                );
+                &[]
+            }
+        }
+    }
+}
+
+fn number(p: &mut Problems, path: &str, j: &Json) -> Option<f64> {
+    match j {
+        Json::Number(x) => Some(*x),
+        _ => {
+            p.push(path, format!("expected a number, got {}", j.kind()));
+            None
+        }
+    }
+}
+
+fn string(p: &mut Problems, path: &str, j: &Json) -> Option<String> {
+    match j {
+        Json::String(s) => Some(s.clone()),
+        _ => {
+            p.push(path, format!("expected a string, got {}", j.kind()));
+            None
+        }
+    }
+}
+
+fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
+    let Json::Array(items) = j else {
+        p.push(
+            path,
+            format!("expected an array of numbers, got {}", j.kind()),
+        );
+        return None;
+    };
+    let mut out = Vec::with_capacity(items.len());
+    let mut ok = true;
+    for (i, item) in items.iter().enumerate() {
+        match number(p, &index(path, i), item) {
+            Some(x) => out.push(x),
+            None => ok = false,
+        }
+    }
+    ok.then_some(out)
+}
+
+fn pair<T>(
+    p: &mut Problems,
+    path: &str,
+    j: &Json,
+    f: impl Fn(&mut Problems, &str, &Json) -> Option<T>,
+) -> Option<[T; 2]> {
+    match j {
+        Json::Array(items) if items.len() == 2 => {
+            let a = f(p, &index(path, 0), &items[0]);
+            let b = f(p, &index(path, 1), &items[1]);
+            Some([a?, b?])
+        }
+        Json::Array(items) => {
+            p.push(path, format!("expected 2 entries, got {}", items.len()));
+            None
+        }
+        _ => {
+            p.push(
+                path,
+                format!("expected an array of 2 entries, got {}", j.kind()),
+            );
+            None
+        }
+    }
+}
+
+fn point_ref(p: &mut Problems, path: &str, j: &Json) -> Option<PointRef> {
+    match j {
+        Json::String(s) => Some(PointRef::Named(s.clone())),
+        Json::Array(_) => vector(p, path, j).map(PointRef::Coords),
+        _ => {
+            p.push(
+                path,
+                format!("expected a point name or coordinates, got {}", j.kind()),
+            );
+            None
+        }
+    }
+}
+
+/// Parses scene text into a [`Scene`], collecting every shape problem.
+/// `default_name` is used when the scene has no `"name"`.
+pub(crate) fn parse_scene(text: &str, default_name: &str) -> Result<Scene, Vec<super::Problem>> {
+    let tree: Json = match serde_json::from_str(text) {
+        Ok(t) => t,
+        Err(e) => return Err(vec![syntax_problem(&e)]),
+    };
+    let mut p = Problems::default();
+    let scene = scene(&mut p, &tree, default_name);
+    match scene {
+        Some(s) if p.list.is_empty() => Ok(s),
+        _ => Err(p.list),
+    }
+}
+
+fn syntax_problem(e: &serde_json::Error) -> super::Problem {
+    let full = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let msg = full.strip_suffix(&suffix).unwrap_or(&full);
+    super::Problem::new(
+        "",
+        format!(
+            "malformed JSON at line {}, column {}: {}",
+            e.line(),
+            e.column(),
+            msg
+        ),
+    )
+}
+
+const SCENE_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "dimension",
+    "gravity",
+    "bodies",
+    "joints",
+    "springs",
+    "loads",
+    "solve",
+    "outputs",
+    "bond_graph",
+];
+
+fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
+    if !matches!(j, Json::Object(_)) {
+        p.push(
+            "",
+            format!("a scene must be a JSON object, got {}", j.kind()),
+        );
+        return None;
+    }
+    let f = Fields::new(p, "", j, SCENE_KEYS)?;
+    let name = f
+        .string(p, "name")
+        .unwrap_or_else(|| default_name.to_string());
+    let description = f.string(p, "description");
+    let dimension = match f.get("dimension") {
+        None => Dimension::Planar,
+        Some(Json::Number(x)) if *x == 2.0 => Dimension::Planar,
+        Some(Json::Number(x)) if *x == 3.0 => Dimension::Spatial,
+        Some(Json::Number(x)) => {
+            p.push("dimension", format!("must be 2 or 3 (got {x})"));
+            Dimension::Planar
+        }
+        Some(other) => {
+            p.push(
+                "dimension",
+                format!("must be 2 or 3 (got {})", other.kind()),
+            );
+            Dimension::Planar
+        }
+    };
+    let gravity = f
+        .vector(p, "gravity")
+        .unwrap_or_else(|| vec![0.0; dimension.coords()]);
+    let bodies = f
+        .array(p, "bodies")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| body(p, &index("bodies", i), b, dimension))
+        .collect();
+    let joints = f
+        .array(p, "joints")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| joint(p, i, b))
+        .collect();
+    let springs = f
+        .array(p, "springs")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| spring(p, i, b))
+        .collect();
+    let loads = f
+        .array(p, "loads")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| load(p, i, b))
+        .collect();
+    let solve = match f.required(p, "solve") {
+        Some(s) => solve(p, s)?,
+        None => return None,
+    };
+    let outputs = f
+        .array(p, "outputs")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| string(p, &index("outputs", i), o))
+        .collect();
+    let bond_graph = f.get("bond_graph").map(Json::to_value);
+    Some(Scene {
+        name,
+        dimension,
+        gravity,
+        bodies,
+        joints,
+        springs,
+        loads,
+        solve,
+        outputs,
+        bond_graph,
+        description,
+    })
+}
+
+const BODY_KEYS: &[&str] = &[
+    "name",
+    "mass",
+    "inertia",
+    "frame",
+    "points",
+    "position",
+    "angle",
+    "cardan",
+    "velocity",
+    "angular_velocity",
+];
+
+fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> {
+    let f = Fields::new(p, path, j, BODY_KEYS)?;
+    let name = f
+        .required(p, "name")
+        .and_then(|j| string(p, &f.path("name"), j));
+    let mass = f.required_number(p, "mass");
+    let inertia = match f.required(p, "inertia") {
+        None => None,
+        Some(Json::Number(x)) => Some(Inertia::Planar(*x)),
+        Some(j @ Json::Array(items)) if items.len() == 3 => {
+            vector(p, &f.path("inertia"), j).map(|v| Inertia::Principal([v[0], v[1], v[2]]))
+        }
+        Some(j) => {
+            p.push(
+                f.path("inertia"),
+                format!(
+                    "expected a number (planar) or principal moments [Jx, Jy, Jz], got {}",
+                    describe(j)
+                ),
+            );
+            None
+        }
+    };
+    let frame = match f.string(p, "frame").as_deref() {
+        None | Some("inertial") => BodyFrame::Inertial,
+        Some("body") => BodyFrame::BodyFixed,
+        Some(other) => {
+            p.push(
+                f.path("frame"),
+                format!("must be \"inertial\" or \"body\" (got \"{other}\")"),
+            );
+            BodyFrame::Inertial
+        }
+    };
+    let points = match f.get("points") {
+        None => Some(Vec::new()),
+        Some(Json::Object(entries)) => {
+            let pp = f.path("points");
+            let mut out = Vec::new();
+            let mut ok = true;
+            for (i, (k, v)) in entries.iter().enumerate() {
+                if entries[..i].iter().any(|(k2, _)| k2 == k) {
+                    p.push(field(&pp, k), "duplicate point name");
+                    ok = false;
+                } else if let Some(c) = vector(p, &field(&pp, k), v) {
+                    out.push((k.clone(), c));
+                } else {
+                    ok = false;
+                }
+            }
+            ok.then_some(out)
+        }
+        Some(other) => {
+            p.push(
+                f.path("points"),
+                format!(
+                    "expected an object {{\"name\": [x, y], ...}}, got {}",
+                    other.kind()
+                ),
+            );
+            None
+        }
+    };
+    let position = f
+        .vector(p, "position")
+        .unwrap_or_else(|| vec![0.0; dim.coords()]);
+    let angle = f.number(p, "angle");
+    if angle.is_some() && dim == Dimension::Spatial {
+        p.push(
+            f.path("angle"),
+            "only planar bodies have an angle; use \"cardan\": [psi, theta, phi]",
+        );
+    }
+    let cardan = match f.get("cardan") {
+        None => Some([0.0; 3]),
+        Some(_) if dim == Dimension::Planar => {
+            p.push(
+                f.path("cardan"),
+                "only spatial bodies have Cardan angles; use \"angle\"",
+            );
+            None
+        }
+        Some(j) => match vector(p, &f.path("cardan"), j) {
+            Some(v) if v.len() == 3 => Some([v[0], v[1], v[2]]),
+            Some(v) => {
+                p.push(
+                    f.path("cardan"),
+                    format!("expected [psi, theta, phi], got {} numbers", v.len()),
+                );
+                None
+            }
+            None => None,
+        },
+    };
+    let velocity = f
+        .vector(p, "velocity")
+        .unwrap_or_else(|| vec![0.0; dim.coords()]);
+    let angular_velocity = match f.get("angular_velocity") {
+        None => vec![0.0; dim.rotations()],
+        Some(Json::Number(x)) => vec![*x],
+        Some(j) => vector(p, &f.path("angular_velocity"), j).unwrap_or_default(),
+    };
+    Some(Body {
+        name: name?,
+        mass: mass?,
+        inertia: inertia?,
+        frame,
+        points: points?,
+        position,
+        angle: angle.unwrap_or(0.0),
+        cardan: cardan?,
+        velocity,
+        angular_velocity,
+    })
+}
+
+fn describe(j: &Json) -> String {
+    match j {
+        Json::Array(a) => format!("an array of {}", a.len()),
+        other => other.kind().to_string(),
+    }
+}
+
+const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+
+fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
+    let path = index("joints", i);
+    let f = Fields::new(p, &path, j, JOINT_KEYS)?;
+    let name = f.string(p, "name").unwrap_or_else(|| format!("joint{i}"));
+    let kind_name = f
+        .required(p, "type")
+        .and_then(|j| string(p, &f.path("type"), j));
+    let axis = f.vector(p, "axis");
+    let kind = match kind_name.as_deref() {
+        None => None,
+        Some("prismatic") => match axis {
+            Some(axis) => Some(JointKind::Prismatic { axis }),
+            None => {
+                if f.get("axis").is_none() {
+                    p.push(f.path("axis"), "a prismatic joint needs an axis (the sliding direction in the frame of the first body)");
+                }
+                None
+            }
+        },
+        Some(k) => {
+            if f.get("axis").is_some() {
+                p.push(f.path("axis"), "only a prismatic joint has an axis");
+            }
+            match k {
+                "revolute" => Some(JointKind::Revolute),
+                "spherical" => Some(JointKind::Spherical),
+                "weld" => Some(JointKind::Weld),
+                other => {
+                    p.push(
+                        f.path("type"),
+                        format!("unknown joint type \"{other}\" (expected revolute, prismatic, spherical or weld)"),
+                    );
+                    None
+                }
+            }
+        }
+    };
+    let bodies = f
+        .required(p, "bodies")
+        .and_then(|j| pair(p, &f.path("bodies"), j, string));
+    let points = f
+        .required(p, "points")
+        .and_then(|j| pair(p, &f.path("points"), j, point_ref));
+    Some(Joint {
+        name,
+        kind: kind?,
+        bodies: bodies?,
+        points: points?,
+    })
+}
+
+const SPRING_KEYS: &[&str] = &[
+    "name",
+    "bodies",
+    "points",
+    "stiffness",
+    "rest_length",
+    "damping",
+];
+
+fn spring(p: &mut Problems, i: usize, j: &Json) -> Option<Spring> {
+    let path = index("springs", i);
+    let f = Fields::new(p, &path, j, SPRING_KEYS)?;
+    let name = f.string(p, "name").unwrap_or_else(|| format!("spring{i}"));
+    let bodies = f
+        .required(p, "bodies")
+        .and_then(|j| pair(p, &f.path("bodies"), j, string));
+    let points = f
+        .required(p, "points")
+        .and_then(|j| pair(p, &f.path("points"), j, point_ref));
+    let stiffness = f.required_number(p, "stiffness");
+    let rest_length = match f.get("rest_length") {
+        None | Some(Json::Null) => Some(None),
+        Some(j) => number(p, &f.path("rest_length"), j).map(Some),
+    };
+    let damping = f.number(p, "damping").unwrap_or(0.0);
+    Some(Spring {
+        name,
+        bodies: bodies?,
+        points: points?,
+        stiffness: stiffness?,
+        rest_length: rest_length?,
+        damping,
+    })
+}
+
+const LOAD_KEYS: &[&str] = &["name", "type", "body", "point", "value"];
+
+fn load(p: &mut Problems, i: usize, j: &Json) -> Option<Load> {
+    let path = index("loads", i);
+    let f = Fields::new(p, &path, j, LOAD_KEYS)?;
+    let name = f.string(p, "name").unwrap_or_else(|| format!("load{i}"));
+    let kind = match f
+        .required(p, "type")
+        .and_then(|j| string(p, &f.path("type"), j))
+        .as_deref()
+    {
+        None => None,
+        Some("force") => Some(LoadKind::Force),
+        Some("torque") => Some(LoadKind::Torque),
+        Some(other) => {
+            p.push(
+                f.path("type"),
+                format!("must be \"force\" or \"torque\" (got \"{other}\")"),
+            );
+            None
+        }
+    };
+    let body = f
+        .required(p, "body")
+        .and_then(|j| string(p, &f.path("body"), j));
+    let point = match f.get("point") {
+        None => Some(None),
+        Some(j) => point_ref(p, &f.path("point"), j).map(Some),
+    };
+    let value = f
+        .required(p, "value")
+        .and_then(|j| load_value(p, &f.path("value"), j));
+    Some(Load {
+        name,
+        kind: kind?,
+        body: body?,
+        point: point?,
+        value: value?,
+    })
+}
+
+/// A scalar (one component) or an array of numbers.
+fn components(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
+    match j {
+        Json::Number(x) => Some(vec![*x]),
+        _ => vector(p, path, j),
+    }
+}
+
+fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
+    match j {
+        Json::Number(x) => Some(LoadValue::Const(vec![*x])),
+        Json::String(s) => Some(LoadValue::Expr(vec![s.clone()])),
+        Json::Array(items) if items.iter().any(|x| matches!(x, Json::String(_))) => {
+            let mut out = Vec::new();
+            let mut ok = true;
+            for (k, item) in items.iter().enumerate() {
+                match item {
+                    Json::String(s) => out.push(s.clone()),
+                    Json::Number(x) => out.push(format!("{x}")),
+                    other => {
+                        p.push(
+                            index(path, k),
+                            format!(
+                                "expected an expression string or a number, got {}",
+                                other.kind()
+                            ),
+                        );
+                        ok = false;
+                    }
+                }
+            }
+            ok.then_some(LoadValue::Expr(out))
+        }
+        Json::Array(_) => vector(p, path, j).map(LoadValue::Const),
+        Json::Object(_) => {
+            let f = Fields::new(p, path, j, &["table"])?;
+            let tj = f.required(p, "table")?;
+            let tp = f.path("table");
+            let tf = Fields::new(p, &tp, tj, &["t", "v"])?;
+            let t = tf
+                .required(p, "t")
+                .and_then(|j| vector(p, &tf.path("t"), j));
+            let vp = tf.path("v");
+            let v = match tf.required(p, "v") {
+                None => None,
+                Some(Json::Array(items)) => {
+                    let rows: Vec<Option<Vec<f64>>> = items
+                        .iter()
+                        .enumerate()
+                        .map(|(k, item)| components(p, &index(&vp, k), item))
+                        .collect();
+                    rows.into_iter().collect::<Option<Vec<_>>>()
+                }
+                Some(other) => {
+                    p.push(
+                        vp,
+                        format!("expected an array of values, got {}", other.kind()),
+                    );
+                    None
+                }
+            };
+            Some(LoadValue::Table { t: t?, v: v? })
+        }
+        other => {
+            p.push(
+                path,
+                format!(
+                    "expected a constant, an expression string or {{\"table\": ...}}, got {}",
+                    other.kind()
+                ),
+            );
+            None
+        }
+    }
+}
+
+const SOLVE_KEYS: &[&str] = &[
+    "formulation",
+    "t_end",
+    "output_step",
+    "output_times",
+    "rtol",
+    "atol",
+    "joint_stiffness",
+    "joint_damping",
+    "max_steps",
+    "max_wall_seconds",
+];
+
+fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
+    let f = Fields::new(p, "solve", j, SOLVE_KEYS)?;
+    let formulation = match f.string(p, "formulation") {
+        None => Formulation::Dae,
+        Some(s) => Formulation::from_name(&s).unwrap_or_else(|| {
+            p.push(
+                f.path("formulation"),
+                format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled or compliant_ggl)"),
+            );
+            Formulation::Dae
+        }),
+    };
+    let t_end = f.required_number(p, "t_end");
+    let output_step = f.number(p, "output_step");
+    let output_times = f.vector(p, "output_times");
+    let rtol = f.number(p, "rtol").unwrap_or(SolveSettings::DEFAULT_RTOL);
+    let atol = f.number(p, "atol").unwrap_or(SolveSettings::DEFAULT_ATOL);
+    let joint_stiffness = f
+        .number(p, "joint_stiffness")
+        .unwrap_or(SolveSettings::DEFAULT_JOINT_STIFFNESS);
+    let joint_damping = f.number(p, "joint_damping").unwrap_or(0.0);
+    let max_steps = match f.number(p, "max_steps") {
+        None => None,
+        Some(x) if x >= 1.0 && x.fract() == 0.0 && x <= u64::MAX as f64 => Some(x as u64),
+        Some(x) => {
+            p.push(
+                f.path("max_steps"),
+                format!("must be a positive integer (got {x})"),
+            );
+            None
+        }
+    };
+    let max_wall_seconds = f.number(p, "max_wall_seconds");
+    Some(SolveSettings {
+        formulation,
+        t_end: t_end?,
+        output_step,
+        output_times,
+        rtol,
+        atol,
+        joint_stiffness,
+        joint_damping,
+        max_steps,
+        max_wall_seconds,
+    })
+}
