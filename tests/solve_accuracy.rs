@@ -226,7 +226,7 @@ fn free_body_through_gimbal_lock_conserves_momentum_and_follows_euler() {
                  "cardan":[0,0,0],"velocity":[0,0,0],"angular_velocity":[0.05,3.0,0.05]}],
       "solve":{"t_end":5.0,"output_step":0.05}}"#;
     let m = model(json);
-    let times: Vec<f64> = (0..=100).map(|i| 0.05 * i as f64).collect();
+    let times: Vec<f64> = (0..=500).map(|i| 0.01 * i as f64).collect();
     let s = solve(&m, FormulationKind::Ggl, 1e-10, 1e-12, times.clone());
     let j = [1.0, 2.0, 3.0];
     let w0 = Vector3::new(0.05, 3.0, 0.05);

@@ -332,7 +332,7 @@ fn make_ida(
 }
 
 fn multiplier_atol(opts: &SolveOptions) -> f64 {
-    opts.multiplier_atol.unwrap_or(opts.atol.max(1e-6))
+    opts.multiplier_atol.unwrap_or(1e-2)
 }
 
 fn run_ggl(
@@ -413,6 +413,14 @@ fn run_index1(
         DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, x))
     };
     let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+    let preferred: Vec<bool> = sys
+        .velocities
+        .iter()
+        .map(|v| {
+            let last = v.name.rsplit('.').next().unwrap_or("");
+            matches!(last, "vx" | "vy" | "vz" | "u" | "w")
+        })
+        .collect();
     let mut state = init.clone();
     summary.solver = "IDA".into();
     let clock = ThreadTime::now();
@@ -434,7 +442,7 @@ fn run_index1(
     let mut reselections = 0usize;
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
-        let dependent = select_dependent(&gv).ok_or_else(|| {
+        let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
             Error::Init(crate::dae::InitError::Singular {
                 what: format!(
                     "the joints lose rank at t = {t_start}: no set of dependent velocities exists; use the ggl formulation"
@@ -478,7 +486,7 @@ fn run_index1(
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
             if cond > INDEX1_MAX_CONDITION && k_next < opts.output_times.len() {
-                let better = select_dependent(&gv_at(&tapes, step.t, &x));
+                let better = select_dependent(&gv_at(&tapes, step.t, &x), &preferred);
                 if let Some(b) = better {
                     if b != dependent {
                         total.accumulate(&ida.stats());
