@@ -312,6 +312,14 @@ fn make_ida(
         id: Some(setup.id.clone()),
         suppress_alg: true,
         stop_time: opts.output_times.last().copied(),
+        // IDA's own first-step guess divides by ‖y'₀‖ weighted with atol; with tight atol and
+        // states starting at zero it falls to ~1e-15 s, where the index-2 Newton matrix (which
+        // scales like 1/h²) is numerically singular and the first step fails (measured:
+        // slider-crank at rtol 1e-11). A modest first step is cut by the error test if too big.
+        init_step: Some(match opts.output_times.get(1) {
+            Some(t1) => 1e-4f64.min(0.1 * (t1 - opts.output_times[0]).abs()),
+            None => 1e-4,
+        }),
         ..IdaOptions::default()
     };
     let (d1, d2) = (setup.dae.clone(), setup.dae.clone());
