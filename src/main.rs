@@ -7,7 +7,11 @@ use bondmech::{Error, FormulationKind, Model, Scene, SolveOptions};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "bondmech", version, about = "Mechanisms as bond graphs, solved with SUNDIALS (IDA DAE / CVODE decoupled twin)")]
+#[command(
+    name = "bondmech",
+    version,
+    about = "Mechanisms as bond graphs, solved with SUNDIALS (IDA DAE / CVODE decoupled twin)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -104,11 +108,7 @@ fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
         if !(t > 0.0 && t.is_finite()) {
             return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
         }
-        let step = scene
-            .solve
-            .output_step
-            .unwrap_or(t / 100.0)
-            .min(t);
+        let step = scene.solve.output_step.unwrap_or(t / 100.0).min(t);
         opts.output_times = SolveOptions::times(t, step);
     }
     Ok((model, opts))

@@ -69,9 +69,7 @@ impl Model {
             atol: s.atol,
             output_times: self.scene.output_times(),
             max_steps: s.max_steps.or(Some(100_000)),
-            max_wall_clock: s
-                .max_wall_seconds
-                .map(std::time::Duration::from_secs_f64),
+            max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
             ..SolveOptions::default()
@@ -100,7 +98,9 @@ impl Model {
             )));
         }
         if opts.output_times.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(Error::Options("output_times must be strictly increasing".into()));
+            return Err(Error::Options(
+                "output_times must be strictly increasing".into(),
+            ));
         }
         solve_system(self.system.clone(), opts, self.build_cpu_seconds, observer)
     }

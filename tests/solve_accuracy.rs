@@ -54,7 +54,10 @@ fn simple_pendulum_period_matches_elliptic_integral() {
     }
     let period = 4.0 * t;
     let rel = (period - reference).abs() / reference;
-    assert!(rel < 1e-8, "period {period} vs {reference}: rel. error {rel:e}");
+    assert!(
+        rel < 1e-8,
+        "period {period} vs {reference}: rel. error {rel:e}"
+    );
 }
 
 fn double_pendulum_json() -> String {
@@ -121,7 +124,12 @@ fn double_pendulum_index1_matches_minimal_coordinates() {
     let r = double_pendulum_reference(&times);
     for (k, rk) in r.iter().enumerate() {
         let got = s.value(k, "bar2.x").unwrap();
-        assert!((got - rk.c2[0]).abs() < 1e-6, "t = {}: {got} vs {}", times[k], rk.c2[0]);
+        assert!(
+            (got - rk.c2[0]).abs() < 1e-6,
+            "t = {}: {got} vs {}",
+            times[k],
+            rk.c2[0]
+        );
     }
     // dummy derivatives keep the position constraints, so nothing drifts
     assert!(s.summary.max_constraint_error < 1e-9, "{:?}", s.summary);
@@ -205,7 +213,11 @@ fn slider_crank_passes_dead_centres_and_matches_minimal_coordinates() {
     let reference = simulate_slider_crank(&p, [phi0, 0.0], |phi| -2.0 * phi.sin(), &times);
     let last = reference.last().unwrap();
     // driven by the torque, the crank must turn through both dead centres (φ = π/2, 3π/2)
-    assert!(last.phi > phi0 + 2.0 * std::f64::consts::PI, "crank reached only φ = {}", last.phi);
+    assert!(
+        last.phi > phi0 + 2.0 * std::f64::consts::PI,
+        "crank reached only φ = {}",
+        last.phi
+    );
     for (k, rk) in reference.iter().enumerate() {
         // the crank turns a dozen times (φ ≈ 90 rad at t = 1 s): the dynamics are checked by
         // the crank angle (relative), the kinematic branch by the piston and rod positions at
@@ -218,9 +230,17 @@ fn slider_crank_passes_dead_centres_and_matches_minimal_coordinates() {
             rk.phi
         );
         let yp = s.value(k, "piston.y").unwrap();
-        assert!((yp - p.piston_height(phi)).abs() < 1e-9, "piston at t = {}", times[k]);
+        assert!(
+            (yp - p.piston_height(phi)).abs() < 1e-9,
+            "piston at t = {}",
+            times[k]
+        );
         let rx = s.value(k, "rod.x").unwrap();
-        assert!((rx - 0.5 * r * phi.cos()).abs() < 1e-9, "rod at t = {}", times[k]);
+        assert!(
+            (rx - 0.5 * r * phi.cos()).abs() < 1e-9,
+            "rod at t = {}",
+            times[k]
+        );
     }
     // the solve itself succeeding through ~24 dead-centre passages is the "no step failure"
     // requirement; Newton convergence failures that IDA recovers from do occur (a few per
@@ -254,14 +274,23 @@ fn free_body_through_gimbal_lock_conserves_momentum_and_follows_euler() {
             s.value(k, "b.wy").unwrap(),
             s.value(k, "b.wz").unwrap(),
         );
-        assert!((w - rk.omega_body).norm() < 1e-7, "ω at t = {}: {w} vs {}", times[k], rk.omega_body);
+        assert!(
+            (w - rk.omega_body).norm() < 1e-7,
+            "ω at t = {}: {w} vs {}",
+            times[k],
+            rk.omega_body
+        );
         let rot = cardan_matrix(
             s.value(k, "b.psi").unwrap(),
             s.value(k, "b.theta").unwrap(),
             s.value(k, "b.phi").unwrap(),
         );
         let lg = rot * Vector3::new(j[0] * w.x, j[1] * w.y, j[2] * w.z);
-        assert!((lg - l0).norm() / l0.norm() < 1e-8, "L at t = {}: {lg} vs {l0}", times[k]);
+        assert!(
+            (lg - l0).norm() / l0.norm() < 1e-8,
+            "L at t = {}: {lg} vs {l0}",
+            times[k]
+        );
         let e = 0.5 * (j[0] * w.x * w.x + j[1] * w.y * w.y + j[2] * w.z * w.z);
         assert!((e - e0).abs() / e0 < 1e-8, "energy at t = {}", times[k]);
     }

@@ -58,7 +58,10 @@ impl ImplicitDae {
                     dy.push(Entry { row, col: v - 1 });
                     dy_e.push(d);
                 } else if v <= 2 * n {
-                    dyp.push(Entry { row, col: v - 1 - n });
+                    dyp.push(Entry {
+                        row,
+                        col: v - 1 - n,
+                    });
                     dyp_e.push(d);
                 }
             }

@@ -45,14 +45,21 @@ pub struct Index1Formulation {
 pub fn select_dependent(gv: &DMatrix<f64>, preferred: &[bool]) -> Option<Vec<usize>> {
     let (m, n) = gv.shape();
     let mut cols: Vec<nalgebra::DVector<f64>> = (0..n).map(|j| gv.column(j).into_owned()).collect();
-    let scale = cols.iter().map(|c| c.norm()).fold(0.0f64, f64::max).max(1e-300);
+    let scale = cols
+        .iter()
+        .map(|c| c.norm())
+        .fold(0.0f64, f64::max)
+        .max(1e-300);
     let mut chosen = Vec::with_capacity(m);
     // a column is usable when what is left of it after projection is not negligible
     let usable = 1e-3 * scale;
     for _ in 0..m {
         let pick = |pref_only: bool, chosen: &Vec<usize>, cols: &Vec<nalgebra::DVector<f64>>| {
             (0..n)
-                .filter(|j| !chosen.contains(j) && (!pref_only || preferred.get(*j).copied().unwrap_or(false)))
+                .filter(|j| {
+                    !chosen.contains(j)
+                        && (!pref_only || preferred.get(*j).copied().unwrap_or(false))
+                })
                 .map(|j| (j, cols[j].norm()))
                 .filter(|&(_, nrm)| nrm > usable)
                 .fold(None, |a: Option<(usize, f64)>, b| match a {
@@ -116,7 +123,10 @@ impl Index1Formulation {
         if dependent.len() != nc {
             return Err(MechError::at(
                 "solve.formulation",
-                format!("index-1 needs {nc} dependent velocities, got {}", dependent.len()),
+                format!(
+                    "index-1 needs {nc} dependent velocities, got {}",
+                    dependent.len()
+                ),
             ));
         }
         let n = nq + nv + 2 * nc;

@@ -138,10 +138,13 @@ pub fn consistent_state_from(
     loop {
         let g = MechanicsTapes::eval(&tapes.g, t0, &x);
         finite(&g, "the joint constraints g(q)")?;
-        let worst = g
-            .iter()
-            .enumerate()
-            .fold((0usize, 0.0f64), |a, (i, &v)| if v.abs() > a.1 { (i, v.abs()) } else { a });
+        let worst = g.iter().enumerate().fold((0usize, 0.0f64), |a, (i, &v)| {
+            if v.abs() > a.1 {
+                (i, v.abs())
+            } else {
+                a
+            }
+        });
         if worst.1 <= 1e-13 * scale {
             break;
         }

@@ -76,9 +76,7 @@ impl<'a> Assembler<'a> {
                     .iter()
                     .find(|(pn, _)| pn == n)
                     .map(|(_, c)| c.clone())
-                    .ok_or_else(|| {
-                        MechError::at(path, format!("body '{body}' has no point '{n}'"))
-                    })
+                    .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'")))
             }
         }
     }
@@ -121,12 +119,22 @@ impl<'a> Assembler<'a> {
         };
         for (ji, j) in s.joints.iter().enumerate() {
             for k in 0..2 {
-                mark(self, &j.bodies[k], &j.points[k], &format!("joints[{ji}].points[{k}]"));
+                mark(
+                    self,
+                    &j.bodies[k],
+                    &j.points[k],
+                    &format!("joints[{ji}].points[{k}]"),
+                );
             }
         }
         for (si, sp) in s.springs.iter().enumerate() {
             for k in 0..2 {
-                mark(self, &sp.bodies[k], &sp.points[k], &format!("springs[{si}].points[{k}]"));
+                mark(
+                    self,
+                    &sp.bodies[k],
+                    &sp.points[k],
+                    &format!("springs[{si}].points[{k}]"),
+                );
             }
         }
         for (li, l) in s.loads.iter().enumerate() {
@@ -138,7 +146,12 @@ impl<'a> Assembler<'a> {
             let mut parts = o.splitn(2, '.');
             if let (Some(b), Some(p)) = (parts.next(), parts.next()) {
                 if !matches!(p, "x" | "y" | "angle" | "vx" | "vy" | "omega") {
-                    mark(self, b, &PointRef::Named(p.to_string()), &format!("outputs[{oi}]"));
+                    mark(
+                        self,
+                        b,
+                        &PointRef::Named(p.to_string()),
+                        &format!("outputs[{oi}]"),
+                    );
                 }
             }
         }
@@ -227,7 +240,11 @@ impl<'a> Assembler<'a> {
                     } else {
                         (vel(0), vel(1))
                     };
-                    let names = if *body_fixed { ["u", "w"] } else { ["vx", "vy"] };
+                    let names = if *body_fixed {
+                        ["u", "w"]
+                    } else {
+                        ["vx", "vy"]
+                    };
                     let (sx, sy) = (vslot(&mut vi), vslot(&mut vi));
                     self.vels.push(coord(&b.name, names[0], v0x));
                     self.vels.push(coord(&b.name, names[1], v0y));
@@ -290,7 +307,8 @@ impl<'a> Assembler<'a> {
                         let w0 = b.angular_velocity.get(k).copied().unwrap_or(0.0);
                         self.vels.push(coord(&b.name, n, w0));
                     }
-                    self.mass.extend([b.mass, b.mass, b.mass, jj[0], jj[1], jj[2]]);
+                    self.mass
+                        .extend([b.mass, b.mass, b.mass, jj[0], jj[1], jj[2]]);
                     self.kin.push(BodyKinematics::Spatial { r, e, v, w });
                 }
             }
@@ -336,9 +354,7 @@ impl<'a> Assembler<'a> {
         for k in &kin {
             match k {
                 BodyKinematics::Ground => {}
-                BodyKinematics::PlanarInertial {
-                    vx, vy, omega, ..
-                } => {
+                BodyKinematics::PlanarInertial { vx, vy, omega, .. } => {
                     out.push(self.g.var(*vx));
                     out.push(self.g.var(*vy));
                     if let Some(w) = omega {
@@ -470,7 +486,12 @@ impl<'a> Assembler<'a> {
         })
     }
 
-    fn point(&mut self, body: &str, p: &PointRef, path: &str) -> Result<PointKinematics, MechError> {
+    fn point(
+        &mut self,
+        body: &str,
+        p: &PointRef,
+        path: &str,
+    ) -> Result<PointKinematics, MechError> {
         let c = self.point_coords(body, p, path)?;
         if c.len() != self.dim() {
             return Err(MechError::at(
@@ -686,7 +707,11 @@ impl<'a> Assembler<'a> {
         }
     }
 
-    fn loads(&mut self, forces: &mut [Expr], names: &HashMap<String, Expr>) -> Result<(), MechError> {
+    fn loads(
+        &mut self,
+        forces: &mut [Expr],
+        names: &HashMap<String, Expr>,
+    ) -> Result<(), MechError> {
         for (li, l) in self.scene.loads.iter().enumerate() {
             let path = format!("loads[{li}]");
             let Some(bi) = self.body_index(&l.body, &format!("{path}.body"))? else {

@@ -123,16 +123,44 @@ impl Comparison {
         s.push_str(&format!("{:<26} {:>16} {:>16}\n", "", "DAE", "decoupled"));
         let (a, b) = (&self.dae, &self.decoupled);
         let rows: Vec<(&str, String, String)> = vec![
-            ("formulation", a.formulation.clone(), format!("k = {:.0e}", b.joint_stiffness)),
+            (
+                "formulation",
+                a.formulation.clone(),
+                format!("k = {:.0e}", b.joint_stiffness),
+            ),
             ("solver", a.solver.clone(), b.solver.clone()),
             ("unknowns", a.unknowns.to_string(), b.unknowns.to_string()),
             ("steps", a.steps.to_string(), b.steps.to_string()),
-            ("residual/RHS evals", a.residual_evals.to_string(), b.residual_evals.to_string()),
-            ("Jacobian evals", a.jacobian_evals.to_string(), b.jacobian_evals.to_string()),
-            ("error test failures", a.error_test_failures.to_string(), b.error_test_failures.to_string()),
-            ("CPU time (s)", format!("{:.3e}", a.cpu_seconds), format!("{:.3e}", b.cpu_seconds)),
-            ("max constraint error", format!("{:.3e}", a.max_constraint_error), format!("{:.3e}", b.max_constraint_error)),
-            ("energy drift (rel.)", format!("{:.3e}", a.energy_drift), format!("{:.3e}", b.energy_drift)),
+            (
+                "residual/RHS evals",
+                a.residual_evals.to_string(),
+                b.residual_evals.to_string(),
+            ),
+            (
+                "Jacobian evals",
+                a.jacobian_evals.to_string(),
+                b.jacobian_evals.to_string(),
+            ),
+            (
+                "error test failures",
+                a.error_test_failures.to_string(),
+                b.error_test_failures.to_string(),
+            ),
+            (
+                "CPU time (s)",
+                format!("{:.3e}", a.cpu_seconds),
+                format!("{:.3e}", b.cpu_seconds),
+            ),
+            (
+                "max constraint error",
+                format!("{:.3e}", a.max_constraint_error),
+                format!("{:.3e}", b.max_constraint_error),
+            ),
+            (
+                "energy drift (rel.)",
+                format!("{:.3e}", a.energy_drift),
+                format!("{:.3e}", b.energy_drift),
+            ),
             ("compliance ε", format!("{:.1e}", a.compliance), "-".into()),
         ];
         for (k, x, y) in rows {

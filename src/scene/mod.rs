@@ -58,7 +58,8 @@ impl Scene {
     }
 
     /// Reads, parses and validates a scene file; `name` defaults to the file stem.
-    pub fn from_path(p: &Path) -> Result<Scene, SceneError> {
+    pub fn from_path(p: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let p = p.as_ref();
         let text = std::fs::read_to_string(p).map_err(|source| SceneError::Io {
             path: p.to_path_buf(),
             source,

@@ -603,4 +603,3 @@ fn emit(
     sol.rows.push(row);
     brk
 }
-

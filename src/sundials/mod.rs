@@ -32,10 +32,7 @@ pub mod stats;
 pub mod vector;
 pub mod version;
 
-
-pub use callback::{
-    CvodeJacobianFn, CvodeRootFn, IdaJacobianFn, IdaRootFn, ResidualFn, RhsFn,
-};
+pub use callback::{CvodeJacobianFn, CvodeRootFn, IdaJacobianFn, IdaRootFn, ResidualFn, RhsFn};
 pub use custom_ls::IdaLinearSolver;
 pub use cvode::Cvode;
 pub use error::{CallbackError, CallbackResult, SolverError};
