@@ -15,7 +15,10 @@ const REQUIRED_HEADERS: [&str; 3] = ["ida/ida.h", "cvode/cvode.h", "sundials/sun
 fn candidate_dirs() -> Vec<PathBuf> {
     match env::var_os("SUNDIALS_INCLUDE_DIR") {
         Some(dir) => vec![PathBuf::from(dir)],
-        None => vec![PathBuf::from("/usr/include"), PathBuf::from("/usr/local/include")],
+        None => vec![
+            PathBuf::from("/usr/include"),
+            PathBuf::from("/usr/local/include"),
+        ],
     }
 }
 

@@ -5,7 +5,11 @@ use bondmech::sundials::{Ida, IdaOptions};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn solve_robertson() -> f64 {
-    let opts = IdaOptions { rtol: 1e-4, atol: vec![1e-8, 1e-6, 1e-6], ..IdaOptions::default() };
+    let opts = IdaOptions {
+        rtol: 1e-4,
+        atol: vec![1e-8, 1e-6, 1e-6],
+        ..IdaOptions::default()
+    };
     let mut ida = Ida::new(
         0.0,
         &[1.0, 0.0, 0.0],

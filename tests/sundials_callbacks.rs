@@ -2,8 +2,8 @@
 //! The test problem is the harmonic oscillator y'' = -y, y = (sin t, cos t).
 
 use bondmech::sundials::{
-    header_version, version, CallbackError, CallbackResult, Cvode, CvodeOptions, Ida, IdaOptions, Multistep,
-    SolverError, StepEvent,
+    header_version, version, CallbackError, CallbackResult, Cvode, CvodeOptions, Ida, IdaOptions,
+    Multistep, SolverError, StepEvent,
 };
 use std::time::Duration;
 
@@ -68,7 +68,10 @@ fn cvode_rhs_panic_becomes_callback_panic() {
     )
     .unwrap();
     let err = cv.solve_to(1.0).unwrap_err();
-    assert!(matches!(&err, SolverError::CallbackPanic { message, .. } if message.contains("exploded")), "{err:?}");
+    assert!(
+        matches!(&err, SolverError::CallbackPanic { message, .. } if message.contains("exploded")),
+        "{err:?}"
+    );
 }
 
 #[test]
@@ -106,16 +109,27 @@ fn nan_rhs_from_the_start_ends_in_cvode_first_rhsfunc_flag_error() {
     .unwrap();
     let err = cv.solve_to(3.0).unwrap_err();
     match &err {
-        SolverError::Flag { function, flag, name, t } => {
+        SolverError::Flag {
+            function,
+            flag,
+            name,
+            t,
+        } => {
             assert_eq!(*function, "CVode");
             assert_eq!(name, "CV_FIRST_RHSFUNC_ERR");
             assert_eq!(*t, 0.0);
             let text = err.to_string();
-            assert_eq!(text, format!("CVode failed with CV_FIRST_RHSFUNC_ERR ({flag}) at t = 0"));
+            assert_eq!(
+                text,
+                format!("CVode failed with CV_FIRST_RHSFUNC_ERR ({flag}) at t = 0")
+            );
         }
         other => panic!("expected Flag, got {other:?}"),
     }
-    assert!(cv.last_error_message().is_some(), "error handler captured nothing");
+    assert!(
+        cv.last_error_message().is_some(),
+        "error handler captured nothing"
+    );
 }
 
 #[test]
@@ -186,7 +200,10 @@ fn fatal_callback_error_becomes_callback_failed_with_message() {
 
 #[test]
 fn step_budget_gives_too_much_work_with_time_reached() {
-    let opts = IdaOptions { max_steps: Some(10), ..IdaOptions::default() };
+    let opts = IdaOptions {
+        max_steps: Some(10),
+        ..IdaOptions::default()
+    };
     let mut ida = ida_with(
         Box::new(|t, y, yp, r| {
             oscillator(t, y, yp, r);
@@ -208,7 +225,10 @@ fn step_budget_gives_too_much_work_with_time_reached() {
 #[test]
 fn wall_clock_budget_gives_wall_clock_error() {
     let limit = Duration::from_millis(50);
-    let opts = CvodeOptions { max_wall_clock: Some(limit), ..CvodeOptions::default() };
+    let opts = CvodeOptions {
+        max_wall_clock: Some(limit),
+        ..CvodeOptions::default()
+    };
     let mut cv = Cvode::new(
         Multistep::Bdf,
         0.0,
@@ -220,7 +240,11 @@ fn wall_clock_budget_gives_wall_clock_error() {
             Ok(())
         }),
         None,
-        &CvodeOptions { rtol: 1e-10, atol: vec![1e-10], ..opts },
+        &CvodeOptions {
+            rtol: 1e-10,
+            atol: vec![1e-10],
+            ..opts
+        },
     )
     .unwrap();
     let start = std::time::Instant::now();
@@ -246,14 +270,21 @@ fn root_beyond_tout_is_returned_by_the_next_call_at_pi() {
             Ok(())
         }),
         None,
-        &CvodeOptions { rtol: 1e-8, atol: vec![1e-10], ..CvodeOptions::default() },
+        &CvodeOptions {
+            rtol: 1e-8,
+            atol: vec![1e-10],
+            ..CvodeOptions::default()
+        },
     )
     .unwrap();
     // g = y1 = sin t crosses zero (decreasing) at t = pi.
-    cv.set_roots(1, Box::new(|_t, y, g| {
-        g[0] = y[0];
-        Ok(())
-    }))
+    cv.set_roots(
+        1,
+        Box::new(|_t, y, g| {
+            g[0] = y[0];
+            Ok(())
+        }),
+    )
     .unwrap();
     let mut events = Vec::new();
     for tout in [1.0, 2.0, 3.0, 3.1, 3.5] {
@@ -266,17 +297,29 @@ fn root_beyond_tout_is_returned_by_the_next_call_at_pi() {
             }
         }
     }
-    let roots: Vec<_> = events.iter().filter(|(_, e)| matches!(e, StepEvent::Root(_))).collect();
+    let roots: Vec<_> = events
+        .iter()
+        .filter(|(_, e)| matches!(e, StepEvent::Root(_)))
+        .collect();
     assert_eq!(roots.len(), 1, "{events:?}");
-    assert!((roots[0].0 - std::f64::consts::PI).abs() < 1e-6, "{events:?}");
+    assert!(
+        (roots[0].0 - std::f64::consts::PI).abs() < 1e-6,
+        "{events:?}"
+    );
     assert_eq!(roots[0].1, StepEvent::Root(vec![-1]));
     let times: Vec<f64> = events.iter().map(|(t, _)| *t).collect();
-    assert!(times.windows(2).all(|w| w[0] <= w[1]), "times not monotone: {times:?}");
+    assert!(
+        times.windows(2).all(|w| w[0] <= w[1]),
+        "times not monotone: {times:?}"
+    );
 }
 
 #[test]
 fn stop_time_is_reported_and_not_passed() {
-    let opts = IdaOptions { stop_time: Some(1.5), ..IdaOptions::default() };
+    let opts = IdaOptions {
+        stop_time: Some(1.5),
+        ..IdaOptions::default()
+    };
     let mut ida = ida_with(
         Box::new(|t, y, yp, r| {
             oscillator(t, y, yp, r);
@@ -299,18 +342,61 @@ fn invalid_inputs_are_reported_not_panicking() {
             Ok(())
         })
     };
-    let bad_atol = IdaOptions { atol: vec![1e-8, 1e-8, 1e-8], ..IdaOptions::default() };
-    let err = Ida::new(0.0, &[0.0, 1.0], &[1.0, 0.0], residual(), None, &bad_atol).err().unwrap();
-    assert!(matches!(&err, SolverError::InvalidInput(m) if m.contains("atol")), "{err}");
-    let err = Ida::new(0.0, &[0.0, 1.0], &[1.0], residual(), None, &IdaOptions::default()).err().unwrap();
-    assert!(matches!(&err, SolverError::InvalidInput(m) if m.contains("yp0")), "{err}");
-    let err = Ida::new(0.0, &[f64::NAN, 1.0], &[1.0, 0.0], residual(), None, &IdaOptions::default()).err().unwrap();
+    let bad_atol = IdaOptions {
+        atol: vec![1e-8, 1e-8, 1e-8],
+        ..IdaOptions::default()
+    };
+    let err = Ida::new(0.0, &[0.0, 1.0], &[1.0, 0.0], residual(), None, &bad_atol)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(&err, SolverError::InvalidInput(m) if m.contains("atol")),
+        "{err}"
+    );
+    let err = Ida::new(
+        0.0,
+        &[0.0, 1.0],
+        &[1.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .err()
+    .unwrap();
+    assert!(
+        matches!(&err, SolverError::InvalidInput(m) if m.contains("yp0")),
+        "{err}"
+    );
+    let err = Ida::new(
+        0.0,
+        &[f64::NAN, 1.0],
+        &[1.0, 0.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .err()
+    .unwrap();
     assert!(matches!(err, SolverError::InvalidInput(_)));
-    let mut ida = Ida::new(0.0, &[0.0, 1.0], &[1.0, 0.0], residual(), None, &IdaOptions::default()).unwrap();
+    let mut ida = Ida::new(
+        0.0,
+        &[0.0, 1.0],
+        &[1.0, 0.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .unwrap();
     ida.solve_to(1.0).unwrap();
-    assert!(matches!(ida.solve_to(0.5), Err(SolverError::InvalidInput(_))));
+    assert!(matches!(
+        ida.solve_to(0.5),
+        Err(SolverError::InvalidInput(_))
+    ));
     let mut out = [0.0; 3];
-    assert!(matches!(ida.dky(1.0, 0, &mut out), Err(SolverError::InvalidInput(_))));
+    assert!(matches!(
+        ida.dky(1.0, 0, &mut out),
+        Err(SolverError::InvalidInput(_))
+    ));
 }
 
 #[test]

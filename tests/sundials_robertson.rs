@@ -21,8 +21,8 @@
 //! (up to rounding), which we check independently of any table.
 
 use bondmech::sundials::{
-    CallbackResult, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaLinearSolver, IdaOptions, Multistep,
-    StepEvent,
+    CallbackResult, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaLinearSolver, IdaOptions,
+    Multistep, StepEvent,
 };
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -94,7 +94,11 @@ fn roots_ida(_t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) -> CallbackResult {
 }
 
 fn ida_options() -> IdaOptions {
-    IdaOptions { rtol: RTOL, atol: vec![1e-8, 1e-6, 1e-6], ..IdaOptions::default() }
+    IdaOptions {
+        rtol: RTOL,
+        atol: vec![1e-8, 1e-6, 1e-6],
+        ..IdaOptions::default()
+    }
 }
 
 fn check_against(label: &str, t: f64, y: &[f64], reference: &[f64; 3], atol: &[f64; 3]) {
@@ -125,7 +129,11 @@ fn run_ida(mut ida: Ida, checked_until: f64) -> Vec<[f64; 3]> {
         loop {
             let step = ida.solve_to(tout).unwrap();
             let y = ida.y();
-            assert!((y[0] + y[1] + y[2] - 1.0).abs() < 1e-12, "invariant y1+y2+y3=1 broken at t = {}", step.t);
+            assert!(
+                (y[0] + y[1] + y[2] - 1.0).abs() < 1e-12,
+                "invariant y1+y2+y3=1 broken at t = {}",
+                step.t
+            );
             match step.event {
                 StepEvent::Root(info) => roots_seen.push((step.t, info)),
                 StepEvent::Reached => break,
@@ -137,9 +145,16 @@ fn run_ida(mut ida: Ida, checked_until: f64) -> Vec<[f64; 3]> {
         }
         outputs.push([ida.y()[0], ida.y()[1], ida.y()[2]]);
     }
-    assert_eq!(roots_seen.len(), IDA_ROOTS.len(), "roots found: {roots_seen:?}");
+    assert_eq!(
+        roots_seen.len(),
+        IDA_ROOTS.len(),
+        "roots found: {roots_seen:?}"
+    );
     for ((t, info), (t_ref, info_ref)) in roots_seen.iter().zip(IDA_ROOTS) {
-        assert!((t - t_ref).abs() <= 2e-3 * t_ref, "root at {t:e}, published {t_ref:e}");
+        assert!(
+            (t - t_ref).abs() <= 2e-3 * t_ref,
+            "root at {t:e}, published {t_ref:e}"
+        );
         assert_eq!(info.as_slice(), info_ref.as_slice());
     }
     outputs
@@ -194,9 +209,13 @@ impl IdaLinearSolver for GaussSolver {
         let mut a: Vec<f64> = (0..9).map(|k| j.get(k / 3, k % 3)).collect();
         let mut perm = [0, 1, 2];
         for k in 0..n {
-            let p = (k..n).max_by(|&r, &s| a[r * n + k].abs().total_cmp(&a[s * n + k].abs())).unwrap();
+            let p = (k..n)
+                .max_by(|&r, &s| a[r * n + k].abs().total_cmp(&a[s * n + k].abs()))
+                .unwrap();
             if a[p * n + k] == 0.0 {
-                return Err(bondmech::sundials::CallbackError::Recoverable("singular".into()));
+                return Err(bondmech::sundials::CallbackError::Recoverable(
+                    "singular".into(),
+                ));
             }
             for c in 0..n {
                 a.swap(k * n + c, p * n + c);
@@ -238,7 +257,11 @@ impl IdaLinearSolver for GaussSolver {
 #[test]
 fn ida_custom_linear_solver_gives_dense_path_answer_on_robertson() {
     let setups = Arc::new(AtomicUsize::new(0));
-    let solver = GaussSolver { lu: vec![0.0; 9], perm: [0, 1, 2], setups: setups.clone() };
+    let solver = GaussSolver {
+        lu: vec![0.0; 9],
+        perm: [0, 1, 2],
+        setups: setups.clone(),
+    };
     let ida = Ida::new_with_linear_solver(
         0.0,
         &[1.0, 0.0, 0.0],
@@ -249,7 +272,10 @@ fn ida_custom_linear_solver_gives_dense_path_answer_on_robertson() {
     )
     .unwrap();
     let custom = run_ida(ida, f64::INFINITY);
-    assert!(setups.load(Ordering::Relaxed) > 10, "custom linear solver was not used");
+    assert!(
+        setups.load(Ordering::Relaxed) > 10,
+        "custom linear solver was not used"
+    );
     let dense = run_ida(
         Ida::new(
             0.0,
@@ -265,7 +291,13 @@ fn ida_custom_linear_solver_gives_dense_path_answer_on_robertson() {
     // Outputs up to t = 4e7 (the first 9), where the difference-quotient run is checked.
     for (k, (c, d)) in custom.iter().zip(&dense).enumerate().take(9) {
         for i in 0..3 {
-            assert!((c[i] - d[i]).abs() <= 3e-3 * d[i].abs(), "output {k}, y{}: custom {} dense {}", i + 1, c[i], d[i]);
+            assert!(
+                (c[i] - d[i]).abs() <= 3e-3 * d[i].abs(),
+                "output {k}, y{}: custom {} dense {}",
+                i + 1,
+                c[i],
+                d[i]
+            );
         }
     }
 }
@@ -279,7 +311,11 @@ fn robertson_rhs(_t: f64, y: &[f64], yd: &mut [f64]) -> CallbackResult {
 
 #[test]
 fn cvode_bdf_robertson_matches_published_cvroberts_dns_output() {
-    let opts = CvodeOptions { rtol: RTOL, atol: vec![1e-8, 1e-14, 1e-6], ..CvodeOptions::default() };
+    let opts = CvodeOptions {
+        rtol: RTOL,
+        atol: vec![1e-8, 1e-14, 1e-6],
+        ..CvodeOptions::default()
+    };
     let jac = |_t: f64, y: &[f64], _f: &[f64], j: &mut DenseMatrixMut<'_>| -> CallbackResult {
         j.set(0, 0, -0.04);
         j.set(0, 1, 1.0e4 * y[2]);
@@ -290,8 +326,15 @@ fn cvode_bdf_robertson_matches_published_cvroberts_dns_output() {
         j.set(2, 1, 6.0e7 * y[1]);
         Ok(())
     };
-    let mut cv = Cvode::new(Multistep::Bdf, 0.0, &[1.0, 0.0, 0.0], Box::new(robertson_rhs), Some(Box::new(jac)), &opts)
-        .unwrap();
+    let mut cv = Cvode::new(
+        Multistep::Bdf,
+        0.0,
+        &[1.0, 0.0, 0.0],
+        Box::new(robertson_rhs),
+        Some(Box::new(jac)),
+        &opts,
+    )
+    .unwrap();
     cv.set_roots(
         2,
         Box::new(|_t, y, g| {
@@ -315,9 +358,15 @@ fn cvode_bdf_robertson_matches_published_cvroberts_dns_output() {
     }
     assert_eq!(roots_seen.len(), 2, "roots found: {roots_seen:?}");
     for ((t, info), (t_ref, info_ref)) in roots_seen.iter().zip(CVODE_ROOTS) {
-        assert!((t - t_ref).abs() <= 2e-3 * t_ref, "root at {t:e}, published {t_ref:e}");
+        assert!(
+            (t - t_ref).abs() <= 2e-3 * t_ref,
+            "root at {t:e}, published {t_ref:e}"
+        );
         assert_eq!(info.as_slice(), info_ref.as_slice());
     }
     let stats = cv.stats();
-    assert!(stats.steps > 100 && stats.jacobian_evals > 0 && stats.root_evals > 0, "{stats:?}");
+    assert!(
+        stats.steps > 100 && stats.jacobian_evals > 0 && stats.root_evals > 0,
+        "{stats:?}"
+    );
 }

@@ -67,7 +67,9 @@ impl CallbackStatus {
         if let Some((t, message)) = self.panic.take() {
             return Some(SolverError::CallbackPanic { t, message });
         }
-        self.fatal.take().map(|(t, message)| SolverError::CallbackFailed { t, message })
+        self.fatal
+            .take()
+            .map(|(t, message)| SolverError::CallbackFailed { t, message })
     }
 }
 
@@ -102,7 +104,12 @@ pub(crate) unsafe extern "C" fn error_handler(
                     std::ffi::CStr::from_ptr(p).to_string_lossy().into_owned()
                 }
             };
-            status.last_message = Some(format!("[{} {}] {}", text(module), text(function), text(msg)));
+            status.last_message = Some(format!(
+                "[{} {}] {}",
+                text(module),
+                text(function),
+                text(msg)
+            ));
         }
     }));
 }

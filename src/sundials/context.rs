@@ -16,7 +16,9 @@ impl Context {
         // SAFETY: `raw` is a valid out-pointer; a NULL communicator is allowed for serial use.
         let flag = unsafe { sys::SUNContext_Create(ptr::null_mut(), &mut raw) };
         if flag != 0 || raw.is_null() {
-            return Err(SolverError::InvalidInput(format!("SUNContext_Create failed with flag {flag}")));
+            return Err(SolverError::InvalidInput(format!(
+                "SUNContext_Create failed with flag {flag}"
+            )));
         }
         Ok(Context { raw })
     }

@@ -69,7 +69,8 @@ unsafe extern "C" fn solve(
         }
         let status = &mut *c.status;
         let (mut t, mut cj) = (0.0, 0.0);
-        let (mut ycur, mut ypcur): (sys::N_Vector, sys::N_Vector) = (ptr::null_mut(), ptr::null_mut());
+        let (mut ycur, mut ypcur): (sys::N_Vector, sys::N_Vector) =
+            (ptr::null_mut(), ptr::null_mut());
         sys::IDAGetCurrentTime(c.ida_mem, &mut t);
         sys::IDAGetCurrentCj(c.ida_mem, &mut cj);
         sys::IDAGetCurrentY(c.ida_mem, &mut ycur);
@@ -150,7 +151,11 @@ pub(crate) fn new_linear_solver(
 ///
 /// # Safety
 /// `ls` must come from [`new_linear_solver`]; `ida_mem` and `status` must outlive it.
-pub(crate) unsafe fn attach(ls: &mut LinearSolver, ida_mem: *mut c_void, status: *mut CallbackStatus) {
+pub(crate) unsafe fn attach(
+    ls: &mut LinearSolver,
+    ida_mem: *mut c_void,
+    status: *mut CallbackStatus,
+) {
     // SAFETY: guaranteed by the caller: content is our Box<Content>.
     unsafe {
         let c = &mut *((*ls.raw()).content as *mut Content);

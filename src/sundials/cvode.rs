@@ -60,7 +60,12 @@ pub struct Cvode {
 // `Send`); SUNDIALS keeps no global state across contexts, and nothing is shared.
 unsafe impl Send for Cvode {}
 
-unsafe extern "C" fn rhs_trampoline(t: f64, yy: sys::N_Vector, yd: sys::N_Vector, user_data: *mut c_void) -> c_int {
+unsafe extern "C" fn rhs_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    yd: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
     // SAFETY: user_data is the Box<CvodeData> registered with CVodeSetUserData, alive
     // as long as the CVODE memory; yy and yd are distinct serial vectors of length n.
     let (data, y, ydot) = unsafe {
@@ -87,16 +92,30 @@ unsafe extern "C" fn jacobian_trampoline(
     let (data, y, f, mut j) = unsafe {
         let data = &mut *(user_data as *mut CvodeData);
         let n = data.n;
-        (data, slice_of(yy, n), slice_of(fy, n), DenseMatrixMut::from_raw(jac))
+        (
+            data,
+            slice_of(yy, n),
+            slice_of(fy, n),
+            DenseMatrixMut::from_raw(jac),
+        )
     };
     j.fill_zero();
-    let CvodeData { status, jacobian, .. } = data;
-    let Some(jacobian) = jacobian.as_mut() else { return -1 };
+    let CvodeData {
+        status, jacobian, ..
+    } = data;
+    let Some(jacobian) = jacobian.as_mut() else {
+        return -1;
+    };
     let code = status.guard(t, || jacobian(t, y, f, &mut j));
     finite_or_recoverable(code, j.as_mut_slice())
 }
 
-unsafe extern "C" fn root_trampoline(t: f64, yy: sys::N_Vector, gout: *mut f64, user_data: *mut c_void) -> c_int {
+unsafe extern "C" fn root_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    gout: *mut f64,
+    user_data: *mut c_void,
+) -> c_int {
     // SAFETY: as in rhs_trampoline; gout has room for the nroots registered.
     let (data, y, g) = unsafe {
         let data = &mut *(user_data as *mut CvodeData);
@@ -105,7 +124,9 @@ unsafe extern "C" fn root_trampoline(t: f64, yy: sys::N_Vector, gout: *mut f64, 
         (data, slice_of(yy, n), g)
     };
     let CvodeData { status, roots, .. } = data;
-    let Some(roots) = roots.as_mut() else { return -1 };
+    let Some(roots) = roots.as_mut() else {
+        return -1;
+    };
     let code = status.guard(t, || roots(t, y, g));
     if finite_or_recoverable(code, g) != 0 {
         -1
@@ -129,7 +150,9 @@ impl Cvode {
             return Err(SolverError::InvalidInput("y0 is empty".into()));
         }
         if !t0.is_finite() {
-            return Err(SolverError::InvalidInput(format!("t0 must be finite, got {t0}")));
+            return Err(SolverError::InvalidInput(format!(
+                "t0 must be finite, got {t0}"
+            )));
         }
         check_vector("y0", y0, n)?;
         check_tolerances(opts.rtol, &opts.atol, n)?;
@@ -163,18 +186,53 @@ impl Cvode {
         // SAFETY: mem, vectors, matrix and solver are live; user data and error-handler
         // data point into the Box `data`, kept alive (unmoved) by the returned Cvode.
         unsafe {
-            check(P, "CVodeSetErrHandlerFn", sys::CVodeSetErrHandlerFn(raw, Some(error_handler), status_ptr), t0)?;
-            check(P, "CVodeInit", sys::CVodeInit(raw, Some(rhs_trampoline), t0, y.raw()), t0)?;
+            check(
+                P,
+                "CVodeSetErrHandlerFn",
+                sys::CVodeSetErrHandlerFn(raw, Some(error_handler), status_ptr),
+                t0,
+            )?;
+            check(
+                P,
+                "CVodeInit",
+                sys::CVodeInit(raw, Some(rhs_trampoline), t0, y.raw()),
+                t0,
+            )?;
             if opts.atol.len() == 1 {
-                check(P, "CVodeSStolerances", sys::CVodeSStolerances(raw, opts.rtol, opts.atol[0]), t0)?;
+                check(
+                    P,
+                    "CVodeSStolerances",
+                    sys::CVodeSStolerances(raw, opts.rtol, opts.atol[0]),
+                    t0,
+                )?;
             } else {
                 let atol = NVector::from_slice(&ctx, &opts.atol)?;
-                check(P, "CVodeSVtolerances", sys::CVodeSVtolerances(raw, opts.rtol, atol.raw()), t0)?;
+                check(
+                    P,
+                    "CVodeSVtolerances",
+                    sys::CVodeSVtolerances(raw, opts.rtol, atol.raw()),
+                    t0,
+                )?;
             }
-            check(P, "CVodeSetUserData", sys::CVodeSetUserData(raw, data_ptr), t0)?;
-            check(P, "CVodeSetLinearSolver", sys::CVodeSetLinearSolver(raw, ls.raw(), mat.raw()), t0)?;
+            check(
+                P,
+                "CVodeSetUserData",
+                sys::CVodeSetUserData(raw, data_ptr),
+                t0,
+            )?;
+            check(
+                P,
+                "CVodeSetLinearSolver",
+                sys::CVodeSetLinearSolver(raw, ls.raw(), mat.raw()),
+                t0,
+            )?;
             if has_jac {
-                check(P, "CVodeSetJacFn", sys::CVodeSetJacFn(raw, Some(jacobian_trampoline)), t0)?;
+                check(
+                    P,
+                    "CVodeSetJacFn",
+                    sys::CVodeSetJacFn(raw, Some(jacobian_trampoline)),
+                    t0,
+                )?;
             }
             if let Some(v) = opts.max_order {
                 check(P, "CVodeSetMaxOrd", sys::CVodeSetMaxOrd(raw, v), t0)?;
@@ -343,7 +401,8 @@ impl Stepper for Cvode {
     fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
         let mut tret = self.driver.t;
         // SAFETY: live CVODE memory, an owned vector of length n, valid out-pointer.
-        let flag = unsafe { sys::CVode(self.raw(), tout, self.y.raw(), &mut tret, sys::CV_ONE_STEP) };
+        let flag =
+            unsafe { sys::CVode(self.raw(), tout, self.y.raw(), &mut tret, sys::CV_ONE_STEP) };
         match flag {
             sys::CV_SUCCESS => Ok((tret, RawEvent::Success)),
             sys::CV_ROOT_RETURN => Ok((tret, RawEvent::Root)),

@@ -48,7 +48,12 @@ pub(crate) struct DriverState {
 impl DriverState {
     pub(crate) fn new(t0: f64, max_steps: Option<u64>, max_wall_clock: Option<Duration>) -> Self {
         let max_steps = Some(max_steps.unwrap_or(DEFAULT_MAX_STEPS));
-        DriverState { t: t0, pending: None, max_steps, max_wall_clock }
+        DriverState {
+            t: t0,
+            pending: None,
+            max_steps,
+            max_wall_clock,
+        }
     }
 
     pub(crate) fn restart(&mut self, t0: f64) {
@@ -59,7 +64,9 @@ impl DriverState {
 
 fn check_tout(t: f64, tout: f64) -> Result<(), SolverError> {
     if !tout.is_finite() {
-        return Err(SolverError::InvalidInput(format!("tout must be finite, got {tout}")));
+        return Err(SolverError::InvalidInput(format!(
+            "tout must be finite, got {tout}"
+        )));
     }
     if tout < t {
         return Err(SolverError::InvalidInput(format!(
@@ -75,7 +82,10 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
     check_tout(t_last, tout)?;
     s.clear_status();
     if tout == t_last && s.driver().pending.is_none() {
-        return Ok(Step { t: tout, event: StepEvent::Reached });
+        return Ok(Step {
+            t: tout,
+            event: StepEvent::Reached,
+        });
     }
     let start = Instant::now();
     let mut steps: u64 = 0;
@@ -92,7 +102,10 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
         if tn >= tout {
             s.interpolate(tout)?;
             s.driver().t = tout;
-            return Ok(Step { t: tout, event: StepEvent::Reached });
+            return Ok(Step {
+                t: tout,
+                event: StepEvent::Reached,
+            });
         }
         if let Some(limit) = s.driver().max_wall_clock {
             if start.elapsed() > limit {

@@ -113,10 +113,20 @@ pub(crate) fn flag_name(package: Package, flag: i32) -> String {
 }
 
 /// `Ok(())` for non-negative flags, else a [`SolverError::Flag`].
-pub(crate) fn check(package: Package, function: &'static str, flag: i32, t: f64) -> Result<(), SolverError> {
+pub(crate) fn check(
+    package: Package,
+    function: &'static str,
+    flag: i32,
+    t: f64,
+) -> Result<(), SolverError> {
     if flag >= 0 {
         Ok(())
     } else {
-        Err(SolverError::Flag { function, flag, name: flag_name(package, flag), t })
+        Err(SolverError::Flag {
+            function,
+            flag,
+            name: flag_name(package, flag),
+            t,
+        })
     }
 }

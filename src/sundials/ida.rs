@@ -79,7 +79,9 @@ unsafe extern "C" fn residual_trampoline(
         let n = data.n;
         (data, slice_of(yy, n), slice_of(yp, n), slice_of_mut(rr, n))
     };
-    let IdaData { status, residual, .. } = data;
+    let IdaData {
+        status, residual, ..
+    } = data;
     let code = status.guard(t, || residual(t, y, yp, r));
     finite_or_recoverable(code, r)
 }
@@ -101,11 +103,20 @@ unsafe extern "C" fn jacobian_trampoline(
     let (data, y, yp, mut j) = unsafe {
         let data = &mut *(user_data as *mut IdaData);
         let n = data.n;
-        (data, slice_of(yy, n), slice_of(yp, n), DenseMatrixMut::from_raw(jac))
+        (
+            data,
+            slice_of(yy, n),
+            slice_of(yp, n),
+            DenseMatrixMut::from_raw(jac),
+        )
     };
     j.fill_zero();
-    let IdaData { status, jacobian, .. } = data;
-    let Some(jacobian) = jacobian.as_mut() else { return -1 };
+    let IdaData {
+        status, jacobian, ..
+    } = data;
+    let Some(jacobian) = jacobian.as_mut() else {
+        return -1;
+    };
     let code = status.guard(t, || jacobian(t, cj, y, yp, &mut j));
     finite_or_recoverable(code, j.as_mut_slice())
 }
@@ -125,7 +136,9 @@ unsafe extern "C" fn root_trampoline(
         (data, slice_of(yy, n), slice_of(yp, n), g)
     };
     let IdaData { status, roots, .. } = data;
-    let Some(roots) = roots.as_mut() else { return -1 };
+    let Some(roots) = roots.as_mut() else {
+        return -1;
+    };
     let code = status.guard(t, || roots(t, y, yp, g));
     // Root functions may not return "recoverable": treat non-finite output as fatal.
     if finite_or_recoverable(code, g) != 0 {
@@ -179,7 +192,9 @@ impl Ida {
             return Err(SolverError::InvalidInput("y0 is empty".into()));
         }
         if !t0.is_finite() {
-            return Err(SolverError::InvalidInput(format!("t0 must be finite, got {t0}")));
+            return Err(SolverError::InvalidInput(format!(
+                "t0 must be finite, got {t0}"
+            )));
         }
         check_vector("y0", y0, n)?;
         check_vector("yp0", yp0, n)?;
@@ -228,19 +243,49 @@ impl Ida {
         // handler data point into the Box `data`, which the returned Ida keeps alive
         // (and does not move) for as long as the IDA memory.
         unsafe {
-            check(P, "IDASetErrHandlerFn", sys::IDASetErrHandlerFn(raw, Some(error_handler), status_ptr), t0)?;
-            check(P, "IDAInit", sys::IDAInit(raw, Some(residual_trampoline), t0, y.raw(), yp.raw()), t0)?;
+            check(
+                P,
+                "IDASetErrHandlerFn",
+                sys::IDASetErrHandlerFn(raw, Some(error_handler), status_ptr),
+                t0,
+            )?;
+            check(
+                P,
+                "IDAInit",
+                sys::IDAInit(raw, Some(residual_trampoline), t0, y.raw(), yp.raw()),
+                t0,
+            )?;
             if opts.atol.len() == 1 {
-                check(P, "IDASStolerances", sys::IDASStolerances(raw, opts.rtol, opts.atol[0]), t0)?;
+                check(
+                    P,
+                    "IDASStolerances",
+                    sys::IDASStolerances(raw, opts.rtol, opts.atol[0]),
+                    t0,
+                )?;
             } else {
                 let atol = NVector::from_slice(&ctx, &opts.atol)?;
-                check(P, "IDASVtolerances", sys::IDASVtolerances(raw, opts.rtol, atol.raw()), t0)?;
+                check(
+                    P,
+                    "IDASVtolerances",
+                    sys::IDASVtolerances(raw, opts.rtol, atol.raw()),
+                    t0,
+                )?;
             }
             check(P, "IDASetUserData", sys::IDASetUserData(raw, data_ptr), t0)?;
             let a = mat.as_ref().map_or(ptr::null_mut(), |m| m.raw());
-            check(P, "IDASetLinearSolver", sys::IDASetLinearSolver(raw, ls.raw(), a), t0)?;
+            check(
+                P,
+                "IDASetLinearSolver",
+                sys::IDASetLinearSolver(raw, ls.raw(), a),
+                t0,
+            )?;
             if has_jac {
-                check(P, "IDASetJacFn", sys::IDASetJacFn(raw, Some(jacobian_trampoline)), t0)?;
+                check(
+                    P,
+                    "IDASetJacFn",
+                    sys::IDASetJacFn(raw, Some(jacobian_trampoline)),
+                    t0,
+                )?;
             }
             if mat.is_none() {
                 custom_ls::attach(&mut ls, raw, status_ptr as *mut CallbackStatus);
@@ -263,19 +308,34 @@ impl Ida {
             }
             if let Some(c) = &opts.constraints {
                 let v = NVector::from_slice(&ctx, c)?;
-                check(P, "IDASetConstraints", sys::IDASetConstraints(raw, v.raw()), t0)?;
+                check(
+                    P,
+                    "IDASetConstraints",
+                    sys::IDASetConstraints(raw, v.raw()),
+                    t0,
+                )?;
             }
             if let Some(t) = opts.stop_time {
                 check(P, "IDASetStopTime", sys::IDASetStopTime(raw, t), t0)?;
             }
             if let Some(v) = opts.max_nonlin_iters {
-                check(P, "IDASetMaxNonlinIters", sys::IDASetMaxNonlinIters(raw, v), t0)?;
+                check(
+                    P,
+                    "IDASetMaxNonlinIters",
+                    sys::IDASetMaxNonlinIters(raw, v),
+                    t0,
+                )?;
             }
             if let Some(v) = opts.max_conv_fails {
                 check(P, "IDASetMaxConvFails", sys::IDASetMaxConvFails(raw, v), t0)?;
             }
             if let Some(v) = opts.max_err_test_fails {
-                check(P, "IDASetMaxErrTestFails", sys::IDASetMaxErrTestFails(raw, v), t0)?;
+                check(
+                    P,
+                    "IDASetMaxErrTestFails",
+                    sys::IDASetMaxErrTestFails(raw, v),
+                    t0,
+                )?;
             }
         }
         Ok(Ida {
@@ -462,7 +522,14 @@ impl Stepper for Ida {
         let mut tret = self.driver.t;
         // SAFETY: live IDA memory, owned vectors of length n, valid out-pointer.
         let flag = unsafe {
-            sys::IDASolve(self.raw(), tout, &mut tret, self.y.raw(), self.yp.raw(), sys::IDA_ONE_STEP)
+            sys::IDASolve(
+                self.raw(),
+                tout,
+                &mut tret,
+                self.y.raw(),
+                self.yp.raw(),
+                sys::IDA_ONE_STEP,
+            )
         };
         match flag {
             sys::IDA_SUCCESS => Ok((tret, RawEvent::Success)),

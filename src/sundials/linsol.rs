@@ -13,7 +13,11 @@ pub(crate) struct LinearSolver {
 
 impl LinearSolver {
     /// Dense direct solver for `a` (template vector `y`).
-    pub(crate) fn dense(ctx: &Context, y: &NVector, a: &DenseMatrix) -> Result<LinearSolver, SolverError> {
+    pub(crate) fn dense(
+        ctx: &Context,
+        y: &NVector,
+        a: &DenseMatrix,
+    ) -> Result<LinearSolver, SolverError> {
         // SAFETY: vector, matrix and context are live and compatible (serial, n x n).
         let raw = unsafe { sys::SUNLinSol_Dense(y.raw(), a.raw(), ctx.raw()) };
         if raw.is_null() {

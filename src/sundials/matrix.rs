@@ -13,7 +13,9 @@ impl DenseMatrix {
     /// New `n x n` dense matrix.
     pub(crate) fn square(ctx: &Context, n: usize) -> Result<DenseMatrix, SolverError> {
         // SAFETY: valid context and positive dimensions; NULL is checked below.
-        let raw = unsafe { sys::SUNDenseMatrix(n as sys::sunindextype, n as sys::sunindextype, ctx.raw()) };
+        let raw = unsafe {
+            sys::SUNDenseMatrix(n as sys::sunindextype, n as sys::sunindextype, ctx.raw())
+        };
         if raw.is_null() {
             return Err(SolverError::InvalidInput("SUNDenseMatrix failed".into()));
         }
@@ -55,7 +57,11 @@ impl<'a> DenseMatrixMut<'a> {
     }
 
     /// View of a column-major buffer of `nrows * ncols` values.
-    pub fn from_slice(data: &'a mut [f64], nrows: usize, ncols: usize) -> Option<DenseMatrixMut<'a>> {
+    pub fn from_slice(
+        data: &'a mut [f64],
+        nrows: usize,
+        ncols: usize,
+    ) -> Option<DenseMatrixMut<'a>> {
         (data.len() == nrows * ncols).then_some(DenseMatrixMut { data, nrows, ncols })
     }
 
@@ -70,7 +76,10 @@ impl<'a> DenseMatrixMut<'a> {
     }
 
     fn index(&self, i: usize, j: usize) -> usize {
-        assert!(i < self.nrows && j < self.ncols, "matrix index ({i}, {j}) out of bounds");
+        assert!(
+            i < self.nrows && j < self.ncols,
+            "matrix index ({i}, {j}) out of bounds"
+        );
         i + j * self.nrows
     }
 

@@ -130,16 +130,27 @@ pub struct Step {
     pub event: StepEvent,
 }
 
-pub(crate) fn check_tolerances(rtol: f64, atol: &[f64], n: usize) -> Result<(), super::SolverError> {
+pub(crate) fn check_tolerances(
+    rtol: f64,
+    atol: &[f64],
+    n: usize,
+) -> Result<(), super::SolverError> {
     use super::SolverError::InvalidInput;
     if !(rtol.is_finite() && rtol >= 0.0) {
-        return Err(InvalidInput(format!("rtol must be finite and >= 0, got {rtol}")));
+        return Err(InvalidInput(format!(
+            "rtol must be finite and >= 0, got {rtol}"
+        )));
     }
     if atol.len() != 1 && atol.len() != n {
-        return Err(InvalidInput(format!("atol must have length 1 or {n}, got {}", atol.len())));
+        return Err(InvalidInput(format!(
+            "atol must have length 1 or {n}, got {}",
+            atol.len()
+        )));
     }
     if let Some(a) = atol.iter().find(|a| !(a.is_finite() && **a >= 0.0)) {
-        return Err(InvalidInput(format!("atol entries must be finite and >= 0, got {a}")));
+        return Err(InvalidInput(format!(
+            "atol entries must be finite and >= 0, got {a}"
+        )));
     }
     Ok(())
 }
@@ -147,10 +158,16 @@ pub(crate) fn check_tolerances(rtol: f64, atol: &[f64], n: usize) -> Result<(), 
 pub(crate) fn check_vector(name: &str, v: &[f64], n: usize) -> Result<(), super::SolverError> {
     use super::SolverError::InvalidInput;
     if v.len() != n {
-        return Err(InvalidInput(format!("{name} has length {}, expected {n}", v.len())));
+        return Err(InvalidInput(format!(
+            "{name} has length {}, expected {n}",
+            v.len()
+        )));
     }
     if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(InvalidInput(format!("{name}[{i}] is not finite ({})", v[i])));
+        return Err(InvalidInput(format!(
+            "{name}[{i}] is not finite ({})",
+            v[i]
+        )));
     }
     Ok(())
 }

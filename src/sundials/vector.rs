@@ -21,7 +21,10 @@ impl NVector {
         if raw.is_null() {
             return Err(SolverError::InvalidInput("N_VNew_Serial failed".into()));
         }
-        let mut v = NVector { raw, len: values.len() };
+        let mut v = NVector {
+            raw,
+            len: values.len(),
+        };
         v.as_mut_slice().copy_from_slice(values);
         Ok(v)
     }
