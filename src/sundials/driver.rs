@@ -8,6 +8,11 @@ use super::error::SolverError;
 use super::options::{Step, StepEvent};
 use std::time::{Duration, Instant};
 
+/// Step budget per `solve_to` call when none is given: SUNDIALS' own default
+/// `mxstep`. Without a budget a step size shrinking toward a singularity would
+/// loop forever.
+pub const DEFAULT_MAX_STEPS: u64 = 500;
+
 /// Outcome of one internal step.
 pub(crate) enum RawEvent {
     Success,
@@ -42,6 +47,7 @@ pub(crate) struct DriverState {
 
 impl DriverState {
     pub(crate) fn new(t0: f64, max_steps: Option<u64>, max_wall_clock: Option<Duration>) -> Self {
+        let max_steps = Some(max_steps.unwrap_or(DEFAULT_MAX_STEPS));
         DriverState {
             t: t0,
             pending: None,

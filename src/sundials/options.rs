@@ -9,7 +9,7 @@ pub struct IdaOptions {
     pub rtol: f64,
     /// Absolute tolerance: length 1 (scalar) or length n.
     pub atol: Vec<f64>,
-    /// Internal steps allowed per `solve_to` call.
+    /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
     /// Wall-clock time allowed per `solve_to` call.
     pub max_wall_clock: Option<Duration>,
@@ -63,7 +63,7 @@ pub struct CvodeOptions {
     pub rtol: f64,
     /// Absolute tolerance: length 1 (scalar) or length n.
     pub atol: Vec<f64>,
-    /// Internal steps allowed per `solve_to` call.
+    /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
     /// Wall-clock time allowed per `solve_to` call.
     pub max_wall_clock: Option<Duration>,

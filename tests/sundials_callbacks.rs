@@ -1,0 +1,455 @@
+//! Callback failure handling, budgets, events, input validation and version checks.
+//! The test problem is the harmonic oscillator y'' = -y, y = (sin t, cos t).
+
+use bondmech::sundials::{
+    header_version, version, CallbackError, CallbackResult, Cvode, CvodeOptions, Ida, IdaOptions,
+    Multistep, SolverError, StepEvent,
+};
+use std::time::Duration;
+
+fn exact(t: f64) -> [f64; 2] {
+    [t.sin(), t.cos()]
+}
+
+fn oscillator(_t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+    r[0] = y[1] - yp[0];
+    r[1] = -y[0] - yp[1];
+}
+
+fn ida_with(residual: bondmech::sundials::ResidualFn, opts: &IdaOptions) -> Ida {
+    Ida::new(0.0, &exact(0.0), &[1.0, 0.0], residual, None, opts).unwrap()
+}
+
+fn close_to_exact(y: &[f64], t: f64, tol: f64) -> bool {
+    let e = exact(t);
+    (y[0] - e[0]).abs() < tol && (y[1] - e[1]).abs() < tol
+}
+
+#[test]
+fn residual_panic_becomes_callback_panic_and_process_keeps_solving() {
+    let mut ida = ida_with(
+        Box::new(|t, y, yp, r| {
+            if t > 0.5 {
+                panic!("boom at {t}");
+            }
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    match ida.solve_to(2.0) {
+        Err(SolverError::CallbackPanic { t, message }) => {
+            assert!(t > 0.5 && t < 2.0, "t = {t}");
+            assert!(message.contains("boom"), "{message}");
+        }
+        other => panic!("expected CallbackPanic, got {other:?}"),
+    }
+    // A second, healthy solve in the same process works.
+    let mut ok = ida_with(
+        Box::new(|t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    ok.solve_to(2.0).unwrap();
+    assert!(close_to_exact(ok.y(), 2.0, 1e-4));
+}
+
+#[test]
+fn cvode_rhs_panic_becomes_callback_panic() {
+    let mut cv = Cvode::new(
+        Multistep::Bdf,
+        0.0,
+        &[1.0],
+        Box::new(|t, _y, _yd| panic!("rhs exploded at {t}")),
+        None,
+        &CvodeOptions::default(),
+    )
+    .unwrap();
+    let err = cv.solve_to(1.0).unwrap_err();
+    assert!(
+        matches!(&err, SolverError::CallbackPanic { message, .. } if message.contains("exploded")),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn single_nan_residual_is_retried_and_solve_succeeds() {
+    let mut nan_done = false;
+    let mut ida = ida_with(
+        Box::new(move |t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            if t > 1.0 && !nan_done {
+                nan_done = true;
+                r[0] = f64::NAN;
+            }
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    ida.solve_to(3.0).unwrap();
+    assert!(close_to_exact(ida.y(), 3.0, 1e-4), "{:?}", ida.y());
+}
+
+#[test]
+fn nan_rhs_from_the_start_ends_in_cvode_first_rhsfunc_flag_error() {
+    let mut cv = Cvode::new(
+        Multistep::Adams,
+        0.0,
+        &exact(0.0),
+        Box::new(|_t, _y, yd| {
+            yd[0] = f64::NAN;
+            yd[1] = 0.0;
+            Ok(())
+        }),
+        None,
+        &CvodeOptions::default(),
+    )
+    .unwrap();
+    let err = cv.solve_to(3.0).unwrap_err();
+    match &err {
+        SolverError::Flag {
+            function,
+            flag,
+            name,
+            t,
+        } => {
+            assert_eq!(*function, "CVode");
+            assert_eq!(name, "CV_FIRST_RHSFUNC_ERR");
+            assert_eq!(*t, 0.0);
+            let text = err.to_string();
+            assert_eq!(
+                text,
+                format!("CVode failed with CV_FIRST_RHSFUNC_ERR ({flag}) at t = 0")
+            );
+        }
+        other => panic!("expected Flag, got {other:?}"),
+    }
+    assert!(
+        cv.last_error_message().is_some(),
+        "error handler captured nothing"
+    );
+}
+
+#[test]
+fn persistent_nan_rhs_beyond_t1_exhausts_default_step_budget_just_before_t1() {
+    // Every step crossing t = 1 fails recoverably, so steps shrink toward t = 1
+    // forever; the default budget (SUNDIALS' mxstep, 500) must stop that.
+    let mut cv = Cvode::new(
+        Multistep::Adams,
+        0.0,
+        &exact(0.0),
+        Box::new(|t, y, yd| {
+            yd[0] = y[1];
+            yd[1] = if t > 1.0 { f64::INFINITY } else { -y[0] };
+            Ok(())
+        }),
+        None,
+        &CvodeOptions::default(),
+    )
+    .unwrap();
+    match cv.solve_to(3.0) {
+        Err(SolverError::TooMuchWork { t, max_steps }) => {
+            assert_eq!(max_steps, 500);
+            assert!((0.9..=1.0).contains(&t), "t = {t}");
+        }
+        Err(SolverError::Flag { t, .. }) => assert!((0.9..=1.0).contains(&t), "t = {t}"),
+        other => panic!("expected an error near t = 1, got {other:?}"),
+    }
+}
+
+#[test]
+fn recoverable_failure_once_then_success_is_ok() {
+    let mut failed = false;
+    let mut ida = ida_with(
+        Box::new(move |t, y, yp, r| {
+            if t > 1.0 && !failed {
+                failed = true;
+                return Err(CallbackError::Recoverable("try a smaller step".into()));
+            }
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    ida.solve_to(3.0).unwrap();
+    assert!(close_to_exact(ida.y(), 3.0, 1e-4));
+}
+
+#[test]
+fn fatal_callback_error_becomes_callback_failed_with_message() {
+    let mut ida = ida_with(
+        Box::new(|t, y, yp, r| {
+            if t > 1.0 {
+                return Err(CallbackError::Fatal("link broke".into()));
+            }
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    match ida.solve_to(3.0) {
+        Err(SolverError::CallbackFailed { t, message }) => {
+            assert!(t > 1.0 && t < 3.0);
+            assert_eq!(message, "link broke");
+        }
+        other => panic!("expected CallbackFailed, got {other:?}"),
+    }
+}
+
+#[test]
+fn step_budget_gives_too_much_work_with_time_reached() {
+    let opts = IdaOptions {
+        max_steps: Some(10),
+        ..IdaOptions::default()
+    };
+    let mut ida = ida_with(
+        Box::new(|t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &opts,
+    );
+    let err = ida.solve_to(100.0).unwrap_err();
+    match err {
+        SolverError::TooMuchWork { t, max_steps } => {
+            assert_eq!(max_steps, 10);
+            assert!(t > 0.0 && t < 100.0);
+            assert_eq!(ida.stats().steps, 10);
+        }
+        other => panic!("expected TooMuchWork, got {other:?}"),
+    }
+}
+
+#[test]
+fn wall_clock_budget_gives_wall_clock_error() {
+    let limit = Duration::from_millis(50);
+    let opts = CvodeOptions {
+        max_wall_clock: Some(limit),
+        ..CvodeOptions::default()
+    };
+    let mut cv = Cvode::new(
+        Multistep::Bdf,
+        0.0,
+        &exact(0.0),
+        Box::new(|_t, y, yd| {
+            std::thread::sleep(Duration::from_millis(2));
+            yd[0] = y[1];
+            yd[1] = -y[0];
+            Ok(())
+        }),
+        None,
+        &CvodeOptions {
+            rtol: 1e-10,
+            atol: vec![1e-10],
+            ..opts
+        },
+    )
+    .unwrap();
+    let start = std::time::Instant::now();
+    match cv.solve_to(1.0e4) {
+        Err(e @ SolverError::WallClock { .. }) => {
+            assert!(e.time().unwrap() > 0.0);
+            assert!(matches!(e, SolverError::WallClock { limit: l, .. } if l == limit));
+        }
+        other => panic!("expected WallClock, got {other:?}"),
+    }
+    assert!(start.elapsed() < Duration::from_secs(2));
+}
+
+#[test]
+fn root_beyond_tout_is_returned_by_the_next_call_at_pi() {
+    let mut cv = Cvode::new(
+        Multistep::Adams,
+        0.0,
+        &exact(0.0),
+        Box::new(|_t, y, yd| {
+            yd[0] = y[1];
+            yd[1] = -y[0];
+            Ok(())
+        }),
+        None,
+        &CvodeOptions {
+            rtol: 1e-8,
+            atol: vec![1e-10],
+            ..CvodeOptions::default()
+        },
+    )
+    .unwrap();
+    // g = y1 = sin t crosses zero (decreasing) at t = pi.
+    cv.set_roots(
+        1,
+        Box::new(|_t, y, g| {
+            g[0] = y[0];
+            Ok(())
+        }),
+    )
+    .unwrap();
+    let mut events = Vec::new();
+    for tout in [1.0, 2.0, 3.0, 3.1, 3.5] {
+        loop {
+            let step = cv.solve_to(tout).unwrap();
+            events.push((step.t, step.event.clone()));
+            if step.event == StepEvent::Reached {
+                assert!(close_to_exact(cv.y(), tout, 1e-6));
+                break;
+            }
+        }
+    }
+    let roots: Vec<_> = events
+        .iter()
+        .filter(|(_, e)| matches!(e, StepEvent::Root(_)))
+        .collect();
+    assert_eq!(roots.len(), 1, "{events:?}");
+    assert!(
+        (roots[0].0 - std::f64::consts::PI).abs() < 1e-6,
+        "{events:?}"
+    );
+    assert_eq!(roots[0].1, StepEvent::Root(vec![-1]));
+    let times: Vec<f64> = events.iter().map(|(t, _)| *t).collect();
+    assert!(
+        times.windows(2).all(|w| w[0] <= w[1]),
+        "times not monotone: {times:?}"
+    );
+}
+
+#[test]
+fn stop_time_is_reported_and_not_passed() {
+    let opts = IdaOptions {
+        stop_time: Some(1.5),
+        ..IdaOptions::default()
+    };
+    let mut ida = ida_with(
+        Box::new(|t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &opts,
+    );
+    let s1 = ida.solve_to(1.0).unwrap();
+    assert_eq!((s1.t, s1.event), (1.0, StepEvent::Reached));
+    let s2 = ida.solve_to(2.0).unwrap();
+    assert_eq!((s2.t, s2.event), (1.5, StepEvent::StopTime));
+    assert!(close_to_exact(ida.y(), 1.5, 1e-4));
+}
+
+#[test]
+fn invalid_inputs_are_reported_not_panicking() {
+    let residual = || -> bondmech::sundials::ResidualFn {
+        Box::new(|t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            Ok(())
+        })
+    };
+    let bad_atol = IdaOptions {
+        atol: vec![1e-8, 1e-8, 1e-8],
+        ..IdaOptions::default()
+    };
+    let err = Ida::new(0.0, &[0.0, 1.0], &[1.0, 0.0], residual(), None, &bad_atol)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(&err, SolverError::InvalidInput(m) if m.contains("atol")),
+        "{err}"
+    );
+    let err = Ida::new(
+        0.0,
+        &[0.0, 1.0],
+        &[1.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .err()
+    .unwrap();
+    assert!(
+        matches!(&err, SolverError::InvalidInput(m) if m.contains("yp0")),
+        "{err}"
+    );
+    let err = Ida::new(
+        0.0,
+        &[f64::NAN, 1.0],
+        &[1.0, 0.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .err()
+    .unwrap();
+    assert!(matches!(err, SolverError::InvalidInput(_)));
+    let mut ida = Ida::new(
+        0.0,
+        &[0.0, 1.0],
+        &[1.0, 0.0],
+        residual(),
+        None,
+        &IdaOptions::default(),
+    )
+    .unwrap();
+    ida.solve_to(1.0).unwrap();
+    assert!(matches!(
+        ida.solve_to(0.5),
+        Err(SolverError::InvalidInput(_))
+    ));
+    let mut out = [0.0; 3];
+    assert!(matches!(
+        ida.dky(1.0, 0, &mut out),
+        Err(SolverError::InvalidInput(_))
+    ));
+}
+
+#[test]
+fn reinit_restarts_and_stats_accumulate() {
+    let mut ida = ida_with(
+        Box::new(|t, y, yp, r| {
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        &IdaOptions::default(),
+    );
+    ida.solve_to(1.0).unwrap();
+    let mut total = ida.stats();
+    ida.reinit(0.0, &exact(0.0), &[1.0, 0.0]).unwrap();
+    assert_eq!(ida.t(), 0.0);
+    ida.solve_to(1.0).unwrap();
+    let second = ida.stats();
+    assert!(close_to_exact(ida.y(), 1.0, 1e-4));
+    let first_steps = total.steps;
+    total.accumulate(&second);
+    assert_eq!(total.steps, first_steps + second.steps);
+    assert!(second.steps > 0 && second.residual_evals > 0);
+}
+
+#[test]
+fn solvers_are_send() {
+    fn is_send<T: Send>() {}
+    is_send::<Ida>();
+    is_send::<Cvode>();
+    // And actually usable from another thread.
+    let handle = std::thread::spawn(|| {
+        let mut ida = ida_with(
+            Box::new(|t, y, yp, r| {
+                oscillator(t, y, yp, r);
+                Ok(())
+            }),
+            &IdaOptions::default(),
+        );
+        ida.solve_to(1.0).unwrap();
+        ida.y().to_vec()
+    });
+    assert!(close_to_exact(&handle.join().unwrap(), 1.0, 1e-4));
+}
+
+#[test]
+fn linked_sundials_is_6_4_and_matches_build_header_version() {
+    let (major, minor, patch) = version();
+    assert_eq!((major, minor), (6, 4));
+    assert_eq!(header_version(), format!("{major}.{minor}.{patch}"));
+}
+
+#[test]
+fn unused_result_type_alias_compiles() {
+    let ok: CallbackResult = Ok(());
+    assert!(ok.is_ok());
+}
