@@ -1,0 +1,191 @@
+//! The command-line contract of docs/scene-format.md: columns, summary keys, exit codes and
+//! one-line error messages naming the JSON path or the solver failure and its time.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bondmech(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args(args)
+        .output()
+        .expect("bondmech runs")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bondmech-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+#[test]
+fn run_writes_standard_columns_and_summary_keys() {
+    let csv = tmp("dp.csv");
+    let sum = tmp("dp.json");
+    let out = bondmech(&[
+        "run",
+        &scene("double_pendulum.json"),
+        "--t-end",
+        "0.5",
+        "--out",
+        csv.to_str().unwrap(),
+        "--summary",
+        sum.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    for col in [
+        "t",
+        "bar1.x",
+        "bar1.y",
+        "bar1.angle",
+        "bar1.vx",
+        "bar1.vy",
+        "bar1.omega",
+        "bar2.x",
+        "bar2.omega",
+        "bar2.A.x",
+        "bar2.A.y",
+        "energy",
+        "constraint_error",
+    ] {
+        assert!(header.contains(&col), "missing column {col} in {header:?}");
+    }
+    let rows = text.lines().count() - 1;
+    assert!(rows >= 2);
+    let last: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    assert_eq!(last[0].parse::<f64>().unwrap(), 0.5);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&sum).unwrap()).unwrap();
+    for key in [
+        "formulation",
+        "steps",
+        "residual_evals",
+        "jacobian_evals",
+        "error_test_failures",
+        "nonlinear_iterations",
+        "cpu_seconds",
+        "max_constraint_error",
+        "energy_drift",
+    ] {
+        assert!(s.get(key).is_some(), "summary lacks {key}: {s}");
+    }
+    assert_eq!(s["formulation"], "ggl");
+}
+
+#[test]
+fn cli_and_library_agree_on_the_same_scene() {
+    let csv = tmp("agree.csv");
+    let out = bondmech(&[
+        "run",
+        &scene("two_bars.json"),
+        "--t-end",
+        "0.3",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sc = bondmech::Scene::from_path(scene("two_bars.json")).unwrap();
+    let model = bondmech::Model::new(&sc).unwrap();
+    let mut o = model.default_options();
+    let step = sc.solve.output_step.unwrap_or(0.3 / 100.0).min(0.3);
+    o.output_times = bondmech::SolveOptions::times(0.3, step);
+    let sol = model.solve(&o).unwrap();
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), sol.to_csv());
+}
+
+#[test]
+fn bad_scene_exits_nonzero_with_one_line_naming_the_path() {
+    let bad = tmp("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"name":"b","dimension":2,"gravity":[0,-9.81],
+           "bodies":[{"name":"bar1","mass":-1.0,"inertia":0.1,"position":[0,0],"angle":0}],
+           "joints":[{"name":"pin","type":"revolute","bodies":["ground","bar9"],"points":[[0,0],[0,0]]}],
+           "solve":{"t_end":1.0}}"#,
+    )
+    .unwrap();
+    let out = bondmech(&["run", bad.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(err.contains("bodies[0].mass"), "{err}");
+    assert!(err.contains("joints[0].bodies[1]"), "{err}");
+}
+
+#[test]
+fn missing_file_names_the_file() {
+    let out = bondmech(&["run", "/nonexistent/scene.json"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/nonexistent/scene.json"), "{err}");
+}
+
+#[test]
+fn solver_failure_exits_nonzero_naming_the_time() {
+    let s = tmp("budget.json");
+    let text = std::fs::read_to_string(scene("double_pendulum.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["solve"]["max_steps"] = serde_json::json!(2);
+    std::fs::write(&s, v.to_string()).unwrap();
+    let out = bondmech(&[
+        "run",
+        s.to_str().unwrap(),
+        "--out",
+        tmp("x.csv").to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("t = "), "{err}");
+}
+
+#[test]
+fn unknown_formulation_flag_is_refused() {
+    let out = bondmech(&["run", &scene("pendulum.json"), "--formulation", "magic"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--formulation"));
+}
+
+#[test]
+fn compare_prints_both_sides_and_writes_json() {
+    let j = tmp("cmp.json");
+    let out = bondmech(&[
+        "compare",
+        &scene("pendulum.json"),
+        "--t-end",
+        "0.5",
+        "--json",
+        j.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.contains("DAE") && table.contains("decoupled"),
+        "{table}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    assert_eq!(v["dae"]["solver"], "IDA");
+    assert_eq!(v["decoupled"]["solver"], "CVODE");
+    assert!(v["position"]["value"].as_f64().unwrap().is_finite());
+}
