@@ -157,6 +157,7 @@ pub struct CausalityReport {
     pub bond_causality: Vec<BondCausality>,
 }
 
+#[derive(Clone)]
 struct Scap<'g> {
     g: &'g BondGraph,
     adj: Vec<Vec<BondId>>,
@@ -339,6 +340,32 @@ impl<'g> Scap<'g> {
         }
     }
 
+    /// Assigns every free bond, choosing for each the orientation that creates no new conflict
+    /// when one exists. Returns the junction of the first unavoidable conflict, if any.
+    fn complete(&mut self) -> Option<String> {
+        let base = self.conflicts.len();
+        for i in 0..self.g.bonds.len() {
+            if self.state[i].is_some() {
+                continue;
+            }
+            let bond = self.g.bond(BondId(i)).clone();
+            let before = self.conflicts.len();
+            let mut trial = self.clone();
+            trial.set(BondId(i), bond.to, bond.from, Stage::Arbitrary, None, vec![]);
+            trial.propagate();
+            if trial.conflicts.len() > before {
+                let mut retry = self.clone();
+                retry.set(BondId(i), bond.from, bond.from, Stage::Arbitrary, None, vec![]);
+                retry.propagate();
+                if retry.conflicts.len() == before {
+                    trial = retry;
+                }
+            }
+            *self = trial;
+        }
+        (self.conflicts.len() > base).then(|| self.conflicts[base].junction.clone())
+    }
+
     fn two_port(&mut self, el: ElementId, kind: ElementKind, bonds: &[BondId]) {
         let (a, b) = (bonds[0], bonds[1]);
         let ra = self.receiver(a).map(|r| r == el);
@@ -411,22 +438,44 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
     s.queue.extend(ids.iter().copied());
     s.propagate();
 
-    // 2. storage: inertias first, then capacitors, integral causality preferred
+    // 2. storage: inertias first, then capacitors, integral causality preferred. A choice is
+    //    kept only if the rest of the graph can still be completed without a conflict (greedy
+    //    look-ahead); otherwise the storage is made differential: this catches constraints
+    //    that close kinematic loops, which plain local propagation cannot see.
     for wanted in [ElementKind::I, ElementKind::C] {
         for &e in &ids {
             if kind(e) != wanted {
                 continue;
             }
             let b = s.adj[e.0][0];
-            if s.receiver(b).is_none() {
-                let r = if wanted == ElementKind::I {
-                    e
-                } else {
-                    graph.other_end(b, e)
-                };
-                s.set(b, r, e, Stage::Storage, None, vec![]);
-                s.propagate();
+            if s.receiver(b).is_some() {
+                continue;
             }
+            let other = graph.other_end(b, e);
+            let (integral, differential) = if wanted == ElementKind::I {
+                (e, other)
+            } else {
+                (other, e)
+            };
+            let base = s.conflicts.len();
+            let mut trial = s.clone();
+            trial.set(b, integral, e, Stage::Storage, None, vec![]);
+            trial.propagate();
+            let culprit = if trial.conflicts.len() > base {
+                Some(trial.conflicts[base].junction.clone())
+            } else {
+                trial.clone().complete()
+            };
+            let Some(culprit) = culprit else {
+                s = trial;
+                continue;
+            };
+            let mut alt = s.clone();
+            let via = graph.element_by_name(&culprit);
+            alt.set(b, differential, e, Stage::Storage, via, vec![]);
+            alt.propagate();
+            let alt_ok = alt.conflicts.len() == base && alt.clone().complete().is_none();
+            s = if alt_ok { alt } else { trial };
         }
     }
 
@@ -461,14 +510,8 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
         }
     }
 
-    // 4. leftovers
-    for i in 0..graph.bonds.len() {
-        if s.state[i].is_none() {
-            let bond = graph.bond(BondId(i));
-            s.set(BondId(i), bond.to, bond.from, Stage::Arbitrary, None, vec![]);
-            s.propagate();
-        }
-    }
+    // 4. leftovers, preferring the orientation that creates no conflict
+    s.complete();
 
     let bonds: Vec<BondAssignment> = s.state.into_iter().map(|a| a.expect("all bonds assigned")).collect();
     let mut storage = Vec::new();
