@@ -41,7 +41,10 @@ fn bar(name: &str, points: &[(&str, f64, f64)]) -> PlanarBodySpec {
         mass: 1.0,
         inertia: 1.0 / 12.0,
         gravity: 9.81,
-        points: points.iter().map(|(n, x, y)| (n.to_string(), *x, *y)).collect(),
+        points: points
+            .iter()
+            .map(|(n, x, y)| (n.to_string(), *x, *y))
+            .collect(),
     }
 }
 
@@ -126,11 +129,19 @@ fn rigid_body_ejs_fragment_has_six_integral_inertias_with_body_and_inertial_port
         },
     );
     for (k, &p) in b.force_ports.unwrap().iter().enumerate() {
-        let e = g.add_element(format!("F{k}"), ElementKind::Se, Some(Parameter::Expr("sin(t)".into())));
+        let e = g.add_element(
+            format!("F{k}"),
+            ElementKind::Se,
+            Some(Parameter::Expr("sin(t)".into())),
+        );
         g.add_bond(e, p);
     }
     for (k, &p) in b.torque_ports.unwrap().iter().enumerate() {
-        let e = g.add_element(format!("T{k}"), ElementKind::Se, Some(Parameter::Const(0.0)));
+        let e = g.add_element(
+            format!("T{k}"),
+            ElementKind::Se,
+            Some(Parameter::Const(0.0)),
+        );
         g.add_bond(e, p);
     }
     let r = report(&g);
@@ -143,7 +154,12 @@ fn rigid_body_ejs_fragment_has_six_integral_inertias_with_body_and_inertial_port
 
 /// One bar in the translating frame (Fig. 24) with its points; Sf-free points are 0-junctions
 /// `s<P><axis>` summing V_O and the MTF term (the point's own 1-junction is a pure identity).
-fn bar_json(elements: &mut Vec<Value>, bonds: &mut Vec<Value>, b: &str, points: &[(&str, &str, &str)]) {
+fn bar_json(
+    elements: &mut Vec<Value>,
+    bonds: &mut Vec<Value>,
+    b: &str,
+    points: &[(&str, &str, &str)],
+) {
     for (j, i) in [("vx", "mx"), ("vy", "my"), ("w", "J")] {
         elements.push(json!({"name": format!("{b}{j}"), "kind": "1"}));
         elements.push(json!({"name": format!("{b}{i}"), "kind": "I", "value": 1.0}));
@@ -171,7 +187,12 @@ fn hinged_bars_json(pinned: bool) -> Value {
         p1.push(("O", "0.5*sin(x_1w)", "-0.5*cos(x_1w)"));
     }
     bar_json(&mut e, &mut b, "1", &p1);
-    bar_json(&mut e, &mut b, "2", &[("A", "0.5*sin(x_2w)", "-0.5*cos(x_2w)")]);
+    bar_json(
+        &mut e,
+        &mut b,
+        "2",
+        &[("A", "0.5*sin(x_2w)", "-0.5*cos(x_2w)")],
+    );
     // Fig. 16: a 1-junction per axis equating V_A seen from both bars
     for axis in ["x", "y"] {
         let j = format!("A{axis}");
@@ -207,12 +228,23 @@ fn two_hinged_bars_fragment_have_four_integral_two_differential() {
     let mut g = BondGraph::new();
     let b1 = planar_body_translating(&mut g, &bar("bar1", &[("A", 0.5, 0.0)]));
     let b2 = planar_body_translating(&mut g, &bar("bar2", &[("A", -0.5, 0.0), ("B", 0.5, 0.0)]));
-    revolute(&mut g, "knee", b1.point("A").unwrap(), b2.point("A").unwrap());
+    revolute(
+        &mut g,
+        "knee",
+        b1.point("A").unwrap(),
+        b2.point("A").unwrap(),
+    );
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (4, 2));
     assert_eq!(r.dof, 4);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
-    assert!(r.differential.iter().all(|d| d.element.starts_with("bar2.")), "{:?}", r.differential);
+    assert!(
+        r.differential
+            .iter()
+            .all(|d| d.element.starts_with("bar2.")),
+        "{:?}",
+        r.differential
+    );
 }
 
 // ---------------------------------------------------------------- 16.6 decoupled bars (Fig. 18)
@@ -222,7 +254,14 @@ fn decoupled_hinged_bars_have_six_integral_inertias_and_two_spring_states() {
     let mut g = BondGraph::new();
     let b1 = planar_body_translating(&mut g, &bar("bar1", &[("A", 0.5, 0.0)]));
     let b2 = planar_body_translating(&mut g, &bar("bar2", &[("A", -0.5, 0.0)]));
-    decoupled_revolute(&mut g, "knee", b1.point("A").unwrap(), Some(b2.point("A").unwrap()), 1e8, None);
+    decoupled_revolute(
+        &mut g,
+        "knee",
+        b1.point("A").unwrap(),
+        Some(b2.point("A").unwrap()),
+        1e8,
+        None,
+    );
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (6, 0));
     assert_eq!(r.dof, 8);
@@ -244,7 +283,11 @@ fn double_pendulum(decoupled: bool) -> BondGraph {
     let mut g = BondGraph::new();
     let b1 = planar_body_translating(&mut g, &bar("bar1", &[("O", -0.5, 0.0), ("A", 0.5, 0.0)]));
     let b2 = planar_body_translating(&mut g, &bar("bar2", &[("A", -0.5, 0.0), ("B", 0.5, 0.0)]));
-    let (o, a1, a2) = (b1.point("O").unwrap(), b1.point("A").unwrap(), b2.point("A").unwrap());
+    let (o, a1, a2) = (
+        b1.point("O").unwrap(),
+        b1.point("A").unwrap(),
+        b2.point("A").unwrap(),
+    );
     if decoupled {
         decoupled_revolute(&mut g, "hip", o, None, 1e6, Some(10.0));
         decoupled_revolute(&mut g, "knee", a1, Some(a2), 1e6, Some(10.0));
@@ -302,10 +345,21 @@ fn slider_crank_has_one_degree_of_freedom() {
     let rod = planar_body_translating(&mut g, &bar("rod", &[("A", -0.15, 0.0), ("B", 0.15, 0.0)]));
     let piston = point_mass(&mut g, "piston", 0.5, 9.81);
     pin_to_ground(&mut g, "O", crank.point("O").unwrap());
-    revolute(&mut g, "A", crank.point("A").unwrap(), rod.point("A").unwrap());
+    revolute(
+        &mut g,
+        "A",
+        crank.point("A").unwrap(),
+        rod.point("A").unwrap(),
+    );
     revolute(&mut g, "B", rod.point("B").unwrap(), &piston);
     prismatic(&mut g, "cyl", (&piston, None), None, Axis::Y);
-    force(&mut g, "Eg", &piston, Axis::Y, Parameter::Expr("100*sin(t)".into()));
+    force(
+        &mut g,
+        "Eg",
+        &piston,
+        Axis::Y,
+        Parameter::Expr("100*sin(t)".into()),
+    );
     let r = report(&g);
     let (integral, differential) = inertia_counts(&g, &r);
     assert_eq!((integral, differential), (1, 7));
@@ -388,10 +442,19 @@ fn resistor_resistor_loop_is_reported_as_algebraic() {
                   {"from": "jB", "to": "R2"}, {"from": "jB", "to": "jC"}, {"from": "jC", "to": "m"}]
     }));
     let r = report(&g);
-    assert_eq!(r.algebraic_loops, vec![vec!["R1".to_string(), "R2".to_string()]]);
+    assert_eq!(
+        r.algebraic_loops,
+        vec![vec!["R1".to_string(), "R2".to_string()]]
+    );
     assert_eq!(r.dof, 1);
     let text = serde_json::to_value(&r).unwrap();
-    for key in ["dof", "states", "differential", "conflicts", "algebraic_loops"] {
+    for key in [
+        "dof",
+        "states",
+        "differential",
+        "conflicts",
+        "algebraic_loops",
+    ] {
         assert!(text.get(key).is_some(), "missing {key}");
     }
 }

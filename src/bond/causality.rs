@@ -229,7 +229,10 @@ impl<'g> Scap<'g> {
     }
 
     fn origin(&self, b: BondId) -> ElementId {
-        self.state[b.0].as_ref().map(|a| a.origin).unwrap_or(ElementId(0))
+        self.state[b.0]
+            .as_ref()
+            .map(|a| a.origin)
+            .unwrap_or(ElementId(0))
     }
 
     /// Origin of the most recently fixed of `causes`.
@@ -351,11 +354,25 @@ impl<'g> Scap<'g> {
             let bond = self.g.bond(BondId(i)).clone();
             let before = self.conflicts.len();
             let mut trial = self.clone();
-            trial.set(BondId(i), bond.to, bond.from, Stage::Arbitrary, None, vec![]);
+            trial.set(
+                BondId(i),
+                bond.to,
+                bond.from,
+                Stage::Arbitrary,
+                None,
+                vec![],
+            );
             trial.propagate();
             if trial.conflicts.len() > before {
                 let mut retry = self.clone();
-                retry.set(BondId(i), bond.from, bond.from, Stage::Arbitrary, None, vec![]);
+                retry.set(
+                    BondId(i),
+                    bond.from,
+                    bond.from,
+                    Stage::Arbitrary,
+                    None,
+                    vec![],
+                );
                 retry.propagate();
                 if retry.conflicts.len() == before {
                     trial = retry;
@@ -513,7 +530,11 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
     // 4. leftovers, preferring the orientation that creates no conflict
     s.complete();
 
-    let bonds: Vec<BondAssignment> = s.state.into_iter().map(|a| a.expect("all bonds assigned")).collect();
+    let bonds: Vec<BondAssignment> = s
+        .state
+        .into_iter()
+        .map(|a| a.expect("all bonds assigned"))
+        .collect();
     let mut storage = Vec::new();
     for wanted in [ElementKind::I, ElementKind::C] {
         for &e in &ids {
@@ -549,7 +570,10 @@ impl Causality {
 
     /// Causality of a storage element, if it is one.
     pub fn storage_causality(&self, e: ElementId) -> Option<StorageCausality> {
-        self.storage.iter().find(|(id, _)| *id == e).map(|(_, c)| *c)
+        self.storage
+            .iter()
+            .find(|(id, _)| *id == e)
+            .map(|(_, c)| *c)
     }
 
     /// Is this storage element differential?
@@ -576,7 +600,11 @@ impl Causality {
             match c {
                 StorageCausality::Integral => {
                     states.push(el.name.clone());
-                    let prefix = if el.kind == ElementKind::I { "p_" } else { "q_" };
+                    let prefix = if el.kind == ElementKind::I {
+                        "p_"
+                    } else {
+                        "q_"
+                    };
                     state_variables.push(format!("{prefix}{}", el.name));
                     if el.kind == ElementKind::I {
                         integral_inertias += 1;
@@ -588,7 +616,11 @@ impl Causality {
                         element: el.name.clone(),
                         bond: graph.bond(b).name.clone(),
                         forced_by_junction: name(a.via.unwrap_or(a.effort_source)),
-                        via_bonds: a.causes.iter().map(|c| graph.bond(*c).name.clone()).collect(),
+                        via_bonds: a
+                            .causes
+                            .iter()
+                            .map(|c| graph.bond(*c).name.clone())
+                            .collect(),
                         origin: name(a.origin),
                     });
                 }

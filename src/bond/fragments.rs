@@ -126,9 +126,21 @@ fn one_port(
 fn body_core(g: &mut BondGraph, spec: &PlanarBodySpec, keep_zero_j: bool) -> PlanarBody {
     let n = &spec.name;
     let vx = g.add_junction(format!("{n}.v_x"), ElementKind::One);
-    let mx = one_port(g, format!("{n}.I_m_x"), ElementKind::I, Parameter::Const(spec.mass), vx);
+    let mx = one_port(
+        g,
+        format!("{n}.I_m_x"),
+        ElementKind::I,
+        Parameter::Const(spec.mass),
+        vx,
+    );
     let vy = g.add_junction(format!("{n}.v_y"), ElementKind::One);
-    let my = one_port(g, format!("{n}.I_m_y"), ElementKind::I, Parameter::Const(spec.mass), vy);
+    let my = one_port(
+        g,
+        format!("{n}.I_m_y"),
+        ElementKind::I,
+        Parameter::Const(spec.mass),
+        vy,
+    );
     let omega = g.add_junction(format!("{n}.omega"), ElementKind::One);
     let mut inertias = vec![mx, my];
     if spec.inertia != 0.0 || keep_zero_j {
@@ -212,8 +224,14 @@ pub fn planar_body_translating(g: &mut BondGraph, spec: &PlanarBodySpec) -> Plan
             [None, None]
         } else {
             [
-                Some(Parameter::Expr(linear(&[(-ax, s.clone()), (-ay, c.clone())]))),
-                Some(Parameter::Expr(linear(&[(*ax, c.clone()), (-ay, s.clone())]))),
+                Some(Parameter::Expr(linear(&[
+                    (-ax, s.clone()),
+                    (-ay, c.clone()),
+                ]))),
+                Some(Parameter::Expr(linear(&[
+                    (*ax, c.clone()),
+                    (-ay, s.clone()),
+                ]))),
             ]
         };
         add_point(g, &mut body, p, moduli, ElementKind::MTF);
@@ -274,9 +292,21 @@ pub fn planar_body_fixed_frame(g: &mut BondGraph, spec: &PlanarBodySpec) -> Plan
 /// piston of the slider-crank (Fig. 29). Its centre is its only point.
 pub fn point_mass(g: &mut BondGraph, name: &str, mass: f64, gravity: f64) -> PointJunctions {
     let vx = g.add_junction(format!("{name}.v_x"), ElementKind::One);
-    one_port(g, format!("{name}.I_m_x"), ElementKind::I, Parameter::Const(mass), vx);
+    one_port(
+        g,
+        format!("{name}.I_m_x"),
+        ElementKind::I,
+        Parameter::Const(mass),
+        vx,
+    );
     let vy = g.add_junction(format!("{name}.v_y"), ElementKind::One);
-    one_port(g, format!("{name}.I_m_y"), ElementKind::I, Parameter::Const(mass), vy);
+    one_port(
+        g,
+        format!("{name}.I_m_y"),
+        ElementKind::I,
+        Parameter::Const(mass),
+        vy,
+    );
     if gravity != 0.0 {
         one_port(
             g,
@@ -429,7 +459,12 @@ pub fn equate_flows(g: &mut BondGraph, name: String, a: ElementId, b: ElementId)
 /// 1-junction per axis imposing `V_A1 = V_A2`; its effort is the joint force.
 pub fn revolute(g: &mut BondGraph, name: &str, a: &PointJunctions, b: &PointJunctions) {
     for axis in [Axis::X, Axis::Y] {
-        equate_flows(g, format!("{name}.{}", axis_name(axis)), a.axis(axis), b.axis(axis));
+        equate_flows(
+            g,
+            format!("{name}.{}", axis_name(axis)),
+            a.axis(axis),
+            b.axis(axis),
+        );
     }
 }
 
@@ -481,7 +516,13 @@ pub fn prismatic(
                 a.0.axis(across),
             );
             if let Some(w) = a.1 {
-                one_port(g, format!("{name}.w"), ElementKind::Sf, Parameter::Const(0.0), w);
+                one_port(
+                    g,
+                    format!("{name}.w"),
+                    ElementKind::Sf,
+                    Parameter::Const(0.0),
+                    w,
+                );
             }
         }
         Some(b) => {
@@ -496,7 +537,13 @@ pub fn prismatic(
                     equate_flows(g, format!("{name}.w"), wa, wb);
                 }
                 (Some(w), None) | (None, Some(w)) => {
-                    one_port(g, format!("{name}.w"), ElementKind::Sf, Parameter::Const(0.0), w);
+                    one_port(
+                        g,
+                        format!("{name}.w"),
+                        ElementKind::Sf,
+                        Parameter::Const(0.0),
+                        w,
+                    );
                 }
                 (None, None) => {}
             }
@@ -529,10 +576,22 @@ pub fn spring_damper(
         }
     };
     if let Some(k) = stiffness {
-        one_port(g, format!("{name}.{ax}.k"), ElementKind::C, Parameter::Const(1.0 / k), rel);
+        one_port(
+            g,
+            format!("{name}.{ax}.k"),
+            ElementKind::C,
+            Parameter::Const(1.0 / k),
+            rel,
+        );
     }
     if let Some(c) = damping {
-        one_port(g, format!("{name}.{ax}.c"), ElementKind::R, Parameter::Const(c), rel);
+        one_port(
+            g,
+            format!("{name}.{ax}.c"),
+            ElementKind::R,
+            Parameter::Const(c),
+            rel,
+        );
     }
 }
 
@@ -552,7 +611,13 @@ pub fn decoupled_revolute(
 }
 
 /// A force load: Se on one velocity component of a point (e.g. the gas force Se:Eg).
-pub fn force(g: &mut BondGraph, name: &str, p: &PointJunctions, axis: Axis, value: Parameter) -> ElementId {
+pub fn force(
+    g: &mut BondGraph,
+    name: &str,
+    p: &PointJunctions,
+    axis: Axis,
+    value: Parameter,
+) -> ElementId {
     one_port(g, name.into(), ElementKind::Se, value, p.axis(axis))
 }
 

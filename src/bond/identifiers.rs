@@ -70,7 +70,8 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
             }
         } else if c.is_alphabetic() || c == '_' {
             let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_' || chars[i] == '.')
+            while i < chars.len()
+                && (chars[i].is_alphanumeric() || chars[i] == '_' || chars[i] == '.')
             {
                 i += 1;
             }
@@ -84,8 +85,7 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
                 if !FUNCTIONS.contains(&name.as_str()) {
                     return Err(ScanError::UnknownFunction(name));
                 }
-            } else if name != "pi" && !FUNCTIONS.contains(&name.as_str()) && !vars.contains(&name)
-            {
+            } else if name != "pi" && !FUNCTIONS.contains(&name.as_str()) && !vars.contains(&name) {
                 vars.push(name);
             }
         } else {
@@ -129,6 +129,9 @@ mod tests {
             Err(ScanError::UnknownFunction("foo".into()))
         );
         assert_eq!(variables("sin(t"), Err(ScanError::Unbalanced));
-        assert!(matches!(variables("t # 2"), Err(ScanError::BadCharacter('#', _))));
+        assert!(matches!(
+            variables("t # 2"),
+            Err(ScanError::BadCharacter('#', _))
+        ));
     }
 }

@@ -174,7 +174,8 @@ impl RawBondGraph {
                 by_name.entry(raw.name.as_str()).or_insert(id);
                 continue;
             };
-            let parameter = element_parameter(raw, kind, &path, &mut errors, &mut stiffness_checks, i);
+            let parameter =
+                element_parameter(raw, kind, &path, &mut errors, &mut stiffness_checks, i);
             let id = graph.add_element(raw.name.clone(), kind, parameter);
             if let Some(l) = &raw.label {
                 graph.set_label(id, l.clone());

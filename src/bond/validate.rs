@@ -221,7 +221,10 @@ pub fn validate(graph: &BondGraph) -> Result<(), ValidationErrors> {
 
 /// Collects the errors of `graph`; bond counts are not checked for elements in `skip_counts`
 /// (elements touched by bonds that could not be resolved while reading JSON).
-pub(crate) fn collect_errors(graph: &BondGraph, skip_counts: &HashSet<ElementId>) -> Vec<BondError> {
+pub(crate) fn collect_errors(
+    graph: &BondGraph,
+    skip_counts: &HashSet<ElementId>,
+) -> Vec<BondError> {
     let mut errors = Vec::new();
     if graph.elements.is_empty() {
         errors.push(BondError::EmptyGraph {
