@@ -281,8 +281,8 @@ pub fn planar_body_fixed_frame(g: &mut BondGraph, spec: &PlanarBodySpec) -> Plan
         );
     }
     for (p, ax, ay) in &spec.points {
-        let mx = (*ay != 0.0).then(|| Parameter::Const(-ay));
-        let my = (*ax != 0.0).then(|| Parameter::Const(*ax));
+        let mx = (*ay != 0.0).then_some(Parameter::Const(-ay));
+        let my = (*ax != 0.0).then_some(Parameter::Const(*ax));
         add_point(g, &mut body, p, [mx, my], ElementKind::TF);
     }
     body
