@@ -465,3 +465,40 @@ fn causality_is_deterministic() {
     let b = report(&double_pendulum(false));
     assert_eq!(a, b);
 }
+
+// ---------------------------------------------------------------- 16.4–16.5 body-fixed frames
+
+fn body_fixed_pair(pinned: bool) -> BondGraph {
+    use bondmech::bond::fragments::change_frame;
+    let mut g = BondGraph::new();
+    let b1 = planar_body_fixed_frame(&mut g, &bar("bar1", &[("O", -0.5, 0.0), ("A", 0.5, 0.0)]));
+    let b2 = planar_body_fixed_frame(&mut g, &bar("bar2", &[("A", -0.5, 0.0)]));
+    // Fig. 10: V_A of bar 1 expressed in the axes of bar 2, then Fig. 16's equating 1-junctions
+    let a_in_2 = change_frame(
+        &mut g,
+        "knee.frame",
+        b1.point("A").unwrap(),
+        "x_bar2.omega - x_bar1.omega",
+    );
+    revolute(&mut g, "knee", &a_in_2, b2.point("A").unwrap());
+    if pinned {
+        pin_to_ground(&mut g, "hip", b1.point("O").unwrap());
+    }
+    g
+}
+
+#[test]
+fn body_fixed_hinged_bars_have_four_integral_two_differential() {
+    let g = body_fixed_pair(false);
+    let r = report(&g);
+    assert_eq!(inertia_counts(&g, &r), (4, 2));
+    assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+}
+
+#[test]
+fn body_fixed_double_pendulum_has_two_integral_four_differential() {
+    let g = body_fixed_pair(true);
+    let r = report(&g);
+    assert_eq!(inertia_counts(&g, &r), (2, 4));
+    assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+}

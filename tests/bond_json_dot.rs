@@ -130,3 +130,10 @@ fn dot_renders_with_graphviz() {
     let svg = String::from_utf8_lossy(&out.stdout);
     assert!(svg.contains("<svg"));
 }
+
+#[test]
+fn referenced_variables_list_the_body_angles_used_by_the_mtfs() {
+    let g = double_pendulum();
+    let vars = bondmech::bond::validate::referenced_variables(&g);
+    assert_eq!(vars, vec!["x_bar1.omega", "x_bar2.omega"]);
+}

@@ -10,7 +10,12 @@
 //! 2. inertias, then capacitors, one at a time with **integral** causality (I receives effort,
 //!    C receives flow), propagating after each; a storage already fixed by propagation the other
 //!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
-//!    junction and bonds that forced it are recorded;
+//!    junction and bonds that forced it are recorded. An integral choice is kept only if the
+//!    rest of the graph can still be completed without a conflict (a greedy look-ahead that
+//!    tries both orientations of every free bond); otherwise the storage is made differential
+//!    and `forced_by_junction` names the junction the integral choice would over-determine.
+//!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
+//!    purely local propagation cannot see;
 //! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
 //!    causality that choice forces lies on a zero-order causal path with it: an **algebraic loop**;
 //! 4. any bond still free, arbitrarily, propagating.

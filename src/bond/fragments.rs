@@ -625,3 +625,39 @@ pub fn force(
 pub fn torque(g: &mut BondGraph, name: &str, omega: ElementId, value: Parameter) -> ElementId {
     one_port(g, name.into(), ElementKind::Se, value, omega)
 }
+
+/// Change of reference frame of a point velocity (seed 16.4, Fig. 9–10): with `theta` the angle
+/// of the target frame relative to the source frame (an expression, e.g.
+/// `x_bar2.omega - x_bar1.omega`), `u' = cosθ·u + sinθ·v`, `v' = −sinθ·u + cosθ·v`, built from
+/// four MTFs into two 0-junctions; the efforts go back as `Rᵀ F`. Returns the point's
+/// velocity junctions in the target frame.
+pub fn change_frame(
+    g: &mut BondGraph,
+    name: &str,
+    p: &PointJunctions,
+    theta: &str,
+) -> PointJunctions {
+    let (c, s) = (format!("cos({theta})"), format!("sin({theta})"));
+    let rows = [("x", [c.clone(), s.clone()]), ("y", [format!("-{s}"), c])];
+    let mut out = [ElementId(0); 2];
+    for (k, (axis, moduli)) in rows.into_iter().enumerate() {
+        let sum = g.add_junction(format!("{name}.sum_{axis}"), ElementKind::Zero);
+        for ((src, from), m) in [("x", p.vx), ("y", p.vy)].into_iter().zip(moduli) {
+            let tf = g.add_element(
+                format!("{name}.mtf_{axis}{src}"),
+                ElementKind::MTF,
+                Some(Parameter::Expr(m.clone())),
+            );
+            g.set_label(tf, m.replace('*', "·"));
+            g.add_bond(from, tf);
+            g.add_bond(tf, sum);
+        }
+        out[k] = g.add_junction(format!("{name}.v_{axis}"), ElementKind::One);
+        g.add_bond(sum, out[k]);
+    }
+    PointJunctions {
+        name: name.into(),
+        vx: out[0],
+        vy: out[1],
+    }
+}

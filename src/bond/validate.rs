@@ -368,6 +368,23 @@ pub fn known_variables(graph: &BondGraph) -> HashSet<String> {
     known
 }
 
+/// The variables referenced by the graph's expressions, in element order without repeats
+/// (e.g. the displacements `x_<1-junction>` an equation builder must integrate). Expressions
+/// that do not scan are skipped (validation reports them).
+pub fn referenced_variables(graph: &BondGraph) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for e in &graph.elements {
+        if let Some(Parameter::Expr(s)) = &e.parameter {
+            for v in variables(s).unwrap_or_default() {
+                if !out.contains(&v) {
+                    out.push(v);
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Checks one parameter; `path` points at the parameter field, `element_path` at the element.
 pub(crate) fn check_parameter(
     name: &str,
