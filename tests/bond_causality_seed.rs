@@ -502,3 +502,56 @@ fn body_fixed_double_pendulum_has_two_integral_four_differential() {
     assert_eq!(inertia_counts(&g, &r), (2, 4));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
 }
+
+// ---------------------------------------------------------------- N-link chains
+
+fn n_link_pendulum(n: usize, decoupled: bool) -> BondGraph {
+    let mut g = BondGraph::new();
+    let mut prev: Option<bondmech::bond::fragments::PointJunctions> = None;
+    for i in 0..n {
+        let b = planar_body_translating(
+            &mut g,
+            &bar(&format!("l{i}"), &[("O", -0.5, 0.0), ("A", 0.5, 0.0)]),
+        );
+        let o = b.point("O").unwrap().clone();
+        let name = format!("j{i}");
+        match (&prev, decoupled) {
+            (None, false) => pin_to_ground(&mut g, &name, &o),
+            (None, true) => decoupled_revolute(&mut g, &name, &o, None, 1e6, None),
+            (Some(p), false) => revolute(&mut g, &name, p, &o),
+            (Some(p), true) => decoupled_revolute(&mut g, &name, p, Some(&o), 1e6, None),
+        }
+        prev = Some(b.point("A").unwrap().clone());
+    }
+    g
+}
+
+#[test]
+fn n_link_pendulum_has_n_integral_and_2n_differential_inertias() {
+    // Grübler: 3N coordinates − 2N pin constraints = N
+    for n in [1, 2, 3, 4, 17] {
+        let g = n_link_pendulum(n, false);
+        let r = report(&g);
+        assert_eq!(inertia_counts(&g, &r), (n, 2 * n), "N = {n}");
+        assert!(r.conflicts.is_empty(), "N = {n}: {:?}", r.conflicts);
+        let g = n_link_pendulum(n, true);
+        let r = report(&g);
+        assert_eq!(inertia_counts(&g, &r), (3 * n, 0), "decoupled N = {n}");
+        assert_eq!(r.dof, 3 * n + 2 * n);
+    }
+}
+
+#[test]
+fn long_chain_causality_is_fast() {
+    let g = n_link_pendulum(200, false);
+    let start = std::time::Instant::now();
+    let r = report(&g);
+    let elapsed = start.elapsed();
+    assert_eq!(inertia_counts(&g, &r), (200, 400));
+    println!(
+        "200-link chain: {} elements, {} bonds, causality in {elapsed:?}",
+        g.elements.len(),
+        g.bonds.len()
+    );
+    assert!(elapsed.as_secs_f64() < 5.0, "{elapsed:?}");
+}

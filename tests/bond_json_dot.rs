@@ -137,3 +137,17 @@ fn referenced_variables_list_the_body_angles_used_by_the_mtfs() {
     let vars = bondmech::bond::validate::referenced_variables(&g);
     assert_eq!(vars, vec!["x_bar1.omega", "x_bar2.omega"]);
 }
+
+#[test]
+fn dot_colours_a_conflicting_junction_orange() {
+    let g = BondGraph::from_json_str(
+        r#"{"elements":[{"name":"Sf1","kind":"Sf","value":1},{"name":"Sf2","kind":"Sf","value":2},
+            {"name":"j","kind":"1"}],
+            "bonds":[{"from":"Sf1","to":"j"},{"from":"Sf2","to":"j"}]}"#,
+    )
+    .unwrap();
+    let c = assign_causality(&g).unwrap();
+    let dot = to_dot(&g, Some(&c));
+    let node = dot.lines().find(|l| l.contains("xlabel=\"j\"")).unwrap();
+    assert!(node.contains("color=orange"), "{node}");
+}

@@ -162,7 +162,6 @@ pub struct CausalityReport {
     pub bond_causality: Vec<BondCausality>,
 }
 
-#[derive(Clone)]
 struct Scap<'g> {
     g: &'g BondGraph,
     adj: Vec<Vec<BondId>>,
@@ -172,6 +171,17 @@ struct Scap<'g> {
     queue: VecDeque<ElementId>,
     conflicts: Vec<Conflict>,
     conflicted: HashSet<ElementId>,
+    /// Undo log: bonds in the order they were fixed, conflicted elements in order.
+    trail: Vec<BondId>,
+    conflicted_trail: Vec<ElementId>,
+}
+
+/// A point of the undo log to roll back to.
+#[derive(Clone, Copy)]
+struct Mark {
+    trail: usize,
+    conflicts: usize,
+    conflicted: usize,
 }
 
 impl<'g> Scap<'g> {
@@ -190,6 +200,8 @@ impl<'g> Scap<'g> {
             queue: VecDeque::new(),
             conflicts: Vec::new(),
             conflicted: HashSet::new(),
+            trail: Vec::new(),
+            conflicted_trail: Vec::new(),
         }
     }
 
@@ -229,8 +241,50 @@ impl<'g> Scap<'g> {
             via,
             causes,
         });
+        self.trail.push(b);
         self.queue.push_back(bond.from);
         self.queue.push_back(bond.to);
+    }
+
+    fn mark(&self) -> Mark {
+        Mark {
+            trail: self.trail.len(),
+            conflicts: self.conflicts.len(),
+            conflicted: self.conflicted_trail.len(),
+        }
+    }
+
+    /// Undoes every assignment and conflict recorded after `m` (the queue is empty at marks).
+    fn rollback(&mut self, m: Mark) {
+        for b in self.trail.drain(m.trail..) {
+            self.state[b.0] = None;
+        }
+        self.conflicts.truncate(m.conflicts);
+        for e in self.conflicted_trail.drain(m.conflicted..) {
+            self.conflicted.remove(&e);
+        }
+        self.queue.clear();
+    }
+
+    /// Fixes `b` and propagates.
+    fn choose(
+        &mut self,
+        b: BondId,
+        receiver: ElementId,
+        origin: ElementId,
+        stage: Stage,
+        via: Option<ElementId>,
+    ) {
+        self.set(b, receiver, origin, stage, via, vec![]);
+        self.propagate();
+    }
+
+    /// Would completing the graph from here create a conflict? (Leaves the state unchanged.)
+    fn look_ahead(&mut self) -> Option<String> {
+        let m = self.mark();
+        let r = self.complete();
+        self.rollback(m);
+        r
     }
 
     fn origin(&self, b: BondId) -> ElementId {
@@ -253,6 +307,7 @@ impl<'g> Scap<'g> {
         if !self.conflicted.insert(at) {
             return;
         }
+        self.conflicted_trail.push(at);
         let mut elements: Vec<ElementId> = bonds.iter().map(|&b| self.origin(b)).collect();
         elements.sort();
         elements.dedup();
@@ -356,34 +411,17 @@ impl<'g> Scap<'g> {
             if self.state[i].is_some() {
                 continue;
             }
-            let bond = self.g.bond(BondId(i)).clone();
-            let before = self.conflicts.len();
-            let mut trial = self.clone();
-            trial.set(
-                BondId(i),
-                bond.to,
-                bond.from,
-                Stage::Arbitrary,
-                None,
-                vec![],
-            );
-            trial.propagate();
-            if trial.conflicts.len() > before {
-                let mut retry = self.clone();
-                retry.set(
-                    BondId(i),
-                    bond.from,
-                    bond.from,
-                    Stage::Arbitrary,
-                    None,
-                    vec![],
-                );
-                retry.propagate();
-                if retry.conflicts.len() == before {
-                    trial = retry;
+            let (from, to) = (self.g.bonds[i].from, self.g.bonds[i].to);
+            let m = self.mark();
+            self.choose(BondId(i), to, from, Stage::Arbitrary, None);
+            if self.conflicts.len() > m.conflicts {
+                self.rollback(m);
+                self.choose(BondId(i), from, from, Stage::Arbitrary, None);
+                if self.conflicts.len() > m.conflicts {
+                    self.rollback(m);
+                    self.choose(BondId(i), to, from, Stage::Arbitrary, None);
                 }
             }
-            *self = trial;
         }
         (self.conflicts.len() > base).then(|| self.conflicts[base].junction.clone())
     }
@@ -479,25 +517,24 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
             } else {
                 (other, e)
             };
-            let base = s.conflicts.len();
-            let mut trial = s.clone();
-            trial.set(b, integral, e, Stage::Storage, None, vec![]);
-            trial.propagate();
-            let culprit = if trial.conflicts.len() > base {
-                Some(trial.conflicts[base].junction.clone())
+            let m = s.mark();
+            s.choose(b, integral, e, Stage::Storage, None);
+            let culprit = if s.conflicts.len() > m.conflicts {
+                Some(s.conflicts[m.conflicts].junction.clone())
             } else {
-                trial.clone().complete()
+                s.look_ahead()
             };
             let Some(culprit) = culprit else {
-                s = trial;
                 continue;
             };
-            let mut alt = s.clone();
+            s.rollback(m);
             let via = graph.element_by_name(&culprit);
-            alt.set(b, differential, e, Stage::Storage, via, vec![]);
-            alt.propagate();
-            let alt_ok = alt.conflicts.len() == base && alt.clone().complete().is_none();
-            s = if alt_ok { alt } else { trial };
+            s.choose(b, differential, e, Stage::Storage, via);
+            let alt_ok = s.conflicts.len() == m.conflicts && s.look_ahead().is_none();
+            if !alt_ok {
+                s.rollback(m);
+                s.choose(b, integral, e, Stage::Storage, None);
+            }
         }
     }
 
