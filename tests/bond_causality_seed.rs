@@ -555,3 +555,36 @@ fn long_chain_causality_is_fast() {
     );
     assert!(elapsed.as_secs_f64() < 5.0, "{elapsed:?}");
 }
+
+#[test]
+fn four_bar_linkage_has_one_degree_of_freedom() {
+    // Grübler: 3·3 coordinates − 2·4 pin constraints = 1 (a closed kinematic loop)
+    let mut g = BondGraph::new();
+    let crank =
+        planar_body_translating(&mut g, &bar("crank", &[("O", -0.5, 0.0), ("A", 0.5, 0.0)]));
+    let coupler = planar_body_translating(
+        &mut g,
+        &bar("coupler", &[("A", -1.0, 0.0), ("B", 1.0, 0.0)]),
+    );
+    let rocker = planar_body_translating(
+        &mut g,
+        &bar("rocker", &[("B", -0.75, 0.0), ("D", 0.75, 0.0)]),
+    );
+    pin_to_ground(&mut g, "O", crank.point("O").unwrap());
+    revolute(
+        &mut g,
+        "A",
+        crank.point("A").unwrap(),
+        coupler.point("A").unwrap(),
+    );
+    revolute(
+        &mut g,
+        "B",
+        coupler.point("B").unwrap(),
+        rocker.point("B").unwrap(),
+    );
+    pin_to_ground(&mut g, "D", rocker.point("D").unwrap());
+    let r = report(&g);
+    assert_eq!(inertia_counts(&g, &r), (1, 8));
+    assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+}

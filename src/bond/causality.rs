@@ -11,9 +11,10 @@
 //!    C receives flow), propagating after each; a storage already fixed by propagation the other
 //!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
 //!    junction and bonds that forced it are recorded. An integral choice is kept only if the
-//!    rest of the graph can still be completed without a conflict (a greedy look-ahead that
-//!    tries both orientations of every free bond); otherwise the storage is made differential
-//!    and `forced_by_junction` names the junction the integral choice would over-determine.
+//!    rest of the graph can still be completed without a conflict (a depth-first look-ahead
+//!    with propagation over the free bonds, bounded by [`SEARCH_BUDGET`]); otherwise the
+//!    storage is made differential and `forced_by_junction` names the junction the integral
+//!    choice would over-determine (`via_bonds` is then empty).
 //!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
 //!    purely local propagation cannot see;
 //! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
@@ -30,6 +31,9 @@ use super::model::{BondGraph, BondId, ElementId, ElementKind};
 use super::validate::{validate, ValidationErrors};
 use serde::Serialize;
 use std::collections::{HashSet, VecDeque};
+
+/// Maximum number of tentative bond orientations tried by one look-ahead search.
+pub const SEARCH_BUDGET: usize = 20_000;
 
 /// Which step of the procedure fixed a bond.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -174,6 +178,8 @@ struct Scap<'g> {
     /// Undo log: bonds in the order they were fixed, conflicted elements in order.
     trail: Vec<BondId>,
     conflicted_trail: Vec<ElementId>,
+    /// Receivers of the last conflict-free completion found by the look-ahead.
+    witness: Option<Vec<ElementId>>,
 }
 
 /// A point of the undo log to roll back to.
@@ -202,6 +208,7 @@ impl<'g> Scap<'g> {
             conflicted: HashSet::new(),
             trail: Vec::new(),
             conflicted_trail: Vec::new(),
+            witness: None,
         }
     }
 
@@ -280,11 +287,65 @@ impl<'g> Scap<'g> {
     }
 
     /// Would completing the graph from here create a conflict? (Leaves the state unchanged.)
+    /// Returns the junction of an unavoidable conflict, or None when some conflict-free
+    /// completion exists (a depth-first search with propagation, bounded by [`SEARCH_BUDGET`]
+    /// choices; when the budget runs out the completion is assumed possible).
     fn look_ahead(&mut self) -> Option<String> {
+        // a previous conflict-free completion that agrees with every fixed bond still is one
+        // (propagated bonds are forced consequences), so no search is needed
+        if let Some(w) = &self.witness {
+            if self
+                .state
+                .iter()
+                .zip(w)
+                .all(|(a, r)| a.as_ref().is_none_or(|a| a.effort_receiver == *r))
+            {
+                return None;
+            }
+        }
         let m = self.mark();
+        let mut budget = SEARCH_BUDGET;
+        let ok = self.search(0, &mut budget);
+        self.witness = if ok && self.state.iter().all(|a| a.is_some()) {
+            Some(
+                self.state
+                    .iter()
+                    .flatten()
+                    .map(|a| a.effort_receiver)
+                    .collect(),
+            )
+        } else {
+            None
+        };
+        self.rollback(m);
+        if ok {
+            return None;
+        }
         let r = self.complete();
         self.rollback(m);
-        r
+        r.or_else(|| Some(String::new()))
+    }
+
+    /// Depth-first search for a conflict-free assignment of the free bonds from index `start`;
+    /// on success the assignment is left in place.
+    fn search(&mut self, start: usize, budget: &mut usize) -> bool {
+        let Some(i) = (start..self.g.bonds.len()).find(|&i| self.state[i].is_none()) else {
+            return true;
+        };
+        let (from, to) = (self.g.bonds[i].from, self.g.bonds[i].to);
+        for receiver in [to, from] {
+            if *budget == 0 {
+                return true;
+            }
+            *budget -= 1;
+            let m = self.mark();
+            self.choose(BondId(i), receiver, from, Stage::Arbitrary, None);
+            if self.conflicts.len() == m.conflicts && self.search(i + 1, budget) {
+                return true;
+            }
+            self.rollback(m);
+        }
+        false
     }
 
     fn origin(&self, b: BondId) -> ElementId {
@@ -570,6 +631,11 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
     }
 
     // 4. leftovers, preferring the orientation that creates no conflict
+    let mut budget = SEARCH_BUDGET;
+    let m = s.mark();
+    if !s.search(0, &mut budget) {
+        s.rollback(m);
+    }
     s.complete();
 
     let bonds: Vec<BondAssignment> = s
