@@ -1,1 +1,23 @@
-//! bond (placeholder)
+//! Bond graphs of mechanisms (seed chapter, sections 16.1–16.8).
+//!
+//! - [`model`]: elements, bonds, parameters, the two-port convention
+//!   (TF/MTF `e1 = m·e2, f2 = m·f1`; GY/MGY `e1 = r·f2, e2 = r·f1`; port 1 = bond into the two-port).
+//! - [`json`]: the `"bond_graph"` JSON form.
+//! - [`validate`]: structural checks with JSON paths, all errors collected.
+//! - [`causality`]: sequential causality assignment (SCAP), differential storages, conflicts,
+//!   algebraic loops, degrees of freedom.
+//! - [`dot`]: Graphviz export with half arrows and causal strokes.
+//! - [`fragments`]: the chapter's constructions (planar bodies in both frames, the 3D rigid body
+//!   with its Euler junction structure, joints, springs, dampers, loads).
+pub mod causality;
+pub mod dot;
+pub mod fragments;
+pub mod identifiers;
+pub mod json;
+pub mod model;
+pub mod validate;
+
+pub use causality::{assign_causality, CausalityReport};
+pub use json::{BondJsonError, RawBondGraph};
+pub use model::{Bond, BondGraph, BondId, Element, ElementId, ElementKind, Parameter};
+pub use validate::{validate, BondError, ValidationErrors};

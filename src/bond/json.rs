@@ -1,0 +1,369 @@
+//! JSON form of a raw bond graph (the scene's `"bond_graph"` field).
+//!
+//! ```json
+//! {"elements": [{"name": "m1", "kind": "I", "value": 1.0},
+//!               {"name": "Eg", "kind": "Se", "value": "100*sin(t)"},
+//!               {"name": "F",  "kind": "Se", "value": {"table": {"t": [0, 1], "v": [0, 5]}}},
+//!               {"name": "k",  "kind": "C",  "stiffness": 1000.0},
+//!               {"name": "tf1","kind": "MTF","modulus": "0.5*cos(x_J)"},
+//!               {"name": "j1", "kind": "1"}],
+//!  "bonds": [{"name": "b1", "from": "Eg", "to": "j1"}]}
+//! ```
+//! One-ports take `value` (C takes `stiffness` or `compliance` instead and stores the
+//! compliance), two-ports take `modulus`, junctions nothing. Bond names default to `b<index>`.
+
+use super::model::{BondGraph, ElementId, ElementKind, Parameter};
+use super::validate::{
+    bond_path, check_parameter, collect_errors, element_path, known_variables, BondError,
+    ValidationErrors,
+};
+use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, HashSet};
+
+/// A parameter as written in JSON: a number, an expression string or `{"table": {t, v}}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum RawParameter {
+    /// A constant.
+    Number(f64),
+    /// An expression.
+    Expr(String),
+    /// A time table.
+    Table {
+        /// The table.
+        table: RawTable,
+    },
+}
+
+/// A time table `{"t": [...], "v": [...]}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTable {
+    /// Sample times.
+    pub t: Vec<f64>,
+    /// Values.
+    pub v: Vec<f64>,
+}
+
+/// An element as written in JSON.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawElement {
+    /// Unique name.
+    pub name: String,
+    /// "Se", "Sf", "I", "C", "R", "TF", "GY", "MTF", "MGY", "0" or "1".
+    pub kind: String,
+    /// Value of Se, Sf, I, R.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<RawParameter>,
+    /// Modulus of TF, GY, MTF, MGY.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modulus: Option<RawParameter>,
+    /// Stiffness of C (stored as compliance 1/k).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<RawParameter>,
+    /// Compliance of C.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compliance: Option<RawParameter>,
+    /// Display label.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
+}
+
+/// A bond as written in JSON.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBond {
+    /// Optional name (default `b<index>`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Name of the element at the tail of the half arrow.
+    pub from: String,
+    /// Name of the element at the head of the half arrow.
+    pub to: String,
+}
+
+/// A raw bond graph as written in JSON.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBondGraph {
+    /// Elements.
+    pub elements: Vec<RawElement>,
+    /// Bonds.
+    #[serde(default)]
+    pub bonds: Vec<RawBond>,
+    /// External signal names expressions may use.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub signals: Vec<String>,
+}
+
+/// Failure to read a bond graph from JSON text.
+#[derive(Debug, thiserror::Error)]
+pub enum BondJsonError {
+    /// The text is not a bond graph document.
+    #[error("bond_graph: {0}")]
+    Parse(#[from] serde_json::Error),
+    /// The document describes an invalid graph.
+    #[error("{0}")]
+    Invalid(#[from] ValidationErrors),
+}
+
+impl From<&RawParameter> for Parameter {
+    fn from(p: &RawParameter) -> Self {
+        match p {
+            RawParameter::Number(v) => Parameter::Const(*v),
+            RawParameter::Expr(s) => Parameter::Expr(s.clone()),
+            RawParameter::Table { table } => Parameter::Table {
+                t: table.t.clone(),
+                v: table.v.clone(),
+            },
+        }
+    }
+}
+
+impl From<&Parameter> for RawParameter {
+    fn from(p: &Parameter) -> Self {
+        match p {
+            Parameter::Const(v) => RawParameter::Number(*v),
+            Parameter::Expr(s) => RawParameter::Expr(s.clone()),
+            Parameter::Table { t, v } => RawParameter::Table {
+                table: RawTable {
+                    t: t.clone(),
+                    v: v.clone(),
+                },
+            },
+        }
+    }
+}
+
+/// Compliance from a stiffness parameter (constants and tables inverted, expressions wrapped).
+fn compliance_from_stiffness(k: &Parameter) -> Parameter {
+    match k {
+        Parameter::Const(v) => Parameter::Const(1.0 / v),
+        Parameter::Expr(s) => Parameter::Expr(format!("1/({s})")),
+        Parameter::Table { t, v } => Parameter::Table {
+            t: t.clone(),
+            v: v.iter().map(|x| 1.0 / x).collect(),
+        },
+    }
+}
+
+impl RawBondGraph {
+    /// Parses JSON text (the value of `"bond_graph"`).
+    pub fn from_json_str(text: &str) -> Result<Self, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+
+    /// Builds and validates the graph, collecting every error with its JSON path.
+    pub fn to_graph(&self) -> Result<BondGraph, ValidationErrors> {
+        let mut errors: Vec<BondError> = Vec::new();
+        let mut graph = BondGraph::new();
+        graph.signals = self.signals.clone();
+        let mut by_name: HashMap<&str, ElementId> = HashMap::new();
+        let mut stiffness_checks: Vec<(usize, Parameter)> = Vec::new();
+        for (i, raw) in self.elements.iter().enumerate() {
+            let path = element_path(i);
+            let Some(kind) = ElementKind::parse(&raw.kind) else {
+                errors.push(BondError::UnknownKind {
+                    path: format!("{path}.kind"),
+                    element: raw.name.clone(),
+                    kind: raw.kind.clone(),
+                });
+                // keep a placeholder junction so that indices and bond ends still resolve
+                let id = graph.add_junction(raw.name.clone(), ElementKind::One);
+                by_name.entry(raw.name.as_str()).or_insert(id);
+                continue;
+            };
+            let parameter =
+                element_parameter(raw, kind, &path, &mut errors, &mut stiffness_checks, i);
+            let id = graph.add_element(raw.name.clone(), kind, parameter);
+            if let Some(l) = &raw.label {
+                graph.set_label(id, l.clone());
+            }
+            by_name.entry(raw.name.as_str()).or_insert(id);
+        }
+        let mut skip: HashSet<ElementId> = HashSet::new();
+        for (i, raw) in self.bonds.iter().enumerate() {
+            let name = raw.name.clone().unwrap_or_else(|| format!("b{i}"));
+            let from = by_name.get(raw.from.as_str()).copied();
+            let to = by_name.get(raw.to.as_str()).copied();
+            for (end, id, n) in [("from", from, &raw.from), ("to", to, &raw.to)] {
+                if id.is_none() {
+                    errors.push(BondError::UnknownElement {
+                        path: format!("{}.{end}", bond_path(i)),
+                        bond: name.clone(),
+                        name: n.clone(),
+                    });
+                }
+            }
+            match (from, to) {
+                (Some(f), Some(t)) => {
+                    graph.add_named_bond(name, f, t);
+                }
+                (f, t) => {
+                    skip.extend(f);
+                    skip.extend(t);
+                }
+            }
+        }
+        // Stiffness is checked as stiffness (positive), before inversion.
+        let known = known_variables(&graph);
+        for (i, k) in &stiffness_checks {
+            let e = &graph.elements[*i];
+            let mut errs = Vec::new();
+            check_parameter(
+                &e.name,
+                ElementKind::C,
+                Some(k),
+                &format!("{}.stiffness", element_path(*i)),
+                &element_path(*i),
+                &known,
+                &mut errs,
+            );
+            for err in errs {
+                errors.push(match err {
+                    BondError::NonPositive {
+                        path,
+                        element,
+                        value,
+                        ..
+                    } => BondError::NonPositive {
+                        path,
+                        element,
+                        what: "stiffness".into(),
+                        value,
+                    },
+                    other => other,
+                });
+            }
+        }
+        let stiffness_elements: HashSet<usize> = stiffness_checks.iter().map(|(i, _)| *i).collect();
+        for err in collect_errors(&graph, &skip) {
+            // parameters given as stiffness were already checked above
+            let skip_err = stiffness_elements.iter().any(|i| {
+                matches!(&err, BondError::NonPositive { path, .. } | BondError::NonFinite { path, .. } | BondError::UnknownVariable { path, .. } | BondError::BadExpression { path, .. } | BondError::BadParameter { path, .. }
+                    if path.starts_with(&format!("{}.compliance", element_path(*i))))
+            });
+            if !skip_err {
+                errors.push(err);
+            }
+        }
+        if errors.is_empty() {
+            Ok(graph)
+        } else {
+            Err(ValidationErrors(errors))
+        }
+    }
+}
+
+fn element_parameter(
+    raw: &RawElement,
+    kind: ElementKind,
+    path: &str,
+    errors: &mut Vec<BondError>,
+    stiffness_checks: &mut Vec<(usize, Parameter)>,
+    index: usize,
+) -> Option<Parameter> {
+    let misplaced = |field: &str, errors: &mut Vec<BondError>| {
+        let allowed = match kind {
+            ElementKind::C => "`stiffness` or `compliance`",
+            k if k.is_two_port() => "`modulus`",
+            k if k.is_junction() => "no parameter",
+            _ => "`value`",
+        };
+        errors.push(BondError::BadParameter {
+            path: format!("{path}.{field}"),
+            element: raw.name.clone(),
+            reason: format!(
+                "field `{field}` does not apply to a {} element (it takes {allowed})",
+                kind.as_str()
+            ),
+        });
+    };
+    let fields = [
+        ("value", &raw.value),
+        ("modulus", &raw.modulus),
+        ("stiffness", &raw.stiffness),
+        ("compliance", &raw.compliance),
+    ];
+    let wanted: &[&str] = match kind {
+        ElementKind::C => &["stiffness", "compliance"],
+        k if k.is_two_port() => &["modulus"],
+        k if k.is_junction() => &[],
+        _ => &["value"],
+    };
+    for (field, v) in fields {
+        if v.is_some() && !wanted.contains(&field) {
+            misplaced(field, errors);
+        }
+    }
+    match kind {
+        ElementKind::C => match (&raw.stiffness, &raw.compliance) {
+            (Some(_), Some(_)) => {
+                errors.push(BondError::BadParameter {
+                    path: format!("{path}.stiffness"),
+                    element: raw.name.clone(),
+                    reason: "give either `stiffness` or `compliance`, not both".into(),
+                });
+                None
+            }
+            (Some(k), None) => {
+                let k = Parameter::from(k);
+                stiffness_checks.push((index, k.clone()));
+                Some(compliance_from_stiffness(&k))
+            }
+            (None, Some(c)) => Some(Parameter::from(c)),
+            (None, None) => None,
+        },
+        k if k.is_two_port() => raw.modulus.as_ref().map(Parameter::from),
+        k if k.is_junction() => None,
+        _ => raw.value.as_ref().map(Parameter::from),
+    }
+}
+
+impl BondGraph {
+    /// Reads and validates a graph from the JSON text of a `"bond_graph"` value.
+    pub fn from_json_str(text: &str) -> Result<BondGraph, BondJsonError> {
+        Ok(RawBondGraph::from_json_str(text)?.to_graph()?)
+    }
+
+    /// The JSON form of this graph (C written as `compliance`).
+    pub fn to_raw(&self) -> RawBondGraph {
+        let elements = self
+            .elements
+            .iter()
+            .map(|e| {
+                let p = e.parameter.as_ref().map(RawParameter::from);
+                let mut raw = RawElement {
+                    name: e.name.clone(),
+                    kind: e.kind.as_str().into(),
+                    value: None,
+                    modulus: None,
+                    stiffness: None,
+                    compliance: None,
+                    label: e.label.clone(),
+                };
+                match e.kind {
+                    ElementKind::C => raw.compliance = p,
+                    k if k.is_two_port() => raw.modulus = p,
+                    _ => raw.value = p,
+                }
+                raw
+            })
+            .collect();
+        let bonds = self
+            .bonds
+            .iter()
+            .map(|b| RawBond {
+                name: Some(b.name.clone()),
+                from: self.elements[b.from.0].name.clone(),
+                to: self.elements[b.to.0].name.clone(),
+            })
+            .collect();
+        RawBondGraph {
+            elements,
+            bonds,
+            signals: self.signals.clone(),
+        }
+    }
+}

@@ -1,0 +1,283 @@
+//! Bond graph data model: elements, bonds and a small builder.
+//!
+//! A bond carries effort `e` and flow `f`; its half arrow points from `from` to `to`
+//! and marks the direction in which the power `P = e·f` is counted positive.
+//!
+//! Two-port convention (TF, GY, MTF, MGY): **port 1** is the bond whose half arrow points
+//! *into* the two-port, **port 2** the bond whose half arrow points *out of* it.
+//! - TF/MTF with modulus `m`: `e1 = m·e2`, `f2 = m·f1`.
+//! - GY/MGY with modulus `r`: `e1 = r·f2`, `e2 = r·f1`.
+//!
+//! One-port parameters: Se effort, Sf flow, I inertia (`p = I·f`), C **compliance**
+//! (`q = C·e`; a stiffness `k` given in JSON is stored as `1/k`), R resistance (`e = R·f`).
+
+use serde::{Deserialize, Serialize};
+
+/// Index of an element inside a [`BondGraph`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ElementId(pub usize);
+
+/// Index of a bond inside a [`BondGraph`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct BondId(pub usize);
+
+/// The kind of a bond graph element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ElementKind {
+    /// Effort source.
+    Se,
+    /// Flow source.
+    Sf,
+    /// Inertia (stores momentum `p`, `f = p/I`).
+    I,
+    /// Capacitor (stores displacement `q`, `e = q/C`).
+    C,
+    /// Resistor (`e = R·f`).
+    R,
+    /// Transformer, constant modulus.
+    TF,
+    /// Gyrator, constant modulus.
+    GY,
+    /// Modulated transformer (modulus an expression of states and time).
+    MTF,
+    /// Modulated gyrator (modulus an expression of states and time).
+    MGY,
+    /// 0-junction: common effort, flows sum to zero.
+    #[serde(rename = "0")]
+    Zero,
+    /// 1-junction: common flow, efforts sum to zero.
+    #[serde(rename = "1")]
+    One,
+}
+
+impl ElementKind {
+    /// The JSON spelling of the kind ("Se", …, "0", "1").
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ElementKind::Se => "Se",
+            ElementKind::Sf => "Sf",
+            ElementKind::I => "I",
+            ElementKind::C => "C",
+            ElementKind::R => "R",
+            ElementKind::TF => "TF",
+            ElementKind::GY => "GY",
+            ElementKind::MTF => "MTF",
+            ElementKind::MGY => "MGY",
+            ElementKind::Zero => "0",
+            ElementKind::One => "1",
+        }
+    }
+
+    /// Parses the JSON spelling of a kind.
+    pub fn parse(s: &str) -> Option<ElementKind> {
+        Some(match s {
+            "Se" => ElementKind::Se,
+            "Sf" => ElementKind::Sf,
+            "I" => ElementKind::I,
+            "C" => ElementKind::C,
+            "R" => ElementKind::R,
+            "TF" => ElementKind::TF,
+            "GY" => ElementKind::GY,
+            "MTF" => ElementKind::MTF,
+            "MGY" => ElementKind::MGY,
+            "0" => ElementKind::Zero,
+            "1" => ElementKind::One,
+            _ => return None,
+        })
+    }
+
+    /// Se, Sf, I, C or R: exactly one bond.
+    pub fn is_one_port(self) -> bool {
+        matches!(
+            self,
+            ElementKind::Se | ElementKind::Sf | ElementKind::I | ElementKind::C | ElementKind::R
+        )
+    }
+
+    /// TF, GY, MTF or MGY: exactly two bonds, one in and one out.
+    pub fn is_two_port(self) -> bool {
+        matches!(
+            self,
+            ElementKind::TF | ElementKind::GY | ElementKind::MTF | ElementKind::MGY
+        )
+    }
+
+    /// 0- or 1-junction.
+    pub fn is_junction(self) -> bool {
+        matches!(self, ElementKind::Zero | ElementKind::One)
+    }
+
+    /// I or C.
+    pub fn is_storage(self) -> bool {
+        matches!(self, ElementKind::I | ElementKind::C)
+    }
+
+    /// TF or MTF (transformer-like causality: one stroke in, one out).
+    pub fn is_transformer(self) -> bool {
+        matches!(self, ElementKind::TF | ElementKind::MTF)
+    }
+
+    /// GY or MGY (gyrator-like causality: both strokes in or both out).
+    pub fn is_gyrator(self) -> bool {
+        matches!(self, ElementKind::GY | ElementKind::MGY)
+    }
+}
+
+/// The value of an element: source value, inertia, compliance, resistance or modulus.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Parameter {
+    /// A constant.
+    Const(f64),
+    /// An expression in `t`, `p_<I>`, `x_<I or 1-junction>`, `q_<C>` and declared signals.
+    Expr(String),
+    /// A piecewise-linear table of time `t` (strictly increasing) against value `v`.
+    Table {
+        /// Sample times.
+        t: Vec<f64>,
+        /// Values at the sample times.
+        v: Vec<f64>,
+    },
+}
+
+/// A bond graph element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Element {
+    /// Unique name (e.g. `bar1.I_m_x`).
+    pub name: String,
+    /// Kind of element.
+    pub kind: ElementKind,
+    /// Value/modulus (None for junctions). For C this is the compliance.
+    pub parameter: Option<Parameter>,
+    /// Display label (e.g. `-0.5·sin(α)`); the name is used when absent.
+    pub label: Option<String>,
+}
+
+/// A bond: half arrow from `from` to `to` (positive power direction).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bond {
+    /// Unique name (`b<index>` by default).
+    pub name: String,
+    /// Element at the tail of the half arrow.
+    pub from: ElementId,
+    /// Element at the head of the half arrow.
+    pub to: ElementId,
+}
+
+/// A bond graph: elements and bonds, addressed by typed ids.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BondGraph {
+    /// Elements in insertion order (the order causality assignment follows).
+    pub elements: Vec<Element>,
+    /// Bonds in insertion order.
+    pub bonds: Vec<Bond>,
+    /// Names of externally supplied signals that expressions may reference
+    /// (e.g. attitude matrix entries computed outside the bond graph).
+    pub signals: Vec<String>,
+}
+
+impl BondGraph {
+    /// An empty graph.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Appends an element and returns its id (names are checked by validation).
+    pub fn add_element(
+        &mut self,
+        name: impl Into<String>,
+        kind: ElementKind,
+        parameter: Option<Parameter>,
+    ) -> ElementId {
+        self.elements.push(Element {
+            name: name.into(),
+            kind,
+            parameter,
+            label: None,
+        });
+        ElementId(self.elements.len() - 1)
+    }
+
+    /// Appends a junction (no parameter).
+    pub fn add_junction(&mut self, name: impl Into<String>, kind: ElementKind) -> ElementId {
+        self.add_element(name, kind, None)
+    }
+
+    /// Sets the display label of an element.
+    pub fn set_label(&mut self, id: ElementId, label: impl Into<String>) {
+        if let Some(e) = self.elements.get_mut(id.0) {
+            e.label = Some(label.into());
+        }
+    }
+
+    /// Appends a bond `from → to` named `b<index>`.
+    pub fn add_bond(&mut self, from: ElementId, to: ElementId) -> BondId {
+        let name = format!("b{}", self.bonds.len());
+        self.add_named_bond(name, from, to)
+    }
+
+    /// Appends a bond `from → to` with an explicit name.
+    pub fn add_named_bond(
+        &mut self,
+        name: impl Into<String>,
+        from: ElementId,
+        to: ElementId,
+    ) -> BondId {
+        self.bonds.push(Bond {
+            name: name.into(),
+            from,
+            to,
+        });
+        BondId(self.bonds.len() - 1)
+    }
+
+    /// Declares an external signal name usable in expressions.
+    pub fn add_signal(&mut self, name: impl Into<String>) {
+        let name = name.into();
+        if !self.signals.contains(&name) {
+            self.signals.push(name);
+        }
+    }
+
+    /// The id of the (first) element with this name.
+    pub fn element_by_name(&self, name: &str) -> Option<ElementId> {
+        self.elements
+            .iter()
+            .position(|e| e.name == name)
+            .map(ElementId)
+    }
+
+    /// The element with this id. Panics on a foreign id (ids come from this graph).
+    pub fn element(&self, id: ElementId) -> &Element {
+        &self.elements[id.0]
+    }
+
+    /// The bond with this id. Panics on a foreign id (ids come from this graph).
+    pub fn bond(&self, id: BondId) -> &Bond {
+        &self.bonds[id.0]
+    }
+
+    /// Ids of the bonds attached to `element`, in bond order.
+    pub fn bonds_of(&self, element: ElementId) -> Vec<BondId> {
+        self.bonds
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.from == element || b.to == element)
+            .map(|(i, _)| BondId(i))
+            .collect()
+    }
+
+    /// The element at the other end of `bond` seen from `element`.
+    pub fn other_end(&self, bond: BondId, element: ElementId) -> ElementId {
+        let b = self.bond(bond);
+        if b.from == element {
+            b.to
+        } else {
+            b.from
+        }
+    }
+
+    /// Element ids in order.
+    pub fn element_ids(&self) -> impl Iterator<Item = ElementId> {
+        (0..self.elements.len()).map(ElementId)
+    }
+}

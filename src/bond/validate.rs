@@ -1,0 +1,508 @@
+//! Structural and parameter validation of a bond graph.
+//!
+//! Every error names the JSON path (`bond_graph.elements[2]`, `bond_graph.bonds[3].to`) and the
+//! element or bond concerned; validation collects **all** errors instead of stopping at the first.
+
+use super::identifiers::{variables, ScanError};
+use super::model::{BondGraph, ElementId, ElementKind, Parameter};
+use std::collections::{HashMap, HashSet};
+
+/// The JSON path prefix of a raw bond graph inside a scene.
+pub const ROOT: &str = "bond_graph";
+
+/// One problem in a bond graph; every message starts with the JSON path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BondError {
+    /// The graph has no elements.
+    #[error("{path}: empty bond graph (no elements)")]
+    EmptyGraph {
+        /// JSON path.
+        path: String,
+    },
+    /// A kind that is not one of Se, Sf, I, C, R, TF, GY, MTF, MGY, 0, 1.
+    #[error("{path}: unknown element kind '{kind}' for '{element}' (expected Se, Sf, I, C, R, TF, GY, MTF, MGY, 0 or 1)")]
+    UnknownKind {
+        /// JSON path.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The kind given.
+        kind: String,
+    },
+    /// Two elements (or two bonds) share a name.
+    #[error("{path}: duplicate name '{name}' (already used at {first})")]
+    DuplicateName {
+        /// JSON path of the second use.
+        path: String,
+        /// The name.
+        name: String,
+        /// JSON path of the first use.
+        first: String,
+    },
+    /// A bond end names no element.
+    #[error("{path}: unknown element '{name}' in bond '{bond}'")]
+    UnknownElement {
+        /// JSON path of the bond end.
+        path: String,
+        /// Bond name.
+        bond: String,
+        /// The missing element name.
+        name: String,
+    },
+    /// A bond from an element to itself.
+    #[error("{path}: bond '{bond}' connects element '{element}' to itself")]
+    SelfBond {
+        /// JSON path of the bond.
+        path: String,
+        /// Bond name.
+        bond: String,
+        /// Element name.
+        element: String,
+    },
+    /// A one-port or two-port with the wrong number of bonds.
+    #[error("{path}: {kind} element '{element}' needs exactly {expected} bond(s), has {found}")]
+    WrongBondCount {
+        /// JSON path of the element.
+        path: String,
+        /// Element name.
+        element: String,
+        /// Kind spelled as in JSON.
+        kind: String,
+        /// Required number of bonds.
+        expected: usize,
+        /// Number found.
+        found: usize,
+    },
+    /// A two-port whose bonds are both inward or both outward.
+    #[error("{path}: two-port '{element}' needs one bond pointing in (port 1) and one pointing out (port 2), has {inward} in and {outward} out")]
+    TwoPortDirection {
+        /// JSON path of the element.
+        path: String,
+        /// Element name.
+        element: String,
+        /// Bonds pointing in.
+        inward: usize,
+        /// Bonds pointing out.
+        outward: usize,
+    },
+    /// A junction without bonds.
+    #[error("{path}: junction '{element}' has no bonds")]
+    IsolatedJunction {
+        /// JSON path of the element.
+        path: String,
+        /// Element name.
+        element: String,
+    },
+    /// An expression refers to a variable that is not `t`, a state of the graph or a signal.
+    #[error("{path}: expression '{expr}' of '{element}' refers to unknown variable '{variable}' (known: t, p_<I>, x_<I or 1-junction>, q_<C>, declared signals)")]
+    UnknownVariable {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The expression.
+        expr: String,
+        /// The unknown identifier.
+        variable: String,
+    },
+    /// An expression that does not scan.
+    #[error("{path}: expression '{expr}' of '{element}' is malformed: {reason}")]
+    BadExpression {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The expression.
+        expr: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A NaN or infinite number.
+    #[error("{path}: parameter of '{element}' is not finite ({value})")]
+    NonFinite {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The value.
+        value: f64,
+    },
+    /// An inertia or capacitor (or stiffness) that is zero or negative.
+    #[error("{path}: {what} of '{element}' must be positive, got {value}")]
+    NonPositive {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// "inertia", "compliance" or "stiffness".
+        what: String,
+        /// The value.
+        value: f64,
+    },
+    /// A negative resistance.
+    #[error("{path}: resistance of '{element}' must be non-negative, got {value}")]
+    NegativeResistance {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The value.
+        value: f64,
+    },
+    /// A required parameter is missing.
+    #[error("{path}: {kind} element '{element}' needs a parameter (`{field}`)")]
+    MissingParameter {
+        /// JSON path of the element.
+        path: String,
+        /// Element name.
+        element: String,
+        /// Kind spelled as in JSON.
+        kind: String,
+        /// The JSON field(s) expected.
+        field: String,
+    },
+    /// A parameter in the wrong place or a malformed table.
+    #[error("{path}: '{element}': {reason}")]
+    BadParameter {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// All the errors found in one bond graph.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidationErrors(pub Vec<BondError>);
+
+impl std::fmt::Display for ValidationErrors {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} error(s) in bond graph:", self.0.len())?;
+        for e in &self.0 {
+            write!(f, "\n  {e}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ValidationErrors {}
+
+/// Path of element `i`.
+pub(crate) fn element_path(i: usize) -> String {
+    format!("{ROOT}.elements[{i}]")
+}
+
+/// Path of bond `i`.
+pub(crate) fn bond_path(i: usize) -> String {
+    format!("{ROOT}.bonds[{i}]")
+}
+
+/// The JSON field a parameter of this kind lives in.
+pub(crate) fn parameter_field(kind: ElementKind) -> &'static str {
+    match kind {
+        ElementKind::C => "compliance",
+        k if k.is_two_port() => "modulus",
+        _ => "value",
+    }
+}
+
+/// Validates a bond graph; `Ok(())` or every error found.
+pub fn validate(graph: &BondGraph) -> Result<(), ValidationErrors> {
+    let errors = collect_errors(graph, &HashSet::new());
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(ValidationErrors(errors))
+    }
+}
+
+/// Collects the errors of `graph`; bond counts are not checked for elements in `skip_counts`
+/// (elements touched by bonds that could not be resolved while reading JSON).
+pub(crate) fn collect_errors(
+    graph: &BondGraph,
+    skip_counts: &HashSet<ElementId>,
+) -> Vec<BondError> {
+    let mut errors = Vec::new();
+    if graph.elements.is_empty() {
+        errors.push(BondError::EmptyGraph {
+            path: format!("{ROOT}.elements"),
+        });
+    }
+    check_names(graph, &mut errors);
+    check_bonds(graph, &mut errors);
+    check_ports(graph, skip_counts, &mut errors);
+    let known = known_variables(graph);
+    for (i, e) in graph.elements.iter().enumerate() {
+        let path = format!("{}.{}", element_path(i), parameter_field(e.kind));
+        check_parameter(
+            &e.name,
+            e.kind,
+            e.parameter.as_ref(),
+            &path,
+            &element_path(i),
+            &known,
+            &mut errors,
+        );
+    }
+    errors
+}
+
+fn check_names(graph: &BondGraph, errors: &mut Vec<BondError>) {
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for (i, e) in graph.elements.iter().enumerate() {
+        if let Some(&first) = seen.get(e.name.as_str()) {
+            errors.push(BondError::DuplicateName {
+                path: format!("{}.name", element_path(i)),
+                name: e.name.clone(),
+                first: element_path(first),
+            });
+        } else {
+            seen.insert(&e.name, i);
+        }
+    }
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for (i, b) in graph.bonds.iter().enumerate() {
+        if let Some(&first) = seen.get(b.name.as_str()) {
+            errors.push(BondError::DuplicateName {
+                path: format!("{}.name", bond_path(i)),
+                name: b.name.clone(),
+                first: bond_path(first),
+            });
+        } else {
+            seen.insert(&b.name, i);
+        }
+    }
+}
+
+fn check_bonds(graph: &BondGraph, errors: &mut Vec<BondError>) {
+    let n = graph.elements.len();
+    for (i, b) in graph.bonds.iter().enumerate() {
+        for (end, id) in [("from", b.from), ("to", b.to)] {
+            if id.0 >= n {
+                errors.push(BondError::UnknownElement {
+                    path: format!("{}.{end}", bond_path(i)),
+                    bond: b.name.clone(),
+                    name: format!("#{}", id.0),
+                });
+            }
+        }
+        if b.from == b.to && b.from.0 < n {
+            errors.push(BondError::SelfBond {
+                path: bond_path(i),
+                bond: b.name.clone(),
+                element: graph.elements[b.from.0].name.clone(),
+            });
+        }
+    }
+}
+
+fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<BondError>) {
+    for (i, e) in graph.elements.iter().enumerate() {
+        let id = ElementId(i);
+        if skip.contains(&id) {
+            continue;
+        }
+        let inward = graph.bonds.iter().filter(|b| b.to == id).count();
+        let outward = graph.bonds.iter().filter(|b| b.from == id).count();
+        let found = inward + outward;
+        let path = element_path(i);
+        if e.kind.is_one_port() && found != 1 {
+            errors.push(BondError::WrongBondCount {
+                path,
+                element: e.name.clone(),
+                kind: e.kind.as_str().into(),
+                expected: 1,
+                found,
+            });
+        } else if e.kind.is_two_port() {
+            if found != 2 {
+                errors.push(BondError::WrongBondCount {
+                    path,
+                    element: e.name.clone(),
+                    kind: e.kind.as_str().into(),
+                    expected: 2,
+                    found,
+                });
+            } else if inward != 1 {
+                errors.push(BondError::TwoPortDirection {
+                    path,
+                    element: e.name.clone(),
+                    inward,
+                    outward,
+                });
+            }
+        } else if e.kind.is_junction() && found == 0 {
+            errors.push(BondError::IsolatedJunction {
+                path,
+                element: e.name.clone(),
+            });
+        }
+    }
+}
+
+/// Variables an expression of this graph may use.
+pub fn known_variables(graph: &BondGraph) -> HashSet<String> {
+    let mut known: HashSet<String> = HashSet::new();
+    known.insert("t".into());
+    for s in &graph.signals {
+        known.insert(s.clone());
+    }
+    for e in &graph.elements {
+        match e.kind {
+            ElementKind::I => {
+                known.insert(format!("p_{}", e.name));
+                known.insert(format!("x_{}", e.name));
+            }
+            ElementKind::One => {
+                known.insert(format!("x_{}", e.name));
+            }
+            ElementKind::C => {
+                known.insert(format!("q_{}", e.name));
+            }
+            _ => {}
+        }
+    }
+    known
+}
+
+/// The variables referenced by the graph's expressions, in element order without repeats
+/// (e.g. the displacements `x_<1-junction>` an equation builder must integrate). Expressions
+/// that do not scan are skipped (validation reports them).
+pub fn referenced_variables(graph: &BondGraph) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for e in &graph.elements {
+        if let Some(Parameter::Expr(s)) = &e.parameter {
+            for v in variables(s).unwrap_or_default() {
+                if !out.contains(&v) {
+                    out.push(v);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Checks one parameter; `path` points at the parameter field, `element_path` at the element.
+pub(crate) fn check_parameter(
+    name: &str,
+    kind: ElementKind,
+    parameter: Option<&Parameter>,
+    path: &str,
+    element_path: &str,
+    known: &HashSet<String>,
+    errors: &mut Vec<BondError>,
+) {
+    let Some(p) = parameter else {
+        if !kind.is_junction() {
+            let field = match kind {
+                ElementKind::C => "stiffness` or `compliance",
+                k => parameter_field(k),
+            };
+            errors.push(BondError::MissingParameter {
+                path: element_path.into(),
+                element: name.into(),
+                kind: kind.as_str().into(),
+                field: field.into(),
+            });
+        }
+        return;
+    };
+    if kind.is_junction() {
+        errors.push(BondError::BadParameter {
+            path: path.into(),
+            element: name.into(),
+            reason: "junctions take no value".into(),
+        });
+        return;
+    }
+    let check_number = |v: f64, errors: &mut Vec<BondError>| {
+        if !v.is_finite() {
+            errors.push(BondError::NonFinite {
+                path: path.into(),
+                element: name.into(),
+                value: v,
+            });
+        } else if matches!(kind, ElementKind::I | ElementKind::C) && v <= 0.0 {
+            errors.push(BondError::NonPositive {
+                path: path.into(),
+                element: name.into(),
+                what: if kind == ElementKind::I {
+                    "inertia".into()
+                } else {
+                    "compliance".into()
+                },
+                value: v,
+            });
+        } else if kind == ElementKind::R && v < 0.0 {
+            errors.push(BondError::NegativeResistance {
+                path: path.into(),
+                element: name.into(),
+                value: v,
+            });
+        }
+    };
+    match p {
+        Parameter::Const(v) => check_number(*v, errors),
+        Parameter::Expr(s) => check_expression(name, s, path, known, errors),
+        Parameter::Table { t, v } => {
+            if t.is_empty() || t.len() != v.len() {
+                errors.push(BondError::BadParameter {
+                    path: path.into(),
+                    element: name.into(),
+                    reason: format!(
+                        "table needs as many times as values and at least one (t: {}, v: {})",
+                        t.len(),
+                        v.len()
+                    ),
+                });
+                return;
+            }
+            if t.iter().any(|x| !x.is_finite()) || t.windows(2).any(|w| w[1] <= w[0]) {
+                errors.push(BondError::BadParameter {
+                    path: format!("{path}.table.t"),
+                    element: name.into(),
+                    reason: "table times must be finite and strictly increasing".into(),
+                });
+            }
+            for &x in v {
+                check_number(x, errors);
+            }
+        }
+    }
+}
+
+fn check_expression(
+    name: &str,
+    expr: &str,
+    path: &str,
+    known: &HashSet<String>,
+    errors: &mut Vec<BondError>,
+) {
+    match variables(expr) {
+        Ok(vars) => {
+            for v in vars {
+                if !known.contains(&v) {
+                    errors.push(BondError::UnknownVariable {
+                        path: path.into(),
+                        element: name.into(),
+                        expr: expr.into(),
+                        variable: v,
+                    });
+                }
+            }
+        }
+        Err(e) => errors.push(BondError::BadExpression {
+            path: path.into(),
+            element: name.into(),
+            expr: expr.into(),
+            reason: scan_reason(&e),
+        }),
+    }
+}
+
+fn scan_reason(e: &ScanError) -> String {
+    e.to_string()
+}

@@ -1,0 +1,153 @@
+//! JSON round trip, parameter forms, and DOT export (rendered through Graphviz when installed).
+
+use bondmech::bond::causality::assign_causality;
+use bondmech::bond::dot::to_dot;
+use bondmech::bond::fragments::{pin_to_ground, planar_body_translating, revolute, PlanarBodySpec};
+use bondmech::bond::model::{BondGraph, ElementKind, Parameter};
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+const EXAMPLE: &str = r#"{"elements":[
+  {"name":"m1","kind":"I","value":1.0},
+  {"name":"Eg","kind":"Se","value":"100*sin(t)"},
+  {"name":"F","kind":"Se","value":{"table":{"t":[0,1],"v":[0,5]}}},
+  {"name":"k","kind":"C","stiffness":250.0},
+  {"name":"tf1","kind":"MTF","modulus":"0.5*cos(x_m1)"},
+  {"name":"j1","kind":"1"},
+  {"name":"j2","kind":"0"}],
+ "bonds":[{"name":"gas","from":"Eg","to":"j1"},{"from":"F","to":"j1"},{"from":"j1","to":"m1"},
+          {"from":"j1","to":"tf1"},{"from":"tf1","to":"j2"},{"from":"j2","to":"k"}]}"#;
+
+#[test]
+fn example_parses_with_every_parameter_form_and_default_bond_names() {
+    let g = BondGraph::from_json_str(EXAMPLE).expect("valid");
+    let by = |n: &str| g.element(g.element_by_name(n).unwrap()).clone();
+    assert_eq!(by("m1").parameter, Some(Parameter::Const(1.0)));
+    assert_eq!(
+        by("Eg").parameter,
+        Some(Parameter::Expr("100*sin(t)".into()))
+    );
+    assert_eq!(
+        by("F").parameter,
+        Some(Parameter::Table {
+            t: vec![0.0, 1.0],
+            v: vec![0.0, 5.0]
+        })
+    );
+    // stiffness 250 N/m is stored as compliance 1/250 m/N
+    assert_eq!(by("k").parameter, Some(Parameter::Const(1.0 / 250.0)));
+    assert_eq!(by("j1").kind, ElementKind::One);
+    assert_eq!(g.bonds[0].name, "gas");
+    assert_eq!(g.bonds[1].name, "b1");
+}
+
+#[test]
+fn default_bond_name_is_b_index() {
+    let g = BondGraph::from_json_str(EXAMPLE).expect("valid");
+    assert_eq!(g.bonds[2].name, "b2");
+    assert_eq!(g.bonds_of(g.element_by_name("j1").unwrap()).len(), 4);
+}
+
+#[test]
+fn json_round_trip_preserves_the_graph() {
+    let g = BondGraph::from_json_str(EXAMPLE).expect("valid");
+    let text = serde_json::to_string(&g.to_raw()).unwrap();
+    let back = BondGraph::from_json_str(&text).expect("round trip valid");
+    assert_eq!(g, back);
+}
+
+fn double_pendulum() -> BondGraph {
+    let mut g = BondGraph::new();
+    let spec = |name: &str, pts: &[(&str, f64)]| PlanarBodySpec {
+        name: name.into(),
+        mass: 1.0,
+        inertia: 0.1,
+        gravity: 9.81,
+        points: pts.iter().map(|(n, x)| (n.to_string(), *x, 0.0)).collect(),
+    };
+    let b1 = planar_body_translating(&mut g, &spec("bar1", &[("O", -0.5), ("A", 0.5)]));
+    let b2 = planar_body_translating(&mut g, &spec("bar2", &[("A", -0.5)]));
+    pin_to_ground(&mut g, "hip", b1.point("O").unwrap());
+    revolute(
+        &mut g,
+        "knee",
+        b1.point("A").unwrap(),
+        b2.point("A").unwrap(),
+    );
+    g
+}
+
+#[test]
+fn dot_marks_half_arrows_strokes_and_differential_storages() {
+    let g = double_pendulum();
+    let c = assign_causality(&g).unwrap();
+    let dot = to_dot(&g, Some(&c));
+    assert!(dot.starts_with("digraph bond_graph {"));
+    assert!(dot.contains("label=\"I:bar1.I_m_x\""));
+    assert!(dot.contains("label=\"Sf:hip.x\""));
+    assert!(dot.contains("MTF:-0.5·sin(α)"), "MTF label with the angle");
+    // every bond has a stroke at exactly one end
+    let edges: Vec<&str> = dot.lines().filter(|l| l.contains("->")).collect();
+    assert_eq!(edges.len(), g.bonds.len());
+    for e in &edges {
+        let head = e.contains("arrowhead=teelnormal");
+        let tail = e.contains("arrowtail=tee");
+        assert!(head ^ tail, "{e}");
+    }
+    // four differential inertias drawn in red
+    let red_nodes = dot
+        .lines()
+        .filter(|l| !l.contains("->") && l.contains("color=red"))
+        .count();
+    assert_eq!(red_nodes, 4);
+}
+
+#[test]
+fn dot_renders_with_graphviz() {
+    let g = double_pendulum();
+    let c = assign_causality(&g).unwrap();
+    let dot = to_dot(&g, Some(&c));
+    let child = Command::new("dot")
+        .arg("-Tsvg")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn();
+    let Ok(mut child) = child else {
+        println!("note: graphviz `dot` not installed, rendering check skipped");
+        return;
+    };
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(dot.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "dot failed: {stderr}");
+    assert!(!stderr.contains("Warning"), "dot warned: {stderr}");
+    let svg = String::from_utf8_lossy(&out.stdout);
+    assert!(svg.contains("<svg"));
+}
+
+#[test]
+fn referenced_variables_list_the_body_angles_used_by_the_mtfs() {
+    let g = double_pendulum();
+    let vars = bondmech::bond::validate::referenced_variables(&g);
+    assert_eq!(vars, vec!["x_bar1.omega", "x_bar2.omega"]);
+}
+
+#[test]
+fn dot_colours_a_conflicting_junction_orange() {
+    let g = BondGraph::from_json_str(
+        r#"{"elements":[{"name":"Sf1","kind":"Sf","value":1},{"name":"Sf2","kind":"Sf","value":2},
+            {"name":"j","kind":"1"}],
+            "bonds":[{"from":"Sf1","to":"j"},{"from":"Sf2","to":"j"}]}"#,
+    )
+    .unwrap();
+    let c = assign_causality(&g).unwrap();
+    let dot = to_dot(&g, Some(&c));
+    let node = dot.lines().find(|l| l.contains("xlabel=\"j\"")).unwrap();
+    assert!(node.contains("color=orange"), "{node}");
+}
