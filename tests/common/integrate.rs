@@ -13,6 +13,10 @@
 //! times is that of the integration itself. With rtol = atol = 1e-13 smooth
 //! problems are reproduced to ~1e-12 relative.
 
+/// Steps (accepted or rejected) after which integration gives up: a smooth
+/// reference problem never needs this many, so reaching it means a bug.
+const MAX_STEPS: usize = 2_000_000;
+
 /// Dormand–Prince nodes c_i.
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
 
@@ -70,8 +74,8 @@ const E: [f64; 7] = [
 /// relative/absolute local error tolerances of the weighted RMS norm.
 ///
 /// # Panics
-/// If `times` is not sorted or starts before `t0`, or if the step size
-/// underflows (the problem is not smooth); this is test support code, and a
+/// If `times` is not sorted or starts before `t0`, if the step size
+/// underflows or more than `MAX_STEPS` steps are needed (the problem is not smooth); this is test support code, and a
 /// panic with a message is the clearest failure there.
 pub fn integrate(
     mut f: impl FnMut(f64, &[f64], &mut [f64]),
@@ -88,6 +92,7 @@ pub fn integrate(
     let mut y_stage = vec![0.0; n];
     let mut y_new = vec![0.0; n];
     let mut out = Vec::with_capacity(times.len());
+    let mut steps = 0usize;
 
     f(t, &y, &mut k[0]);
     let mut h = initial_step(&y, &k[0], rtol, atol);
@@ -98,6 +103,11 @@ pub fn integrate(
             "integrate: output time {t_out} precedes current time {t} (times must be sorted and >= t0)"
         );
         while t < t_out {
+            steps += 1;
+            assert!(
+                steps <= MAX_STEPS,
+                "integrate: more than {MAX_STEPS} steps before t = {t_out} (stuck at t = {t})"
+            );
             let remaining = t_out - t;
             let landing = h >= remaining * (1.0 - 1e-12);
             let h_step = if landing { remaining } else { h };
