@@ -10,6 +10,7 @@
 //! | [`sundials`] | the only `unsafe`: safe RAII wrappers of IDA and CVODE |
 //! | [`expr`] | expression DAG, symbolic derivatives, evaluation tapes |
 //! | [`bond`] | bond graphs: data model, validation, causality (SCAP), DOT drawings |
+//! | [`graph`] | a scene's bond graph, causality report and drawing |
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field |
 //! | [`mech`] | bodies, joints, springs, loads → the multibody system |
 //! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
@@ -22,6 +23,7 @@ pub mod bond;
 pub mod dae;
 pub mod error;
 pub mod expr;
+pub mod graph;
 pub mod mech;
 pub mod model;
 pub mod report;

@@ -54,6 +54,20 @@ enum Command {
         #[arg(long)]
         table: bool,
     },
+    /// The bond graph of a scene: DOT (or SVG through Graphviz), or its causality report.
+    Graph {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Print the causality report as JSON (dof, states, differential, conflicts, …).
+        #[arg(long)]
+        causality: bool,
+        /// Draw the decoupled twin (joints replaced by stiff springs) instead.
+        #[arg(long)]
+        decoupled: bool,
+        /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Solve the DAE (IDA) and the decoupled twin (CVODE) side by side.
     Compare {
         #[command(flatten)]
@@ -152,6 +166,35 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+        Command::Graph {
+            scene,
+            causality,
+            decoupled,
+            out,
+        } => {
+            let sc = Scene::from_path(&scene)?;
+            let variant = if decoupled {
+                bondmech::mech::Variant::Decoupled
+            } else {
+                bondmech::mech::Variant::Pinned
+            };
+            let g = bondmech::graph::SceneGraph::new(&sc, variant)?;
+            let text = if causality {
+                serde_json::to_string_pretty(&g.report()).expect("report serialises") + "\n"
+            } else {
+                g.dot()
+            };
+            match out {
+                Some(p) if p.extension().is_some_and(|e| e == "svg") && !causality => {
+                    svg(&text, &p)
+                }
+                Some(p) => write(&p, &text),
+                None => {
+                    print!("{text}");
+                    Ok(())
+                }
+            }
+        }
         Command::Compare { args, json } => {
             let (model, opts) = load(&args)?;
             let (cmp, _, _) = model.compare(&opts)?;
@@ -162,6 +205,40 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+    }
+}
+
+/// Renders DOT to SVG with Graphviz.
+fn svg(dot: &str, path: &Path) -> Result<(), Error> {
+    use std::io::Write;
+    let mut child = std::process::Command::new("dot")
+        .arg("-Tsvg")
+        .arg("-o")
+        .arg(path)
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| {
+            Error::Options(format!(
+                "cannot run Graphviz 'dot' ({e}): apt-get install graphviz, or write .dot"
+            ))
+        })?;
+    child
+        .stdin
+        .take()
+        .expect("piped stdin")
+        .write_all(dot.as_bytes())
+        .map_err(|source| Error::Io {
+            path: "dot".into(),
+            source,
+        })?;
+    let status = child.wait().map_err(|source| Error::Io {
+        path: "dot".into(),
+        source,
+    })?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(Error::Options(format!("Graphviz 'dot' failed ({status})")))
     }
 }
 

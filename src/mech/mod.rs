@@ -7,9 +7,11 @@
 
 pub mod assemble;
 pub mod body;
+pub mod bondgraph;
 pub mod system;
 
 pub use assemble::assemble;
+pub use bondgraph::{scene_bond_graph, Variant};
 pub use system::{ConstraintRow, Coordinate, MultibodySystem, OutputColumn};
 
 /// A mechanism that cannot be built, with the JSON path of the culprit.
