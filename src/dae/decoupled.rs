@@ -47,10 +47,10 @@ impl DecoupledFormulation {
                 ),
             ));
         }
-        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let (nq, nv) = (sys.nq(), sys.nv());
         let g = &mut sys.graph;
         // joint force magnitude per row: k g_i + c (G_v v)_i
-        let row_force: Vec<Expr> = (0..nc)
+        let row_force: Vec<Expr> = (0..c.g.len())
             .map(|i| {
                 let a = g.scale(stiffness, c.g[i]);
                 let b = g.scale(damping, c.gvv[i]);
@@ -60,9 +60,9 @@ impl DecoupledFormulation {
         let mut rhs: Vec<Expr> = sys.kinematics.clone();
         for j in 0..nv {
             let mut terms = vec![sys.forces[j]];
-            for i in 0..nc {
-                if !g.is_zero(c.gv[i][j]) {
-                    let p = g.mul(c.gv[i][j], row_force[i]);
+            for (row, &rf) in c.gv.iter().zip(&row_force) {
+                if !g.is_zero(row[j]) {
+                    let p = g.mul(row[j], rf);
                     terms.push(g.neg(p));
                 }
             }

@@ -155,7 +155,6 @@ impl<'a> Assembler<'a> {
                 }
             }
         }
-        let mut need = need;
         for (li, l) in s.loads.iter().enumerate() {
             if matches!(l.kind, LoadKind::Torque) {
                 if let Some(i) = self.body_index(&l.body, &format!("loads[{li}].body"))? {
@@ -788,9 +787,9 @@ impl<'a> Assembler<'a> {
                             "revolute is a planar pin; in 3D use spherical or weld",
                         ));
                     }
-                    for k in 0..pa.position.len() {
+                    for (k, axis) in axes.iter().enumerate().take(pa.position.len()) {
                         g_rows.push(self.g.sub(pa.position[k], pb.position[k]));
-                        meta.push(row(axes[k]));
+                        meta.push(row(axis));
                     }
                 }
                 JointKind::Prismatic { axis } => {
@@ -826,9 +825,9 @@ impl<'a> Assembler<'a> {
                     }
                 }
                 JointKind::Weld => {
-                    for k in 0..pa.position.len() {
+                    for (k, axis) in axes.iter().enumerate().take(pa.position.len()) {
                         g_rows.push(self.g.sub(pa.position[k], pb.position[k]));
-                        meta.push(row(axes[k]));
+                        meta.push(row(axis));
                     }
                     if self.spatial {
                         for (dir, e) in self.relative_rotation_rows(&ka, &kb) {
@@ -954,8 +953,8 @@ impl<'a> Assembler<'a> {
                             format!("unknown output '{o}' (expected 'energy', 'constraint_error', a standard column or BODY.POINT)"),
                         ));
                     }
-                    for k in 0..self.dim() {
-                        let n = format!("{o}.{}", axes[k]);
+                    for axis in axes.iter().take(self.dim()) {
+                        let n = format!("{o}.{axis}");
                         cols.push(OutputColumn {
                             expr: names[&n],
                             name: n,
