@@ -87,9 +87,10 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
             .iter()
             .map(|(n, c)| (n.clone(), c[0], c.get(1).copied().unwrap_or(0.0)))
             .collect();
-        let centre_load = scene.loads.iter().any(|l| {
-            l.body == b.name && l.point.is_none() && matches!(l.kind, LoadKind::Force)
-        });
+        let centre_load = scene
+            .loads
+            .iter()
+            .any(|l| l.body == b.name && l.point.is_none() && matches!(l.kind, LoadKind::Force));
         if centre_load {
             points.push(("cm".into(), 0.0, 0.0));
         }
