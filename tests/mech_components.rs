@@ -216,3 +216,89 @@ fn tabulated_force_integrates_to_the_hand_computed_motion() {
         assert!((got - want).abs() < 1e-7, "x at t = {t}: {got} vs {want}");
     }
 }
+
+#[test]
+fn three_bars_sharing_one_pin_stay_together_and_conserve_energy() {
+    // a "Y": bar a hangs from the ground; bars b and c hang from a's tip, all three meeting
+    // at one point
+    let j = 1.0 / 12.0;
+    let json = format!(
+        r#"{{"name":"y","dimension":2,"gravity":[0,-{G}],
+        "bodies":[
+          {{"name":"a","mass":1.0,"inertia":{j},"points":{{"O":[-0.5,0],"A":[0.5,0]}},"position":[0.5,0],"angle":0}},
+          {{"name":"b","mass":1.0,"inertia":{j},"points":{{"O":[-0.5,0],"A":[0.5,0]}},"position":[1.0,-0.5],"angle":-1.5707963267948966}},
+          {{"name":"c","mass":0.5,"inertia":{jc},"points":{{"O":[-0.5,0],"A":[0.5,0]}},"position":[1.5,0],"angle":0}}],
+        "joints":[
+          {{"name":"pivot","type":"revolute","bodies":["ground","a"],"points":[[0,0],"O"]}},
+          {{"name":"ab","type":"revolute","bodies":["a","b"],"points":["A","O"]}},
+          {{"name":"ac","type":"revolute","bodies":["a","c"],"points":["A","O"]}}],
+        "solve":{{"t_end":3.0,"output_step":0.05}},
+        "outputs":["a.A","b.O","c.O","energy"]}}"#,
+        jc = 0.5 / 12.0
+    );
+    let model = Model::new(&Scene::from_json_str(&json).unwrap()).unwrap();
+    let mut o = model.default_options();
+    o.rtol = 1e-9;
+    o.atol = 1e-11;
+    let s = model.solve(&o).unwrap();
+    let e = s.column("energy").unwrap();
+    for k in 0..s.times.len() {
+        for p in ["b.O", "c.O"] {
+            for ax in ["x", "y"] {
+                let d = s.value(k, &format!("a.A.{ax}")).unwrap()
+                    - s.value(k, &format!("{p}.{ax}")).unwrap();
+                assert!(
+                    d.abs() < 1e-9,
+                    "{p}.{ax} left the pin at t = {}: {d:e}",
+                    s.times[k]
+                );
+            }
+        }
+        // the motion is violent (energy ~ 20 J exchanged): conserved to 1e-6 relative
+        assert!(
+            (e[k] - e[0]).abs() < 1e-6 * 20.0,
+            "energy at t = {}",
+            s.times[k]
+        );
+    }
+}
+
+#[test]
+fn decoupled_twin_solves_with_joint_stiffness_1e12() {
+    let scene = Scene::from_json_str(&double_pendulum("inertial")).unwrap();
+    let model = Model::new(&scene).unwrap();
+    let mut o = model.default_options();
+    o.formulation = FormulationKind::Decoupled;
+    o.joint_stiffness = 1e12;
+    // critically damped joint springs (c = 2√(k m)): undamped, the twin's error test has to
+    // follow the spring oscillation at √(k/m) = 1e6 rad/s (measured: 5.8 million steps per
+    // simulated second at k = 1e12, growing like √k)
+    o.joint_damping = 2e6;
+    o.output_times = (0..=10).map(|i| 0.1 * i as f64).collect();
+    o.rtol = 1e-8;
+    o.atol = 1e-12;
+    o.max_steps = Some(2_000_000);
+    let s = model.solve(&o).expect("k = 1e12 still solves");
+    let r = simulate_double_pendulum(
+        &DoublePendulum {
+            m1: 1.0,
+            l1: 1.0,
+            m2: 1.0,
+            l2: 1.0,
+            g: G,
+        },
+        [0.0; 4],
+        &s.times,
+    );
+    // the springs stretch by about m g / k ≈ 1e-11 m; the motion matches the pinned one
+    assert!(s.summary.max_constraint_error < 1e-9, "{:?}", s.summary);
+    for (k, rk) in r.iter().enumerate() {
+        let got = s.value(k, "bar2.y").unwrap();
+        assert!(
+            (got - rk.c2[1]).abs() < 1e-4,
+            "t = {}: {got} vs {}",
+            s.times[k],
+            rk.c2[1]
+        );
+    }
+}

@@ -81,3 +81,45 @@ impl DecoupledFormulation {
         })
     }
 }
+
+/// Positions of the decoupled twin in static balance with the pinned mechanism's joint
+/// forces: the least change of `q` with `k g(q) = λ` (the spring of each row carries the force
+/// its joint row carried), so the start excites no spurious spring oscillation of amplitude
+/// `λ/k` — which the error test would otherwise resolve at a cost growing like `√k`.
+pub fn prestressed_positions(
+    tapes: &super::MechanicsTapes,
+    t0: f64,
+    q: &[f64],
+    v: &[f64],
+    lambda: &[f64],
+    stiffness: f64,
+) -> Vec<f64> {
+    let (nq, _, nc) = tapes.dims;
+    let target: Vec<f64> = lambda.iter().map(|l| l / stiffness).collect();
+    let mut x: Vec<f64> = q.iter().chain(v).copied().collect();
+    for _ in 0..10 {
+        let g = super::MechanicsTapes::eval(&tapes.g, t0, &x);
+        let r: Vec<f64> = g.iter().zip(&target).map(|(a, b)| a - b).collect();
+        let scale = target.iter().fold(1e-300f64, |a, b| a.max(b.abs()));
+        if r.iter().all(|e| e.abs() <= 1e-12 * scale + 1e-15) {
+            break;
+        }
+        let gq = nalgebra::DMatrix::from_row_slice(
+            nc,
+            nq,
+            &super::MechanicsTapes::eval(&tapes.gq, t0, &x),
+        );
+        let Some(dq) = gq
+            .svd(true, true)
+            .solve(&nalgebra::DVector::from_vec(r), 1e-12)
+            .ok()
+        else {
+            break;
+        };
+        for i in 0..nq {
+            x[i] -= dq[i];
+        }
+    }
+    x.truncate(nq);
+    x
+}

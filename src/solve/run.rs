@@ -531,7 +531,14 @@ fn run_decoupled(
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
 ) -> Result<Solution, Error> {
     let t0 = opts.output_times[0];
-    let mut y0 = init.q.clone();
+    let mut y0 = crate::dae::decoupled::prestressed_positions(
+        &tapes,
+        t0,
+        &init.q,
+        &init.v,
+        &init.lambda,
+        opts.joint_stiffness,
+    );
     y0.extend(&init.v);
     let cv_opts = CvodeOptions {
         rtol: opts.rtol,
