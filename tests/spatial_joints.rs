@@ -61,17 +61,15 @@ fn spherical_rod_pendulum_conserves_energy_and_vertical_momentum() {
         l0.abs() > 0.1,
         "the test needs angular momentum about Z (got {l0})"
     );
-    for k in 0..sol.times.len() {
+    for (k, (&t, &ek)) in sol.times.iter().zip(&e).enumerate() {
         assert!(
             (lz(k) - l0).abs() < 1e-8 * l0.abs(),
-            "L_z at t = {}: {} vs {l0}",
-            sol.times[k],
+            "L_z at t = {t}: {} vs {l0}",
             lz(k)
         );
         assert!(
-            (e[k] - e0).abs() < 1e-8 * e0.abs().max(1.0),
-            "energy at t = {}",
-            sol.times[k]
+            (ek - e0).abs() < 1e-8 * e0.abs().max(1.0),
+            "energy at t = {t}"
         );
     }
     assert!(sol.summary.max_constraint_error < 1e-9, "{:?}", sol.summary);
