@@ -201,3 +201,36 @@ impl Index1Formulation {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn preferred_columns_are_taken_first_when_they_suffice() {
+        // rows: a pin (x, y) on a bar with velocities (vx, vy, ω): G = [[1, 0, -s], [0, 1, c]]
+        let g = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, -0.3, 0.0, 1.0, 0.4]);
+        assert_eq!(select_dependent(&g, &[true, true, false]), Some(vec![0, 1]));
+    }
+
+    #[test]
+    fn a_rotation_is_taken_when_the_translations_cannot_complete_the_set() {
+        // the two rows only involve vx and ω: vy cannot help
+        let g = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.5, 2.0, 0.0, -1.0]);
+        assert_eq!(select_dependent(&g, &[true, true, false]), Some(vec![0, 2]));
+    }
+
+    #[test]
+    fn rank_deficient_rows_have_no_dependent_set() {
+        let g = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0]);
+        assert_eq!(select_dependent(&g, &[true, true, true]), None);
+    }
+
+    #[test]
+    fn condition_of_the_dependent_block_is_its_singular_value_ratio() {
+        // block [[1, 0], [0, 1e-3]] → condition 1e3
+        let g = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 5.0, 0.0, 1e-3, 7.0]);
+        let c = dependent_condition(&g, &[0, 1]);
+        assert!((c - 1e3).abs() < 1e-9, "{c}");
+    }
+}
