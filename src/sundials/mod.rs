@@ -12,11 +12,11 @@
 //! - [`error`]: [`SolverError`], [`CallbackError`] and flag-name lookup.
 //! - [`callback`]: panic-safe trampolines' shared state.
 //! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
-//! - [`stats`]: [`SolverStats`].
+//! - [`stats`][]: [`SolverStats`].
 //! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
 //! - [`ida`], [`cvode`]: the solvers.
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
-//! - [`version`]: linked library version.
+//! - [`mod@version`]: linked library version.
 
 pub mod callback;
 pub mod context;
