@@ -548,6 +548,17 @@ impl Mechanism {
     }
 }
 
+impl From<Scene> for Mechanism {
+    /// Continues building from an existing scene (e.g. one read from JSON): elements added
+    /// afterwards are appended to its lists.
+    fn from(scene: Scene) -> Self {
+        Mechanism {
+            scene,
+            t_end_set: true,
+        }
+    }
+}
+
 /// Rewrites a path `bodies[1].mass` as `body 'bar2' (bodies[1]).mass`.
 fn name_element(scene: &Scene, p: Problem) -> Problem {
     let lists: [(&str, &str, Vec<&str>); 4] = [

@@ -1,8 +1,8 @@
 //! The builder API: a scene built in code equals the same scene read from JSON, solves to the
 //! same bits, and its errors name the element at fault.
 
-use bondmech::scene::{BodyFrame, Formulation, PointRef};
-use bondmech::{Error, Ground, Mechanism, Model, PlanarBody, Scene, SpatialBody};
+use bondmech::scene::{BodyFrame, Formulation, LoadValue, PointRef};
+use bondmech::{Error, Ground, Mechanism, Model, PlanarBody, Scene, SpatialBody, SpringDamper};
 
 /// `scenes/double_pendulum.json`, built in code. The file writes the bars' inertia 1/12
 /// rounded to 16 digits, so the code passes that number rather than `m L²/12`.
@@ -251,4 +251,73 @@ fn spherical_joint_in_a_plane_is_refused_naming_the_joint() {
         .unwrap_err();
     let p = problems(e);
     assert!(p.iter().any(|l| l.starts_with("joint 'ball'")), "{p:?}");
+}
+
+#[test]
+fn springs_and_load_kinds_built_in_code_equal_their_json() {
+    let json = r#"{
+      "name": "loads", "dimension": 2,
+      "bodies": [{ "name": "m", "mass": 2, "inertia": 0.5,
+                   "points": { "P": [0.1, 0] }, "position": [1, 0] }],
+      "springs": [
+        { "name": "s1", "bodies": ["ground", "m"], "points": [[0, 0], "P"], "stiffness": 10 },
+        { "name": "s2", "bodies": ["ground", "m"], "points": [[0, 1], [0, 0]],
+          "stiffness": 5, "rest_length": 0.5, "damping": 0.1 }],
+      "loads": [
+        { "name": "f", "type": "force", "body": "m", "point": "P", "value": [1, 2] },
+        { "name": "g", "type": "force", "body": "m", "value": ["sin(t)", "m.x"] },
+        { "name": "tt", "type": "torque", "body": "m",
+          "value": { "table": { "t": [0, 1], "v": [0, 3] } } },
+        { "name": "te", "type": "torque", "body": "m", "value": "-0.1*m.omega" }],
+      "solve": { "t_end": 2 } }"#;
+    let from_json = Scene::from_json_str(json).unwrap();
+    let built = Mechanism::planar()
+        .name("loads")
+        .body(
+            PlanarBody::new("m", 2.0, 0.5)
+                .point("P", [0.1, 0.0])
+                .at([1.0, 0.0], 0.0),
+        )
+        .spring(SpringDamper::new(
+            "s1",
+            Ground.at([0.0, 0.0]),
+            ("m", "P"),
+            10.0,
+        ))
+        .spring(
+            SpringDamper::new("s2", Ground.at([0.0, 1.0]), "m", 5.0)
+                .rest_length(0.5)
+                .damping(0.1),
+        )
+        .force("f", ("m", "P"), [1.0, 2.0])
+        .force("g", "m", ["sin(t)", "m.x"])
+        .torque(
+            "tt",
+            "m",
+            LoadValue::table(vec![0.0, 1.0], vec![vec![0.0], vec![3.0]]),
+        )
+        .torque("te", "m", "-0.1*m.omega")
+        .t_end(2.0)
+        .build()
+        .unwrap();
+    assert_eq!(built, from_json);
+}
+
+#[test]
+fn built_scene_written_as_json_reads_back_equal() {
+    let built = double_pendulum_in_code();
+    let again = Scene::from_json_str(&built.to_json_string()).unwrap();
+    assert_eq!(again, built);
+}
+
+#[test]
+fn mechanism_from_a_loaded_scene_appends_elements() {
+    let file = Scene::from_path("scenes/pendulum.json").unwrap();
+    let n = file.loads.len();
+    let more = Mechanism::from(file)
+        .torque("motor", "bob", 0.5)
+        .build()
+        .unwrap();
+    assert_eq!(more.loads.len(), n + 1);
+    assert_eq!(more.loads[n].name, "motor");
 }

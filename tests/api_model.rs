@@ -2,7 +2,7 @@
 
 use std::ops::ControlFlow;
 
-use bondmech::{Ground, Mechanism, Model, PlanarBody, Scene, Solution, SpatialBody};
+use bondmech::{Ground, Mechanism, Model, PlanarBody, Scene, Solution, SpatialBody, SpringDamper};
 
 const _: () = {
     const fn send_sync<T: Send + Sync>() {}
@@ -168,4 +168,24 @@ fn equations_name_coordinates_and_joints() {
         text.contains("cos(bar1.angle)") || text.contains("sin(bar1.angle)"),
         "{text}"
     );
+}
+
+#[test]
+fn mass_on_a_spring_built_in_code_oscillates_as_a_cosine() {
+    // m = 1 kg, k = 4 N/m, rest length 1 m, released at 1.5 m: x(t) = 1 + 0.5 cos(2t).
+    let scene = Mechanism::planar()
+        .body(PlanarBody::point_mass("m", 1.0).at([1.5, 0.0], 0.0))
+        .spring(SpringDamper::new("s", Ground.at([0.0, 0.0]), "m", 4.0).rest_length(1.0))
+        .t_end(3.0)
+        .output_step(0.1)
+        .tolerances(1e-10, 1e-12)
+        .build()
+        .unwrap();
+    let model = Model::new(&scene).unwrap();
+    let sol = model.solve(&model.default_options()).unwrap();
+    for (k, &t) in sol.times.iter().enumerate() {
+        let x = sol.value(k, "m.x").unwrap();
+        let want = 1.0 + 0.5 * (2.0 * t).cos();
+        assert!((x - want).abs() < 1e-6, "t = {t}: {x} vs {want}");
+    }
 }
