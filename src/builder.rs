@@ -23,8 +23,17 @@
 //! # Ok::<(), bondmech::Error>(())
 //! ```
 //!
-//! Errors name the element: a body with a negative mass is reported as
-//! `body 'bob' (bodies[0]).mass: must be > 0 and finite (got -1)`.
+//! Errors name the element and keep its JSON path:
+//!
+//! ```
+//! use bondmech::{Mechanism, PlanarBody};
+//! let err = Mechanism::planar()
+//!     .body(PlanarBody::point_mass("bob", -1.0))
+//!     .t_end(1.0)
+//!     .build()
+//!     .unwrap_err();
+//! assert_eq!(err.to_string(), "body 'bob' (bodies[0]).mass: must be > 0 and finite (got -1)");
+//! ```
 
 use crate::scene::{
     Body, BodyFrame, Dimension, Formulation, Inertia, Joint, JointKind, Load, LoadKind, LoadValue,
