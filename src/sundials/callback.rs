@@ -2,7 +2,7 @@
 //!
 //! A closure result maps to the SUNDIALS convention: `Ok` → 0, `Recoverable` → +1
 //! (retry with a smaller step), `Fatal` or a panic → -1 (stop); the fatal message or
-//! panic payload is remembered in [`CallbackStatus`] and surfaces from the solve call.
+//! panic payload is remembered in `CallbackStatus` and surfaces from the solve call.
 
 use super::error::{CallbackError, CallbackResult, SolverError};
 use super::matrix::DenseMatrixMut;

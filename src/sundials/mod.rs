@@ -7,16 +7,16 @@
 //! typed errors naming the function, flag and time reached.
 //!
 //! Table of contents:
-//! - [`context`] — RAII `SUNContext`.
-//! - [`vector`], [`matrix`], [`linsol`] — RAII serial `N_Vector`, dense `SUNMatrix`, dense `SUNLinearSolver`.
-//! - [`error`] — [`SolverError`], [`CallbackError`] and flag-name lookup.
-//! - [`callback`] — panic-safe trampolines' shared state.
-//! - [`options`] — [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
-//! - [`stats`] — [`SolverStats`].
-//! - [`driver`] — the `solve_to` loop of single internal steps with budgets and interpolation.
-//! - [`ida`], [`cvode`] — the solvers.
-//! - [`custom_ls`] — [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
-//! - [`version`] — linked library version.
+//! - [`context`]: RAII `SUNContext`.
+//! - [`vector`], [`matrix`], [`linsol`]: RAII serial `N_Vector`, dense `SUNMatrix`, dense `SUNLinearSolver`.
+//! - [`error`]: [`SolverError`], [`CallbackError`] and flag-name lookup.
+//! - [`callback`]: panic-safe trampolines' shared state.
+//! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
+//! - [`stats`][]: [`SolverStats`].
+//! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
+//! - [`ida`], [`cvode`]: the solvers.
+//! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
+//! - [`mod@version`]: linked library version.
 
 pub mod callback;
 pub mod context;
