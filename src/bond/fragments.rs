@@ -332,7 +332,7 @@ pub struct RigidBody3Spec {
     pub mass: f64,
     /// Principal moments J_x, J_y, J_z.
     pub inertia: [f64; 3],
-    /// Optional body→inertial rotation matrix entries R[I][i] as expressions (signals must be
+    /// Optional body→inertial rotation matrix entries `R[I][i]` as expressions (signals must be
     /// declared on the graph); when given, inertial-frame force/torque ports are built.
     pub rotation: Option<[[String; 3]; 3]>,
 }

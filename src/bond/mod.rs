@@ -3,7 +3,7 @@
 //! - [`model`]: elements, bonds, parameters, the two-port convention
 //!   (TF/MTF `e1 = m·e2, f2 = m·f1`; GY/MGY `e1 = r·f2, e2 = r·f1`; port 1 = bond into the two-port).
 //! - [`json`]: the `"bond_graph"` JSON form.
-//! - [`validate`]: structural checks with JSON paths, all errors collected.
+//! - [`validate`](mod@validate): structural checks with JSON paths, all errors collected.
 //! - [`causality`]: sequential causality assignment (SCAP), differential storages, conflicts,
 //!   algebraic loops, degrees of freedom.
 //! - [`dot`]: Graphviz export with half arrows and causal strokes.
