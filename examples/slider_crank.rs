@@ -36,12 +36,12 @@ fn main() -> Result<(), bondmech::Error> {
             ("piston", "P"),
             [0.0, 1.0],
         )
-        .torque("drive", "crank", 1.0)
-        // The gas force of scenes/slider_crank.json: −50 max(0, cos θ) N along Y, θ the crank angle.
+        .torque("drive", "crank", 1.5)
+        // The gas force of scenes/slider_crank.json: −10 max(0, cos θ) N along Y, θ the crank angle.
         .force(
             "gas",
             ("piston", "P"),
-            ["0", "-50*max(0, cos(crank.angle))"],
+            ["0", "-10*max(0, cos(crank.angle))"],
         )
         .output("energy")
         .t_end(1.0)

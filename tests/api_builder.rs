@@ -126,11 +126,11 @@ fn slider_crank_built_in_code_equals_the_json_file() {
             ("piston", "P"),
             [0.0, 1.0],
         )
-        .torque("drive", "crank", 1.0)
+        .torque("drive", "crank", 1.5)
         .force(
             "gas",
             ("piston", "P"),
-            ["0", "-50*max(0, cos(crank.angle))"],
+            ["0", "-10*max(0, cos(crank.angle))"],
         )
         .t_end(1.0)
         .output_step(0.001)
@@ -312,7 +312,7 @@ fn built_scene_written_as_json_reads_back_equal() {
 
 #[test]
 fn mechanism_from_a_loaded_scene_appends_elements() {
-    let file = Scene::from_path("scenes/pendulum.json").unwrap();
+    let file = Scene::from_path("scenes/pendulum_point_mass.json").unwrap();
     let n = file.loads.len();
     let more = Mechanism::from(file)
         .torque("motor", "bob", 0.5)
