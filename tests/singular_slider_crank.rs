@@ -56,7 +56,7 @@ fn reference(phi0: f64, times: &[f64]) -> Vec<Vec<f64>> {
     let b = R * R * (2.0 * M_ROD + 4.0 * M_PISTON);
     let w = G * R * (M_CRANK / 2.0 + 1.5 * M_ROD + 2.0 * M_PISTON);
     let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
-        let (s, c) = y[0].sin_cos();
+        let c = y[0].cos();
         dy[0] = y[1];
         dy[1] = (TORQUE - w * c + 0.5 * b * (2.0 * y[0]).sin() * y[1] * y[1]) / (a + b * c * c);
     };
@@ -117,12 +117,9 @@ fn isosceles_slider_crank_keeps_mirror_branch_through_bifurcations() {
         !sm.singular_passages.is_empty(),
         "plain GGL fails at the first bifurcation and the switch is reported"
     );
-    assert!(
-        sm.singular_passages[0]
-            .joints
-            .contains(&"cylinder".to_string())
-            || !sm.singular_passages[0].joints.is_empty()
-    );
+    // at the bifurcation the whole loop loses independence, the cylinder included
+    let joints = &sm.singular_passages[0].joints;
+    assert!(joints.contains(&"cylinder".to_string()), "{joints:?}");
     eprintln!(
         "isosceles: steps {} cpu {:.3} s, passages {:?}, compliance {:e}, drift {:e}",
         sm.steps, sm.cpu_seconds, sm.singular_passages, sm.compliance, sm.energy_drift
