@@ -100,7 +100,7 @@ mod tests {
     #[test]
     fn nearly_parallel_rows_name_their_joints_and_not_the_others() {
         // rows a and b nearly parallel (angle δ), row c independent: λ_min ≈ δ²/2
-        let d = 1e-5;
+        let d: f64 = 1e-5;
         let gv =
             DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 0.0, d.cos(), d.sin(), 0.0, 0.0, 0.0, 1.0]);
         let c = joint_conditioning(&gv, &[1.0, 1.0, 1.0], &[row("a"), row("b"), row("c")]);
