@@ -1,4 +1,11 @@
 //! Running a formulation on IDA or CVODE: consistent start, output rows, statistics.
+//!
+//! The GGL runner handles singular configurations by itself: when plain GGL (ε = 0) fails with
+//! a collapsing step (`IDA_CONV_FAIL`, `IDA_ERR_FAIL`) and `κ(G_v M⁺ G_vᵀ)` at its last accepted
+//! step exceeds [`SINGULAR_CONDITION`], it restarts from the last output with the compliant GGL
+//! (`g − εμ = 0`, `G_v v − ελ = 0`, ε = `1e-10 / m_ref` unless given) and records a
+//! [`SingularPassage`] (time, joints, κ). Joints redundant everywhere use the compliant GGL from
+//! the start.
 
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -375,10 +382,11 @@ pub const SINGULAR_CONDITION: f64 = 1e4;
 pub const REGULAR_CONDITION: f64 = 1e5;
 
 /// Whether plain GGL resumes after a singular passage once the joints are well-conditioned.
-/// Measured on the four-bar chains over 20 s at rtol 1e-8 (test profile): resuming costs more
-/// (N = 3: 20 084 steps against 17 153 compliant to the end; N = 10: 25 751 against 17 978,
-/// since every switch restarts IDA at order 1 with small steps) and plain GGL then steps
-/// silently through later alignments, losing 17–33 % of the energy; so it stays off.
+/// Measured on the four-bar chains over 20 s at rtol 1e-8, atol 1e-10 (test profile): resuming
+/// costs more (N = 3: 20 084 steps against 17 153 with the compliant GGL throughout; N = 10:
+/// 25 751 against 17 978, since every switch restarts IDA at order 1 with small steps) and plain
+/// GGL then steps silently through later alignments, losing 17–33 % of the energy; so it stays
+/// off.
 pub const RESUME_PLAIN_GGL: bool = false;
 
 /// A singular passage: plain GGL failed near a rank-deficient `G_v` and the solve continued
