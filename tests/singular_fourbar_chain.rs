@@ -260,6 +260,13 @@ fn compare_reports_decoupled_twin_error_on_the_chain() {
     }
     assert!(dec.summary.max_constraint_error.is_finite());
     assert!(!dae.summary.singular_passages.is_empty());
+    // `--summary` and `compare --json` serialise the passages
+    let json = serde_json::to_value(&dae.summary).expect("summary serialises");
+    assert!(json["singular_passages"][0]["joints"].is_array(), "{json}");
+    assert!(
+        json["compliance"].as_f64().is_some_and(|e| e > 0.0),
+        "{json}"
+    );
     let table = c.table();
     assert!(table.contains("singular passages"), "{table}");
     eprintln!("{table}");
