@@ -14,8 +14,12 @@
 //! slider-crank at its bifurcation): the joints then behave as extremely stiff springs of
 //! compliance ε exactly there, and as rigid joints elsewhere. `λ, μ` are algebraic (id 0),
 //! excluded from IDA's error test.
+//!
+//! ε is applied at evaluation time ([`GglFormulation::residual`], [`GglFormulation::jacobian`]),
+//! not compiled into the tapes, so one compiled residual serves both forms and the solver can
+//! switch between them (`src/solve/run.rs` does so at singular passages) by a re-initialisation.
 
-use super::compiled::ImplicitDae;
+use super::compiled::{ImplicitDae, Workspace};
 use super::mechanics::ConstraintExprs;
 use crate::expr::Expr;
 use crate::mech::MultibodySystem;
@@ -25,8 +29,11 @@ use crate::mech::MultibodySystem;
 pub struct GglFormulation {
     /// The compiled residual.
     pub dae: ImplicitDae,
-    /// Compliance ε (0 for plain GGL).
+    /// Compliance ε asked for at build time (0 for plain GGL); the evaluation functions take
+    /// the ε to use as an argument.
     pub compliance: f64,
+    /// `(nq, nv, nc)`: `λ_k` is unknown `nq + nv + k`, `μ_k` is `nq + nv + nc + k`.
+    pub dims: (usize, usize, usize),
     /// 1 for differential unknowns (q, v), 0 for algebraic (λ, μ).
     pub id: Vec<f64>,
     /// Names of the unknowns.
@@ -34,7 +41,8 @@ pub struct GglFormulation {
 }
 
 impl GglFormulation {
-    /// Builds `F(t, y, y')` as in the module documentation.
+    /// Builds `F(t, y, y')` as in the module documentation (`compliance` is recorded; the
+    /// compiled tapes hold the ε = 0 residual and ε is added by the evaluation functions).
     ///
     /// Slots: `y = [q, v, λ, μ]` at `1..=n`, `y'` at `n+1..=2n`; the first `1 + nq + nv` slots
     /// coincide with the state layout of the multibody system.
@@ -70,16 +78,8 @@ impl GglFormulation {
             }
             res.push(g.sum(&terms));
         }
-        for k in 0..nc {
-            let m = g.var(mu(k));
-            let e = g.scale(compliance, m);
-            res.push(g.sub(c.g[k], e));
-        }
-        for k in 0..nc {
-            let l = g.var(lam(k));
-            let e = g.scale(compliance, l);
-            res.push(g.sub(c.gvv[k], e));
-        }
+        res.extend(c.g.iter().copied());
+        res.extend(c.gvv.iter().copied());
         let mut id = vec![1.0; nq + nv];
         id.extend(std::iter::repeat_n(0.0, 2 * nc));
         let mut names: Vec<String> = sys.coords.iter().map(|c| c.name.clone()).collect();
@@ -92,8 +92,55 @@ impl GglFormulation {
         GglFormulation {
             dae: ImplicitDae::build(g, &res, n),
             compliance,
+            dims: (nq, nv, nc),
             id,
             names,
+        }
+    }
+
+    /// `F(t, y, y')` with compliance `eps`: the compiled ε = 0 residual minus `ε μ` in the
+    /// position rows and `ε λ` in the velocity rows.
+    pub fn residual(
+        &self,
+        ws: &mut Workspace,
+        eps: f64,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) {
+        self.dae.residual(ws, t, y, yp, r);
+        if eps != 0.0 {
+            let (nq, nv, nc) = self.dims;
+            let (lam, mu) = (nq + nv, nq + nv + nc);
+            for k in 0..nc {
+                r[lam + k] -= eps * y[mu + k];
+                r[mu + k] -= eps * y[lam + k];
+            }
+        }
+    }
+
+    /// Calls `put(row, col, value)` for every entry of `∂F/∂y + cj ∂F/∂y'` with compliance
+    /// `eps` (entries may repeat: the caller adds them).
+    #[allow(clippy::too_many_arguments)]
+    pub fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        eps: f64,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        mut put: impl FnMut(usize, usize, f64),
+    ) {
+        self.dae.jacobian(ws, t, cj, y, yp, &mut put);
+        if eps != 0.0 {
+            let (nq, nv, nc) = self.dims;
+            let (lam, mu) = (nq + nv, nq + nv + nc);
+            for k in 0..nc {
+                put(lam + k, mu + k, -eps);
+                put(mu + k, lam + k, -eps);
+            }
         }
     }
 }

@@ -162,9 +162,28 @@ impl Comparison {
                 format!("{:.3e}", b.energy_drift),
             ),
             ("compliance ε", format!("{:.1e}", a.compliance), "-".into()),
+            (
+                "singular passages",
+                a.singular_passages.len().to_string(),
+                "-".into(),
+            ),
+            (
+                "compliant time (s)",
+                format!("{:.3}", a.compliant_time),
+                "-".into(),
+            ),
         ];
         for (k, x, y) in rows {
             s.push_str(&format!("{k:<26} {x:>16} {y:>16}\n"));
+        }
+        for p in &a.singular_passages {
+            s.push_str(&format!(
+                "singular passage at t = {:.6}: κ(G M⁻¹ Gᵀ) = {:.1e}, joints [{}]; compliant GGL from t = {}\n",
+                p.t,
+                p.condition,
+                p.joints.join(", "),
+                p.restarted_at
+            ));
         }
         s
     }

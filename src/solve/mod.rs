@@ -5,4 +5,4 @@ pub mod options;
 pub mod run;
 
 pub use options::{FormulationKind, SolveOptions};
-pub use run::{solve_system, Row, Solution, Summary};
+pub use run::{solve_system, Row, SingularPassage, Solution, Summary};

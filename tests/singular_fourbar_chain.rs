@@ -1,0 +1,284 @@
+//! Chains of N parallelogram four-bar linkages in series pass through the aligned configuration
+//! (every bar on the ground line) twice per turn, where the joints lose rank. Reference: the
+//! exact 1-DOF model of `tests/common/four_bar_chain.rs` (energy of the chain, hand-derived),
+//! integrated by the tests' own Dormand–Prince integrator.
+
+mod common;
+
+use bondmech::solve::run::SINGULAR_CONDITION;
+use bondmech::{FormulationKind, Model, Scene, Solution};
+use common::four_bar_chain::{simulate_four_bar_chain, FourBarChain};
+use common::integrate::integrate;
+use common::{REFERENCE_ATOL, REFERENCE_RTOL};
+
+const G: f64 = 9.81;
+
+/// N + 1 upright cranks pinned at x = 0..N, N horizontal couplers on top, uniform 1 m 1 kg bars,
+/// cranks turning at 1 rad/s (couplers translating at the crank tips' velocity (−1, 0)).
+pub fn chain_json(n: usize) -> String {
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    let bar = r#""mass":1.0,"inertia":0.08333333333333333,"points":{"O":[-0.5,0],"A":[0.5,0]}"#;
+    for i in 0..=n {
+        bodies.push(format!(
+            r#"{{"name":"crank{i}",{bar},"position":[{i},0.5],"angle":1.5707963267948966,"velocity":[-0.5,0],"angular_velocity":1.0}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pivot{i}","type":"revolute","bodies":["ground","crank{i}"],"points":[[{i},0],"O"]}}"#
+        ));
+    }
+    for i in 0..n {
+        bodies.push(format!(
+            r#"{{"name":"coupler{i}",{bar},"position":[{x},1],"angle":0,"velocity":[-1,0],"angular_velocity":0}}"#,
+            x = i as f64 + 0.5
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}l","type":"revolute","bodies":["crank{i}","coupler{i}"],"points":["A","O"]}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}r","type":"revolute","bodies":["crank{j}","coupler{i}"],"points":["A","A"]}}"#,
+            j = i + 1
+        ));
+    }
+    format!(
+        r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-{G}],
+        "bodies":[{}],"joints":[{}],
+        "solve":{{"formulation":"dae","t_end":20.0,"output_step":0.05,"rtol":1e-8,"atol":1e-10}},
+        "outputs":["crank0.A","energy","constraint_error"]}}"#,
+        bodies.join(",\n"),
+        joints.join(",\n")
+    )
+}
+
+fn model(json: &str) -> Model {
+    Model::new(&Scene::from_json_str(json).expect("scene is valid")).expect("model builds")
+}
+
+/// 20 s at 0.05 s: about 20 alignments of the chain.
+fn times() -> Vec<f64> {
+    (0..=400).map(|i| 0.05 * i as f64).collect()
+}
+
+fn solve_chain(m: &Model, rtol: f64, atol: f64) -> Solution {
+    let mut o = m.default_options();
+    o.formulation = FormulationKind::Ggl;
+    o.rtol = rtol;
+    o.atol = atol;
+    o.output_times = times();
+    o.max_steps = Some(1_000_000);
+    m.solve(&o)
+        .expect("the GGL carries the chain through its alignments")
+}
+
+/// Largest distance of the first crank's top from the 1-DOF reference over the run.
+fn first_crank_top_error(n: usize, s: &Solution) -> f64 {
+    let p = FourBarChain {
+        loops: n,
+        m: 1.0,
+        l: 1.0,
+        g: G,
+    };
+    let r = simulate_four_bar_chain(&p, [std::f64::consts::FRAC_PI_2, 1.0], &s.times);
+    r.iter()
+        .enumerate()
+        .map(|(k, rk)| {
+            let x = s.value(k, "crank0.A.x").unwrap();
+            let y = s.value(k, "crank0.A.y").unwrap();
+            (x - rk.first_crank_top[0]).hypot(y - rk.first_crank_top[1])
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Alignments of the reference chain (sign changes of sin φ) over the output times.
+fn reference_alignments(n: usize) -> usize {
+    let p = FourBarChain {
+        loops: n,
+        m: 1.0,
+        l: 1.0,
+        g: G,
+    };
+    let r = simulate_four_bar_chain(&p, [std::f64::consts::FRAC_PI_2, 1.0], &times());
+    r.windows(2)
+        .filter(|w| w[0].phi.sin().signum() != w[1].phi.sin().signum())
+        .count()
+}
+
+/// The chain follows the 1-DOF reference, keeps the parallelogram branch, and says where it met
+/// the singular configuration.
+fn check_chain(n: usize, rtol: f64, atol: f64, bound: f64) {
+    let m = model(&chain_json(n));
+    let s = solve_chain(&m, rtol, atol);
+    let err = first_crank_top_error(n, &s);
+    let sm = &s.summary;
+    eprintln!(
+        "chain N = {n}, rtol {rtol:e}: error {err:.3e}, steps {}, CPU {:.2} s, ε {:e}, passages {}, drift {:.2e}",
+        sm.steps,
+        sm.cpu_seconds,
+        sm.compliance,
+        sm.singular_passages.len(),
+        sm.energy_drift
+    );
+    assert!(
+        err < bound,
+        "N = {n}, rtol {rtol:e}: first crank top off by {err:e}"
+    );
+    // parallelogram branch: the couplers translate (the antiparallelogram turns them)
+    for i in 0..n {
+        let a = s.column(&format!("coupler{i}.angle")).unwrap();
+        let worst = a.iter().fold(0.0f64, |w, x| w.max(x.abs()));
+        assert!(worst < 1e-6, "coupler{i} turned by {worst:e} rad");
+    }
+    assert!(
+        reference_alignments(n) >= 15,
+        "the run must pass many alignments"
+    );
+    // the automatic switch: plain GGL fails at the first alignment, the compliant GGL takes over
+    assert!(sm.compliance_used, "{sm:?}");
+    assert!(
+        sm.compliance > 0.0 && sm.compliance <= 1e-9,
+        "ε = {:e}",
+        sm.compliance
+    );
+    let p = sm
+        .singular_passages
+        .first()
+        .expect("a singular passage is reported");
+    assert!(p.condition > SINGULAR_CONDITION, "{p:?}");
+    assert!(p.joints.contains(&"pivot0".to_string()), "{p:?}");
+    assert!(
+        (0.5..1.5).contains(&p.t),
+        "the first alignment is at t ≈ 0.7 s, reported at {}",
+        p.t
+    );
+    assert!(sm.max_constraint_error < 1e-8, "{sm:?}");
+}
+
+#[test]
+fn one_four_bar_follows_one_dof_reference_through_alignments() {
+    check_chain(1, 5e-9, 5e-11, 1e-3);
+    check_chain(1, 1e-9, 1e-11, 1e-4);
+}
+
+#[test]
+fn chain_of_3_four_bars_follows_one_dof_reference_through_alignments() {
+    check_chain(3, 5e-9, 5e-11, 1e-3);
+    check_chain(3, 1e-9, 1e-11, 1e-4);
+}
+
+#[test]
+fn chain_of_10_four_bars_follows_one_dof_reference_through_alignments() {
+    check_chain(10, 5e-9, 5e-11, 1e-3);
+    check_chain(10, 1e-9, 1e-11, 1e-4);
+}
+
+/// A parallelogram with a third parallel crank on one long coupler: its joints are redundant in
+/// every configuration. Reference: 3 cranks (1 m, 1 kg) and a translating coupler (2 m, 1 kg):
+/// J = 3·(1/3) + 1 = 2, V = (3·½ + 1) g sin φ, J φ̈ = −W cos φ.
+fn triple_crank_json() -> String {
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    for i in 0..3 {
+        bodies.push(format!(
+            r#"{{"name":"crank{i}","mass":1.0,"inertia":0.08333333333333333,"points":{{"O":[-0.5,0],"A":[0.5,0]}},"position":[{i},0.5],"angle":1.5707963267948966,"velocity":[-0.5,0],"angular_velocity":1.0}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pivot{i}","type":"revolute","bodies":["ground","crank{i}"],"points":[[{i},0],"O"]}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}","type":"revolute","bodies":["crank{i}","coupler"],"points":["A",[{x},0]]}}"#,
+            x = i as f64 - 1.0
+        ));
+    }
+    bodies.push(
+        r#"{"name":"coupler","mass":1.0,"inertia":0.3333333333333333,"position":[1,1],"angle":0,"velocity":[-1,0],"angular_velocity":0}"#
+            .to_string(),
+    );
+    format!(
+        r#"{{"name":"triple_crank","dimension":2,"gravity":[0,-{G}],"bodies":[{}],"joints":[{}],
+        "solve":{{"t_end":5.0,"output_step":0.05}},"outputs":["crank0.A"]}}"#,
+        bodies.join(","),
+        joints.join(",")
+    )
+}
+
+#[test]
+fn parallel_third_crank_is_named_redundant_and_solved_compliant() {
+    let m = model(&triple_crank_json());
+    let mut o = m.default_options();
+    o.rtol = 1e-9;
+    o.atol = 1e-11;
+    o.output_times = (0..=100).map(|i| 0.05 * i as f64).collect();
+    o.max_steps = Some(1_000_000);
+    let s = m
+        .solve(&o)
+        .expect("redundant joints are solved, not refused");
+    let sm = &s.summary;
+    assert!(!sm.redundant_joints.is_empty(), "{sm:?}");
+    let warning = sm
+        .warnings
+        .iter()
+        .find(|w| w.contains("redundant"))
+        .expect("a redundancy warning");
+    for j in &sm.redundant_joints {
+        assert!(warning.contains(j.as_str()), "{warning}");
+    }
+    assert!(sm.compliance_used && sm.compliance > 0.0, "{sm:?}");
+    let (j, w) = (2.0, (1.5 + 1.0) * G);
+    let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -w * y[0].cos() / j;
+    };
+    let r = integrate(
+        rhs,
+        0.0,
+        &[std::f64::consts::FRAC_PI_2, 1.0],
+        &s.times,
+        REFERENCE_RTOL,
+        REFERENCE_ATOL,
+    );
+    for (k, rk) in r.iter().enumerate() {
+        let x = s.value(k, "crank0.A.x").unwrap();
+        let y = s.value(k, "crank0.A.y").unwrap();
+        let d = (x - rk[0].cos()).hypot(y - rk[0].sin());
+        assert!(d < 1e-4, "t = {}: crank top off by {d:e}", s.times[k]);
+    }
+    let coupler = s.column("coupler.angle").unwrap();
+    assert!(coupler.iter().all(|a| a.abs() < 1e-6));
+}
+
+#[test]
+fn compare_reports_decoupled_twin_error_on_the_chain() {
+    let m = model(&chain_json(3));
+    let mut o = m.default_options();
+    o.output_times = (0..=40).map(|i| 0.05 * i as f64).collect();
+    o.rtol = 1e-8;
+    o.atol = 1e-10;
+    o.max_steps = Some(1_000_000);
+    let (c, dae, dec) = m.compare(&o).expect("both formulations solve the chain");
+    for d in [&c.position, &c.angle, &c.velocity, &c.angular_velocity] {
+        assert!(d.value.is_finite() && !d.column.is_empty(), "{d:?}");
+    }
+    assert!(dec.summary.max_constraint_error.is_finite());
+    assert!(!dae.summary.singular_passages.is_empty());
+    // `--summary` and `compare --json` serialise the passages
+    let json = serde_json::to_value(&dae.summary).expect("summary serialises");
+    assert!(json["singular_passages"][0]["joints"].is_array(), "{json}");
+    assert!(
+        json["compliance"].as_f64().is_some_and(|e| e > 0.0),
+        "{json}"
+    );
+    let table = c.table();
+    assert!(table.contains("singular passages"), "{table}");
+    eprintln!("{table}");
+}
+
+/// `scenes/four_bar_chain_3.json` is the N = 3 chain of these tests.
+#[test]
+fn bundled_chain_scene_is_the_tested_chain() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/four_bar_chain_3.json");
+    let bundled = Scene::from_path(&path).expect("bundled scene loads");
+    let mut tested = Scene::from_json_str(&chain_json(3)).unwrap();
+    tested.description = bundled.description.clone();
+    assert_eq!(bundled, tested);
+}
