@@ -62,6 +62,23 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
+    Sweep {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Output directory for the CSV, JSON and SVG files.
+        #[arg(long, default_value = "sweep-out")]
+        out: PathBuf,
+        /// A small sweep (3 tolerances, 3 stiffnesses, 1 s, one timed run per point).
+        #[arg(long)]
+        quick: bool,
+        /// Error the smallest sufficient joint stiffness must reach.
+        #[arg(long)]
+        accuracy: Option<f64>,
+        /// Timed runs per point (median reported).
+        #[arg(long)]
+        repeats: Option<usize>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -160,6 +177,27 @@ fn run(cli: Cli) -> Result<(), Error> {
                 let j = serde_json::to_string_pretty(&cmp).expect("comparison serialises");
                 write(p, &j)?;
             }
+            Ok(())
+        }
+        Command::Sweep {
+            scene,
+            out,
+            quick,
+            accuracy,
+            repeats,
+        } => {
+            use bondmech::report::SweepConfig;
+            let model = Model::new(&Scene::from_path(&scene)?)?;
+            let mut cfg = if quick {
+                SweepConfig::quick()
+            } else {
+                SweepConfig::full()
+            };
+            cfg.accuracy = accuracy.unwrap_or(cfg.accuracy);
+            cfg.repeats = repeats.unwrap_or(cfg.repeats);
+            let report = bondmech::report::sweep::sweep_command(&model, &cfg, &out)?;
+            print!("{}", report.table());
+            println!("wrote {}", out.display());
             Ok(())
         }
     }
