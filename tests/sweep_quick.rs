@@ -31,7 +31,10 @@ fn cli_sweep_quick_writes_csv_json_and_svg() {
     );
     let wp = std::fs::read_to_string(dir.join("work_precision.csv")).expect("csv written");
     let mut lines = wp.lines();
-    assert!(lines.next().unwrap().starts_with("series,formulation,joint_stiffness,rtol"));
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("series,formulation,joint_stiffness,rtol"));
     // 3 tolerances × (ggl, index1, 3 decoupled)
     assert_eq!(lines.count(), 15, "{wp}");
     let k = std::fs::read_to_string(dir.join("stiffness.csv")).expect("csv written");
@@ -110,7 +113,12 @@ fn quick_sweep_errors_fall_with_tolerance_and_stiffness() {
     assert_eq!(ks.len(), 3);
     for w in ks.windows(2) {
         let (a, b) = (&w[0].run, &w[1].run);
-        assert!(b.error < 0.03 * a.error, "error {:e} -> {:e}", a.error, b.error);
+        assert!(
+            b.error < 0.03 * a.error,
+            "error {:e} -> {:e}",
+            a.error,
+            b.error
+        );
         assert!(
             b.max_constraint_error < 0.03 * a.max_constraint_error,
             "stretch {:e} -> {:e}",

@@ -58,7 +58,10 @@ pub fn work_precision_svg(report: &SweepReport, path: &Path) -> Result<()> {
     root.fill(&WHITE).map_err(err)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("{}: work-precision (t_end = {} s)", report.scene, report.t_end),
+            format!(
+                "{}: work-precision (t_end = {} s)",
+                report.scene, report.t_end
+            ),
             ("sans-serif", 20),
         )
         .margin(12)
@@ -86,7 +89,9 @@ pub fn work_precision_svg(report: &SweepReport, path: &Path) -> Result<()> {
             .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
             .map_err(err)?
             .label(*s)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
         chart
             .draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))
             .map_err(err)?;
@@ -164,7 +169,9 @@ pub fn stiffness_svg(report: &SweepReport, path: &Path) -> Result<()> {
             .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
             .map_err(err)?
             .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
         chart
             .draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))
             .map_err(err)?;
@@ -225,13 +232,18 @@ pub fn stiffness_svg(report: &SweepReport, path: &Path) -> Result<()> {
             .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
             .map_err(err)?
             .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
         chart
             .draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))
             .map_err(err)?;
     }
     chart
-        .draw_series(LineSeries::new(vec![(k0, 1.0), (k1, 1.0)], BLACK.stroke_width(1)))
+        .draw_series(LineSeries::new(
+            vec![(k0, 1.0), (k1, 1.0)],
+            BLACK.stroke_width(1),
+        ))
         .map_err(err)?
         .label("GGL DAE")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));

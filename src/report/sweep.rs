@@ -242,7 +242,13 @@ struct Point {
     opts: SolveOptions,
 }
 
-fn point(base: &SolveOptions, f: FormulationKind, rtol: f64, k: Option<f64>, cfg: &SweepConfig) -> Point {
+fn point(
+    base: &SolveOptions,
+    f: FormulationKind,
+    rtol: f64,
+    k: Option<f64>,
+    cfg: &SweepConfig,
+) -> Point {
     let mut opts = base.clone();
     opts.formulation = f;
     opts.rtol = rtol;
@@ -551,7 +557,9 @@ impl SweepReport {
                 w.steps,
                 w.residual_evals,
                 w.jacobian_evals,
-                w.failure.as_ref().map_or(String::new(), |f| format!("  FAILED: {f}"))
+                w.failure
+                    .as_ref()
+                    .map_or(String::new(), |f| format!("  FAILED: {f}"))
             ));
         }
         s.push_str(&format!(
@@ -571,7 +579,9 @@ impl SweepReport {
                 w.jacobian_evals,
                 p.largest_eigenvalue,
                 p.sqrt_k_over_m,
-                w.failure.as_ref().map_or(String::new(), |f| format!("  FAILED: {f}"))
+                w.failure
+                    .as_ref()
+                    .map_or(String::new(), |f| format!("  FAILED: {f}"))
             ));
         }
         match &self.sufficient_stiffness {
