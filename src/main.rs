@@ -78,6 +78,9 @@ enum Command {
         /// Timed runs per point (median reported).
         #[arg(long)]
         repeats: Option<usize>,
+        /// End time of every run (default: the scene's; --quick: 1 s).
+        #[arg(long = "t-end")]
+        t_end: Option<f64>,
     },
 }
 
@@ -185,6 +188,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             quick,
             accuracy,
             repeats,
+            t_end,
         } => {
             use bondmech::report::SweepConfig;
             let model = Model::new(&Scene::from_path(&scene)?)?;
@@ -195,6 +199,12 @@ fn run(cli: Cli) -> Result<(), Error> {
             };
             cfg.accuracy = accuracy.unwrap_or(cfg.accuracy);
             cfg.repeats = repeats.unwrap_or(cfg.repeats);
+            if let Some(t) = t_end {
+                if !(t > 0.0 && t.is_finite()) {
+                    return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
+                }
+                cfg.t_end = Some(t);
+            }
             let report = bondmech::report::sweep::sweep_command(&model, &cfg, &out)?;
             print!("{}", report.table());
             println!("wrote {}", out.display());

@@ -18,7 +18,8 @@
 //! mass. The smallest `k` whose error reaches [`SweepConfig::accuracy`] is reported with its
 //! CPU time relative to the GGL DAE at the same tolerance.
 //!
-//! The accuracy runs of all points go in parallel (`rayon`); the timing runs one at a time.
+//! The accuracy runs of all points go in parallel (`rayon`); the timing runs one at a time
+//! (a point whose accuracy run took over [`SLOW_RUN_SECONDS`] is timed once).
 
 use std::io::IsTerminal;
 use std::path::Path;
@@ -83,7 +84,7 @@ impl SweepConfig {
     }
 
     /// A quick sweep for tests and a first look: rtol 1e-4, 1e-6, 1e-8; k = 1e4, 1e6, 1e8;
-    /// one timed run per point; at most 1 s of simulated time.
+    /// one timed run per point; 1 s of simulated time.
     pub fn quick() -> Self {
         SweepConfig {
             rtols: vec![1e-4, 1e-6, 1e-8],
@@ -324,11 +325,21 @@ pub fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-/// Re-runs a successful point `repeats` times, one at a time, and stores the median CPU time.
+/// An accuracy run slower than this (CPU seconds) is timed once, not [`SweepConfig::repeats`]
+/// times: a stiff twin at k = 1e12 takes minutes per run, and its median would change nothing.
+pub const SLOW_RUN_SECONDS: f64 = 1.0;
+
+/// Re-runs a successful point `repeats` times (once if it is slow), one at a time, and stores
+/// the median CPU time.
 fn time_point(model: &Model, p: &Point, w: &mut WorkPoint, repeats: usize) {
     if w.failure.is_some() || repeats == 0 {
         return;
     }
+    let repeats = if w.cpu_seconds > SLOW_RUN_SECONDS {
+        1
+    } else {
+        repeats
+    };
     let mut cpu: Vec<f64> = Vec::with_capacity(repeats);
     for _ in 0..repeats {
         match model.solve(&p.opts) {
@@ -389,11 +400,13 @@ pub fn run_sweep(
     let mut base = model.default_options();
     base.max_steps = Some(base.max_steps.unwrap_or(100_000).max(1_000_000));
     if let Some(t) = cfg.t_end {
-        let scene_end = base.output_times.last().copied().unwrap_or(t);
-        if t < scene_end {
-            let step = model.scene().solve.output_step.unwrap_or(t / 100.0).min(t);
-            base.output_times = SolveOptions::times(t, step);
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Options(format!(
+                "sweep: t_end must be > 0 (got {t})"
+            )));
         }
+        let step = model.scene().solve.output_step.unwrap_or(t / 100.0).min(t);
+        base.output_times = SolveOptions::times(t, step);
     }
     let t_end = base.output_times.last().copied().unwrap_or(0.0);
 
