@@ -174,6 +174,9 @@ pub mod slider_crank {
     }
 }
 
+/// `∂f/∂y` of a minimal model: `(y, f(y), set(row, col, value))`.
+pub type JacobianFn = fn(&[f64], &[f64], &mut dyn FnMut(usize, usize, f64));
+
 /// A minimal-coordinate model: its size, `f`, `∂f/∂y` (dense, row-major into the callback),
 /// initial state and output columns.
 #[derive(Clone, Copy)]
@@ -187,7 +190,7 @@ pub struct MinimalModel {
     /// Right-hand side.
     pub rhs: fn(&[f64], &mut [f64]),
     /// Jacobian: `(y, f(y), set(row, col, value))`.
-    pub jacobian: fn(&[f64], &[f64], &mut dyn FnMut(usize, usize, f64)),
+    pub jacobian: JacobianFn,
     /// Output column names.
     pub columns: &'static [&'static str],
     /// Output values at a state.

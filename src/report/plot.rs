@@ -146,7 +146,8 @@ pub fn stiffness_svg(report: &SweepReport, path: &Path) -> Result<()> {
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(err)?;
-    let lines: [(&str, RGBColor, Vec<(f64, f64)>); 2] = [
+    type Line<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
+    let lines: [Line; 2] = [
         (
             "error vs DAE reference",
             COLOURS[0],

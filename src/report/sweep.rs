@@ -391,7 +391,7 @@ pub fn run_sweep(
             "sweep: joint stiffness must be > 0 (got {k})"
         )));
     }
-    if !(cfg.accuracy > 0.0) {
+    if cfg.accuracy.is_nan() || cfg.accuracy <= 0.0 {
         return Err(Error::Options(format!(
             "sweep: --accuracy must be > 0 (got {})",
             cfg.accuracy
