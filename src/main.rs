@@ -76,6 +76,26 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
+    Sweep {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Output directory for the CSV, JSON and SVG files.
+        #[arg(long, default_value = "sweep-out")]
+        out: PathBuf,
+        /// A small sweep (3 tolerances, 3 stiffnesses, 1 s, one timed run per point).
+        #[arg(long)]
+        quick: bool,
+        /// Error the smallest sufficient joint stiffness must reach.
+        #[arg(long)]
+        accuracy: Option<f64>,
+        /// Timed runs per point (median reported).
+        #[arg(long)]
+        repeats: Option<usize>,
+        /// End time of every run (default: the scene's; --quick: 1 s).
+        #[arg(long = "t-end")]
+        t_end: Option<f64>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -203,6 +223,34 @@ fn run(cli: Cli) -> Result<(), Error> {
                 let j = serde_json::to_string_pretty(&cmp).expect("comparison serialises");
                 write(p, &j)?;
             }
+            Ok(())
+        }
+        Command::Sweep {
+            scene,
+            out,
+            quick,
+            accuracy,
+            repeats,
+            t_end,
+        } => {
+            use bondmech::report::SweepConfig;
+            let model = Model::new(&Scene::from_path(&scene)?)?;
+            let mut cfg = if quick {
+                SweepConfig::quick()
+            } else {
+                SweepConfig::full()
+            };
+            cfg.accuracy = accuracy.unwrap_or(cfg.accuracy);
+            cfg.repeats = repeats.unwrap_or(cfg.repeats);
+            if let Some(t) = t_end {
+                if !(t > 0.0 && t.is_finite()) {
+                    return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
+                }
+                cfg.t_end = Some(t);
+            }
+            let report = bondmech::report::sweep::sweep_command(&model, &cfg, &out)?;
+            print!("{}", report.table());
+            println!("wrote {}", out.display());
             Ok(())
         }
     }

@@ -1,5 +1,10 @@
-//! Reports: comparisons of the DAE with its decoupled twin (and, later, sweeps and plots).
+//! Reports: comparisons of the DAE with its decoupled twin, speed-against-error sweeps, their
+//! SVG plots, and generated benchmark scenes.
 
 pub mod compare;
+pub mod generate;
+pub mod plot;
+pub mod sweep;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
+pub use sweep::{run_sweep, SweepConfig, SweepReport};

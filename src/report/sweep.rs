@@ -1,0 +1,657 @@
+//! Speed against error: the work-precision and stiffness-vs-rigidity sweeps of `bondmech sweep`.
+//!
+//! **Error.** Every run is compared with a reference solution at the scene's output times:
+//! `e = max_k max_c |x_c(t_k) − x_c^ref(t_k)|` over the position columns (m) and angle columns
+//! (rad) that both solutions write (`b.x`, `b.y`, `b.angle`, points). The reference is the GGL
+//! DAE at [`SweepConfig::reference_rtol`] (tighter than every swept tolerance).
+//!
+//! **Work-precision.** For each relative tolerance `rtol` (absolute tolerance
+//! `atol = rtol · atol_per_rtol`) and each formulation — GGL DAE, index-1 DAE, and the decoupled
+//! twin at a few joint stiffnesses `k` — the error, the median CPU seconds of
+//! [`SweepConfig::repeats`] runs (integration only; model building excluded), steps, residual
+//! and Jacobian evaluations.
+//!
+//! **Stiffness vs rigidity.** The decoupled twin `M v' = Q − G_vᵀ k g(q)` at one tolerance over a
+//! grid of `k`: error against the DAE reference, constraint violation (the largest spring stretch
+//! `max |g(q)|`), cost, and the stiffness itself — the largest eigenvalue magnitude `|λ|max` of
+//! the ODE Jacobian `∂f/∂y` at the start, and `sqrt(k/m_min)` with `m_min` the smallest body
+//! mass. The smallest `k` whose error reaches [`SweepConfig::accuracy`] is reported with its
+//! CPU time relative to the GGL DAE at the same tolerance.
+//!
+//! The accuracy runs of all points go in parallel (`rayon`); the timing runs one at a time
+//! (a point whose accuracy run took over [`SLOW_RUN_SECONDS`] is timed once).
+
+use std::io::IsTerminal;
+use std::path::Path;
+
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::compare::{column_kind, ColumnKind};
+use crate::dae::{consistent_state, ConstraintExprs, DecoupledFormulation, MechanicsTapes};
+use crate::solve::{FormulationKind, Solution, SolveOptions};
+use crate::{Error, Model, Result};
+
+/// What to sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepConfig {
+    /// Relative tolerances of the work-precision sweep.
+    pub rtols: Vec<f64>,
+    /// Joint stiffnesses of the decoupled series in the work-precision sweep (N/m).
+    pub decoupled_stiffnesses: Vec<f64>,
+    /// Joint stiffnesses of the stiffness-vs-rigidity sweep (N/m).
+    pub stiffness_grid: Vec<f64>,
+    /// Relative tolerance of the stiffness sweep; `None`: the scene's `rtol`.
+    pub stiffness_rtol: Option<f64>,
+    /// The accuracy (error, see the module docs) the smallest sufficient `k` must reach.
+    pub accuracy: f64,
+    /// Timed runs per point (their median is reported).
+    pub repeats: usize,
+    /// Relative tolerance of the GGL reference solution.
+    pub reference_rtol: f64,
+    /// `atol = rtol · atol_per_rtol` for every run.
+    pub atol_per_rtol: f64,
+    /// End time; `None`: the scene's.
+    pub t_end: Option<f64>,
+}
+
+fn decades(from: i32, to: i32, step: i32) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut e = from;
+    while (step > 0 && e <= to) || (step < 0 && e >= to) {
+        v.push(10f64.powi(e));
+        e += step;
+    }
+    v
+}
+
+impl SweepConfig {
+    /// The full sweep: rtol 1e-3 … 1e-12, decoupled at k = 1e4, 1e6, 1e8, k = 1e2 … 1e12,
+    /// five timed runs per point, reference GGL at rtol 1e-13.
+    pub fn full() -> Self {
+        SweepConfig {
+            rtols: decades(-3, -12, -1),
+            decoupled_stiffnesses: vec![1e4, 1e6, 1e8],
+            stiffness_grid: decades(2, 12, 1),
+            stiffness_rtol: None,
+            accuracy: 1e-4,
+            repeats: 5,
+            reference_rtol: 1e-13,
+            atol_per_rtol: 1e-2,
+            t_end: None,
+        }
+    }
+
+    /// A quick sweep for tests and a first look: rtol 1e-4, 1e-6, 1e-8; k = 1e4, 1e6, 1e8;
+    /// one timed run per point; 1 s of simulated time.
+    pub fn quick() -> Self {
+        SweepConfig {
+            rtols: vec![1e-4, 1e-6, 1e-8],
+            decoupled_stiffnesses: vec![1e4, 1e6, 1e8],
+            stiffness_grid: vec![1e4, 1e6, 1e8],
+            stiffness_rtol: Some(1e-8),
+            accuracy: 1e-4,
+            repeats: 1,
+            reference_rtol: 1e-11,
+            atol_per_rtol: 1e-2,
+            t_end: Some(1.0),
+        }
+    }
+
+    /// Number of sweep points (for a progress bar): work-precision runs plus stiffness runs
+    /// plus the DAE baseline of the stiffness sweep and the reference.
+    pub fn total_points(&self) -> usize {
+        self.rtols.len() * (2 + self.decoupled_stiffnesses.len()) + self.stiffness_grid.len() + 2
+    }
+}
+
+/// One run of the work-precision sweep.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WorkPoint {
+    /// Series label: `ggl`, `index1`, `decoupled k=1e6`.
+    pub series: String,
+    /// Formulation name.
+    pub formulation: String,
+    /// Joint stiffness of the decoupled twin (N/m); 0 for the DAEs.
+    pub joint_stiffness: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Error against the reference (see the module docs); NaN when the run failed.
+    pub error: f64,
+    /// Median CPU seconds of the timed runs (integration only).
+    pub cpu_seconds: f64,
+    /// Fastest of the timed runs.
+    pub cpu_seconds_min: f64,
+    /// Internal steps.
+    pub steps: u64,
+    /// Residual (IDA) or right-hand-side (CVODE) evaluations.
+    pub residual_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobian_evals: u64,
+    /// Error test failures.
+    pub error_test_failures: u64,
+    /// Largest |g(q)| at the output times (the spring stretch for the decoupled twin).
+    pub max_constraint_error: f64,
+    /// Why the run failed, if it did.
+    pub failure: Option<String>,
+}
+
+/// One run of the stiffness-vs-rigidity sweep.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StiffnessPoint {
+    /// The run (series `decoupled k=…`).
+    #[serde(flatten)]
+    pub run: WorkPoint,
+    /// Largest eigenvalue magnitude of the twin's Jacobian ∂f/∂y at the start (1/s).
+    pub largest_eigenvalue: f64,
+    /// `sqrt(k / m_min)`, `m_min` the smallest body mass (rad/s).
+    pub sqrt_k_over_m: f64,
+}
+
+/// The smallest joint stiffness that reaches the requested accuracy.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SufficientStiffness {
+    /// k (N/m).
+    pub joint_stiffness: f64,
+    /// Its error.
+    pub error: f64,
+    /// Its median CPU seconds divided by the GGL DAE's at the same tolerance.
+    pub cpu_ratio_to_dae: f64,
+    /// Its steps divided by the GGL DAE's.
+    pub steps_ratio_to_dae: f64,
+}
+
+/// Everything `bondmech sweep` measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepReport {
+    /// Scene name.
+    pub scene: String,
+    /// End time of every run (s).
+    pub t_end: f64,
+    /// The reference run (its error is 0 by definition).
+    pub reference: WorkPoint,
+    /// The work-precision points.
+    pub work_precision: Vec<WorkPoint>,
+    /// Relative tolerance of the stiffness sweep.
+    pub stiffness_rtol: f64,
+    /// The GGL DAE at the stiffness sweep's tolerance (the cost baseline).
+    pub dae_baseline: WorkPoint,
+    /// The stiffness sweep.
+    pub stiffness: Vec<StiffnessPoint>,
+    /// Requested accuracy.
+    pub accuracy: f64,
+    /// The smallest swept k that reaches `accuracy`, if any.
+    pub sufficient_stiffness: Option<SufficientStiffness>,
+    /// Timed runs per point.
+    pub repeats: usize,
+    /// CPU model and core count of the machine that ran the sweep.
+    pub machine: String,
+}
+
+/// Largest absolute difference over the position and angle columns the two solutions share,
+/// over all output times (the solutions must have the same output times).
+pub fn solution_error(sol: &Solution, reference: &Solution) -> f64 {
+    let mut worst = 0.0f64;
+    for (ci, name) in sol.columns.iter().enumerate() {
+        if !matches!(column_kind(name), ColumnKind::Position | ColumnKind::Angle) {
+            continue;
+        }
+        let Some(cr) = reference.columns.iter().position(|n| n == name) else {
+            continue;
+        };
+        for (a, b) in sol.rows.iter().zip(&reference.rows) {
+            let d = (a[ci] - b[cr]).abs();
+            if d.is_nan() {
+                return f64::NAN;
+            }
+            worst = worst.max(d);
+        }
+    }
+    if sol.rows.len() < reference.rows.len() {
+        return f64::NAN;
+    }
+    worst
+}
+
+/// The largest eigenvalue magnitude of the decoupled twin's Jacobian `∂f/∂y` at the start.
+pub fn largest_eigenvalue(model: &Model, opts: &SolveOptions) -> Result<f64> {
+    let mut sys = model.system().clone();
+    let t0 = opts.output_times.first().copied().unwrap_or(0.0);
+    let c = ConstraintExprs::derive(&mut sys);
+    let tapes = MechanicsTapes::new(&mut sys, &c, None);
+    let init = consistent_state(&sys, &tapes, t0)?;
+    let dec = DecoupledFormulation::build(&mut sys, &c, opts.joint_stiffness, opts.joint_damping)?;
+    let y0: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+    let n = dec.ode.n;
+    let mut jm = DMatrix::<f64>::zeros(n, n);
+    let mut ws = dec.ode.workspace();
+    dec.ode
+        .jacobian(&mut ws, t0, &y0, |r, c, v| jm[(r, c)] += v);
+    Ok(jm
+        .complex_eigenvalues()
+        .iter()
+        .fold(0.0f64, |a, z| a.max(z.norm())))
+}
+
+/// One point to run: options and its series label.
+#[derive(Clone, Debug)]
+struct Point {
+    series: String,
+    opts: SolveOptions,
+}
+
+fn point(
+    base: &SolveOptions,
+    f: FormulationKind,
+    rtol: f64,
+    k: Option<f64>,
+    cfg: &SweepConfig,
+) -> Point {
+    let mut opts = base.clone();
+    opts.formulation = f;
+    opts.rtol = rtol;
+    opts.atol = rtol * cfg.atol_per_rtol;
+    let series = match k {
+        Some(k) => {
+            opts.joint_stiffness = k;
+            format!("decoupled k={k:.0e}")
+        }
+        None => f.name().to_string(),
+    };
+    Point { series, opts }
+}
+
+fn failed(p: &Point, why: String) -> WorkPoint {
+    WorkPoint {
+        series: p.series.clone(),
+        formulation: p.opts.formulation.name().into(),
+        joint_stiffness: joint_stiffness(&p.opts),
+        rtol: p.opts.rtol,
+        atol: p.opts.atol,
+        error: f64::NAN,
+        cpu_seconds: f64::NAN,
+        cpu_seconds_min: f64::NAN,
+        steps: 0,
+        residual_evals: 0,
+        jacobian_evals: 0,
+        error_test_failures: 0,
+        max_constraint_error: f64::NAN,
+        failure: Some(why),
+    }
+}
+
+fn joint_stiffness(o: &SolveOptions) -> f64 {
+    if o.formulation == FormulationKind::Decoupled {
+        o.joint_stiffness
+    } else {
+        0.0
+    }
+}
+
+fn measured(p: &Point, sol: &Solution, reference: Option<&Solution>) -> WorkPoint {
+    let s = &sol.summary;
+    WorkPoint {
+        series: p.series.clone(),
+        formulation: s.formulation.clone(),
+        joint_stiffness: joint_stiffness(&p.opts),
+        rtol: p.opts.rtol,
+        atol: p.opts.atol,
+        error: reference.map_or(0.0, |r| solution_error(sol, r)),
+        cpu_seconds: s.cpu_seconds,
+        cpu_seconds_min: s.cpu_seconds,
+        steps: s.steps,
+        residual_evals: s.residual_evals,
+        jacobian_evals: s.jacobian_evals,
+        error_test_failures: s.error_test_failures,
+        max_constraint_error: s.max_constraint_error,
+        failure: None,
+    }
+}
+
+/// Median of a non-empty slice (sorted in place).
+pub fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// An accuracy run slower than this (CPU seconds) is timed once, not [`SweepConfig::repeats`]
+/// times: a stiff twin at k = 1e12 takes minutes per run, and its median would change nothing.
+pub const SLOW_RUN_SECONDS: f64 = 1.0;
+
+/// Re-runs a successful point `repeats` times (once if it is slow), one at a time, and stores
+/// the median CPU time.
+fn time_point(model: &Model, p: &Point, w: &mut WorkPoint, repeats: usize) {
+    if w.failure.is_some() || repeats == 0 {
+        return;
+    }
+    let repeats = if w.cpu_seconds > SLOW_RUN_SECONDS {
+        1
+    } else {
+        repeats
+    };
+    let mut cpu: Vec<f64> = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        match model.solve(&p.opts) {
+            Ok(s) => cpu.push(s.summary.cpu_seconds),
+            Err(e) => {
+                w.failure = Some(format!("timing run failed: {e}"));
+                return;
+            }
+        }
+    }
+    w.cpu_seconds_min = cpu.iter().copied().fold(f64::INFINITY, f64::min);
+    w.cpu_seconds = median(&mut cpu);
+}
+
+/// CPU model and core count, from `/proc/cpuinfo` where there is one.
+pub fn machine_description() -> String {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    format!("{cpu}, {cores} cores")
+}
+
+/// Runs both sweeps on `model`; `tick` is called once per finished point (from any thread).
+pub fn run_sweep(
+    model: &Model,
+    cfg: &SweepConfig,
+    tick: &(dyn Fn(&str) + Sync),
+) -> Result<SweepReport> {
+    if cfg.rtols.is_empty() || cfg.rtols.iter().any(|r| !(*r > 0.0 && r.is_finite())) {
+        return Err(Error::Options(format!(
+            "sweep: tolerances must be positive and finite (got {:?})",
+            cfg.rtols
+        )));
+    }
+    if let Some(k) = cfg
+        .stiffness_grid
+        .iter()
+        .chain(&cfg.decoupled_stiffnesses)
+        .find(|k| !(**k > 0.0 && k.is_finite()))
+    {
+        return Err(Error::Options(format!(
+            "sweep: joint stiffness must be > 0 (got {k})"
+        )));
+    }
+    if cfg.accuracy.is_nan() || cfg.accuracy <= 0.0 {
+        return Err(Error::Options(format!(
+            "sweep: --accuracy must be > 0 (got {})",
+            cfg.accuracy
+        )));
+    }
+    let mut base = model.default_options();
+    base.max_steps = Some(base.max_steps.unwrap_or(100_000).max(1_000_000));
+    if let Some(t) = cfg.t_end {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Options(format!(
+                "sweep: t_end must be > 0 (got {t})"
+            )));
+        }
+        let step = model.scene().solve.output_step.unwrap_or(t / 100.0).min(t);
+        base.output_times = SolveOptions::times(t, step);
+    }
+    let t_end = base.output_times.last().copied().unwrap_or(0.0);
+
+    // the reference
+    let ref_point = point(&base, FormulationKind::Ggl, cfg.reference_rtol, None, cfg);
+    let reference = model.solve(&ref_point.opts).map_err(|e| {
+        Error::Options(format!(
+            "sweep: the GGL reference at rtol {:e} failed: {e}",
+            cfg.reference_rtol
+        ))
+    })?;
+    tick("reference");
+    let ref_run = measured(&ref_point, &reference, None);
+
+    // the points
+    let mut wp_points = Vec::new();
+    for &r in &cfg.rtols {
+        wp_points.push(point(&base, FormulationKind::Ggl, r, None, cfg));
+        wp_points.push(point(&base, FormulationKind::Index1, r, None, cfg));
+        for &k in &cfg.decoupled_stiffnesses {
+            wp_points.push(point(&base, FormulationKind::Decoupled, r, Some(k), cfg));
+        }
+    }
+    let k_rtol = cfg.stiffness_rtol.unwrap_or(base.rtol);
+    let baseline_point = point(&base, FormulationKind::Ggl, k_rtol, None, cfg);
+    let k_points: Vec<Point> = cfg
+        .stiffness_grid
+        .iter()
+        .map(|&k| point(&base, FormulationKind::Decoupled, k_rtol, Some(k), cfg))
+        .collect();
+    let mut all: Vec<Point> = wp_points.clone();
+    all.push(baseline_point.clone());
+    all.extend(k_points.iter().cloned());
+
+    // accuracy runs, in parallel
+    let mut runs: Vec<WorkPoint> = all
+        .par_iter()
+        .map(|p| {
+            let w = match model.solve(&p.opts) {
+                Ok(sol) => measured(p, &sol, Some(&reference)),
+                Err(e) => failed(p, e.to_string()),
+            };
+            tick(&p.series);
+            w
+        })
+        .collect();
+    // timing runs, one at a time
+    for (p, w) in all.iter().zip(runs.iter_mut()) {
+        time_point(model, p, w, cfg.repeats);
+    }
+    let k_runs = runs.split_off(wp_points.len() + 1);
+    let dae_baseline = runs.pop().expect("the baseline point is in the list");
+    let work_precision = runs;
+
+    let m_min = model
+        .scene()
+        .bodies
+        .iter()
+        .map(|b| b.mass)
+        .filter(|m| *m > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let mut stiffness = Vec::with_capacity(k_runs.len());
+    for (p, run) in k_points.iter().zip(k_runs) {
+        let largest = largest_eigenvalue(model, &p.opts).unwrap_or(f64::NAN);
+        stiffness.push(StiffnessPoint {
+            sqrt_k_over_m: (p.opts.joint_stiffness / m_min).sqrt(),
+            largest_eigenvalue: largest,
+            run,
+        });
+    }
+    let sufficient_stiffness = stiffness
+        .iter()
+        .filter(|s| s.run.failure.is_none() && s.run.error <= cfg.accuracy)
+        .min_by(|a, b| a.run.joint_stiffness.total_cmp(&b.run.joint_stiffness))
+        .map(|s| SufficientStiffness {
+            joint_stiffness: s.run.joint_stiffness,
+            error: s.run.error,
+            cpu_ratio_to_dae: s.run.cpu_seconds / dae_baseline.cpu_seconds,
+            steps_ratio_to_dae: s.run.steps as f64 / dae_baseline.steps.max(1) as f64,
+        });
+    Ok(SweepReport {
+        scene: model.scene().name.clone(),
+        t_end,
+        reference: ref_run,
+        work_precision,
+        stiffness_rtol: k_rtol,
+        dae_baseline,
+        stiffness,
+        accuracy: cfg.accuracy,
+        sufficient_stiffness,
+        repeats: cfg.repeats,
+        machine: machine_description(),
+    })
+}
+
+const RUN_HEADER: &str = "series,formulation,joint_stiffness,rtol,atol,error,cpu_seconds,cpu_seconds_min,steps,residual_evals,jacobian_evals,error_test_failures,max_constraint_error,failure";
+
+fn run_csv(w: &WorkPoint) -> String {
+    format!(
+        "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{:e},{}",
+        w.series,
+        w.formulation,
+        w.joint_stiffness,
+        w.rtol,
+        w.atol,
+        w.error,
+        w.cpu_seconds,
+        w.cpu_seconds_min,
+        w.steps,
+        w.residual_evals,
+        w.jacobian_evals,
+        w.error_test_failures,
+        w.max_constraint_error,
+        w.failure
+            .as_deref()
+            .unwrap_or("")
+            .replace([',', '\n', '"'], ";")
+    )
+}
+
+impl SweepReport {
+    /// The work-precision points as CSV (one row per run).
+    pub fn work_precision_csv(&self) -> String {
+        let mut s = format!("{RUN_HEADER}\n");
+        for w in &self.work_precision {
+            s.push_str(&run_csv(w));
+            s.push('\n');
+        }
+        s
+    }
+
+    /// The stiffness sweep as CSV, with the DAE baseline as its first row.
+    pub fn stiffness_csv(&self) -> String {
+        let mut s = format!("{RUN_HEADER},largest_eigenvalue,sqrt_k_over_m\n");
+        s.push_str(&format!("{},,\n", run_csv(&self.dae_baseline)));
+        for p in &self.stiffness {
+            s.push_str(&format!(
+                "{},{:e},{:e}\n",
+                run_csv(&p.run),
+                p.largest_eigenvalue,
+                p.sqrt_k_over_m
+            ));
+        }
+        s
+    }
+
+    /// A short text summary for the terminal.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "{}: t_end = {} s, reference GGL rtol {:e} ({} steps)\n\nwork-precision\n{:<20} {:>8} {:>10} {:>11} {:>7} {:>7} {:>6}\n",
+            self.scene, self.t_end, self.reference.rtol, self.reference.steps,
+            "series", "rtol", "error", "CPU (s)", "steps", "res", "jac"
+        );
+        for w in &self.work_precision {
+            s.push_str(&format!(
+                "{:<20} {:>8.0e} {:>10.2e} {:>11.3e} {:>7} {:>7} {:>6}{}\n",
+                w.series,
+                w.rtol,
+                w.error,
+                w.cpu_seconds,
+                w.steps,
+                w.residual_evals,
+                w.jacobian_evals,
+                w.failure
+                    .as_ref()
+                    .map_or(String::new(), |f| format!("  FAILED: {f}"))
+            ));
+        }
+        s.push_str(&format!(
+            "\nstiffness vs rigidity at rtol {:e} (GGL DAE: error {:.2e}, CPU {:.3e} s, {} steps)\n{:>8} {:>10} {:>10} {:>11} {:>7} {:>6} {:>10} {:>10}\n",
+            self.stiffness_rtol, self.dae_baseline.error, self.dae_baseline.cpu_seconds,
+            self.dae_baseline.steps, "k", "error", "stretch", "CPU (s)", "steps", "jac", "|λ|max", "√(k/m)"
+        ));
+        for p in &self.stiffness {
+            let w = &p.run;
+            s.push_str(&format!(
+                "{:>8.0e} {:>10.2e} {:>10.2e} {:>11.3e} {:>7} {:>6} {:>10.3e} {:>10.3e}{}\n",
+                w.joint_stiffness,
+                w.error,
+                w.max_constraint_error,
+                w.cpu_seconds,
+                w.steps,
+                w.jacobian_evals,
+                p.largest_eigenvalue,
+                p.sqrt_k_over_m,
+                w.failure
+                    .as_ref()
+                    .map_or(String::new(), |f| format!("  FAILED: {f}"))
+            ));
+        }
+        match &self.sufficient_stiffness {
+            Some(k) => s.push_str(&format!(
+                "\nsmallest k with error <= {:e}: {:e} N/m (error {:.2e}), CPU {:.2}x and steps {:.2}x the GGL DAE\n",
+                self.accuracy, k.joint_stiffness, k.error, k.cpu_ratio_to_dae, k.steps_ratio_to_dae
+            )),
+            None => s.push_str(&format!(
+                "\nno swept k reaches error <= {:e}\n",
+                self.accuracy
+            )),
+        }
+        s
+    }
+
+    /// Writes `work_precision.csv`, `stiffness.csv`, `sweep.json`, `work_precision.svg` and
+    /// `stiffness.svg` into `dir` (created if missing).
+    pub fn write_all(&self, dir: &Path) -> Result<()> {
+        let io = |p: &Path, source| Error::Io {
+            path: p.display().to_string(),
+            source,
+        };
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        let json = serde_json::to_string_pretty(self).expect("report serialises");
+        for (name, text) in [
+            ("work_precision.csv", self.work_precision_csv()),
+            ("stiffness.csv", self.stiffness_csv()),
+            ("sweep.json", json),
+        ] {
+            let p = dir.join(name);
+            std::fs::write(&p, text).map_err(|e| io(&p, e))?;
+        }
+        super::plot::work_precision_svg(self, &dir.join("work_precision.svg"))?;
+        super::plot::stiffness_svg(self, &dir.join("stiffness.svg"))?;
+        Ok(())
+    }
+}
+
+/// `bondmech sweep`: runs the sweep with a progress bar on a terminal (quiet otherwise), prints
+/// the summary table and writes the data and plots into `out`.
+pub fn sweep_command(model: &Model, cfg: &SweepConfig, out: &Path) -> Result<SweepReport> {
+    let total = cfg.total_points() as u64;
+    let bar = if std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(total);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")
+                .expect("template is valid"),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let report = run_sweep(model, cfg, &|label| {
+        bar.set_message(label.to_string());
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    report.write_all(out)?;
+    Ok(report)
+}
