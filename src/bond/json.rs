@@ -11,6 +11,8 @@
 //! ```
 //! One-ports take `value` (C takes `stiffness` or `compliance` instead and stores the
 //! compliance), two-ports take `modulus`, junctions nothing. Bond names default to `b<index>`.
+//! Storage elements may give `"initial"`: the initial momentum of an I, the initial
+//! displacement of a C (default 0; a finite number; not allowed on other kinds).
 
 use super::model::{BondGraph, ElementId, ElementKind, Parameter};
 use super::validate::{
@@ -68,6 +70,9 @@ pub struct RawElement {
     /// Display label.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label: Option<String>,
+    /// Initial state of a storage element: momentum of I, displacement of C (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<f64>,
 }
 
 /// A bond as written in JSON.
@@ -179,6 +184,26 @@ impl RawBondGraph {
             let id = graph.add_element(raw.name.clone(), kind, parameter);
             if let Some(l) = &raw.label {
                 graph.set_label(id, l.clone());
+            }
+            if let Some(x0) = raw.initial {
+                if !kind.is_storage() {
+                    errors.push(BondError::BadParameter {
+                        path: format!("{path}.initial"),
+                        element: raw.name.clone(),
+                        reason: format!(
+                            "`initial` applies to storage elements (I, C) only, not to {}",
+                            kind.as_str()
+                        ),
+                    });
+                } else if !x0.is_finite() {
+                    errors.push(BondError::NonFinite {
+                        path: format!("{path}.initial"),
+                        element: raw.name.clone(),
+                        value: x0,
+                    });
+                } else {
+                    graph.set_initial(id, x0);
+                }
             }
             by_name.entry(raw.name.as_str()).or_insert(id);
         }
@@ -342,6 +367,7 @@ impl BondGraph {
                     stiffness: None,
                     compliance: None,
                     label: e.label.clone(),
+                    initial: e.initial,
                 };
                 match e.kind {
                     ElementKind::C => raw.compliance = p,

@@ -6,11 +6,14 @@
 //! - [`validate`](mod@validate): structural checks with JSON paths, all errors collected.
 //! - [`causality`]: sequential causality assignment (SCAP), differential storages, conflicts,
 //!   algebraic loops, degrees of freedom.
+//! - [`equations`]: state derivatives, velocity-level constraint rows of differential storages
+//!   and algebraic-loop rows from the causal graph, with exact Jacobians.
 //! - [`dot`]: Graphviz export with half arrows and causal strokes.
 //! - [`fragments`]: the chapter's constructions (planar bodies in both frames, the 3D rigid body
 //!   with its Euler junction structure, joints, springs, dampers, loads).
 pub mod causality;
 pub mod dot;
+pub mod equations;
 pub mod fragments;
 pub mod identifiers;
 pub mod json;

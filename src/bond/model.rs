@@ -150,6 +150,10 @@ pub struct Element {
     pub parameter: Option<Parameter>,
     /// Display label (e.g. `-0.5·sin(α)`); the name is used when absent.
     pub label: Option<String>,
+    /// Initial value of a storage element's state (momentum of I, displacement of C);
+    /// `None` means 0. Ignored for storages in differential causality (their state follows
+    /// from the constraint).
+    pub initial: Option<f64>,
 }
 
 /// A bond: half arrow from `from` to `to` (positive power direction).
@@ -193,8 +197,16 @@ impl BondGraph {
             kind,
             parameter,
             label: None,
+            initial: None,
         });
         ElementId(self.elements.len() - 1)
+    }
+
+    /// Sets the initial state of a storage element (momentum of I, displacement of C).
+    pub fn set_initial(&mut self, id: ElementId, value: f64) {
+        if let Some(e) = self.elements.get_mut(id.0) {
+            e.initial = Some(value);
+        }
     }
 
     /// Appends a junction (no parameter).

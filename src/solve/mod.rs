@@ -1,6 +1,7 @@
 //! Running a mechanism: the formulation chosen in [`SolveOptions`] on IDA (GGL DAE) or CVODE
 //! (decoupled twin), with consistent initial values, output rows, energy and constraint error.
 
+pub mod bond_run;
 pub mod options;
 pub mod run;
 
