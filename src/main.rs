@@ -110,13 +110,34 @@ fn main() -> ExitCode {
     }
 }
 
-fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
-    let scene = Scene::from_path(&args.scene)?;
-    let model = Model::new(&scene)?;
-    for w in model.warnings() {
-        eprintln!("bondmech: warning: {w}");
+/// A scene ready to solve: a mechanism, or a raw bond graph.
+enum Loaded {
+    Mechanism(Box<Model>),
+    BondGraph(Box<Scene>),
+}
+
+impl Loaded {
+    fn solve(&self, opts: &SolveOptions) -> Result<bondmech::Solution, Error> {
+        match self {
+            Loaded::Mechanism(m) => m.solve(opts),
+            Loaded::BondGraph(s) => bondmech::solve::bond_run::solve_raw_bond_graph(s, opts),
+        }
     }
-    let mut opts = model.default_options();
+}
+
+fn load(args: &SolveArgs) -> Result<(Loaded, SolveOptions), Error> {
+    let scene = Scene::from_path(&args.scene)?;
+    let (loaded, mut opts) = if scene.bond_graph.is_some() {
+        let o = bondmech::solve::bond_run::raw_bond_graph_options(&scene);
+        (Loaded::BondGraph(Box::new(scene.clone())), o)
+    } else {
+        let model = Model::new(&scene)?;
+        for w in model.warnings() {
+            eprintln!("bondmech: warning: {w}");
+        }
+        let o = model.default_options();
+        (Loaded::Mechanism(Box::new(model)), o)
+    };
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
             Error::Options(format!(
@@ -145,7 +166,7 @@ fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
         let step = scene.solve.output_step.unwrap_or(t / 100.0).min(t);
         opts.output_times = SolveOptions::times(t, step);
     }
-    Ok((model, opts))
+    Ok((loaded, opts))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
@@ -216,7 +237,13 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
         }
         Command::Compare { args, json } => {
-            let (model, opts) = load(&args)?;
+            let (loaded, opts) = load(&args)?;
+            let Loaded::Mechanism(model) = loaded else {
+                return Err(Error::Options(
+                    "compare needs bodies and joints (a raw bond graph has no decoupled twin)"
+                        .into(),
+                ));
+            };
             let (cmp, _, _) = model.compare(&opts)?;
             print!("{}", cmp.table());
             if let Some(p) = &json {

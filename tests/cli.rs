@@ -189,3 +189,24 @@ fn compare_prints_both_sides_and_writes_json() {
     assert_eq!(v["decoupled"]["solver"], "CVODE");
     assert!(v["position"]["value"].as_f64().unwrap().is_finite());
 }
+
+#[test]
+fn run_solves_a_raw_bond_graph_scene_and_compare_refuses_it() {
+    let csv = tmp("msd.csv");
+    let out = bondmech(&[
+        "run",
+        &scene("bg_mass_spring_damper.json"),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.lines().count() > 2);
+    let out = bondmech(&["compare", &scene("bg_mass_spring_damper.json")]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("raw bond graph"));
+}
