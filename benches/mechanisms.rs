@@ -123,13 +123,24 @@ fn case(name: &'static str, minimal: MinimalModel) -> Case {
     let model = Model::new(&scene).expect("model builds");
     let times = scene.output_times();
     let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
-    Case {
+    let case = Case {
         name,
         model,
         minimal,
         times,
         reference: r.rows,
-    }
+    };
+    // Guard against the hand-written model drifting from the scene (it happened once: the
+    // slider-crank's loads changed and the bench went on comparing two different mechanisms).
+    let check = run(&case, Method::Bondmech(FormulationKind::Ggl), 1e-10)
+        .expect("GGL solves the bundled scene");
+    assert!(
+        check.error < 1e-5,
+        "benches/common/minimal.rs disagrees with scenes/{name}.json (GGL at rtol 1e-10 is {:.1e} \
+         away): update the hand-written model to the scene",
+        check.error
+    );
+    case
 }
 
 fn matched_table(case: &Case) -> Vec<(Method, f64)> {

@@ -95,6 +95,10 @@ enum Command {
         /// End time of every run (default: the scene's; --quick: 1 s).
         #[arg(long = "t-end")]
         t_end: Option<f64>,
+        /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
+        /// measured against it, at its times, instead of against GGL at a tight tolerance.
+        #[arg(long)]
+        reference: Option<PathBuf>,
     },
 }
 
@@ -259,6 +263,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             accuracy,
             repeats,
             t_end,
+            reference,
         } => {
             use bondmech::report::SweepConfig;
             let model = Model::new(&Scene::from_path(&scene)?)?;
@@ -274,6 +279,12 @@ fn run(cli: Cli) -> Result<(), Error> {
                     return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
                 }
                 cfg.t_end = Some(t);
+            }
+            if let Some(path) = reference {
+                cfg.reference = Some(bondmech::report::ExternalReference {
+                    source: path.display().to_string(),
+                    solution: bondmech::report::reference::reference_from_csv(&path)?,
+                });
             }
             let report = bondmech::report::sweep::sweep_command(&model, &cfg, &out)?;
             print!("{}", report.table());

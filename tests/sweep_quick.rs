@@ -151,3 +151,113 @@ fn solution_error_is_zero_against_itself_and_nan_on_a_short_run() {
     moved.rows[2][c] += 0.25;
     assert_eq!(solution_error(&moved, &s), 0.25);
 }
+
+/// The independent minimal-coordinate double pendulum (tests/common) written as a reference CSV
+/// the way a user would hand in a published solution: `t,bar1.x,…` at 0.02 s steps up to 1 s.
+fn minimal_reference_csv() -> String {
+    let p = DoublePendulum {
+        m1: 1.0,
+        l1: 1.0,
+        m2: 1.0,
+        l2: 1.0,
+        g: 9.81,
+    };
+    let times: Vec<f64> = (0..=50).map(|i| 0.02 * i as f64).collect();
+    let r = simulate_double_pendulum(&p, [0.0; 4], &times);
+    let mut csv = String::from("t,bar1.x,bar1.y,bar2.x,bar2.y,bar2.angle\n");
+    for (t, s) in times.iter().zip(&r) {
+        csv.push_str(&format!(
+            "{t:e},{:e},{:e},{:e},{:e},{:e}\n",
+            s.c1[0], s.c1[1], s.c2[0], s.c2[1], s.theta2
+        ));
+    }
+    csv
+}
+
+#[test]
+fn sweep_measures_errors_against_an_independent_reference_csv() {
+    let dir = std::env::temp_dir().join(format!("bondmech-sweep-ref-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ref_path = dir.join("minimal.csv");
+    std::fs::write(&ref_path, minimal_reference_csv()).unwrap();
+
+    // library: every run measured against the table, at its 51 times
+    let m = model();
+    let mut cfg = SweepConfig::quick();
+    cfg.stiffness_grid = vec![1e6];
+    cfg.decoupled_stiffnesses = vec![1e6];
+    cfg.reference = Some(bondmech::report::ExternalReference {
+        source: ref_path.display().to_string(),
+        solution: bondmech::report::reference::reference_from_csv(&ref_path).unwrap(),
+    });
+    let r = run_sweep(&m, &cfg, &|_| {}).expect("sweep runs");
+    assert_eq!(r.reference_source, ref_path.display().to_string());
+    // the tight GGL run agrees with the hand-derived model (rtol 1e-11, positions to 1e-8)
+    assert!(
+        r.reference.error < 1e-8,
+        "GGL vs minimal: {:e}",
+        r.reference.error
+    );
+    let ggl: Vec<_> = r
+        .work_precision
+        .iter()
+        .filter(|w| w.series == "ggl")
+        .collect();
+    // errors now measure distance to the independent model: they fall with the tolerance
+    // and stay above the tight run's own error
+    assert!(
+        ggl[0].error > ggl[2].error && ggl[2].error < 1e-6,
+        "{ggl:?}"
+    );
+    // the decoupled twin at k = 1e6 cannot beat its spring stretch (∝ 1/k ≈ 1e-5 m)
+    let twin = &r.stiffness[0].run;
+    assert!(
+        twin.error > 1e-7 && twin.error < 1e-3,
+        "twin error {:e}",
+        twin.error
+    );
+
+    // CLI: the flag, and the report names the file
+    let out = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args([
+            "sweep",
+            "scenes/double_pendulum.json",
+            "--quick",
+            "--reference",
+        ])
+        .arg(&ref_path)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .expect("bondmech runs");
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("minimal.csv"), "{table}");
+
+    // a reference that shares no column with the scene is refused, naming the file
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "t,foo.x\n0,1\n0.5,1\n1,1\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args([
+            "sweep",
+            "scenes/double_pendulum.json",
+            "--quick",
+            "--reference",
+        ])
+        .arg(&bad)
+        .arg("--out")
+        .arg(dir.join("out2"))
+        .output()
+        .expect("bondmech runs");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.csv") && err.contains("shares no position"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -97,7 +97,7 @@ pub mod slider_crank {
     const MR: f64 = 0.5;
     const MP: f64 = 0.3;
     const G: f64 = 9.81;
-    const TAU: f64 = 1.0;
+    const TAU: f64 = 1.5;
 
     /// (x_r, y_r, y_p, β) and their first two φ-derivatives (branch σ = +1).
     fn kinematics(phi: f64) -> [[f64; 3]; 4] {
@@ -118,7 +118,7 @@ pub mod slider_crank {
     }
 
     fn force(phi: f64) -> f64 {
-        -50.0 * phi.cos().max(0.0)
+        -10.0 * phi.cos().max(0.0)
     }
 
     /// φ̈ and ∂φ̈/∂φ̇.

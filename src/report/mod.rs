@@ -4,7 +4,8 @@
 pub mod compare;
 pub mod generate;
 pub mod plot;
+pub mod reference;
 pub mod sweep;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
-pub use sweep::{run_sweep, SweepConfig, SweepReport};
+pub use sweep::{run_sweep, ExternalReference, SweepConfig, SweepReport};

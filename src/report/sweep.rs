@@ -3,7 +3,10 @@
 //! **Error.** Every run is compared with a reference solution at the scene's output times:
 //! `e = max_k max_c |x_c(t_k) − x_c^ref(t_k)|` over the position columns (m) and angle columns
 //! (rad) that both solutions write (`b.x`, `b.y`, `b.angle`, points). The reference is the GGL
-//! DAE at [`SweepConfig::reference_rtol`] (tighter than every swept tolerance).
+//! DAE at [`SweepConfig::reference_rtol`] (tighter than every swept tolerance), or, when the
+//! user hands one in ([`SweepConfig::reference`], `bondmech sweep --reference REF.csv`), an
+//! independent reference table: then every run — the tight GGL run included — is measured
+//! against it, at its times.
 //!
 //! **Work-precision.** For each relative tolerance `rtol` (absolute tolerance
 //! `atol = rtol · atol_per_rtol`) and each formulation — GGL DAE, index-1 DAE, and the decoupled
@@ -54,6 +57,19 @@ pub struct SweepConfig {
     pub atol_per_rtol: f64,
     /// End time; `None`: the scene's.
     pub t_end: Option<f64>,
+    /// An independent reference solution (e.g. a published one, read with
+    /// [`super::reference::reference_from_csv`]); `None`: the tight GGL run is the reference.
+    pub reference: Option<ExternalReference>,
+}
+
+/// An independent reference solution handed to the sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExternalReference {
+    /// Where it came from (a file name), for the report.
+    pub source: String,
+    /// The reference table: times from the scene's start, columns named as `bondmech run` names
+    /// them.
+    pub solution: Solution,
 }
 
 fn decades(from: i32, to: i32, step: i32) -> Vec<f64> {
@@ -80,6 +96,7 @@ impl SweepConfig {
             reference_rtol: 1e-13,
             atol_per_rtol: 1e-2,
             t_end: None,
+            reference: None,
         }
     }
 
@@ -96,6 +113,7 @@ impl SweepConfig {
             reference_rtol: 1e-11,
             atol_per_rtol: 1e-2,
             t_end: Some(1.0),
+            reference: None,
         }
     }
 
@@ -171,7 +189,10 @@ pub struct SweepReport {
     pub scene: String,
     /// End time of every run (s).
     pub t_end: f64,
-    /// The reference run (its error is 0 by definition).
+    /// What the errors are measured against: `GGL rtol …` or the independent reference's source.
+    pub reference_source: String,
+    /// The tight GGL run (its error is 0 by definition, or its error against the independent
+    /// reference when there is one).
     pub reference: WorkPoint,
     /// The work-precision points.
     pub work_precision: Vec<WorkPoint>,
@@ -408,18 +429,58 @@ pub fn run_sweep(
         let step = model.scene().solve.output_step.unwrap_or(t / 100.0).min(t);
         base.output_times = SolveOptions::times(t, step);
     }
+    let external = match &cfg.reference {
+        Some(r) => {
+            let sol = super::reference::truncate_reference(&r.solution, cfg.t_end);
+            let t0 = base.output_times.first().copied().unwrap_or(0.0);
+            if sol.times.len() < 2 || (sol.times[0] - t0).abs() > 1e-12 * (1.0 + t0.abs()) {
+                return Err(Error::Options(format!(
+                    "sweep: the reference {} must start at the scene's start t = {t0} and have at \
+                     least two times up to t_end (it has {} from t = {})",
+                    r.source,
+                    sol.times.len(),
+                    sol.times.first().copied().unwrap_or(f64::NAN)
+                )));
+            }
+            base.output_times = sol.times.clone();
+            Some(sol)
+        }
+        None => None,
+    };
     let t_end = base.output_times.last().copied().unwrap_or(0.0);
 
     // the reference
     let ref_point = point(&base, FormulationKind::Ggl, cfg.reference_rtol, None, cfg);
-    let reference = model.solve(&ref_point.opts).map_err(|e| {
+    let tight = model.solve(&ref_point.opts).map_err(|e| {
         Error::Options(format!(
             "sweep: the GGL reference at rtol {:e} failed: {e}",
             cfg.reference_rtol
         ))
     })?;
     tick("reference");
-    let ref_run = measured(&ref_point, &reference, None);
+    let ref_run = measured(&ref_point, &tight, external.as_ref());
+    if let (Some(ext), Some(r)) = (&external, &cfg.reference) {
+        let shared: Vec<&String> = tight
+            .columns
+            .iter()
+            .filter(|c| matches!(column_kind(c), ColumnKind::Position | ColumnKind::Angle))
+            .filter(|c| ext.columns.contains(c))
+            .collect();
+        if shared.is_empty() {
+            return Err(Error::Options(format!(
+                "sweep: the reference {} shares no position or angle column with the scene's \
+                 output (reference columns: {}; scene columns: {})",
+                r.source,
+                ext.columns.join(","),
+                tight.columns.join(",")
+            )));
+        }
+    }
+    let reference = external.unwrap_or(tight);
+    let reference_source = match &cfg.reference {
+        Some(r) => r.source.clone(),
+        None => format!("GGL rtol {:e}", cfg.reference_rtol),
+    };
 
     // the points
     let mut wp_points = Vec::new();
@@ -490,6 +551,7 @@ pub fn run_sweep(
     Ok(SweepReport {
         scene: model.scene().name.clone(),
         t_end,
+        reference_source,
         reference: ref_run,
         work_precision,
         stiffness_rtol: k_rtol,
@@ -556,8 +618,8 @@ impl SweepReport {
     /// A short text summary for the terminal.
     pub fn table(&self) -> String {
         let mut s = format!(
-            "{}: t_end = {} s, reference GGL rtol {:e} ({} steps)\n\nwork-precision\n{:<20} {:>8} {:>10} {:>11} {:>7} {:>7} {:>6}\n",
-            self.scene, self.t_end, self.reference.rtol, self.reference.steps,
+            "{}: t_end = {} s, errors against {} (GGL rtol {:e}: {} steps, error {:.2e})\n\nwork-precision\n{:<20} {:>8} {:>10} {:>11} {:>7} {:>7} {:>6}\n",
+            self.scene, self.t_end, self.reference_source, self.reference.rtol, self.reference.steps, self.reference.error,
             "series", "rtol", "error", "CPU (s)", "steps", "res", "jac"
         );
         for w in &self.work_precision {
