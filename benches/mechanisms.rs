@@ -183,7 +183,6 @@ fn matched_table(case: &Case) -> Vec<(Method, f64)> {
         }
         let r = last.unwrap();
         let med = median(&mut cpu);
-        last_cpu = med;
         if m == Method::Minimal {
             limit = med;
         }
