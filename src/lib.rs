@@ -37,8 +37,10 @@
 //! # Ok::<(), bondmech::Error>(())
 //! ```
 //!
-//! Scenes also come from JSON ([`Scene::from_path`], [`Scene::from_json_str`]); a model can be
-//! looked at before solving ([`Model::equations`], [`Model::dof`], [`Model::constraint_rows`]),
+//! Scenes also come from JSON ([`Scene::from_path`], [`Scene::from_json_str`]), including raw
+//! bond graph scenes (`"bond_graph"`, solved by the same [`Model`]); a model can be looked at
+//! before solving ([`Model::equations`], [`Model::dof`], [`Model::constraint_rows`], its bond
+//! graph [`Model::bond_graph`] and causality report [`Model::causality`]),
 //! solved with a callback that may stop early ([`Model::solve_streaming`]) and compared with
 //! its decoupled twin ([`Model::compare`]). [`Model`] is `Send + Sync`: independent solves can
 //! run on several threads at once.

@@ -104,8 +104,7 @@ fn cli_and_library_agree_on_the_same_scene() {
     let sc = bondmech::Scene::from_path(scene("two_bars.json")).unwrap();
     let model = bondmech::Model::new(&sc).unwrap();
     let mut o = model.default_options();
-    let step = sc.solve.output_step.unwrap_or(0.3 / 100.0).min(0.3);
-    o.output_times = bondmech::SolveOptions::times(0.3, step);
+    o.output_times = model.output_times_until(0.3).unwrap(); // the rule of --t-end
     let sol = model.solve(&o).unwrap();
     assert_eq!(std::fs::read_to_string(&csv).unwrap(), sol.to_csv());
 }
