@@ -59,7 +59,7 @@
 //! | [`solve`] | running a formulation: outputs, statistics |
 //! | [`report`] | DAE vs decoupled comparisons |
 #![deny(unsafe_code)]
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod bond;
 pub mod builder;
