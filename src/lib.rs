@@ -58,6 +58,7 @@
 //! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
 //! | [`solve`] | running a formulation: outputs, statistics |
 //! | [`report`] | DAE vs decoupled comparisons |
+//! | [`trajectory`] | typed views of a [`Solution`]: bodies, points, energy, constraint error |
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -75,6 +76,7 @@ pub mod scene;
 pub mod solve;
 #[allow(unsafe_code)]
 pub mod sundials;
+pub mod trajectory;
 
 pub use builder::{Endpoint, Ground, Mechanism, PlanarBody, SpatialBody, SpringDamper};
 pub use error::{Error, Result};
@@ -83,3 +85,4 @@ pub use model_inspect::{DofReport, Equations};
 pub use report::Comparison;
 pub use scene::Scene;
 pub use solve::{FormulationKind, Solution, SolveOptions, Summary};
+pub use trajectory::{BodyTrajectory, PlanarTrajectory, PointTrajectory, SpatialTrajectory};
