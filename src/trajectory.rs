@@ -87,8 +87,8 @@ pub struct SpatialTrajectory {
 pub enum BodyTrajectory {
     /// A body of a planar scene.
     Planar(PlanarTrajectory),
-    /// A body of a spatial scene.
-    Spatial(SpatialTrajectory),
+    /// A body of a spatial scene (boxed: fifteen series against the planar six).
+    Spatial(Box<SpatialTrajectory>),
 }
 
 impl BodyTrajectory {
@@ -131,7 +131,7 @@ impl Solution {
     pub fn body(&self, name: &str) -> Option<BodyTrajectory> {
         let c = |what: &str| self.column(&format!("{name}.{what}"));
         if self.columns.iter().any(|n| *n == format!("{name}.z")) {
-            Some(BodyTrajectory::Spatial(SpatialTrajectory {
+            Some(BodyTrajectory::Spatial(Box::new(SpatialTrajectory {
                 x: c("x")?,
                 y: c("y")?,
                 z: c("z")?,
@@ -147,7 +147,7 @@ impl Solution {
                 psi: c("psi")?,
                 theta: c("theta")?,
                 phi: c("phi")?,
-            }))
+            })))
         } else {
             Some(BodyTrajectory::Planar(PlanarTrajectory {
                 x: c("x")?,
