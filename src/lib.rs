@@ -42,7 +42,9 @@
 //! before solving ([`Model::equations`], [`Model::dof`], [`Model::constraint_rows`], its bond
 //! graph [`Model::bond_graph`] and causality report [`Model::causality`]),
 //! solved with a callback that may stop early ([`Model::solve_streaming`]) and compared with
-//! its decoupled twin ([`Model::compare`]). [`Model`] is `Send + Sync`: independent solves can
+//! its decoupled twin ([`Model::compare`]). Every call fails with the one error type
+//! [`Error`]; scene loading returns the more detailed [`scene::SceneError`], which `?`
+//! converts into [`Error`] (see [`error`] for an example). [`Model`] is `Send + Sync`: independent solves can
 //! run on several threads at once.
 //!
 //! | module | owns |
