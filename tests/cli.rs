@@ -332,3 +332,43 @@ fn readme_first_command_prints_a_table_with_header_rows_and_summary() {
         );
     }
 }
+
+#[test]
+fn run_prints_each_summary_warning_to_stderr_as_one_line() {
+    // A bar pinned twice at the same point: pin2's rows depend on pin1's (redundant joint),
+    // which the solve reports in Summary.warnings; the CLI prints each on its own line.
+    let path = tmp("pinned_twice.json");
+    std::fs::write(
+        &path,
+        r#"{"dimension": 2, "gravity": [0, -9.81],
+            "bodies": [{"name": "bar", "mass": 1, "inertia": 0.0833,
+                        "points": {"O": [-0.5, 0]}, "position": [0.5, 0], "angle": 0}],
+            "joints": [
+              {"name": "pin1", "type": "revolute", "bodies": ["ground", "bar"], "points": [[0, 0], "O"]},
+              {"name": "pin2", "type": "revolute", "bodies": ["ground", "bar"], "points": [[0, 0], "O"]}],
+            "solve": {"t_end": 0.2}}"#,
+    )
+    .unwrap();
+    let out = bondmech(&["run", path.to_str().unwrap(), "--table"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let model = bondmech::Model::new(&bondmech::Scene::from_path(&path).unwrap()).unwrap();
+    let sol = model.solve(&model.default_options()).unwrap();
+    assert!(
+        sol.summary.warnings.iter().any(|w| w.contains("redundant")),
+        "{:?}",
+        sol.summary.warnings
+    );
+    let want: Vec<String> = sol
+        .summary
+        .warnings
+        .iter()
+        .map(|w| format!("bondmech: warning: {w}"))
+        .collect();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    let got: Vec<&str> = stderr.lines().collect();
+    assert_eq!(got, want);
+}
