@@ -21,7 +21,7 @@ struct Cli {
 struct SolveArgs {
     /// Scene file (JSON, see docs/scene-format).
     scene: PathBuf,
-    /// dae (GGL, IDA), compliant_ggl, or decoupled (stiff springs, CVODE).
+    /// dae (GGL, IDA), compliant_ggl, index1, or decoupled (stiff springs, CVODE).
     #[arg(long)]
     formulation: Option<String>,
     /// Relative tolerance.
@@ -117,7 +117,7 @@ fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
             Error::Options(format!(
-                "--formulation: unknown '{f}' (expected dae, ggl, compliant_ggl or decoupled)"
+                "--formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1 or decoupled)"
             ))
         })?;
     }
