@@ -31,17 +31,30 @@ fn main() -> Result<(), bondmech::Error> {
         "{:>6} {:>11} {:>11} {:>11} {:>11} {:>11}",
         "t", "angle1", "angle2", "A.x", "A.y", "A.y twin"
     );
+    let e0 = dae.value(0, "energy").expect("energy column");
+    let mut worst_energy = 0.0f64;
     for (k, t) in dae.times.iter().enumerate() {
-        let v = |c: &str| dae.value(k, c).unwrap_or(f64::NAN);
+        let v = |c: &str| dae.value(k, c).expect("a column of the solution");
+        worst_energy = worst_energy.max((v("energy") - e0).abs());
         println!(
             "{t:>6.2} {:>11.6} {:>11.6} {:>11.6} {:>11.6} {:>11.6}",
             v("bar1.angle"),
             v("bar2.angle"),
             v("bar2.A.x"),
             v("bar2.A.y"),
-            twin.value(k, "bar2.A.y").unwrap_or(f64::NAN)
+            twin.value(k, "bar2.A.y").expect("a column of the twin")
         );
     }
     println!("\n{}", comparison.table());
+    // no friction: the DAE keeps the energy (scale m g L = 9.81 J) and the pins hold
+    assert!(
+        worst_energy < 1e-5 * 9.81,
+        "energy not conserved: {worst_energy:e} J"
+    );
+    assert!(
+        dae.summary.max_constraint_error < 1e-6,
+        "pins violated: {:e}",
+        dae.summary.max_constraint_error
+    );
     Ok(())
 }

@@ -30,8 +30,9 @@ fn main() -> Result<(), bondmech::Error> {
         "{:>5} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12}",
         "t", "wx", "wy", "wz", "tip.y", "energy", "|h|"
     );
+    let (mut e_range, mut h_range) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
     for (k, t) in sol.times.iter().enumerate() {
-        let v = |c: &str| sol.value(k, c).unwrap_or(f64::NAN);
+        let v = |c: &str| sol.value(k, c).expect("a column of the solution");
         let w = [v("body.wx"), v("body.wy"), v("body.wz")];
         let h = (0..3).map(|i| (j[i] * w[i]).powi(2)).sum::<f64>().sqrt();
         println!(
@@ -43,7 +44,13 @@ fn main() -> Result<(), bondmech::Error> {
             v("energy"),
             h
         );
+        e_range = (e_range.0.min(v("energy")), e_range.1.max(v("energy")));
+        h_range = (h_range.0.min(h), h_range.1.max(h));
     }
     println!("{} steps", sol.summary.steps);
+    // torque-free (Euler's equations): kinetic energy ½ Σ J_i w_i² and |h| = |J w| are constant
+    let (de, dh) = (e_range.1 - e_range.0, h_range.1 - h_range.0);
+    assert!(de < 1e-6 * e_range.1.abs(), "energy not conserved: {de:e}");
+    assert!(dh < 1e-6 * h_range.1.abs(), "|h| not conserved: {dh:e}");
     Ok(())
 }

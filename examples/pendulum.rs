@@ -28,8 +28,12 @@ fn main() -> Result<(), bondmech::Error> {
         "{:>6} {:>10} {:>10} {:>10} {:>12}",
         "t", "x", "y", "angle", "energy"
     );
+    let e0 = sol.value(0, "energy").expect("energy column");
+    let (mut worst_energy, mut worst_radius) = (0.0f64, 0.0f64);
     for (k, t) in sol.times.iter().enumerate() {
-        let v = |c: &str| sol.value(k, c).unwrap_or(f64::NAN);
+        let v = |c: &str| sol.value(k, c).expect("a column of the solution");
+        worst_energy = worst_energy.max((v("energy") - e0).abs());
+        worst_radius = worst_radius.max((v("bob.x").hypot(v("bob.y")) - 1.0).abs());
         println!(
             "{t:>6.2} {:>10.6} {:>10.6} {:>10.6} {:>12.3e}",
             v("bob.x"),
@@ -42,5 +46,11 @@ fn main() -> Result<(), bondmech::Error> {
         "{} steps, max constraint error {:.1e}, energy drift {:.1e}",
         sol.summary.steps, sol.summary.max_constraint_error, sol.summary.energy_drift
     );
+    // no friction: m g L = 9.81 J is the energy scale; the bob stays 1 m from the pivot
+    assert!(
+        worst_energy < 1e-5 * 9.81,
+        "energy not conserved: {worst_energy:e} J"
+    );
+    assert!(worst_radius < 1e-6, "the rod stretched: {worst_radius:e} m");
     Ok(())
 }

@@ -6,6 +6,15 @@
 
 use bondmech::{Ground, Mechanism, Model, PlanarBody};
 
+/// Peak of the gas force (N), as in scenes/slider_crank.json.
+const GAS_PEAK: f64 = 10.0;
+
+/// The gas force on the piston along Y for crank angle `theta`: `−GAS_PEAK · max(0, cos θ)`.
+/// The scene below gets the same law as an expression string built from [`GAS_PEAK`].
+fn gas_force(theta: f64) -> f64 {
+    -GAS_PEAK * theta.cos().max(0.0)
+}
+
 fn main() -> Result<(), bondmech::Error> {
     let (r, l) = (0.1_f64, 0.3_f64);
     let th = 60f64.to_radians();
@@ -37,11 +46,14 @@ fn main() -> Result<(), bondmech::Error> {
             [0.0, 1.0],
         )
         .torque("drive", "crank", 1.5)
-        // The gas force of scenes/slider_crank.json: −10 max(0, cos θ) N along Y, θ the crank angle.
+        // The gas force of scenes/slider_crank.json (see `gas_force`), θ the crank angle.
         .force(
             "gas",
             ("piston", "P"),
-            ["0", "-10*max(0, cos(crank.angle))"],
+            [
+                "0".to_string(),
+                format!("-{GAS_PEAK:?}*max(0, cos(crank.angle))"),
+            ],
         )
         .output("energy")
         .t_end(1.0)
@@ -56,21 +68,31 @@ fn main() -> Result<(), bondmech::Error> {
         "{:>5} {:>12} {:>10} {:>10} {:>12} {:>10}",
         "t", "crank [deg]", "omega", "piston.y", "gas [N]", "|g|"
     );
+    let mut worst_closure = 0.0f64;
     for (k, t) in sol.times.iter().enumerate() {
-        let v = |c: &str| sol.value(k, c).unwrap_or(f64::NAN);
+        let v = |c: &str| sol.value(k, c).expect("a column of the solution");
         let angle = v("crank.angle");
         println!(
             "{t:>5.2} {:>12.2} {:>10.4} {:>10.5} {:>12.4} {:>10.1e}",
             angle.to_degrees(),
             v("crank.omega"),
             v("piston.y"),
-            -50.0 * angle.cos().max(0.0),
+            gas_force(angle),
             v("constraint_error")
         );
+        // loop closure by hand: the wrist pin on the axis x = 0 at
+        // y_B = r sin θ + √(l² − r² cos² θ)
+        let y_b = r * angle.sin() + (l * l - (r * angle.cos()).powi(2)).sqrt();
+        worst_closure = worst_closure.max((v("piston.y") - y_b).abs());
     }
     println!(
         "{} steps, {} residual evaluations",
         sol.summary.steps, sol.summary.residual_evals
+    );
+    println!("largest loop-closure error of piston.y: {worst_closure:.1e} m");
+    assert!(
+        worst_closure < 1e-6,
+        "the piston left the crank-rod loop: {worst_closure:e} m"
     );
     Ok(())
 }

@@ -340,6 +340,13 @@ impl<const N: usize> From<[&str; N]> for LoadValue {
     }
 }
 
+impl<const N: usize> From<[String; N]> for LoadValue {
+    /// One expression per component, built at run time (e.g. with `format!`).
+    fn from(e: [String; N]) -> Self {
+        LoadValue::Expr(e.to_vec())
+    }
+}
+
 /// A mechanism under construction; [`Mechanism::build`] turns it into a validated [`Scene`].
 ///
 /// Elements keep the order they are added in, which is the order of the scene's lists (and

@@ -1,4 +1,26 @@
 //! The one public error type.
+//!
+//! Every fallible call of the library returns [`Result<T>`](Result), that is
+//! `Result<T, bondmech::Error>`, except a few lower-level entry points that keep their own,
+//! more detailed error type: [`Scene::from_json_str`](crate::Scene::from_json_str),
+//! [`Scene::from_path`](crate::Scene::from_path) and `Scene::validate` return
+//! [`SceneError`] (every problem with its JSON path), the [`sundials`](crate::sundials)
+//! wrappers return [`SolverError`]. Each of these converts into [`Error`] through `From`,
+//! so `?` works in a function returning `bondmech::Result`:
+//!
+//! ```
+//! use bondmech::{Error, Model, Scene};
+//!
+//! fn steps(scene_json: &str) -> bondmech::Result<u64> {
+//!     let scene = Scene::from_json_str(scene_json)?; // SceneError → Error::Scene
+//!     let model = Model::new(&scene)?;
+//!     Ok(model.solve(&model.default_options())?.summary.steps)
+//! }
+//!
+//! let bad = r#"{"bodies": [{"name": "b", "mass": -1, "inertia": 1}], "solve": {"t_end": 1}}"#;
+//! let Err(Error::Scene(e)) = steps(bad) else { panic!("a scene error") };
+//! assert!(e.to_string().contains("bodies[0].mass"), "{e}"); // names the JSON path
+//! ```
 
 use crate::dae::InitError;
 use crate::mech::MechError;

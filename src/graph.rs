@@ -39,6 +39,11 @@ impl SceneGraph {
             }
             None => scene_bond_graph(scene, variant)?,
         };
+        SceneGraph::from_graph(graph)
+    }
+
+    /// Assigns causality to a bond graph already built (for example a model's raw graph).
+    pub fn from_graph(graph: BondGraph) -> Result<SceneGraph> {
         let causality = assign_causality(&graph)
             .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?;
         Ok(SceneGraph { graph, causality })

@@ -37,10 +37,14 @@
 //! # Ok::<(), bondmech::Error>(())
 //! ```
 //!
-//! Scenes also come from JSON ([`Scene::from_path`], [`Scene::from_json_str`]); a model can be
-//! looked at before solving ([`Model::equations`], [`Model::dof`], [`Model::constraint_rows`]),
+//! Scenes also come from JSON ([`Scene::from_path`], [`Scene::from_json_str`]), including raw
+//! bond graph scenes (`"bond_graph"`, solved by the same [`Model`]); a model can be looked at
+//! before solving ([`Model::equations`], [`Model::dof`], [`Model::constraint_rows`], its bond
+//! graph [`Model::bond_graph`] and causality report [`Model::causality`]),
 //! solved with a callback that may stop early ([`Model::solve_streaming`]) and compared with
-//! its decoupled twin ([`Model::compare`]). [`Model`] is `Send + Sync`: independent solves can
+//! its decoupled twin ([`Model::compare`]). Every call fails with the one error type
+//! [`Error`]; scene loading returns the more detailed [`scene::SceneError`], which `?`
+//! converts into [`Error`] (see [`error`] for an example). [`Model`] is `Send + Sync`: independent solves can
 //! run on several threads at once.
 //!
 //! | module | owns |
@@ -56,8 +60,9 @@
 //! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
 //! | [`solve`] | running a formulation: outputs, statistics |
 //! | [`report`] | DAE vs decoupled comparisons |
+//! | [`trajectory`] | typed views of a [`Solution`]: bodies, points, energy, constraint error |
 #![deny(unsafe_code)]
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod bond;
 pub mod builder;
@@ -73,6 +78,7 @@ pub mod scene;
 pub mod solve;
 #[allow(unsafe_code)]
 pub mod sundials;
+pub mod trajectory;
 
 pub use builder::{Endpoint, Ground, Mechanism, PlanarBody, SpatialBody, SpringDamper};
 pub use error::{Error, Result};
@@ -81,3 +87,4 @@ pub use model_inspect::{DofReport, Equations};
 pub use report::Comparison;
 pub use scene::Scene;
 pub use solve::{FormulationKind, Solution, SolveOptions, Summary};
+pub use trajectory::{BodyTrajectory, PlanarTrajectory, PointTrajectory, SpatialTrajectory};

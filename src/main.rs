@@ -21,7 +21,7 @@ struct Cli {
 struct SolveArgs {
     /// Scene file (JSON, see docs/scene-format).
     scene: PathBuf,
-    /// dae (GGL, IDA), compliant_ggl, or decoupled (stiff springs, CVODE).
+    /// dae (GGL, IDA), compliant_ggl, index1, or decoupled (stiff springs, CVODE).
     #[arg(long)]
     formulation: Option<String>,
     /// Relative tolerance.
@@ -114,38 +114,14 @@ fn main() -> ExitCode {
     }
 }
 
-/// A scene ready to solve: a mechanism, or a raw bond graph.
-enum Loaded {
-    Mechanism(Box<Model>),
-    BondGraph(Box<Scene>),
-}
-
-impl Loaded {
-    fn solve(&self, opts: &SolveOptions) -> Result<bondmech::Solution, Error> {
-        match self {
-            Loaded::Mechanism(m) => m.solve(opts),
-            Loaded::BondGraph(s) => bondmech::solve::bond_run::solve_raw_bond_graph(s, opts),
-        }
-    }
-}
-
-fn load(args: &SolveArgs) -> Result<(Loaded, SolveOptions), Error> {
-    let scene = Scene::from_path(&args.scene)?;
-    let (loaded, mut opts) = if scene.bond_graph.is_some() {
-        let o = bondmech::solve::bond_run::raw_bond_graph_options(&scene);
-        (Loaded::BondGraph(Box::new(scene.clone())), o)
-    } else {
-        let model = Model::new(&scene)?;
-        for w in model.warnings() {
-            eprintln!("bondmech: warning: {w}");
-        }
-        let o = model.default_options();
-        (Loaded::Mechanism(Box::new(model)), o)
-    };
+/// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
+fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
+    let model = Model::new(&Scene::from_path(&args.scene)?)?;
+    let mut opts = model.default_options();
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
             Error::Options(format!(
-                "--formulation: unknown '{f}' (expected dae, ggl, compliant_ggl or decoupled)"
+                "--formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1 or decoupled)"
             ))
         })?;
     }
@@ -167,10 +143,16 @@ fn load(args: &SolveArgs) -> Result<(Loaded, SolveOptions), Error> {
         if !(t > 0.0 && t.is_finite()) {
             return Err(Error::Options(format!("--t-end: must be > 0 (got {t})")));
         }
-        let step = scene.solve.output_step.unwrap_or(t / 100.0).min(t);
-        opts.output_times = SolveOptions::times(t, step);
+        opts.output_times = model.output_times_until(t)?;
     }
-    Ok((loaded, opts))
+    Ok((model, opts))
+}
+
+/// Prints non-fatal remarks to standard error, one line each.
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("bondmech: warning: {}", w.replace('\n', "; "));
+    }
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Error> {
@@ -190,6 +172,8 @@ fn run(cli: Cli) -> Result<(), Error> {
         } => {
             let (model, opts) = load(&args)?;
             let sol = model.solve(&opts)?;
+            // the model's own warnings, redundant joints, singular passages, re-selections
+            print_warnings(&sol.summary.warnings);
             let csv = sol.to_csv();
             match &out {
                 Some(p) => write(p, &csv)?,
@@ -217,13 +201,13 @@ fn run(cli: Cli) -> Result<(), Error> {
             decoupled,
             out,
         } => {
-            let sc = Scene::from_path(&scene)?;
+            let model = Model::new(&Scene::from_path(&scene)?)?;
             let variant = if decoupled {
                 bondmech::mech::Variant::Decoupled
             } else {
                 bondmech::mech::Variant::Pinned
             };
-            let g = bondmech::graph::SceneGraph::new(&sc, variant)?;
+            let g = model.scene_graph(variant)?;
             let text = if causality {
                 serde_json::to_string_pretty(&g.report()).expect("report serialises") + "\n"
             } else {
@@ -241,14 +225,15 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
         }
         Command::Compare { args, json } => {
-            let (loaded, opts) = load(&args)?;
-            let Loaded::Mechanism(model) = loaded else {
-                return Err(Error::Options(
-                    "compare needs bodies and joints (a raw bond graph has no decoupled twin)"
-                        .into(),
-                ));
-            };
-            let (cmp, _, _) = model.compare(&opts)?;
+            let (model, opts) = load(&args)?;
+            let (cmp, dae, twin) = model.compare(&opts)?;
+            let mut warnings = dae.summary.warnings.clone();
+            for w in &twin.summary.warnings {
+                if !warnings.contains(w) {
+                    warnings.push(w.clone());
+                }
+            }
+            print_warnings(&warnings);
             print!("{}", cmp.table());
             if let Some(p) = &json {
                 let j = serde_json::to_string_pretty(&cmp).expect("comparison serialises");
@@ -267,6 +252,11 @@ fn run(cli: Cli) -> Result<(), Error> {
         } => {
             use bondmech::report::SweepConfig;
             let model = Model::new(&Scene::from_path(&scene)?)?;
+            if model.is_raw_bond_graph() {
+                return Err(Error::Options(
+                    "sweep needs bodies and joints (a raw bond graph has no decoupled twin)".into(),
+                ));
+            }
             let mut cfg = if quick {
                 SweepConfig::quick()
             } else {

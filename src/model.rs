@@ -1,40 +1,106 @@
 //! A scene turned into a solvable model: the entry point of the library.
+//!
+//! A scene is either a mechanism (`bodies`, `joints`, …), expanded into a multibody system
+//! (`q' = K(q) v`, `M v' = Q − G_vᵀλ`, `0 = g(q)`), or a raw `"bond_graph"`, whose equations
+//! come from its causal assignment ([`crate::bond::equations`]). [`Model::new`] accepts both;
+//! solving, streaming and inspecting the bond graph work on both, while the multibody
+//! inspection ([`Model::equations`], [`Model::dof`]) and the decoupled twin
+//! ([`Model::compare`]) need bodies and joints.
 
 use std::ops::ControlFlow;
 
 use cpu_time::ThreadTime;
 
-use crate::mech::{assemble, MultibodySystem};
+use crate::bond::causality::CausalityReport;
+use crate::bond::model::BondGraph;
+use crate::expr::ExprGraph;
+use crate::graph::SceneGraph;
+use crate::mech::{assemble, MultibodySystem, Variant};
 use crate::report::Comparison;
 use crate::scene::{Formulation, Scene};
+use crate::solve::bond_run::{raw_bond_graph_options, scene_bond_graph, solve_bond_graph};
 use crate::solve::{solve_system, FormulationKind, Row, Solution, SolveOptions};
 use crate::{Error, Result};
 
-/// A mechanism ready to be solved: the scene and the multibody system it expands into.
+/// What a model solves: a multibody system, or a raw bond graph.
+#[derive(Clone, Debug)]
+enum Kind {
+    /// Bodies and joints expanded into a multibody system.
+    Mechanism(MultibodySystem),
+    /// A scene's raw `"bond_graph"`, validated, with the empty multibody system that
+    /// [`Model::system`] hands out for it.
+    BondGraph(Box<BondGraph>, MultibodySystem),
+}
+
+/// A model ready to be solved: the scene and the multibody system (or raw bond graph) it
+/// expands into.
 ///
-/// ```no_run
-/// # fn main() -> Result<(), bondmech::Error> {
+/// ```
+/// # fn main() -> bondmech::Result<()> {
 /// let scene = bondmech::Scene::from_path("scenes/double_pendulum.json")?;
 /// let model = bondmech::Model::new(&scene)?;
-/// let solution = model.solve(&model.default_options())?;
+/// let mut options = model.default_options();
+/// options.output_times = model.output_times_until(0.1)?;
+/// let solution = model.solve(&options)?;
+/// assert_eq!(solution.times.len(), 11); // the scene's output_step is 0.01 s
 /// println!("{} steps", solution.summary.steps);
+/// # Ok(()) }
+/// ```
+///
+/// A raw bond graph scene is loaded the same way:
+///
+/// ```
+/// # fn main() -> bondmech::Result<()> {
+/// let scene = bondmech::Scene::from_path("scenes/bg_mass_spring_damper.json")?;
+/// let model = bondmech::Model::new(&scene)?;
+/// assert!(model.is_raw_bond_graph());
+/// assert_eq!(model.causality()?.dof, 2); // p_m and q_k
+/// let solution = model.solve(&model.default_options())?;
+/// assert!(solution.column("q_k").is_some());
 /// # Ok(()) }
 /// ```
 #[derive(Clone, Debug)]
 pub struct Model {
     scene: Scene,
-    system: MultibodySystem,
+    kind: Kind,
     build_cpu_seconds: f64,
 }
 
+/// The multibody system of a scene without bodies: no coordinates, no forces, zero energy.
+fn empty_system() -> MultibodySystem {
+    let mut graph = ExprGraph::new();
+    let zero = graph.zero();
+    MultibodySystem {
+        graph,
+        coords: Vec::new(),
+        velocities: Vec::new(),
+        mass: Vec::new(),
+        kinematics: Vec::new(),
+        forces: Vec::new(),
+        constraints: Vec::new(),
+        rows: Vec::new(),
+        energy: zero,
+        kinetic: zero,
+        outputs: Vec::new(),
+        warnings: Vec::new(),
+    }
+}
+
 impl Model {
-    /// Builds the multibody system of `scene`.
+    /// Builds the multibody system of `scene`, or reads and validates its raw `"bond_graph"`.
+    ///
+    /// Errors name the culprit: the JSON path of a bad body, joint or load, or the bond graph
+    /// element or bond that is invalid.
     pub fn new(scene: &Scene) -> Result<Model> {
         let clock = ThreadTime::now();
-        let system = assemble(scene)?;
+        let kind = if scene.bond_graph.is_some() {
+            Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
+        } else {
+            Kind::Mechanism(assemble(scene)?)
+        };
         Ok(Model {
             scene: scene.clone(),
-            system,
+            kind,
             build_cpu_seconds: clock.elapsed().as_secs_f64(),
         })
     }
@@ -44,18 +110,72 @@ impl Model {
         &self.scene
     }
 
+    /// Whether the scene is a raw `"bond_graph"` (no bodies or joints).
+    pub fn is_raw_bond_graph(&self) -> bool {
+        matches!(self.kind, Kind::BondGraph(..))
+    }
+
     /// The symbolic multibody system (coordinates, masses, forces, constraint rows).
+    ///
+    /// For a raw bond graph scene this is the empty system (no coordinates, no rows); see
+    /// [`Model::mechanism`] to tell the two apart.
     pub fn system(&self) -> &MultibodySystem {
-        &self.system
+        match &self.kind {
+            Kind::Mechanism(s) | Kind::BondGraph(_, s) => s,
+        }
+    }
+
+    /// The multibody system, or `None` for a raw bond graph scene.
+    pub fn mechanism(&self) -> Option<&MultibodySystem> {
+        match &self.kind {
+            Kind::Mechanism(s) => Some(s),
+            Kind::BondGraph(..) => None,
+        }
+    }
+
+    /// The bond graph of the model: the chapter's fragments assembled for a mechanism (joints
+    /// kept, seed 16.3–16.8), or the raw `"bond_graph"` as read.
+    pub fn bond_graph(&self) -> Result<BondGraph> {
+        Ok(self.scene_graph(Variant::Pinned)?.graph)
+    }
+
+    /// The bond graph of `variant` (for a mechanism: joints kept, or replaced by stiff
+    /// springs; a raw bond graph has one variant only) with its SCAP causal assignment.
+    pub fn scene_graph(&self, variant: Variant) -> Result<SceneGraph> {
+        match &self.kind {
+            Kind::BondGraph(g, _) => SceneGraph::from_graph((**g).clone()),
+            Kind::Mechanism(_) => SceneGraph::new(&self.scene, variant),
+        }
+    }
+
+    /// The causality report of [`Model::bond_graph`]: DOF (integral storages), states,
+    /// storages in differential causality, conflicts and algebraic loops. For a mechanism
+    /// the inertias in integral causality number the mechanism's degrees of freedom
+    /// (seed 16.5, 16.7).
+    ///
+    /// ```
+    /// # fn main() -> bondmech::Result<()> {
+    /// let scene = bondmech::Scene::from_path("scenes/double_pendulum.json")?;
+    /// let report = bondmech::Model::new(&scene)?.causality()?;
+    /// assert_eq!((report.integral_inertias, report.differential.len()), (2, 4)); // seed 16.7
+    /// # Ok(()) }
+    /// ```
+    pub fn causality(&self) -> Result<CausalityReport> {
+        Ok(self.scene_graph(Variant::Pinned)?.report())
     }
 
     /// Non-fatal remarks found while building the model.
     pub fn warnings(&self) -> &[String] {
-        &self.system.warnings
+        &self.system().warnings
     }
 
     /// The solve options written in the scene's `solve` section.
+    ///
+    /// For a raw bond graph, `decoupled` has no meaning and `index1` selects the index-1 DAE.
     pub fn default_options(&self) -> SolveOptions {
+        if self.is_raw_bond_graph() {
+            return raw_bond_graph_options(&self.scene);
+        }
         let s = &self.scene.solve;
         let formulation = match s.formulation {
             Formulation::Decoupled => FormulationKind::Decoupled,
@@ -76,13 +196,34 @@ impl Model {
         }
     }
 
+    /// Output times from the scene's start to `t_end`, spaced by the scene's `output_step`
+    /// (default `t_end / 100`, at most `t_end`): the rule of the command line's `--t-end`.
+    ///
+    /// Fails unless `t_end > 0` and finite.
+    pub fn output_times_until(&self, t_end: f64) -> Result<Vec<f64>> {
+        if !(t_end > 0.0 && t_end.is_finite()) {
+            return Err(Error::Options(format!("t_end: must be > 0 (got {t_end})")));
+        }
+        let step = self
+            .scene
+            .solve
+            .output_step
+            .unwrap_or(t_end / 100.0)
+            .min(t_end);
+        Ok(SolveOptions::times(t_end, step))
+    }
+
     /// Solves with `opts`.
     pub fn solve(&self, opts: &SolveOptions) -> Result<Solution> {
         self.solve_streaming(opts, &mut |_| ControlFlow::Continue(()))
     }
 
     /// Solves with `opts`, handing each output row to `observer` as soon as it is computed;
-    /// the observer returns `ControlFlow::Break(())` to stop early.
+    /// the observer returns `ControlFlow::Break(())` to stop early, and the solution then
+    /// holds the rows up to and including the one that stopped it.
+    ///
+    /// For a raw bond graph the rows are handed over after the solve (the bond graph runner
+    /// has no observer yet); an early stop still truncates the solution the same way.
     pub fn solve_streaming(
         &self,
         opts: &SolveOptions,
@@ -102,11 +243,36 @@ impl Model {
                 "output_times must be strictly increasing".into(),
             ));
         }
-        solve_system(self.system.clone(), opts, self.build_cpu_seconds, observer)
+        match &self.kind {
+            Kind::Mechanism(sys) => {
+                solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
+            }
+            Kind::BondGraph(g, _) => {
+                let mut sol = solve_bond_graph(g, opts)?;
+                sol.summary.build_cpu_seconds += self.build_cpu_seconds;
+                let mut keep = sol.rows.len();
+                for (k, (&t, r)) in sol.times.iter().zip(&sol.rows).enumerate() {
+                    if observer(Row { t, values: r }).is_break() {
+                        keep = k + 1;
+                        break;
+                    }
+                }
+                sol.times.truncate(keep);
+                sol.rows.truncate(keep);
+                Ok(sol)
+            }
+        }
     }
 
     /// Solves the DAE (GGL) and the decoupled twin with the same options and compares them.
+    ///
+    /// Fails for a raw bond graph, which has no decoupled twin.
     pub fn compare(&self, opts: &SolveOptions) -> Result<(Comparison, Solution, Solution)> {
+        if self.is_raw_bond_graph() {
+            return Err(Error::Options(
+                "compare needs bodies and joints (a raw bond graph has no decoupled twin)".into(),
+            ));
+        }
         let mut a = opts.clone();
         if a.formulation == FormulationKind::Decoupled {
             a.formulation = FormulationKind::Ggl;

@@ -15,7 +15,7 @@ use std::fmt;
 
 use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
 use crate::mech::ConstraintRow;
-use crate::{Model, Result};
+use crate::{Error, Model, Result};
 
 /// The equations of a model as text, variables named after the scene (`bar1.x`, `bar1.omega`).
 #[derive(Clone, Debug, PartialEq)]
@@ -81,7 +81,7 @@ impl Model {
         }
     }
 
-    /// The equations in readable form (see [`Equations`]).
+    /// The equations in readable form (see [`Equations`]); empty for a raw bond graph scene.
     ///
     /// ```
     /// # use bondmech::{Ground, Mechanism, Model, PlanarBody};
@@ -135,8 +135,17 @@ impl Model {
     /// Degrees of freedom `n_v − rank G_v`, with the rank taken at the consistent initial
     /// state (positions and velocities projected onto the joints, as a solve starts).
     ///
-    /// Fails like a solve's start does when no consistent initial state exists.
+    /// Fails like a solve's start does when no consistent initial state exists, and for a
+    /// raw bond graph scene (it has no coordinates: its DOF is [`Model::causality`]'s `dof`).
+    /// [`Model::causality`] counts the same DOF from the bond graph: its inertias in integral
+    /// causality.
     pub fn dof(&self) -> Result<DofReport> {
+        if self.is_raw_bond_graph() {
+            return Err(Error::Options(
+                "dof() counts coordinates and joints; a raw bond graph has none (use causality())"
+                    .into(),
+            ));
+        }
         let mut sys = self.system().clone();
         let c = ConstraintExprs::derive(&mut sys);
         let tapes = MechanicsTapes::new(&mut sys, &c, None);
@@ -156,8 +165,4 @@ impl Model {
             redundant_joints: init.redundant_joints,
         })
     }
-
-    // The bond graph view goes here once `bond` lands: `Model::bond_graph()` (the graph of the
-    // scene, seed 16.3–16.8) and its causality report (DOF, differential-causality inertias,
-    // conflicts), next to `dof()` above, which counts the same DOF from the equations.
 }

@@ -189,3 +189,102 @@ fn mass_on_a_spring_built_in_code_oscillates_as_a_cosine() {
         assert!((x - want).abs() < 1e-6, "t = {t}: {x} vs {want}");
     }
 }
+
+// Bond graph inspection and raw bond graph scenes through `Model`.
+
+fn scene_path(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+#[test]
+fn double_pendulum_causality_has_two_integral_and_four_differential_inertias_seed_16_7() {
+    // Seed 16.7, Fig. 19: each bar has three inertias (m ẋ, m ẏ, J θ̇); the two pins impose
+    // four flows, so four inertias take differential causality and two stay integral (the
+    // two angles of a double pendulum).
+    let model = double_pendulum();
+    let r = model.causality().unwrap();
+    assert_eq!(r.integral_inertias, 2);
+    assert_eq!(r.differential.len(), 4);
+    assert!(r.conflicts.is_empty());
+    // the same DOF as the count from the equations, n_v − rank G_v
+    assert_eq!(model.dof().unwrap().dof, r.integral_inertias);
+    // the graph holds the six inertias, two per bar coordinate
+    let g = model.bond_graph().unwrap();
+    let inertias = g
+        .elements
+        .iter()
+        .filter(|e| e.kind == bondmech::bond::ElementKind::I)
+        .count();
+    assert_eq!(inertias, 6);
+}
+
+#[test]
+fn raw_bond_graph_model_solved_via_the_api_equals_the_cli_csv_bit_for_bit() {
+    let path = scene_path("bg_mass_spring_damper.json");
+    let model = Model::new(&Scene::from_path(&path).unwrap()).unwrap();
+    assert!(model.is_raw_bond_graph());
+    assert!(model.mechanism().is_none());
+    let sol = model.solve(&model.default_options()).unwrap();
+
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .arg("run")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(String::from_utf8(out.stdout).unwrap(), sol.to_csv());
+
+    // and it is the damped oscillator of the scene's description:
+    // x(t) = e^{-ζω0 t}(x0 cos ωd t + ζω0 x0/ωd sin ωd t), ω0 = √(k/m) = 2, ζ = b/(2√(km)) = 0.05
+    let (m, k, b, x0) = (1.5f64, 6.0f64, 0.3f64, 0.1f64);
+    let w0 = (k / m).sqrt();
+    let zeta = b / (2.0 * (k * m).sqrt());
+    let wd = w0 * (1.0 - zeta * zeta).sqrt();
+    let q = sol.column("q_k").unwrap();
+    assert_eq!(sol.times.len(), 201);
+    for (t, x) in sol.times.iter().zip(&q) {
+        let want =
+            (-zeta * w0 * t).exp() * (x0 * (wd * t).cos() + zeta * w0 * x0 / wd * (wd * t).sin());
+        assert!((x - want).abs() < 1e-6, "t = {t}: {x} vs {want}");
+    }
+}
+
+#[test]
+fn raw_bond_graph_causality_has_two_integral_storages_and_no_twin() {
+    let model =
+        Model::new(&Scene::from_path(scene_path("bg_mass_spring_damper.json")).unwrap()).unwrap();
+    let r = model.causality().unwrap();
+    assert_eq!(r.dof, 2); // p_m and q_k
+    assert!(r.differential.is_empty());
+    let err = model.compare(&model.default_options()).unwrap_err();
+    assert!(err.to_string().contains("raw bond graph"), "{err}");
+    assert!(model.dof().is_err());
+}
+
+#[test]
+fn raw_bond_graph_streaming_stops_early_with_the_rows_seen() {
+    let model =
+        Model::new(&Scene::from_path(scene_path("bg_mass_spring_damper.json")).unwrap()).unwrap();
+    let opts = model.default_options();
+    let mut n = 0;
+    let sol = model
+        .solve_streaming(&opts, &mut |_| {
+            n += 1;
+            if n == 5 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .unwrap();
+    assert_eq!(n, 5);
+    assert_eq!(sol.rows.len(), 5);
+    let full = model.solve(&opts).unwrap();
+    assert_eq!(full.rows[..5], sol.rows[..]);
+}
