@@ -807,9 +807,13 @@ fn run_index1(
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
         let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
+            let c = joint_conditioning(&gv, &sys.mass, &sys.rows);
             Error::Init(crate::dae::InitError::Singular {
+                t: t_start,
                 what: format!(
-                    "the joints lose rank at t = {t_start}: no set of dependent velocities exists; use the ggl formulation"
+                    "joints [{}] lose rank (κ = {:.1e}): no set of dependent velocities exists; use the ggl formulation",
+                    c.joints.join(", "),
+                    c.condition
                 ),
             })
         })?;
