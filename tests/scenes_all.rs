@@ -52,7 +52,9 @@ fn every_mechanism_scene_solves_as_dae_and_as_decoupled_twin() {
         let mut o = model.default_options();
         short(&mut o);
         o.formulation = FormulationKind::Ggl;
-        let dae = model.solve(&o).unwrap_or_else(|e| panic!("{name} DAE: {e}"));
+        let dae = model
+            .solve(&o)
+            .unwrap_or_else(|e| panic!("{name} DAE: {e}"));
         assert_eq!(dae.times.len(), o.output_times.len(), "{name}");
         // the joints hold to well below the position tolerance scale
         assert!(
@@ -132,7 +134,10 @@ fn point_mass_pendulum_twin_refusal_names_the_coordinate_and_the_dae() {
     o.formulation = FormulationKind::Decoupled;
     let e = model.solve(&o).unwrap_err().to_string();
     assert!(e.contains("solve.formulation"), "{e}");
-    assert!(e.contains("bob."), "names the coordinate without inertia: {e}");
+    assert!(
+        e.contains("bob."),
+        "names the coordinate without inertia: {e}"
+    );
     assert!(e.contains("inertia") && e.contains("DAE"), "{e}");
     assert!(!e.contains('\n'), "one line: {e}");
 }

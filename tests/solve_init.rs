@@ -26,7 +26,9 @@ fn perturbed_double_pendulum(dy: f64) -> String {
 fn perturbed_start_is_corrected_by_the_least_change_projection() {
     let dy: f64 = 0.01;
     let model = Model::new(&Scene::from_json_str(&perturbed_double_pendulum(dy)).unwrap()).unwrap();
-    let s = model.solve(&model.default_options()).expect("a perturbed start is projected");
+    let s = model
+        .solve(&model.default_options())
+        .expect("a perturbed start is projected");
     // Hand linearisation at θ1 = θ2 = 0, q = (x1, y1, θ1, x2, y2, θ2): g = (0, 0, 0, −dy); only
     // the y rows are active, r1 = (y1, θ1) row of the pivot = (1, −½), r2 = knee y row over
     // (y1, θ1, y2, θ2) = (1, ½, −1, ½). The least-norm Δq with r1·Δq = 0, r2·Δq = dy has
@@ -81,7 +83,11 @@ fn unassemblable_four_bar() -> String {
 #[test]
 fn unassemblable_four_bar_is_refused_naming_its_joints_and_the_time() {
     let model = Model::new(&Scene::from_json_str(&unassemblable_four_bar()).unwrap()).unwrap();
-    for f in [FormulationKind::Ggl, FormulationKind::Index1, FormulationKind::Decoupled] {
+    for f in [
+        FormulationKind::Ggl,
+        FormulationKind::Index1,
+        FormulationKind::Decoupled,
+    ] {
         let o = SolveOptions {
             formulation: f,
             ..model.default_options()

@@ -80,7 +80,9 @@ fn undamped_twin_at_1e12_with_bdf2_solves_one_second_within_the_default_budget()
     // the scene's own output step (0.01 s) and the default budget of steps per output interval
     o.output_times = SolveOptions::times(1.0, 0.01);
     assert_eq!(o.max_steps, SolveOptions::default().max_steps);
-    let s = m.solve(&o).expect("undamped k = 1e12 solves with the default budget");
+    let s = m
+        .solve(&o)
+        .expect("undamped k = 1e12 solves with the default budget");
     let r = reference(&s.times);
     for (k, rk) in r.iter().enumerate() {
         // BDF2's numerical damping of the spring modes leaves an error that grows with the

@@ -19,8 +19,8 @@ use nalgebra::DMatrix;
 
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_conditioning,
-    select_dependent, ConsistentState, JointConditioning, ConstraintExprs, DecoupledFormulation, GglFormulation,
-    ImplicitDae, Index1Formulation, MechanicsTapes,
+    select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
+    ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::sundials::{

@@ -247,12 +247,7 @@ impl Cvode {
                 check(P, "CVodeSetStopTime", sys::CVodeSetStopTime(raw, t), t0)?;
             }
             if opts.stab_lim_det {
-                check(
-                    P,
-                    "CVodeSetStabLimDet",
-                    sys::CVodeSetStabLimDet(raw, 1),
-                    t0,
-                )?;
+                check(P, "CVodeSetStabLimDet", sys::CVodeSetStabLimDet(raw, 1), t0)?;
             }
         }
         Ok(Cvode {
