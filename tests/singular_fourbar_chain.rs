@@ -338,3 +338,39 @@ fn bundled_chain_scene_is_the_tested_chain() {
     tested.description = bundled.description.clone();
     assert_eq!(bundled, tested);
 }
+
+/// Error and cost of the DAE and the twin per chain length (a measurement for the closing
+/// note: `cargo test --test singular_fourbar_chain report_ -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn report_compare_cost_and_error_per_chain_length() {
+    for (n, t_end) in [(1usize, 20.0), (3, 20.0), (10, 5.0)] {
+        let m = model(&chain_json(n));
+        let mut o = m.default_options();
+        o.output_times = (0..=(t_end * 20.0) as usize)
+            .map(|i| 0.05 * i as f64)
+            .collect();
+        o.max_steps = Some(10_000_000);
+        let (c, dae, dec) = m.compare(&o).expect("both solve");
+        let (ed, et) = (
+            first_crank_top_error(n, &dae),
+            first_crank_top_error(n, &dec),
+        );
+        let coupler = |s: &Solution| {
+            (0..n)
+                .flat_map(|i| s.column(&format!("coupler{i}.angle")).unwrap())
+                .fold(0.0f64, |w, x| w.max(x.abs()))
+        };
+        eprintln!(
+            "N = {n}, {t_end} s: twin vs DAE position {:.2e}; vs reference DAE {ed:.2e} twin {et:.2e}; DAE {} steps {:.2} s, {} passages; twin {} steps {:.2} s; coupler angle DAE {:.1e} twin {:.1e}",
+            c.position.value,
+            dae.summary.steps,
+            dae.summary.cpu_seconds,
+            dae.summary.singular_passages.len(),
+            dec.summary.steps,
+            dec.summary.cpu_seconds,
+            coupler(&dae),
+            coupler(&dec)
+        );
+    }
+}

@@ -759,8 +759,17 @@ impl PeakFinder {
 /// restarting forever at a configuration the compliant GGL cannot pass either).
 const MAX_SINGULAR_PASSAGES: usize = 10_000;
 
-/// Condition number of `G_v[:, D]` above which the dependent velocities are re-selected.
-const INDEX1_MAX_CONDITION: f64 = 1e4;
+/// Condition number of `G_v[:, D]` above which a fresh selection of dependent velocities is
+/// considered (checked at the output times).
+const INDEX1_CHECK_CONDITION: f64 = 10.0;
+
+/// The fresh selection replaces the current one when its condition is this many times smaller.
+/// The check happens at output times only, so it must fire well before the block is singular:
+/// the condition grows like `1/|cos θ|` as a dependent coordinate loses its grip (measured on a
+/// bead sliding along a pendulum bar: the dependent bead translation must change near the
+/// vertical, and a threshold of 1e4 on the current set alone let IDA run into the singular
+/// block between outputs).
+const INDEX1_RESELECT_GAIN: f64 = 10.0;
 
 fn run_index1(
     mut sys: MultibodySystem,
@@ -853,10 +862,12 @@ fn run_index1(
                 break 'restart;
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
-            if cond > INDEX1_MAX_CONDITION && k_next < opts.output_times.len() {
-                let better = select_dependent(&gv_at(&tapes, step.t, &x), &preferred);
+            if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
+                let gv = gv_at(&tapes, step.t, &x);
+                let better = select_dependent(&gv, &preferred);
                 if let Some(b) = better {
-                    if b != dependent {
+                    if b != dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
+                    {
                         total.accumulate(&ida.stats());
                         reselections += 1;
                         t_start = step.t;
