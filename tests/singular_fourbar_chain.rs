@@ -259,6 +259,12 @@ fn compare_reports_decoupled_twin_error_on_the_chain() {
         assert!(d.value.is_finite() && !d.column.is_empty(), "{d:?}");
     }
     assert!(dec.summary.max_constraint_error.is_finite());
+    // the twin keeps the parallelogram branch too: its couplers only translate
+    for i in 0..3 {
+        let a = dec.column(&format!("coupler{i}.angle")).unwrap();
+        let worst = a.iter().fold(0.0f64, |w, x| w.max(x.abs()));
+        assert!(worst < 1e-4, "twin coupler{i} turned by {worst:e} rad");
+    }
     assert!(!dae.summary.singular_passages.is_empty());
     // `--summary` and `compare --json` serialise the passages
     let json = serde_json::to_value(&dae.summary).expect("summary serialises");
@@ -272,6 +278,56 @@ fn compare_reports_decoupled_twin_error_on_the_chain() {
     eprintln!("{table}");
 }
 
+/// Alignment times of the reference chain: zeros of sin φ, located by linear interpolation on
+/// a 1 ms grid.
+fn reference_alignment_times(n: usize, t_end: f64) -> Vec<f64> {
+    let p = FourBarChain {
+        loops: n,
+        m: 1.0,
+        l: 1.0,
+        g: G,
+    };
+    let fine: Vec<f64> = (0..=(t_end * 1000.0).round() as usize)
+        .map(|i| i as f64 * 1e-3)
+        .collect();
+    let r = simulate_four_bar_chain(&p, [std::f64::consts::FRAC_PI_2, 1.0], &fine);
+    r.windows(2)
+        .zip(fine.windows(2))
+        .filter_map(|(w, t)| {
+            let (a, b) = (w[0].phi.sin(), w[1].phi.sin());
+            (a.signum() != b.signum()).then(|| t[0] + (t[1] - t[0]) * a / (a - b))
+        })
+        .collect()
+}
+
+#[test]
+fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
+    // the bundled scene's own tolerances (rtol 1e-8) and output step (0.05 s)
+    let m = model(&chain_json(3));
+    let mut o = m.default_options();
+    o.max_steps = Some(1_000_000);
+    let s = m.solve(&o).expect("the chain solves");
+    let want = reference_alignment_times(3, 20.0);
+    let got: Vec<f64> = s.summary.singular_passages.iter().map(|p| p.t).collect();
+    eprintln!("reference {want:.3?}\nreported {got:.3?}");
+    assert!(want.len() >= 15, "{want:?}");
+    assert_eq!(got.len(), want.len(), "one passage per alignment");
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g - w).abs() < 0.05, "passage at {g} vs alignment at {w}");
+    }
+    for p in &s.summary.singular_passages {
+        assert!(p.joints.contains(&"pivot0".to_string()), "{p:?}");
+        assert!(
+            s.summary
+                .warnings
+                .iter()
+                .any(|w| w.contains(&format!("t = {:.6}", p.t))),
+            "a warning line per passage: {:?}",
+            s.summary.warnings
+        );
+    }
+}
+
 /// `scenes/four_bar_chain_3.json` is the N = 3 chain of these tests.
 #[test]
 fn bundled_chain_scene_is_the_tested_chain() {
@@ -281,4 +337,40 @@ fn bundled_chain_scene_is_the_tested_chain() {
     let mut tested = Scene::from_json_str(&chain_json(3)).unwrap();
     tested.description = bundled.description.clone();
     assert_eq!(bundled, tested);
+}
+
+/// Error and cost of the DAE and the twin per chain length (a measurement for the closing
+/// note: `cargo test --test singular_fourbar_chain report_ -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn report_compare_cost_and_error_per_chain_length() {
+    for (n, t_end) in [(1usize, 20.0), (3, 20.0), (10, 5.0)] {
+        let m = model(&chain_json(n));
+        let mut o = m.default_options();
+        o.output_times = (0..=(t_end * 20.0) as usize)
+            .map(|i| 0.05 * i as f64)
+            .collect();
+        o.max_steps = Some(10_000_000);
+        let (c, dae, dec) = m.compare(&o).expect("both solve");
+        let (ed, et) = (
+            first_crank_top_error(n, &dae),
+            first_crank_top_error(n, &dec),
+        );
+        let coupler = |s: &Solution| {
+            (0..n)
+                .flat_map(|i| s.column(&format!("coupler{i}.angle")).unwrap())
+                .fold(0.0f64, |w, x| w.max(x.abs()))
+        };
+        eprintln!(
+            "N = {n}, {t_end} s: twin vs DAE position {:.2e}; vs reference DAE {ed:.2e} twin {et:.2e}; DAE {} steps {:.2} s, {} passages; twin {} steps {:.2} s; coupler angle DAE {:.1e} twin {:.1e}",
+            c.position.value,
+            dae.summary.steps,
+            dae.summary.cpu_seconds,
+            dae.summary.singular_passages.len(),
+            dec.summary.steps,
+            dec.summary.cpu_seconds,
+            coupler(&dae),
+            coupler(&dec)
+        );
+    }
 }

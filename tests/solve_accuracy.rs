@@ -218,11 +218,13 @@ fn slider_crank_passes_dead_centres_and_matches_minimal_coordinates() {
         "crank reached only φ = {}",
         last.phi
     );
+    let mut max_dphi = 0.0f64;
     for (k, rk) in reference.iter().enumerate() {
         // the crank turns a dozen times (φ ≈ 90 rad at t = 1 s): the dynamics are checked by
         // the crank angle (relative), the kinematic branch by the piston and rod positions at
         // the solver's own crank angle (closed form y_p = r sin φ + √(l² − r² cos² φ))
         let phi = s.value(k, "crank.angle").unwrap();
+        max_dphi = max_dphi.max((phi - rk.phi).abs());
         assert!(
             (phi - rk.phi).abs() < 1e-7 * rk.phi.abs().max(1.0),
             "crank angle at t = {}: {phi} vs {}",
@@ -242,10 +244,23 @@ fn slider_crank_passes_dead_centres_and_matches_minimal_coordinates() {
             times[k]
         );
     }
-    // the solve itself succeeding through ~24 dead-centre passages is the "no step failure"
-    // requirement; Newton convergence failures that IDA recovers from do occur (a few per
-    // thousand steps) and are reported in the summary, not hidden
-    assert!(s.summary.steps > 0);
+    // "No step failure at the dead centres": the solve passes all ~66 dead centres without
+    // aborting, but IDA does record Newton convergence failures it recovers from. Measured
+    // (rtol 1e-10, counting failures per 0.01 s window up to 0.26 s): they are not concentrated
+    // at the dead centres (φ = π/2 + kπ), e.g. one in 0.20–0.21 s (φ 2.06 → 2.33, no dead
+    // centre); over 1 s they grow with the crank speed: 260 failures in 34 920 steps with the
+    // default multiplier atol 1e-2, 108 at 1e-4, 478 at 1e-6, and at 1e-8 the solve fails —
+    // the index-2 Newton matrix at rtol 1e-10, not the dead centres. So the strongest true
+    // statement is a low recovered-failure rate (measured 0.74 %).
+    let sm = &s.summary;
+    eprintln!(
+        "slider-crank: {} steps, {} convergence failures, {} error test failures, max |Δφ| {max_dphi:e}",
+        sm.steps, sm.nonlinear_conv_failures, sm.error_test_failures
+    );
+    assert!(
+        (sm.nonlinear_conv_failures as f64) < 0.02 * sm.steps as f64,
+        "{sm:?}"
+    );
 }
 
 #[test]

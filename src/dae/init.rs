@@ -36,8 +36,10 @@ pub struct ConsistentState {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum InitError {
     /// The position projection did not converge.
-    #[error("the initial positions cannot be projected onto the joints: |g| = {residual:.3e} after {iterations} iterations (worst row: joint '{joint}', {direction})")]
+    #[error("at t = {t}: the positions cannot be projected onto the joints: |g| = {residual:.3e} after {iterations} iterations (worst row: joint '{joint}', {direction}; joints left open: [{open}])")]
     PositionProjection {
+        /// Time of the projection (the start, or a restart of the solver).
+        t: f64,
         /// Final largest |g|.
         residual: f64,
         /// Iterations done.
@@ -46,16 +48,22 @@ pub enum InitError {
         joint: String,
         /// Its direction.
         direction: String,
+        /// Every joint with a row still violated by more than 1e-6 of the worst, comma-separated.
+        open: String,
     },
     /// `[M G_vᵀ; G_v 0]` is singular beyond redundant constraints.
-    #[error("the mass–constraint matrix is singular: {what}")]
+    #[error("at t = {t}: the mass–constraint matrix is singular: {what}")]
     Singular {
+        /// Time of the failed initialisation.
+        t: f64,
         /// Which coordinates are undetermined.
         what: String,
     },
     /// Something evaluated to NaN or infinity.
-    #[error("the initial state evaluates to a non-finite value in {what}")]
+    #[error("at t = {t}: the state evaluates to a non-finite value in {what}")]
     NonFinite {
+        /// Time of the failed initialisation.
+        t: f64,
         /// What was being evaluated.
         what: String,
     },
@@ -128,6 +136,7 @@ pub fn consistent_state_from(
             Ok(())
         } else {
             Err(InitError::NonFinite {
+                t: t0,
                 what: what.to_string(),
             })
         }
@@ -150,7 +159,15 @@ pub fn consistent_state_from(
         }
         if iterations >= 60 {
             let r = &sys.rows[worst.0];
+            let mut open: Vec<&str> = Vec::new();
+            for (row, v) in sys.rows.iter().zip(&g) {
+                if v.abs() > 1e-6 * worst.1 && !open.contains(&row.joint.as_str()) {
+                    open.push(&row.joint);
+                }
+            }
             return Err(InitError::PositionProjection {
+                t: t0,
+                open: open.join(", "),
                 residual: worst.1,
                 iterations,
                 joint: r.joint.clone(),
@@ -213,6 +230,7 @@ pub fn consistent_state_from(
             .map(|(c, _)| c.name.as_str())
             .collect();
         return Err(InitError::Singular {
+            t: t0,
             what: format!(
                 "{} of {} accelerations are undetermined; massless coordinates: [{}] — a rotation without inertia must be fixed by the joints",
                 nv + rank - rank_a,

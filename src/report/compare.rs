@@ -177,12 +177,16 @@ impl Comparison {
             s.push_str(&format!("{k:<26} {x:>16} {y:>16}\n"));
         }
         for p in &a.singular_passages {
+            let how = if p.failure == "conditioning peak" {
+                "passed by the compliant GGL".to_string()
+            } else {
+                format!("{}; compliant GGL from t = {}", p.failure, p.restarted_at)
+            };
             s.push_str(&format!(
-                "singular passage at t = {:.6}: κ(G M⁻¹ Gᵀ) = {:.1e}, joints [{}]; compliant GGL from t = {}\n",
+                "singular passage at t = {:.6}: κ(G M⁻¹ Gᵀ) = {:.1e}, joints [{}]; {how}\n",
                 p.t,
                 p.condition,
                 p.joints.join(", "),
-                p.restarted_at
             ));
         }
         s

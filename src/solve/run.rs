@@ -20,7 +20,7 @@ use nalgebra::DMatrix;
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_conditioning,
     select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
-    ImplicitDae, Index1Formulation, MechanicsTapes,
+    ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::sundials::{
@@ -74,8 +74,11 @@ pub struct Summary {
     /// Simulated time spent in the compliant GGL (s).
     pub compliant_time: f64,
     /// Singular passages met by the GGL: plain GGL failed near a rank-deficient `G_v` and the
-    /// compliant GGL carried the motion through.
+    /// compliant GGL carried the motion through (the switch), and every later passage, found
+    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`PASSAGE_CONDITION`] at the output times.
     pub singular_passages: Vec<SingularPassage>,
+    /// Times the index-1 formulation re-selected its dependent velocities.
+    pub index1_reselections: u64,
     /// Joint stiffness of the decoupled twin (0 otherwise).
     pub joint_stiffness: f64,
     /// Non-fatal remarks about the model.
@@ -403,7 +406,9 @@ pub struct SingularPassage {
     pub restarted_at: f64,
     /// Time at which plain GGL resumed (`None`: compliant to the end).
     pub plain_again_at: Option<f64>,
-    /// The IDA failure that revealed the passage (e.g. `IDA_CONV_FAIL`).
+    /// The IDA failure that revealed the passage (e.g. `IDA_CONV_FAIL`), or `conditioning
+    /// peak` for a passage found while the compliant GGL was already running (no restart; then
+    /// `t` is the peak of κ located between outputs and `restarted_at = t`).
     pub failure: String,
 }
 
@@ -568,6 +573,9 @@ fn run_ggl(
         joint_conditioning(&gv, &sys.mass, &sys.rows)
     };
     let resume_plain = RESUME_PLAIN_GGL;
+    // joints redundant everywhere have κ = ∞ throughout: no passages to find there
+    let monitor = init.redundant_joints.is_empty();
+    let mut peaks = PeakFinder::default();
     let mut compliant_since: Option<f64> = (eps_start > 0.0).then_some(t0);
     let mut compliant_time = 0.0;
     let first = out.row(t0, &y0);
@@ -630,6 +638,26 @@ fn run_ggl(
             if emit(&mut sol, observer, step.t, row) {
                 break;
             }
+            // while compliant, every further singular passage shows as a peak of κ
+            if monitor && solver.eps() > 0.0 {
+                let c = conditioning(step.t, solver.ida.y());
+                if let Some(p) = peaks.push(step.t, c) {
+                    let near_switch = summary
+                        .singular_passages
+                        .last()
+                        .is_some_and(|q| (q.t - p.t).abs() < 2.0 * peaks.spacing());
+                    if !near_switch {
+                        summary.warnings.push(format!(
+                            "singular configuration at t = {:.6}: joints [{}] lose independence (κ peak {:.1e}); carried through by the compliant GGL (ε = {:.1e})",
+                            p.t,
+                            p.joints.join(", "),
+                            p.condition,
+                            solver.eps()
+                        ));
+                        summary.singular_passages.push(p);
+                    }
+                }
+            }
             // back to plain GGL once the joints are well-conditioned again
             let switched = summary
                 .singular_passages
@@ -671,12 +699,77 @@ fn run_ggl(
     Ok(sol)
 }
 
+/// `κ(G_v M⁺ G_vᵀ)` at an output time above which a local maximum of κ, met while the
+/// compliant GGL runs, is recorded as a singular passage. Measured on the four-bar chains
+/// (output step 0.05 s): upright κ ≈ 10, at the output nearest an alignment κ ≳ 1e3.
+pub const PASSAGE_CONDITION: f64 = 300.0;
+
+/// Finds the peaks of κ over the output times (one output of delay) and locates each peak
+/// between the outputs: near a rank loss `s = κ^{-1/2}` (the ratio of the smallest to the
+/// largest singular value of `M^{-1/2} G_vᵀ`) falls linearly to zero, `s ≈ a |t − t*|`, so
+/// `t*` follows from the steeper of the two one-sided slopes at the smallest sample.
+#[derive(Default)]
+struct PeakFinder {
+    samples: Vec<(f64, JointConditioning)>,
+}
+
+impl PeakFinder {
+    /// Output spacing seen last (0 before two samples).
+    fn spacing(&self) -> f64 {
+        match self.samples.as_slice() {
+            [.., a, b] => b.0 - a.0,
+            _ => 0.0,
+        }
+    }
+
+    /// Adds the sample at `t`; returns a passage when the previous sample was a peak.
+    fn push(&mut self, t: f64, c: JointConditioning) -> Option<SingularPassage> {
+        self.samples.push((t, c));
+        if self.samples.len() > 3 {
+            self.samples.remove(0);
+        }
+        let [(t0, c0), (t1, c1), (t2, c2)] = self.samples.as_slice() else {
+            return None;
+        };
+        let (k0, k1, k2) = (c0.condition, c1.condition, c2.condition);
+        if !(k1 > PASSAGE_CONDITION && k1 >= k0 && k1 > k2 && k1.is_finite()) {
+            return None;
+        }
+        let s = |k: f64| 1.0 / k.sqrt();
+        let (sl, sm, sr) = (s(k0), s(k1), s(k2));
+        let left = (sl - sm) / (t1 - t0);
+        let right = (sr - sm) / (t2 - t1);
+        let t_peak = if left >= right {
+            (t1 + sm / left).min(*t2)
+        } else {
+            (t1 - sm / right).max(*t0)
+        };
+        Some(SingularPassage {
+            t: t_peak,
+            joints: c1.joints.clone(),
+            condition: k1,
+            restarted_at: t_peak,
+            plain_again_at: None,
+            failure: "conditioning peak".into(),
+        })
+    }
+}
+
 /// Singular passages handled per solve before a failure is reported as such (a guard against
 /// restarting forever at a configuration the compliant GGL cannot pass either).
 const MAX_SINGULAR_PASSAGES: usize = 10_000;
 
-/// Condition number of `G_v[:, D]` above which the dependent velocities are re-selected.
-const INDEX1_MAX_CONDITION: f64 = 1e4;
+/// Condition number of `G_v[:, D]` above which a fresh selection of dependent velocities is
+/// considered (checked at the output times).
+const INDEX1_CHECK_CONDITION: f64 = 10.0;
+
+/// The fresh selection replaces the current one when its condition is this many times smaller.
+/// The check happens at output times only, so it must fire well before the block is singular:
+/// the condition grows like `1/|cos θ|` as a dependent coordinate loses its grip (measured on a
+/// bead sliding along a pendulum bar: the dependent bead translation must change near the
+/// vertical, and a threshold of 1e4 on the current set alone let IDA run into the singular
+/// block between outputs).
+const INDEX1_RESELECT_GAIN: f64 = 10.0;
 
 fn run_index1(
     mut sys: MultibodySystem,
@@ -719,13 +812,17 @@ fn run_index1(
     }
     let mut t_start = t0;
     let mut k_next = 1;
-    let mut reselections = 0usize;
+    let mut reselections = 0u64;
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
         let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
+            let c = joint_conditioning(&gv, &sys.mass, &sys.rows);
             Error::Init(crate::dae::InitError::Singular {
+                t: t_start,
                 what: format!(
-                    "the joints lose rank at t = {t_start}: no set of dependent velocities exists; use the ggl formulation"
+                    "joints [{}] lose rank (κ = {:.1e}): no set of dependent velocities exists; use the ggl formulation",
+                    c.joints.join(", "),
+                    c.condition
                 ),
             })
         })?;
@@ -765,10 +862,12 @@ fn run_index1(
                 break 'restart;
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
-            if cond > INDEX1_MAX_CONDITION && k_next < opts.output_times.len() {
-                let better = select_dependent(&gv_at(&tapes, step.t, &x), &preferred);
+            if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
+                let gv = gv_at(&tapes, step.t, &x);
+                let better = select_dependent(&gv, &preferred);
                 if let Some(b) = better {
-                    if b != dependent {
+                    if b != dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
+                    {
                         total.accumulate(&ida.stats());
                         reselections += 1;
                         t_start = step.t;
@@ -784,7 +883,7 @@ fn run_index1(
         total.accumulate(&ida.stats());
         break;
     }
-    let _ = reselections;
+    summary.index1_reselections = reselections;
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
@@ -818,6 +917,8 @@ fn run_decoupled(
         max_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
         stop_time: opts.output_times.last().copied(),
+        max_order: opts.twin_max_order,
+        stab_lim_det: opts.twin_stab_lim_det,
         ..CvodeOptions::default()
     };
     let ode = Arc::new(dec.ode);

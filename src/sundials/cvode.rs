@@ -246,6 +246,9 @@ impl Cvode {
             if let Some(t) = opts.stop_time {
                 check(P, "CVodeSetStopTime", sys::CVodeSetStopTime(raw, t), t0)?;
             }
+            if opts.stab_lim_det {
+                check(P, "CVodeSetStabLimDet", sys::CVodeSetStabLimDet(raw, 1), t0)?;
+            }
         }
         Ok(Cvode {
             mem,

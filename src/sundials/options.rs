@@ -75,6 +75,9 @@ pub struct CvodeOptions {
     pub init_step: Option<f64>,
     /// Do not integrate past this time.
     pub stop_time: Option<f64>,
+    /// BDF stability limit detection (`CVodeSetStabLimDet`): CVODE lowers the order when it
+    /// detects that BDF orders 3–5 are unstable for eigenvalues near the imaginary axis.
+    pub stab_lim_det: bool,
 }
 
 impl Default for CvodeOptions {
@@ -88,6 +91,7 @@ impl Default for CvodeOptions {
             max_step: None,
             init_step: None,
             stop_time: None,
+            stab_lim_det: false,
         }
     }
 }

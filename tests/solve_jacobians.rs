@@ -1,0 +1,167 @@
+//! The exact Jacobians of the mechanism formulations (GGL with its runtime −ε compliance
+//! blocks, index 1, decoupled twin) against central finite differences of their own residuals
+//! at random states — the finite differences being the independent reference.
+
+use bondmech::dae::select_dependent;
+use bondmech::dae::{
+    ConstraintExprs, DecoupledFormulation, GglFormulation, Index1Formulation, MechanicsTapes,
+};
+use bondmech::mech::assemble;
+use bondmech::Scene;
+use nalgebra::DMatrix;
+
+fn scene(name: &str) -> Scene {
+    Scene::from_path(format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// A small deterministic pseudo-random sequence in [−1, 1].
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+    fn vec(&mut self, n: usize) -> Vec<f64> {
+        (0..n).map(|_| self.next()).collect()
+    }
+}
+
+/// Central difference of `f` with respect to component `j` of `x`.
+fn fd_column(f: &mut dyn FnMut(&[f64]) -> Vec<f64>, x: &[f64], j: usize) -> Vec<f64> {
+    let h = 1e-6 * x[j].abs().max(1.0);
+    let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+    xp[j] += h;
+    xm[j] -= h;
+    let (a, b) = (f(&xp), f(&xm));
+    a.iter().zip(&b).map(|(p, m)| (p - m) / (2.0 * h)).collect()
+}
+
+/// Compares `exact` (n × n) with finite differences of `f`, relative to the entry and to the
+/// matrix scale (round-off of the differences grows with |F|/h).
+fn check(what: &str, exact: &DMatrix<f64>, f: &mut dyn FnMut(&[f64]) -> Vec<f64>, x: &[f64]) {
+    let scale = exact.amax().max(1.0);
+    for j in 0..x.len() {
+        let col = fd_column(f, x, j);
+        for (i, fd) in col.iter().enumerate() {
+            let e = exact[(i, j)];
+            assert!(
+                (e - fd).abs() <= 1e-6 * (e.abs() + 1e-3 * scale + 1.0),
+                "{what}: entry ({i}, {j}) exact {e} vs finite difference {fd}"
+            );
+        }
+    }
+}
+
+fn dense(n: usize, fill: impl FnOnce(&mut dyn FnMut(usize, usize, f64))) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(n, n);
+    fill(&mut |r, c, v| m[(r, c)] += v);
+    m
+}
+
+fn check_scene(name: &str, seed: u64) {
+    let mut rng = Rng(seed);
+    for _ in 0..3 {
+        // GGL, plain and compliant (ε large enough for its blocks to show in the differences)
+        for eps in [0.0, 0.3] {
+            let mut sys = assemble(&scene(name)).unwrap();
+            let c = ConstraintExprs::derive(&mut sys);
+            let f = GglFormulation::build(&mut sys, &c, eps);
+            let n = f.dae.n;
+            let (y, yp) = (rng.vec(n), rng.vec(n));
+            let mut ws = f.dae.workspace();
+            let dfdy = dense(n, |put| f.jacobian(&mut ws, eps, 0.3, 0.0, &y, &yp, put));
+            let with_cj = dense(n, |put| f.jacobian(&mut ws, eps, 0.3, 1.0, &y, &yp, put));
+            let dfdyp = &with_cj - &dfdy;
+            let mut r = vec![0.0; n];
+            check(
+                &format!("{name} GGL ε = {eps} ∂F/∂y"),
+                &dfdy,
+                &mut |yy| {
+                    f.residual(&mut ws, eps, 0.3, yy, &yp, &mut r);
+                    r.clone()
+                },
+                &y,
+            );
+            let mut r = vec![0.0; n];
+            check(
+                &format!("{name} GGL ε = {eps} ∂F/∂y'"),
+                &dfdyp,
+                &mut |pp| {
+                    f.residual(&mut ws, eps, 0.3, &y, pp, &mut r);
+                    r.clone()
+                },
+                &yp,
+            );
+        }
+        // index 1 with the dependent set chosen at a random configuration
+        {
+            let mut sys = assemble(&scene(name)).unwrap();
+            let c = ConstraintExprs::derive(&mut sys);
+            let tapes = MechanicsTapes::new(&mut sys, &c, None);
+            let (nq, nv, nc) = tapes.dims;
+            let x = rng.vec(nq + nv);
+            let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, 0.0, &x));
+            let dep = select_dependent(&gv, &vec![false; nv]).expect("full rank here");
+            let f = Index1Formulation::build(&mut sys, &c, &dep).unwrap();
+            let n = f.dae.n;
+            let (y, yp) = (rng.vec(n), rng.vec(n));
+            let mut ws = f.dae.workspace();
+            let dfdy = dense(n, |put| f.dae.jacobian(&mut ws, 0.3, 0.0, &y, &yp, put));
+            let with_cj = dense(n, |put| f.dae.jacobian(&mut ws, 0.3, 1.0, &y, &yp, put));
+            let dfdyp = &with_cj - &dfdy;
+            let mut r = vec![0.0; n];
+            check(
+                &format!("{name} index-1 ∂F/∂y"),
+                &dfdy,
+                &mut |yy| {
+                    f.dae.residual(&mut ws, 0.3, yy, &yp, &mut r);
+                    r.clone()
+                },
+                &y,
+            );
+            let mut r = vec![0.0; n];
+            check(
+                &format!("{name} index-1 ∂F/∂y'"),
+                &dfdyp,
+                &mut |pp| {
+                    f.dae.residual(&mut ws, 0.3, &y, pp, &mut r);
+                    r.clone()
+                },
+                &yp,
+            );
+        }
+        // decoupled twin (stiffness and damping moderate so the differences keep their digits)
+        {
+            let mut sys = assemble(&scene(name)).unwrap();
+            let c = ConstraintExprs::derive(&mut sys);
+            let d = DecoupledFormulation::build(&mut sys, &c, 1e3, 7.0).unwrap();
+            let n = d.ode.n;
+            let y = rng.vec(n);
+            let mut ws = d.ode.workspace();
+            let jac = dense(n, |put| d.ode.jacobian(&mut ws, 0.3, &y, put));
+            let mut r = vec![0.0; n];
+            check(
+                &format!("{name} decoupled ∂f/∂y"),
+                &jac,
+                &mut |yy| {
+                    d.ode.rhs(&mut ws, 0.3, yy, &mut r);
+                    r.clone()
+                },
+                &y,
+            );
+        }
+    }
+}
+
+#[test]
+fn double_pendulum_jacobians_match_finite_differences() {
+    check_scene("double_pendulum.json", 7);
+}
+
+#[test]
+fn slider_crank_jacobians_match_finite_differences() {
+    check_scene("slider_crank.json", 11);
+}
