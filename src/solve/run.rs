@@ -720,6 +720,7 @@ fn run_index1(
     let mut t_start = t0;
     let mut k_next = 1;
     let mut reselections = 0usize;
+    let wall_start = std::time::Instant::now();
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
         let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
@@ -746,7 +747,12 @@ fn run_index1(
             id: f.id,
             atol,
         };
-        let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        // The wall-clock budget covers the whole solve: a new segment's IDA gets what is left.
+        let seg_opts = SolveOptions {
+            max_wall_clock: opts.max_wall_clock.map(|b| b.saturating_sub(wall_start.elapsed())),
+            ..opts.clone()
+        };
+        let mut ida = make_ida(&setup, t_start, &y0, &yp0, &seg_opts)?;
         while k_next < opts.output_times.len() {
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {

@@ -299,6 +299,12 @@ impl Cvode {
         driver::step(self, tout)
     }
 
+    /// Wall-clock time spent in `solve_to`/`step` since the solver was built; the
+    /// `max_wall_clock` budget is checked against it.
+    pub fn wall_clock_used(&self) -> std::time::Duration {
+        self.driver.wall_used
+    }
+
     /// Time of the state in `y()`.
     pub fn t(&self) -> f64 {
         self.driver.t
