@@ -66,7 +66,10 @@ fn assert_caught_panic(
     match result {
         Err(SolverError::CallbackPanic { t, message }) => {
             assert!(t > t_min, "panic reported at t = {t}, not after {t_min}");
-            assert!(message.contains(needle), "message {message:?} lacks {needle:?}");
+            assert!(
+                message.contains(needle),
+                "message {message:?} lacks {needle:?}"
+            );
         }
         other => panic!("expected CallbackPanic({needle}), got {other:?}"),
     }

@@ -333,7 +333,10 @@ fn check_whole_solve_wall_clock(err: Option<SolverError>, elapsed: Duration, don
     match err {
         Some(SolverError::WallClock { t, limit: l }) => {
             assert_eq!(l, limit);
-            assert!(t > 0.0 && t < 10.0, "time reached {t} should be inside (0, 10)");
+            assert!(
+                t > 0.0 && t < 10.0,
+                "time reached {t} should be inside (0, 10)"
+            );
             assert!(
                 t >= 0.1 * done as f64,
                 "time reached {t} is before the {done} completed intervals"

@@ -66,7 +66,11 @@ fn robertson_without_constraints_goes_negative_at_loose_tolerances() {
         err.is_some() || min[1] < -1.0,
         "expected the unconstrained run to blow up, got min {min:?}, error {err:?}"
     );
-    assert!(min[1] < -10.0 * ATOL, "min y2 without constraints: {:e}", min[1]);
+    assert!(
+        min[1] < -10.0 * ATOL,
+        "min y2 without constraints: {:e}",
+        min[1]
+    );
 }
 
 #[test]

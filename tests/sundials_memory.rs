@@ -116,4 +116,3 @@ fn two_thousand_solves_leave_the_malloc_heap_and_rss_unchanged() {
         "RSS grew by {growth} bytes over {rounds} rounds"
     );
 }
-

@@ -275,9 +275,21 @@ fn ida_calc_ic_repairs_inconsistent_y3_and_yp_then_matches_published_output() {
     ida.calc_ic(CalcIc::AlgebraicAndDerivatives, 0.4).unwrap();
     let (y, yp) = (ida.y().to_vec(), ida.yp().to_vec());
     assert_eq!(&y[..2], &[1.0, 0.0], "differential y must be kept");
-    assert!(y[2].abs() <= 1e-6, "y3 after IDACalcIC: {:e}, expected 0", y[2]);
-    assert!((yp[0] + 0.04).abs() <= RTOL * 0.04, "y1' = {:e}, expected -0.04", yp[0]);
-    assert!((yp[1] - 0.04).abs() <= RTOL * 0.04, "y2' = {:e}, expected 0.04", yp[1]);
+    assert!(
+        y[2].abs() <= 1e-6,
+        "y3 after IDACalcIC: {:e}, expected 0",
+        y[2]
+    );
+    assert!(
+        (yp[0] + 0.04).abs() <= RTOL * 0.04,
+        "y1' = {:e}, expected -0.04",
+        yp[0]
+    );
+    assert!(
+        (yp[1] - 0.04).abs() <= RTOL * 0.04,
+        "y2' = {:e}, expected 0.04",
+        yp[1]
+    );
     let outputs = run_ida(ida, f64::INFINITY);
     assert_eq!(outputs.len(), 12);
 }

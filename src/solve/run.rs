@@ -749,7 +749,9 @@ fn run_index1(
         };
         // The wall-clock budget covers the whole solve: a new segment's IDA gets what is left.
         let seg_opts = SolveOptions {
-            max_wall_clock: opts.max_wall_clock.map(|b| b.saturating_sub(wall_start.elapsed())),
+            max_wall_clock: opts
+                .max_wall_clock
+                .map(|b| b.saturating_sub(wall_start.elapsed())),
             ..opts.clone()
         };
         let mut ida = make_ida(&setup, t_start, &y0, &yp0, &seg_opts)?;
