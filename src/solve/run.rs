@@ -747,14 +747,9 @@ fn run_index1(
             id: f.id,
             atol,
         };
-        // The wall-clock budget covers the whole solve: a new segment's IDA gets what is left.
-        let seg_opts = SolveOptions {
-            max_wall_clock: opts
-                .max_wall_clock
-                .map(|b| b.saturating_sub(wall_start.elapsed())),
-            ..opts.clone()
-        };
-        let mut ida = make_ida(&setup, t_start, &y0, &yp0, &seg_opts)?;
+        let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        // The wall-clock budget covers the whole solve, earlier segments included.
+        ida.charge_wall_clock(wall_start.elapsed());
         while k_next < opts.output_times.len() {
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {
