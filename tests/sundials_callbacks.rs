@@ -161,11 +161,12 @@ fn persistent_nan_rhs_beyond_t1_exhausts_default_step_budget_just_before_t1() {
 
 #[test]
 fn recoverable_failure_once_then_success_is_ok() {
-    let mut failed = false;
+    let failed = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let failed_in = failed.clone();
     let mut ida = ida_with(
         Box::new(move |t, y, yp, r| {
-            if t > 1.0 && !failed {
-                failed = true;
+            use std::sync::atomic::Ordering;
+            if t > 1.0 && !failed_in.swap(true, Ordering::Relaxed) {
                 return Err(CallbackError::Recoverable("try a smaller step".into()));
             }
             oscillator(t, y, yp, r);
@@ -175,6 +176,11 @@ fn recoverable_failure_once_then_success_is_ok() {
     );
     ida.solve_to(3.0).unwrap();
     assert!(close_to_exact(ida.y(), 3.0, 1e-4));
+    // The recoverable path was really taken, and IDA counted it as a failed Newton solve
+    // (it then retries the step with a smaller h).
+    assert!(failed.load(std::sync::atomic::Ordering::Relaxed));
+    let stats = ida.stats();
+    assert!(stats.nonlinear_conv_failures >= 1, "{stats:?}");
 }
 
 #[test]
