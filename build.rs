@@ -1,9 +1,22 @@
 //! Build script: insist on a system SUNDIALS 6.x install.
 //!
 //! `sundials-sys` silently falls back to building its vendored SUNDIALS 7.x with
-//! cmake when it cannot find system headers; bondmech is written against the 6.x
-//! API (see `vendor-notes/sundials.md`), so we check the headers here first and
-//! fail with an actionable message instead.
+//! cmake when bindgen cannot read the system headers; bondmech is written against
+//! the 6.x API (see `vendor-notes/sundials.md`).
+//!
+//! `sundials-sys` declares `links = "sundials"`, so cargo runs *its* build script
+//! before this one: by the time we run, a vendored build has already happened.
+//! The guards that act *before* it are `scripts/check-deps.sh` (run by
+//! `scripts/install-deps.sh`) and the `[env] CMAKE` stand-in in
+//! `.cargo/config.toml`. Here we check the result:
+//! 1. `DEP_SUNDIALS_ROOT` is set exactly when sundials-sys ran cmake (the `cmake`
+//!    crate prints `cargo:root=...`, which cargo forwards to dependents of a
+//!    `links` package as `DEP_SUNDIALS_ROOT`): fail if it is set;
+//! 2. the system headers exist and declare `SUNDIALS_VERSION_MAJOR 6`.
+//!
+//! `src/sundials/version.rs` adds a compile-time assertion that the bindings
+//! sundials-sys generated declare the same version as these headers.
+//! (No libclang check here: if we run at all, sundials-sys's bindgen found it.)
 
 use std::env;
 use std::fs;
@@ -41,6 +54,16 @@ fn main() {
     println!("cargo:rerun-if-env-changed=SUNDIALS_INCLUDE_DIR");
     println!("cargo:rerun-if-env-changed=SUNDIALS_LIBRARY_DIR");
     println!("cargo:rerun-if-changed=build.rs");
+
+    if let Some(root) = env::var_os("DEP_SUNDIALS_ROOT") {
+        panic!(
+            "sundials-sys built its vendored SUNDIALS with cmake (installed in {}), which means \
+             bindgen could not use the system SUNDIALS 6.x headers; bondmech refuses it.\n\
+             Install the system packages with:\n    {INSTALL_HINT}\n\
+             or point SUNDIALS_INCLUDE_DIR / SUNDIALS_LIBRARY_DIR at a SUNDIALS 6.x install.",
+            PathBuf::from(root).display()
+        );
+    }
 
     let dirs = candidate_dirs();
     let Some(dir) = dirs.iter().find(|d| has_all_headers(d)) else {

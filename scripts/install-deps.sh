@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
 # Installs the Debian packages bondmech needs, only when they are missing:
 #   libsundials-dev (SUNDIALS 6.4: IDA, CVODE), libclang-dev (bindgen), pkg-config, graphviz (SVG drawings)
+# then runs scripts/check-deps.sh, which verifies the SUNDIALS 6.x headers and libclang are really
+# usable before cargo starts (sundials-sys would otherwise silently build its vendored 7.x).
 set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
 pkgs=(libsundials-dev libclang-dev pkg-config graphviz)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}" >&2
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
-echo "installing: ${missing[*]}" >&2
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+"$here/check-deps.sh"

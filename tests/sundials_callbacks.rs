@@ -161,11 +161,12 @@ fn persistent_nan_rhs_beyond_t1_exhausts_default_step_budget_just_before_t1() {
 
 #[test]
 fn recoverable_failure_once_then_success_is_ok() {
-    let mut failed = false;
+    let failed = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let failed_in = failed.clone();
     let mut ida = ida_with(
         Box::new(move |t, y, yp, r| {
-            if t > 1.0 && !failed {
-                failed = true;
+            use std::sync::atomic::Ordering;
+            if t > 1.0 && !failed_in.swap(true, Ordering::Relaxed) {
                 return Err(CallbackError::Recoverable("try a smaller step".into()));
             }
             oscillator(t, y, yp, r);
@@ -175,6 +176,11 @@ fn recoverable_failure_once_then_success_is_ok() {
     );
     ida.solve_to(3.0).unwrap();
     assert!(close_to_exact(ida.y(), 3.0, 1e-4));
+    // The recoverable path was really taken, and IDA counted it as a failed Newton solve
+    // (it then retries the step with a smaller h).
+    assert!(failed.load(std::sync::atomic::Ordering::Relaxed));
+    let stats = ida.stats();
+    assert!(stats.nonlinear_conv_failures >= 1, "{stats:?}");
 }
 
 #[test]
@@ -256,6 +262,149 @@ fn wall_clock_budget_gives_wall_clock_error() {
         other => panic!("expected WallClock, got {other:?}"),
     }
     assert!(start.elapsed() < Duration::from_secs(2));
+}
+
+/// Drives `solve_to` over 100 output intervals of 0.1 (to t = 10) and returns the error that
+/// stopped it, with the wall time the whole loop took and how many intervals were completed.
+fn run_100_intervals(
+    mut solve_to: impl FnMut(f64) -> Result<bondmech::sundials::Step, SolverError>,
+) -> (Option<SolverError>, Duration, usize) {
+    let start = std::time::Instant::now();
+    for k in 1..=100 {
+        if let Err(e) = solve_to(0.1 * k as f64) {
+            return (Some(e), start.elapsed(), k - 1);
+        }
+    }
+    (None, start.elapsed(), 100)
+}
+
+/// Every evaluation sleeps 1 ms and steps are capped at 0.01 (first step 1e-3), so each output
+/// interval of 0.1 costs about 10 steps, below the 100 ms budget, while the 100 intervals
+/// together cost over a second (`wall_clock_calibration_without_budget` measured: IDA 1.2 s
+/// total, longest interval 64 ms; CVODE 1.3 s, 42 ms).
+/// A per-call budget would never fire; the whole-solve budget must stop the solve with the
+/// time reached, within 10× the budget.
+const WHOLE_SOLVE_BUDGET: Duration = Duration::from_millis(100);
+
+fn paced_ida_options() -> IdaOptions {
+    IdaOptions {
+        rtol: 1e-8,
+        atol: vec![1e-8],
+        max_step: Some(0.01),
+        init_step: Some(1e-3),
+        ..IdaOptions::default()
+    }
+}
+
+fn paced_cvode_options() -> CvodeOptions {
+    CvodeOptions {
+        rtol: 1e-8,
+        atol: vec![1e-8],
+        max_step: Some(0.01),
+        init_step: Some(1e-3),
+        ..CvodeOptions::default()
+    }
+}
+
+fn sleepy_ida(opts: &IdaOptions) -> Ida {
+    ida_with(
+        Box::new(|t, y, yp, r| {
+            std::thread::sleep(Duration::from_millis(1));
+            oscillator(t, y, yp, r);
+            Ok(())
+        }),
+        opts,
+    )
+}
+
+fn sleepy_cvode(opts: &CvodeOptions) -> Cvode {
+    Cvode::new(
+        Multistep::Bdf,
+        0.0,
+        &exact(0.0),
+        Box::new(|_t, y, yd| {
+            std::thread::sleep(Duration::from_millis(1));
+            yd[0] = y[1];
+            yd[1] = -y[0];
+            Ok(())
+        }),
+        None,
+        opts,
+    )
+    .unwrap()
+}
+
+fn check_whole_solve_wall_clock(err: Option<SolverError>, elapsed: Duration, done: usize) {
+    let limit = WHOLE_SOLVE_BUDGET;
+    match err {
+        Some(SolverError::WallClock { t, limit: l }) => {
+            assert_eq!(l, limit);
+            assert!(
+                t > 0.0 && t < 10.0,
+                "time reached {t} should be inside (0, 10)"
+            );
+            assert!(
+                t >= 0.1 * done as f64,
+                "time reached {t} is before the {done} completed intervals"
+            );
+        }
+        other => panic!("expected WallClock after {done} intervals, got {other:?}"),
+    }
+    assert!(
+        elapsed < 10 * limit,
+        "solve ran {elapsed:?}, more than 10× the {limit:?} budget"
+    );
+}
+
+#[test]
+fn wall_clock_budget_bounds_a_whole_100_interval_ida_solve() {
+    let opts = IdaOptions {
+        max_wall_clock: Some(WHOLE_SOLVE_BUDGET),
+        ..paced_ida_options()
+    };
+    let mut ida = sleepy_ida(&opts);
+    let (err, elapsed, done) = run_100_intervals(|t| ida.solve_to(t));
+    check_whole_solve_wall_clock(err, elapsed, done);
+    assert!(ida.wall_clock_used() > WHOLE_SOLVE_BUDGET);
+}
+
+#[test]
+fn wall_clock_budget_bounds_a_whole_100_interval_cvode_solve() {
+    let opts = CvodeOptions {
+        max_wall_clock: Some(WHOLE_SOLVE_BUDGET),
+        ..paced_cvode_options()
+    };
+    let mut cv = sleepy_cvode(&opts);
+    let (err, elapsed, done) = run_100_intervals(|t| cv.solve_to(t));
+    check_whole_solve_wall_clock(err, elapsed, done);
+    assert!(cv.wall_clock_used() > WHOLE_SOLVE_BUDGET);
+}
+
+/// Calibration for the two tests above (run with `--ignored --nocapture`): without a budget,
+/// how long do the 100 intervals take, and the longest single interval?
+#[test]
+#[ignore]
+fn wall_clock_calibration_without_budget() {
+    fn longest_interval(mut solve_to: impl FnMut(f64)) -> (Duration, Duration) {
+        let mut longest = Duration::ZERO;
+        let start = std::time::Instant::now();
+        for k in 1..=100 {
+            let s = std::time::Instant::now();
+            solve_to(0.1 * k as f64);
+            longest = longest.max(s.elapsed());
+        }
+        (start.elapsed(), longest)
+    }
+    let mut ida = sleepy_ida(&paced_ida_options());
+    let (total, longest) = longest_interval(|t| {
+        ida.solve_to(t).unwrap();
+    });
+    println!("IDA: total {total:?}, longest interval {longest:?}");
+    let mut cv = sleepy_cvode(&paced_cvode_options());
+    let (total, longest) = longest_interval(|t| {
+        cv.solve_to(t).unwrap();
+    });
+    println!("CVODE: total {total:?}, longest interval {longest:?}");
 }
 
 #[test]

@@ -59,7 +59,9 @@ pub struct SolveOptions {
     pub output_times: Vec<f64>,
     /// Step budget per output interval.
     pub max_steps: Option<u64>,
-    /// Wall-clock budget of the whole solve.
+    /// Wall-clock budget of the whole solve (all output intervals, IDA restarts and index-1
+    /// re-selections together), checked between internal steps; when it runs out the solve
+    /// fails with `SolverError::WallClock` carrying the time reached.
     pub max_wall_clock: Option<Duration>,
     /// Joint stiffness `k` of the decoupled twin.
     pub joint_stiffness: f64,

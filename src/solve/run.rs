@@ -813,6 +813,7 @@ fn run_index1(
     let mut t_start = t0;
     let mut k_next = 1;
     let mut reselections = 0u64;
+    let wall_start = std::time::Instant::now();
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
         let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
@@ -844,6 +845,8 @@ fn run_index1(
             atol,
         };
         let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        // The wall-clock budget covers the whole solve, earlier segments included.
+        ida.charge_wall_clock(wall_start.elapsed());
         while k_next < opts.output_times.len() {
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {

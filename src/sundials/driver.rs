@@ -1,8 +1,11 @@
 //! The `solve_to` loop shared by IDA and CVODE: single internal steps
 //! (`*_ONE_STEP`) until the integrator passes `tout`, then interpolation of the
 //! state at `tout` (`IDAGetDky`/`CVodeGetDky`). Between steps the step and
-//! wall-clock budgets are checked. Roots and stop times found beyond `tout` are
-//! kept pending and returned by the next call.
+//! wall-clock budgets are checked: the step budget per `solve_to` call, the
+//! wall-clock budget against the time spent in all `solve_to`/`step` calls of the
+//! solver's life (reinit included), so it bounds a whole multi-output solve.
+//! Roots and stop times found beyond `tout` are kept pending and returned by the
+//! next call.
 
 use super::error::SolverError;
 use super::options::{Step, StepEvent};
@@ -43,6 +46,8 @@ pub(crate) struct DriverState {
     pub(crate) pending: Option<(f64, StepEvent)>,
     pub(crate) max_steps: Option<u64>,
     pub(crate) max_wall_clock: Option<Duration>,
+    /// Wall-clock time spent inside `solve_to`/`step` so far (never reset).
+    pub(crate) wall_used: Duration,
 }
 
 impl DriverState {
@@ -53,6 +58,7 @@ impl DriverState {
             pending: None,
             max_steps,
             max_wall_clock,
+            wall_used: Duration::ZERO,
         }
     }
 
@@ -76,8 +82,26 @@ fn check_tout(t: f64, tout: f64) -> Result<(), SolverError> {
     Ok(())
 }
 
-/// Advance to `tout` (or an earlier root / stop time).
+/// `Err(WallClock)` when the time already used plus the time since `start` exceeds the budget.
+fn check_wall_clock(d: &DriverState, start: Instant, t: f64) -> Result<(), SolverError> {
+    match d.max_wall_clock {
+        Some(limit) if d.wall_used + start.elapsed() > limit => {
+            Err(SolverError::WallClock { t, limit })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Advance to `tout` (or an earlier root / stop time), adding the time spent to the
+/// solver's wall-clock account.
 pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
+    let start = Instant::now();
+    let result = solve_to_inner(s, tout, start);
+    s.driver().wall_used += start.elapsed();
+    result
+}
+
+fn solve_to_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, SolverError> {
     let t_last = s.driver().t;
     check_tout(t_last, tout)?;
     s.clear_status();
@@ -87,7 +111,6 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
             event: StepEvent::Reached,
         });
     }
-    let start = Instant::now();
     let mut steps: u64 = 0;
     loop {
         if let Some((tp, _)) = &s.driver().pending {
@@ -107,11 +130,7 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
                 event: StepEvent::Reached,
             });
         }
-        if let Some(limit) = s.driver().max_wall_clock {
-            if start.elapsed() > limit {
-                return Err(SolverError::WallClock { t: tn, limit });
-            }
-        }
+        check_wall_clock(s.driver(), start, tn)?;
         if let Some(max_steps) = s.driver().max_steps {
             if steps >= max_steps {
                 return Err(SolverError::TooMuchWork { t: tn, max_steps });
@@ -133,8 +152,16 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
     }
 }
 
-/// Take exactly one internal step (or return a pending event).
+/// Take exactly one internal step (or return a pending event), adding the time
+/// spent to the solver's wall-clock account.
 pub(crate) fn step<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
+    let start = Instant::now();
+    let result = step_inner(s, tout, start);
+    s.driver().wall_used += start.elapsed();
+    result
+}
+
+fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, SolverError> {
     let t_last = s.driver().t;
     if !tout.is_finite() || tout <= t_last {
         return Err(SolverError::InvalidInput(format!(
@@ -147,6 +174,8 @@ pub(crate) fn step<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError
         s.driver().t = tp;
         return Ok(Step { t: tp, event });
     }
+    let tn = s.current_time();
+    check_wall_clock(s.driver(), start, tn)?;
     let (tret, raw) = s.one_step(tout)?;
     let event = match raw {
         RawEvent::Success => StepEvent::Reached,

@@ -60,7 +60,7 @@ pub enum SolverError {
         /// The budget.
         max_steps: u64,
     },
-    /// The wall-clock budget of one solve call was exhausted.
+    /// The wall-clock budget of the solver (all its solve calls together) was exhausted.
     #[error("wall-clock limit {limit:?} exceeded, reached t = {t}")]
     WallClock {
         /// Time reached.

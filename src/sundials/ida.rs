@@ -411,6 +411,18 @@ impl Ida {
         driver::step(self, tout)
     }
 
+    /// Wall-clock time spent in `solve_to`/`step` since the solver was built; the
+    /// `max_wall_clock` budget is checked against it.
+    pub fn wall_clock_used(&self) -> std::time::Duration {
+        self.driver.wall_used
+    }
+
+    /// Count `spent` against the wall-clock budget as if it had been spent in this solver
+    /// (for a solve that continues on a new solver after an earlier one).
+    pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
+        self.driver.wall_used += spent;
+    }
+
     /// Time of the state in `y()`/`yp()`.
     pub fn t(&self) -> f64 {
         self.driver.t

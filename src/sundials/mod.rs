@@ -17,6 +17,7 @@
 //! - [`ida`], [`cvode`]: the solvers.
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
 //! - [`mod@version`]: linked library version.
+//! - [`heap`]: bytes in use by `malloc`, for leak tests.
 
 pub mod callback;
 pub mod context;
@@ -24,6 +25,7 @@ pub mod custom_ls;
 pub mod cvode;
 pub mod driver;
 pub mod error;
+pub mod heap;
 pub mod ida;
 pub mod linsol;
 pub mod matrix;

@@ -11,7 +11,9 @@ pub struct IdaOptions {
     pub atol: Vec<f64>,
     /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
-    /// Wall-clock time allowed per `solve_to` call.
+    /// Wall-clock time allowed for the whole integration: the time spent in all
+    /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),
+    /// checked before each internal step.
     pub max_wall_clock: Option<Duration>,
     /// Maximum BDF order (1..=5).
     pub max_order: Option<i32>,
@@ -65,7 +67,9 @@ pub struct CvodeOptions {
     pub atol: Vec<f64>,
     /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
-    /// Wall-clock time allowed per `solve_to` call.
+    /// Wall-clock time allowed for the whole integration: the time spent in all
+    /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),
+    /// checked before each internal step.
     pub max_wall_clock: Option<Duration>,
     /// Maximum order (BDF ≤ 5, Adams ≤ 12).
     pub max_order: Option<i32>,

@@ -34,3 +34,39 @@ pub fn version() -> (u32, u32, u32) {
 pub fn header_version() -> &'static str {
     env!("BONDMECH_SUNDIALS_HEADER_VERSION")
 }
+
+/// `true` when the NUL-terminated C string `c` equals `s`.
+const fn c_str_eq(c: &[u8], s: &str) -> bool {
+    let s = s.as_bytes();
+    if c.len() != s.len() + 1 || c[s.len()] != 0 {
+        return false;
+    }
+    let mut i = 0;
+    while i < s.len() {
+        if c[i] != s[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+// Compile-time guard against sundials-sys's vendored fallback: the bindings it
+// generated (from whichever headers bindgen actually read, which also decide the
+// libraries it links) must declare SUNDIALS 6 and the very version build.rs found
+// in the system headers. A vendored 7.x build fails to compile here.
+const _: () = {
+    assert!(
+        sundials_sys::SUNDIALS_VERSION_MAJOR == 6,
+        "sundials-sys bindings are not SUNDIALS 6.x (vendored fallback?): \
+         apt-get install libsundials-dev libclang-dev pkg-config"
+    );
+    assert!(
+        c_str_eq(
+            sundials_sys::SUNDIALS_VERSION,
+            env!("BONDMECH_SUNDIALS_HEADER_VERSION")
+        ),
+        "sundials-sys bindings and the headers checked by build.rs declare different \
+         SUNDIALS versions: apt-get install libsundials-dev libclang-dev pkg-config"
+    );
+};
