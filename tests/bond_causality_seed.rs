@@ -193,12 +193,13 @@ fn hinged_bars_json(pinned: bool) -> Value {
         "2",
         &[("A", "0.5*sin(x_2w)", "-0.5*cos(x_2w)")],
     );
-    // Fig. 16: a 1-junction per axis equating V_A seen from both bars
+    // Fig. 16: a 1-junction per axis equating V_A seen from both bars (both point bonds point
+    // into it: each bar's 0-junction passes its V_A out, and the pin forces are opposite)
     for axis in ["x", "y"] {
         let j = format!("A{axis}");
         e.push(json!({"name": j, "kind": "1"}));
         b.push(json!({"from": format!("1sA{axis}"), "to": j}));
-        b.push(json!({"from": j, "to": format!("2sA{axis}")}));
+        b.push(json!({"from": format!("2sA{axis}"), "to": j}));
         if pinned {
             // 16.7: the pin to ground is a zero flow source on V_O
             let sf = format!("O{axis}");
