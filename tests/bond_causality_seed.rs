@@ -265,7 +265,8 @@ fn decoupled_hinged_bars_have_six_integral_inertias_and_two_spring_states() {
     );
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (6, 0));
-    assert_eq!(r.dof, 8);
+    // seed 16.6: six degrees of freedom; the two spring displacements are states, not DOF
+    assert_eq!((r.dof, r.state_count, r.states.len()), (6, 8, 8));
     assert!(r.states.contains(&"knee.x.k".to_string()));
 }
 
@@ -314,8 +315,10 @@ fn decoupled_double_pendulum_has_six_integral_inertias() {
     let g = double_pendulum(true);
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (6, 0));
-    // 6 momenta + 4 spring displacements (Fig. 21: four springs replace four constraints)
-    assert_eq!(r.dof, 10);
+    // seed 16.7 (Fig. 21): "seis grados de libertad"; the states are the 6 momenta + 4 spring
+    // displacements (four springs replace four constraints)
+    assert_eq!(r.dof, 6);
+    assert_eq!(r.state_count, 10);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
 }
 
@@ -370,7 +373,7 @@ fn slider_crank_has_one_degree_of_freedom() {
 // ---------------------------------------------------------------- small reference systems
 
 #[test]
-fn mass_spring_damper_has_two_states() {
+fn mass_spring_damper_has_two_states_and_one_degree_of_freedom() {
     let g = graph_from(json!({
         "elements": [
             {"name": "F", "kind": "Se", "value": "sin(t)"},
@@ -383,7 +386,7 @@ fn mass_spring_damper_has_two_states() {
                   {"from": "v", "to": "k"}, {"from": "v", "to": "c"}]
     }));
     let r = report(&g);
-    assert_eq!(r.dof, 2);
+    assert_eq!((r.dof, r.state_count), (1, 2));
     assert_eq!(r.state_variables, vec!["p_m", "q_k"]);
     assert!(r.differential.is_empty() && r.conflicts.is_empty() && r.algebraic_loops.is_empty());
 }
@@ -451,6 +454,7 @@ fn resistor_resistor_loop_is_reported_as_algebraic() {
     let text = serde_json::to_value(&r).unwrap();
     for key in [
         "dof",
+        "state_count",
         "states",
         "differential",
         "conflicts",
@@ -538,7 +542,7 @@ fn n_link_pendulum_has_n_integral_and_2n_differential_inertias() {
         let g = n_link_pendulum(n, true);
         let r = report(&g);
         assert_eq!(inertia_counts(&g, &r), (3 * n, 0), "decoupled N = {n}");
-        assert_eq!(r.dof, 3 * n + 2 * n);
+        assert_eq!((r.dof, r.state_count), (3 * n, 3 * n + 2 * n));
     }
 }
 

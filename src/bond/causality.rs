@@ -23,9 +23,11 @@
 //!
 //! Over-determined junctions and two-ports are **conflicts**; they are recorded with the
 //! elements whose choices clash, and the assignment still completes.
-//! The number of degrees of freedom reported is `dof = #integral I + #integral C`, the number
-//! of states of the resulting ODE/DAE (seed 16.5: "solo las inercias con causalidad integral …
-//! corresponden con grados de libertad").
+//! The number of degrees of freedom reported is `dof = #integral I` (seed 16.5: "solo las
+//! inercias con causalidad integral … corresponden con grados de libertad"): the displacements
+//! of integral capacitors are states but not degrees of freedom (the decoupled double pendulum
+//! of Fig. 21 has 6 DOF and 10 states). `state_count = #integral I + #integral C` is the number
+//! of states of the resulting ODE/DAE, listed in `states`.
 
 use super::model::{BondGraph, BondId, ElementId, ElementKind};
 use super::validate::{validate, ValidationErrors};
@@ -146,13 +148,15 @@ pub struct Causality {
 /// The serializable causality report.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CausalityReport {
-    /// Number of integral storages (= states).
+    /// Degrees of freedom: the number of inertias with integral causality (seed 16.5).
     pub dof: usize,
+    /// Number of integral storages (I and C), `= states.len()`: the states of the ODE/DAE.
+    pub state_count: usize,
     /// Integral storage element names (I first, then C, each in element order).
     pub states: Vec<String>,
     /// State variable names: `p_<I>`, `q_<C>`.
     pub state_variables: Vec<String>,
-    /// Number of inertias with integral causality.
+    /// Number of inertias with integral causality (equal to `dof`; kept for compatibility).
     pub integral_inertias: usize,
     /// Storages with differential causality.
     pub differential: Vec<DifferentialStorage>,
@@ -751,7 +755,8 @@ impl Causality {
             })
             .collect();
         CausalityReport {
-            dof: states.len(),
+            dof: integral_inertias,
+            state_count: states.len(),
             states,
             state_variables,
             integral_inertias,
