@@ -2,7 +2,7 @@
 //! both from hand-written raw JSON following the figures and from the fragment builders.
 //! Reference counts come from the chapter text and from Grübler's mobility count.
 
-use bondmech::bond::causality::{assign_causality, CausalityReport, StorageCausality};
+use bondmech::bond::causality::{assign_causality, CausalityReport, Stage, StorageCausality};
 use bondmech::bond::fragments::{
     decoupled_revolute, force, pin_to_ground, planar_body_fixed_frame, planar_body_translating,
     point_mass, prismatic, revolute, rigid_body_3d, torque, Axis, PlanarBodySpec, RigidBody3Spec,
@@ -217,11 +217,93 @@ fn two_hinged_bars_from_json_have_four_integral_two_differential() {
     assert_eq!(inertia_counts(&g, &r), (4, 2));
     assert_eq!(r.dof, 4);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
-    // the first bar keeps integral causality (element order preference)
+    // the first bar keeps integral causality (element order preference), then bar 2's v_x.
+    // Hand reasoning: with V_A known from bar 1 through the pin's 1-junction Ax, the x-sum
+    // 0-junction of bar 2's point A (V2x + ω2·r = V_A) is solved for the MTF term, fixing ω2:
+    // 2J is forced at 2sAx by the bonds from 2vx and to the pin Ax. With ω2 fixed, the y-sum
+    // 2sAy (V2y + ω2·r = V_Ay) is solved for V2y from the MTF term and the pin Ay.
+    assert_forcing_is_named(&g, &r);
+    let forced: Vec<(&str, &str, Vec<&str>, Vec<&str>, Vec<&str>)> = r
+        .differential
+        .iter()
+        .map(|d| {
+            (
+                d.element.as_str(),
+                d.forced_by_junction.as_str(),
+                d.via_elements.iter().map(|s| s.as_str()).collect(),
+                d.path.iter().map(|s| s.as_str()).collect(),
+                d.via_bonds.iter().map(|s| s.as_str()).collect(),
+            )
+        })
+        .collect();
+    let bond = |from: &str, to: &str| {
+        let (f, t) = (g.element_by_name(from), g.element_by_name(to));
+        let b = g
+            .bonds
+            .iter()
+            .find(|b| Some(b.from) == f && Some(b.to) == t);
+        b.unwrap().name.clone()
+    };
+    let (b_2vx, b_ax) = (bond("2vx", "2sAx"), bond("2sAx", "Ax"));
+    let (b_mtf, b_ay) = (bond("2mAy", "2sAy"), bond("2sAy", "Ay"));
+    assert_eq!(
+        forced,
+        vec![
+            (
+                "2my",
+                "2sAy",
+                vec!["2mAy", "Ay"],
+                vec!["2vy", "2sAy"],
+                vec![b_mtf.as_str(), b_ay.as_str()]
+            ),
+            (
+                "2J",
+                "2sAx",
+                vec!["2vx", "Ax"],
+                vec!["2w", "2mAx", "2sAx"],
+                vec![b_2vx.as_str(), b_ax.as_str()]
+            ),
+        ]
+    );
+}
+
+/// Every differential storage names a junction (or source) with the bonds at it that forced it.
+fn assert_forcing_is_named(g: &BondGraph, r: &CausalityReport) {
     for d in &r.differential {
-        assert!(d.element.starts_with('2'), "{d:?}");
-        assert!(!d.forced_by_junction.is_empty() && !d.via_bonds.is_empty());
+        let at = g
+            .element_by_name(&d.forced_by_junction)
+            .unwrap_or_else(|| panic!("{d:?}"));
+        assert!(
+            matches!(
+                g.element(at).kind,
+                ElementKind::Zero | ElementKind::One | ElementKind::Sf | ElementKind::Se
+            ),
+            "{d:?}"
+        );
+        assert!(!d.via_bonds.is_empty(), "{d:?}");
+        assert_eq!(d.via_bonds.len(), d.via_elements.len());
+        for (b, other) in d.via_bonds.iter().zip(&d.via_elements) {
+            let bond = g.bonds.iter().find(|x| &x.name == b).unwrap();
+            let ends = [
+                g.element(bond.from).name.as_str(),
+                g.element(bond.to).name.as_str(),
+            ];
+            assert!(ends.contains(&d.forced_by_junction.as_str()), "{d:?}");
+            assert!(ends.contains(&other.as_str()), "{d:?}");
+        }
     }
+}
+
+/// Differential storages whose causality the look-ahead chose (not local propagation).
+fn decided_by_look_ahead(r: &CausalityReport) -> usize {
+    r.differential
+        .iter()
+        .filter(|d| {
+            r.bond_causality
+                .iter()
+                .any(|b| b.bond == d.bond && b.stage == Stage::Storage)
+        })
+        .count()
 }
 
 #[test]
@@ -368,6 +450,7 @@ fn slider_crank_has_one_degree_of_freedom() {
     let (integral, differential) = inertia_counts(&g, &r);
     assert_eq!((integral, differential), (1, 7));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+    assert_forcing_is_named(&g, &r);
 }
 
 // ---------------------------------------------------------------- small reference systems
@@ -592,4 +675,7 @@ fn four_bar_linkage_has_one_degree_of_freedom() {
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (1, 8));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+    // the closed loop is found by the look-ahead, which must still name junction and bonds
+    assert!(decided_by_look_ahead(&r) > 0, "{:?}", r.differential);
+    assert_forcing_is_named(&g, &r);
 }

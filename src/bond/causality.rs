@@ -10,11 +10,15 @@
 //! 2. inertias, then capacitors, one at a time with **integral** causality (I receives effort,
 //!    C receives flow), propagating after each; a storage already fixed by propagation the other
 //!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
-//!    junction and bonds that forced it are recorded. An integral choice is kept only if the
+//!    junction and bonds that forced it are recorded: walking back from the storage's bond
+//!    along the propagation, the first junction whose balance was solved for that path from
+//!    two or more already fixed bonds (the junction where the constraint closes, e.g. where
+//!    a pin's velocity meets the bar's own). An integral choice is kept only if the
 //!    rest of the graph can still be completed without a conflict (a depth-first look-ahead
 //!    with propagation over the free bonds, bounded by [`SEARCH_BUDGET`]); otherwise the
 //!    storage is made differential and `forced_by_junction` names the junction the integral
-//!    choice would over-determine (`via_bonds` is then empty).
+//!    choice would over-determine, `via_bonds` its bonds already fixed at that moment (all of
+//!    its bonds when none was).
 //!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
 //!    purely local propagation cannot see;
 //! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
@@ -85,10 +89,17 @@ pub struct DifferentialStorage {
     pub element: String,
     /// Its bond.
     pub bond: String,
-    /// The junction (or element) that imposed the causality.
+    /// The junction where the constraint closes: walking back along the propagation from the
+    /// storage's bond, the first junction whose balance fixed that path from two or more
+    /// already fixed bonds (or the junction the look-ahead found over-determined, or the
+    /// source that imposed it directly).
     pub forced_by_junction: String,
-    /// The bonds at that junction that determined it.
+    /// The bonds at that junction that determined it (never empty).
     pub via_bonds: Vec<String>,
+    /// The elements at the other ends of `via_bonds` (e.g. the pin's 1-junction).
+    pub via_elements: Vec<String>,
+    /// Junctions and two-ports from the storage back to `forced_by_junction`, in that order.
+    pub path: Vec<String>,
     /// The element whose choice started the propagation (e.g. an inertia made integral earlier).
     pub origin: String,
 }
@@ -594,7 +605,25 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
             };
             s.rollback(m);
             let via = graph.element_by_name(&culprit);
-            s.choose(b, differential, e, Stage::Storage, via);
+            // the bonds at the over-determined junction already fixed before this choice
+            // (all of its bonds when the clash only appears deeper in the completion)
+            let causes: Vec<BondId> = match via {
+                Some(j) => {
+                    let fixed: Vec<BondId> = s.adj[j.0]
+                        .iter()
+                        .copied()
+                        .filter(|&x| x != b && s.receiver(x).is_some())
+                        .collect();
+                    if fixed.is_empty() {
+                        s.adj[j.0].iter().copied().filter(|&x| x != b).collect()
+                    } else {
+                        fixed
+                    }
+                }
+                None => vec![],
+            };
+            s.set(b, differential, e, Stage::Storage, via, causes);
+            s.propagate();
             let alt_ok = s.conflicts.len() == m.conflicts && s.look_ahead().is_none();
             if !alt_ok {
                 s.rollback(m);
@@ -680,6 +709,37 @@ impl Causality {
         graph.bonds_of(e)[0]
     }
 
+    /// Where the constraint that fixed bond `b` closes: walking back from `b` through the
+    /// single-cause propagation steps (two-ports, junctions whose common variable one bond
+    /// imposes), the first junction that fixed the path from two or more bonds, with those bonds
+    /// and the elements passed on the way. A bond imposed directly by a source (or a chain ending
+    /// at one) yields that element and the bond itself.
+    fn closing_junction(&self, b: BondId) -> (ElementId, Vec<BondId>, Vec<ElementId>) {
+        let mut path = Vec::new();
+        let mut cur = b;
+        for _ in 0..=self.bonds.len() {
+            let a = &self.bonds[cur.0];
+            let Some(via) = a.via else {
+                // a direct choice (source, storage or arbitrary) at the end of the chain
+                return (a.effort_source, vec![cur], path);
+            };
+            path.push(via);
+            // a storage made differential by the look-ahead carries its junction directly
+            if a.causes.len() != 1 || a.stage == Stage::Storage {
+                let causes = if a.causes.is_empty() {
+                    vec![cur]
+                } else {
+                    a.causes.clone()
+                };
+                return (via, causes, path);
+            }
+            cur = a.causes[0];
+        }
+        // unreachable for an acyclic cause chain; report the storage's own step
+        let a = &self.bonds[b.0];
+        (a.via.unwrap_or(a.effort_source), vec![b], path)
+    }
+
     /// Causality of a storage element, if it is one.
     pub fn storage_causality(&self, e: ElementId) -> Option<StorageCausality> {
         self.storage
@@ -724,15 +784,17 @@ impl Causality {
                 }
                 StorageCausality::Differential => {
                     let a = &self.bonds[b.0];
+                    let (at, causes, path) = self.closing_junction(b);
                     differential.push(DifferentialStorage {
                         element: el.name.clone(),
                         bond: graph.bond(b).name.clone(),
-                        forced_by_junction: name(a.via.unwrap_or(a.effort_source)),
-                        via_bonds: a
-                            .causes
+                        forced_by_junction: name(at),
+                        via_bonds: causes.iter().map(|c| graph.bond(*c).name.clone()).collect(),
+                        via_elements: causes
                             .iter()
-                            .map(|c| graph.bond(*c).name.clone())
+                            .map(|&c| name(graph.other_end(c, at)))
                             .collect(),
+                        path: path.into_iter().map(name).collect(),
                         origin: name(a.origin),
                     });
                 }
