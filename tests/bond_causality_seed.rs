@@ -223,7 +223,9 @@ fn two_hinged_bars_from_json_have_four_integral_two_differential() {
     // 2J is forced at 2sAx by the bonds from 2vx and to the pin Ax. With ω2 fixed, the y-sum
     // 2sAy (V2y + ω2·r = V_Ay) is solved for V2y from the MTF term and the pin Ay.
     assert_forcing_is_named(&g, &r);
-    let forced: Vec<(&str, &str, Vec<&str>, Vec<&str>, Vec<&str>)> = r
+    // (element, junction, via elements, path, via bonds)
+    type Forced<'a> = (&'a str, &'a str, Vec<&'a str>, Vec<&'a str>, Vec<&'a str>);
+    let forced: Vec<Forced> = r
         .differential
         .iter()
         .map(|d| {
