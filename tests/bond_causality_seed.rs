@@ -453,6 +453,13 @@ fn slider_crank_has_one_degree_of_freedom() {
     assert_eq!((integral, differential), (1, 7));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
     assert_forcing_is_named(&g, &r);
+    // the cylinder (Sf = 0 across the axis) is what fixes the piston's x velocity
+    let px = r
+        .differential
+        .iter()
+        .find(|d| d.element == "piston.I_m_x")
+        .unwrap();
+    assert_eq!(px.via_elements, vec!["cyl.x"], "{px:?}");
 }
 
 // ---------------------------------------------------------------- small reference systems

@@ -369,6 +369,9 @@ fn parallel_capacitors_put_the_second_in_differential_causality() {
     assert_eq!(report.states, vec!["C1"]);
     assert_eq!(report.differential.len(), 1);
     assert_eq!(report.differential[0].element, "C2");
+    // its effort is the 0-junction's common effort, imposed by C1
+    assert_eq!(report.differential[0].forced_by_junction, "0");
+    assert_eq!(report.differential[0].via_elements, vec!["C1"]);
     let e = BondEquations::new(&g, &c).unwrap();
     assert_eq!(e.names, vec!["q_C1", "q_C2", "lambda_C2"]);
     assert_eq!(e.constraints.len(), 1);

@@ -10,15 +10,13 @@
 //! 2. inertias, then capacitors, one at a time with **integral** causality (I receives effort,
 //!    C receives flow), propagating after each; a storage already fixed by propagation the other
 //!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
-//!    junction and bonds that forced it are recorded: walking back from the storage's bond
-//!    along the propagation, the first junction whose balance was solved for that path from
-//!    two or more already fixed bonds (the junction where the constraint closes, e.g. where
-//!    a pin's velocity meets the bar's own). An integral choice is kept only if the
-//!    rest of the graph can still be completed without a conflict (a depth-first look-ahead
-//!    with propagation over the free bonds, bounded by [`SEARCH_BUDGET`]); otherwise the
-//!    storage is made differential and `forced_by_junction` names the junction the integral
-//!    choice would over-determine, `via_bonds` its bonds already fixed at that moment (all of
-//!    its bonds when none was).
+//!    junction and bonds that forced it are reported: following the variable the storage
+//!    receives back through the final causal graph, the first junction that computes it as a
+//!    balance of two or more bonds (the junction where the constraint closes, e.g. where a
+//!    pin's velocity meets the bar's own), whichever step of SCAP fixed it. An integral
+//!    choice is kept only if the rest of the graph can still be completed without a conflict
+//!    (a depth-first look-ahead with propagation over the free bonds, bounded by
+//!    [`SEARCH_BUDGET`]); otherwise the storage is made differential.
 //!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
 //!    purely local propagation cannot see;
 //! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
@@ -89,10 +87,10 @@ pub struct DifferentialStorage {
     pub element: String,
     /// Its bond.
     pub bond: String,
-    /// The junction where the constraint closes: walking back along the propagation from the
-    /// storage's bond, the first junction whose balance fixed that path from two or more
-    /// already fixed bonds (or the junction the look-ahead found over-determined, or the
-    /// source that imposed it directly).
+    /// The junction where the constraint closes: following the variable the storage receives
+    /// (flow for I, effort for C) back through the causal graph, the first junction computing
+    /// it as a balance of two or more other bonds; when the chain ends at a state or source
+    /// instead, the last junction on it.
     pub forced_by_junction: String,
     /// The bonds at that junction that determined it (never empty).
     pub via_bonds: Vec<String>,
@@ -709,35 +707,77 @@ impl Causality {
         graph.bonds_of(e)[0]
     }
 
-    /// Where the constraint that fixed bond `b` closes: walking back from `b` through the
-    /// single-cause propagation steps (two-ports, junctions whose common variable one bond
-    /// imposes), the first junction that fixed the path from two or more bonds, with those bonds
-    /// and the elements passed on the way. A bond imposed directly by a source (or a chain ending
-    /// at one) yields that element and the bond itself.
-    fn closing_junction(&self, b: BondId) -> (ElementId, Vec<BondId>, Vec<ElementId>) {
+    /// Where the constraint on a differential storage closes, read from the final causal
+    /// graph (so it does not depend on the order in which SCAP or its look-ahead fixed the
+    /// bonds): follow the variable the storage receives (flow for I, effort for C) back to the
+    /// element computing it, as the equations do. A junction passing on its common variable
+    /// from the bond that imposes it, a TF/MTF (same variable) and a GY/MGY (flow ↔ effort) are
+    /// passed through; the first junction that computes the variable as a balance of two or
+    /// more other bonds (a 0-junction's flow, a 1-junction's effort) is where the constraint
+    /// closes, and those bonds are returned. When the chain ends at a state or a source instead,
+    /// the last junction passed and the bond towards that element are returned.
+    fn closing_junction(
+        &self,
+        graph: &BondGraph,
+        storage: ElementId,
+        b0: BondId,
+    ) -> (ElementId, Vec<BondId>, Vec<ElementId>) {
+        let mut flow = graph.element(storage).kind == ElementKind::I;
+        let (mut b, mut x) = (b0, graph.other_end(b0, storage));
         let mut path = Vec::new();
-        let mut cur = b;
+        let mut last: Option<(ElementId, BondId)> = None;
         for _ in 0..=self.bonds.len() {
-            let a = &self.bonds[cur.0];
-            let Some(via) = a.via else {
-                // a direct choice (source, storage or arbitrary) at the end of the chain
-                return (a.effort_source, vec![cur], path);
+            let kind = graph.element(x).kind;
+            let others: Vec<BondId> = graph.bonds_of(x).into_iter().filter(|&o| o != b).collect();
+            let next = match kind {
+                ElementKind::Zero | ElementKind::One => {
+                    path.push(x);
+                    let zero = kind == ElementKind::Zero;
+                    if zero == flow {
+                        // the variable is a balance of the other bonds
+                        if others.len() >= 2 {
+                            return (x, others, path);
+                        }
+                        others.first().copied()
+                    } else {
+                        // the common variable, imposed by one bond
+                        others.iter().copied().find(|o| {
+                            let r = self.bonds[o.0].effort_receiver;
+                            if zero {
+                                r == x
+                            } else {
+                                r != x
+                            }
+                        })
+                    }
+                }
+                k if k.is_two_port() => {
+                    path.push(x);
+                    if k.is_gyrator() {
+                        flow = !flow;
+                    }
+                    others.first().copied()
+                }
+                _ => None,
             };
-            path.push(via);
-            // a storage made differential by the look-ahead carries its junction directly
-            if a.causes.len() != 1 || a.stage == Stage::Storage {
-                let causes = if a.causes.is_empty() {
-                    vec![cur]
-                } else {
-                    a.causes.clone()
-                };
-                return (via, causes, path);
+            let Some(n) = next else {
+                break;
+            };
+            if kind.is_junction() {
+                last = Some((x, n));
             }
-            cur = a.causes[0];
+            b = n;
+            x = graph.other_end(n, x);
         }
-        // unreachable for an acyclic cause chain; report the storage's own step
-        let a = &self.bonds[b.0];
-        (a.via.unwrap_or(a.effort_source), vec![b], path)
+        match last {
+            Some((j, via)) => {
+                while path.last().is_some_and(|&p| p != j) {
+                    path.pop();
+                }
+                (j, vec![via], path)
+            }
+            None => (x, vec![b], path),
+        }
     }
 
     /// Causality of a storage element, if it is one.
@@ -784,7 +824,7 @@ impl Causality {
                 }
                 StorageCausality::Differential => {
                     let a = &self.bonds[b.0];
-                    let (at, causes, path) = self.closing_junction(b);
+                    let (at, causes, path) = self.closing_junction(graph, e, b);
                     differential.push(DifferentialStorage {
                         element: el.name.clone(),
                         bond: graph.bond(b).name.clone(),
