@@ -2,7 +2,7 @@
 //! both from hand-written raw JSON following the figures and from the fragment builders.
 //! Reference counts come from the chapter text and from Grübler's mobility count.
 
-use bondmech::bond::causality::{assign_causality, CausalityReport, StorageCausality};
+use bondmech::bond::causality::{assign_causality, CausalityReport, Stage, StorageCausality};
 use bondmech::bond::fragments::{
     decoupled_revolute, force, pin_to_ground, planar_body_fixed_frame, planar_body_translating,
     point_mass, prismatic, revolute, rigid_body_3d, torque, Axis, PlanarBodySpec, RigidBody3Spec,
@@ -193,12 +193,13 @@ fn hinged_bars_json(pinned: bool) -> Value {
         "2",
         &[("A", "0.5*sin(x_2w)", "-0.5*cos(x_2w)")],
     );
-    // Fig. 16: a 1-junction per axis equating V_A seen from both bars
+    // Fig. 16: a 1-junction per axis equating V_A seen from both bars (both point bonds point
+    // into it: each bar's 0-junction passes its V_A out, and the pin forces are opposite)
     for axis in ["x", "y"] {
         let j = format!("A{axis}");
         e.push(json!({"name": j, "kind": "1"}));
         b.push(json!({"from": format!("1sA{axis}"), "to": j}));
-        b.push(json!({"from": j, "to": format!("2sA{axis}")}));
+        b.push(json!({"from": format!("2sA{axis}"), "to": j}));
         if pinned {
             // 16.7: the pin to ground is a zero flow source on V_O
             let sf = format!("O{axis}");
@@ -216,11 +217,95 @@ fn two_hinged_bars_from_json_have_four_integral_two_differential() {
     assert_eq!(inertia_counts(&g, &r), (4, 2));
     assert_eq!(r.dof, 4);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
-    // the first bar keeps integral causality (element order preference)
+    // the first bar keeps integral causality (element order preference), then bar 2's v_x.
+    // Hand reasoning: with V_A known from bar 1 through the pin's 1-junction Ax, the x-sum
+    // 0-junction of bar 2's point A (V2x + ω2·r = V_A) is solved for the MTF term, fixing ω2:
+    // 2J is forced at 2sAx by the bonds from 2vx and to the pin Ax. With ω2 fixed, the y-sum
+    // 2sAy (V2y + ω2·r = V_Ay) is solved for V2y from the MTF term and the pin Ay.
+    assert_forcing_is_named(&g, &r);
+    // (element, junction, via elements, path, via bonds)
+    type Forced<'a> = (&'a str, &'a str, Vec<&'a str>, Vec<&'a str>, Vec<&'a str>);
+    let forced: Vec<Forced> = r
+        .differential
+        .iter()
+        .map(|d| {
+            (
+                d.element.as_str(),
+                d.forced_by_junction.as_str(),
+                d.via_elements.iter().map(|s| s.as_str()).collect(),
+                d.path.iter().map(|s| s.as_str()).collect(),
+                d.via_bonds.iter().map(|s| s.as_str()).collect(),
+            )
+        })
+        .collect();
+    let bond = |from: &str, to: &str| {
+        let (f, t) = (g.element_by_name(from), g.element_by_name(to));
+        let b = g
+            .bonds
+            .iter()
+            .find(|b| Some(b.from) == f && Some(b.to) == t);
+        b.unwrap().name.clone()
+    };
+    let (b_2vx, b_ax) = (bond("2vx", "2sAx"), bond("2sAx", "Ax"));
+    let (b_mtf, b_ay) = (bond("2mAy", "2sAy"), bond("2sAy", "Ay"));
+    assert_eq!(
+        forced,
+        vec![
+            (
+                "2my",
+                "2sAy",
+                vec!["2mAy", "Ay"],
+                vec!["2vy", "2sAy"],
+                vec![b_mtf.as_str(), b_ay.as_str()]
+            ),
+            (
+                "2J",
+                "2sAx",
+                vec!["2vx", "Ax"],
+                vec!["2w", "2mAx", "2sAx"],
+                vec![b_2vx.as_str(), b_ax.as_str()]
+            ),
+        ]
+    );
+}
+
+/// Every differential storage names a junction (or source) with the bonds at it that forced it.
+fn assert_forcing_is_named(g: &BondGraph, r: &CausalityReport) {
     for d in &r.differential {
-        assert!(d.element.starts_with('2'), "{d:?}");
-        assert!(!d.forced_by_junction.is_empty() && !d.via_bonds.is_empty());
+        let at = g
+            .element_by_name(&d.forced_by_junction)
+            .unwrap_or_else(|| panic!("{d:?}"));
+        assert!(
+            matches!(
+                g.element(at).kind,
+                ElementKind::Zero | ElementKind::One | ElementKind::Sf | ElementKind::Se
+            ),
+            "{d:?}"
+        );
+        assert!(!d.via_bonds.is_empty(), "{d:?}");
+        assert_eq!(d.via_bonds.len(), d.via_elements.len());
+        for (b, other) in d.via_bonds.iter().zip(&d.via_elements) {
+            let bond = g.bonds.iter().find(|x| &x.name == b).unwrap();
+            let ends = [
+                g.element(bond.from).name.as_str(),
+                g.element(bond.to).name.as_str(),
+            ];
+            assert!(ends.contains(&d.forced_by_junction.as_str()), "{d:?}");
+            assert!(ends.contains(&other.as_str()), "{d:?}");
+        }
     }
+}
+
+/// Differential storages whose causality the look-ahead chose (not local propagation).
+fn decided_by_look_ahead(r: &CausalityReport) -> usize {
+    r.differential
+        .iter()
+        .filter(|d| {
+            r.bond_causality
+                .iter()
+                .any(|b| b.bond == d.bond && b.stage == Stage::Storage)
+        })
+        .count()
 }
 
 #[test]
@@ -264,7 +349,8 @@ fn decoupled_hinged_bars_have_six_integral_inertias_and_two_spring_states() {
     );
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (6, 0));
-    assert_eq!(r.dof, 8);
+    // seed 16.6: six degrees of freedom; the two spring displacements are states, not DOF
+    assert_eq!((r.dof, r.state_count, r.states.len()), (6, 8, 8));
     assert!(r.states.contains(&"knee.x.k".to_string()));
 }
 
@@ -313,8 +399,10 @@ fn decoupled_double_pendulum_has_six_integral_inertias() {
     let g = double_pendulum(true);
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (6, 0));
-    // 6 momenta + 4 spring displacements (Fig. 21: four springs replace four constraints)
-    assert_eq!(r.dof, 10);
+    // seed 16.7 (Fig. 21): "seis grados de libertad"; the states are the 6 momenta + 4 spring
+    // displacements (four springs replace four constraints)
+    assert_eq!(r.dof, 6);
+    assert_eq!(r.state_count, 10);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
 }
 
@@ -364,12 +452,20 @@ fn slider_crank_has_one_degree_of_freedom() {
     let (integral, differential) = inertia_counts(&g, &r);
     assert_eq!((integral, differential), (1, 7));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+    assert_forcing_is_named(&g, &r);
+    // the cylinder (Sf = 0 across the axis) is what fixes the piston's x velocity
+    let px = r
+        .differential
+        .iter()
+        .find(|d| d.element == "piston.I_m_x")
+        .unwrap();
+    assert_eq!(px.via_elements, vec!["cyl.x"], "{px:?}");
 }
 
 // ---------------------------------------------------------------- small reference systems
 
 #[test]
-fn mass_spring_damper_has_two_states() {
+fn mass_spring_damper_has_two_states_and_one_degree_of_freedom() {
     let g = graph_from(json!({
         "elements": [
             {"name": "F", "kind": "Se", "value": "sin(t)"},
@@ -382,7 +478,7 @@ fn mass_spring_damper_has_two_states() {
                   {"from": "v", "to": "k"}, {"from": "v", "to": "c"}]
     }));
     let r = report(&g);
-    assert_eq!(r.dof, 2);
+    assert_eq!((r.dof, r.state_count), (1, 2));
     assert_eq!(r.state_variables, vec!["p_m", "q_k"]);
     assert!(r.differential.is_empty() && r.conflicts.is_empty() && r.algebraic_loops.is_empty());
 }
@@ -450,6 +546,7 @@ fn resistor_resistor_loop_is_reported_as_algebraic() {
     let text = serde_json::to_value(&r).unwrap();
     for key in [
         "dof",
+        "state_count",
         "states",
         "differential",
         "conflicts",
@@ -537,7 +634,7 @@ fn n_link_pendulum_has_n_integral_and_2n_differential_inertias() {
         let g = n_link_pendulum(n, true);
         let r = report(&g);
         assert_eq!(inertia_counts(&g, &r), (3 * n, 0), "decoupled N = {n}");
-        assert_eq!(r.dof, 3 * n + 2 * n);
+        assert_eq!((r.dof, r.state_count), (3 * n, 3 * n + 2 * n));
     }
 }
 
@@ -587,4 +684,7 @@ fn four_bar_linkage_has_one_degree_of_freedom() {
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (1, 8));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+    // the closed loop is found by the look-ahead, which must still name junction and bonds
+    assert!(decided_by_look_ahead(&r) > 0, "{:?}", r.differential);
+    assert_forcing_is_named(&g, &r);
 }

@@ -114,6 +114,11 @@ fn dot_renders_with_graphviz() {
         .stderr(Stdio::piped())
         .spawn();
     let Ok(mut child) = child else {
+        // CI installs graphviz (scripts/install-deps.sh): there its absence is a failure
+        assert!(
+            std::env::var("CI").map_or(true, |v| v != "true"),
+            "Graphviz 'dot' is not installed but CI=true"
+        );
         println!("note: graphviz `dot` not installed, rendering check skipped");
         return;
     };
@@ -150,4 +155,59 @@ fn dot_colours_a_conflicting_junction_orange() {
     let dot = to_dot(&g, Some(&c));
     let node = dot.lines().find(|l| l.contains("xlabel=\"j\"")).unwrap();
     assert!(node.contains("color=orange"), "{node}");
+}
+
+/// The DOT edge line of the bond named `bond`.
+fn edge_line<'a>(dot: &'a str, bond: &str) -> &'a str {
+    let key = format!("[label=\"{bond}\"");
+    dot.lines()
+        .find(|l| l.contains("->") && l.contains(&key))
+        .unwrap_or_else(|| panic!("no edge {bond} in\n{dot}"))
+}
+
+/// Where the causal stroke of an edge is drawn: at the head (`teelnormal`) or at the tail.
+fn stroke_at_head(line: &str) -> bool {
+    let head = line.contains("arrowhead=teelnormal");
+    let tail = line.contains("dir=both") && line.contains("arrowtail=tee");
+    assert!(head != tail, "exactly one stroke: {line}");
+    head
+}
+
+#[test]
+fn dot_draws_each_causal_stroke_at_the_end_the_causality_rules_require() {
+    // Rules (seed 16.5 / any bond graph text): the stroke is at the end that receives the
+    // effort. Se imposes effort → stroke away from Se; Sf imposes flow, so it receives the
+    // effort → stroke at Sf; an integral I receives effort → stroke at I; an integral C
+    // imposes effort → stroke at the junction; an R fed a flow imposes effort → stroke at the
+    // junction. Each case is drawn with the half arrow both ways round to exercise both ends.
+    let g = BondGraph::from_json_str(
+        r#"{"elements":[
+      {"name":"F","kind":"Se","value":1.0}, {"name":"j","kind":"1"},
+      {"name":"m","kind":"I","value":2.0},
+      {"name":"S","kind":"Sf","value":0.5}, {"name":"z","kind":"0"},
+      {"name":"k","kind":"C","stiffness":3.0},
+      {"name":"S3","kind":"Sf","value":0.2}, {"name":"j3","kind":"1"},
+      {"name":"r","kind":"R","value":4.0}],
+     "bonds":[{"name":"se_j","from":"F","to":"j"}, {"name":"j_m","from":"j","to":"m"},
+              {"name":"sf_z","from":"S","to":"z"}, {"name":"z_k","from":"z","to":"k"},
+              {"name":"j3_sf","from":"j3","to":"S3"}, {"name":"j3_r","from":"j3","to":"r"}]}"#,
+    )
+    .unwrap();
+    let dot = to_dot(&g, Some(&assign_causality(&g).unwrap()));
+    // (bond, stroke at the head?) by the rules above
+    for (bond, head) in [
+        ("se_j", true),  // at j, away from Se
+        ("j_m", true),   // at the inertia (integral)
+        ("sf_z", false), // at the flow source, the tail here
+        ("z_k", false),  // at the junction: the capacitor imposes the effort
+        ("j3_sf", true), // at the flow source, the head here
+        ("j3_r", false), // at the junction: the resistor imposes the effort
+    ] {
+        assert_eq!(
+            stroke_at_head(edge_line(&dot, bond)),
+            head,
+            "{bond}: {}",
+            edge_line(&dot, bond)
+        );
+    }
 }

@@ -320,3 +320,58 @@ fn malformed_json_is_a_parse_error_not_a_panic() {
     assert!(matches!(err, BondJsonError::Parse(_)));
     assert!(err.to_string().contains("valeu"), "{err}");
 }
+
+#[test]
+fn source_with_no_bond_is_rejected_with_its_path() {
+    let mut v = base();
+    v["elements"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "S", "kind": "Sf", "value": 1.0}));
+    let e = errors(v);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(matches!(e[0], BondError::WrongBondCount { .. }), "{e:?}");
+    assert_eq!(
+        e[0].to_string(),
+        "bond_graph.elements[3]: Sf element 'S' needs exactly 1 bond(s), has 0"
+    );
+}
+
+/// `base()` with a two-port of `kind` and `modulus` between the mass junction and a new spring.
+fn with_two_port(kind: &str, modulus: Value) -> Value {
+    let mut v = base();
+    let el = v["elements"].as_array_mut().unwrap();
+    el.push(json!({"name": "tp", "kind": kind, "modulus": modulus}));
+    el.push(json!({"name": "k", "kind": "C", "stiffness": 3.0}));
+    let b = v["bonds"].as_array_mut().unwrap();
+    b.push(json!({"from": "j", "to": "tp"}));
+    b.push(json!({"from": "tp", "to": "k"}));
+    v
+}
+
+#[test]
+fn zero_two_port_modulus_is_rejected_with_its_path() {
+    for kind in ["TF", "GY", "MTF", "MGY"] {
+        for modulus in [
+            json!(0.0),
+            json!("0"),
+            json!("p_m - p_m"),
+            json!("0*sin(t)"),
+        ] {
+            let e = errors(with_two_port(kind, modulus.clone()));
+            assert_eq!(e.len(), 1, "{kind} {modulus}: {e:?}");
+            assert!(matches!(e[0], BondError::ZeroModulus { .. }), "{e:?}");
+            assert_eq!(
+                e[0].to_string(),
+                format!(
+                    "bond_graph.elements[3].modulus: {kind} element 'tp': modulus is identically zero (the equations divide by it)"
+                )
+            );
+        }
+    }
+    // a modulus that only passes through zero is a modelling choice, not an error
+    for modulus in [json!(-2.0), json!("cos(x_m)"), json!("p_m")] {
+        let raw: RawBondGraph = serde_json::from_value(with_two_port("MTF", modulus)).unwrap();
+        assert!(raw.to_graph().is_ok());
+    }
+}

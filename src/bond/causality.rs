@@ -10,11 +10,13 @@
 //! 2. inertias, then capacitors, one at a time with **integral** causality (I receives effort,
 //!    C receives flow), propagating after each; a storage already fixed by propagation the other
 //!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
-//!    junction and bonds that forced it are recorded. An integral choice is kept only if the
-//!    rest of the graph can still be completed without a conflict (a depth-first look-ahead
-//!    with propagation over the free bonds, bounded by [`SEARCH_BUDGET`]); otherwise the
-//!    storage is made differential and `forced_by_junction` names the junction the integral
-//!    choice would over-determine (`via_bonds` is then empty).
+//!    junction and bonds that forced it are reported: following the variable the storage
+//!    receives back through the final causal graph, the first junction that computes it as a
+//!    balance of two or more bonds (the junction where the constraint closes, e.g. where a
+//!    pin's velocity meets the bar's own), whichever step of SCAP fixed it. An integral
+//!    choice is kept only if the rest of the graph can still be completed without a conflict
+//!    (a depth-first look-ahead with propagation over the free bonds, bounded by
+//!    [`SEARCH_BUDGET`]); otherwise the storage is made differential.
 //!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
 //!    purely local propagation cannot see;
 //! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
@@ -23,9 +25,11 @@
 //!
 //! Over-determined junctions and two-ports are **conflicts**; they are recorded with the
 //! elements whose choices clash, and the assignment still completes.
-//! The number of degrees of freedom reported is `dof = #integral I + #integral C`, the number
-//! of states of the resulting ODE/DAE (seed 16.5: "solo las inercias con causalidad integral …
-//! corresponden con grados de libertad").
+//! The number of degrees of freedom reported is `dof = #integral I` (seed 16.5: "solo las
+//! inercias con causalidad integral … corresponden con grados de libertad"): the displacements
+//! of integral capacitors are states but not degrees of freedom (the decoupled double pendulum
+//! of Fig. 21 has 6 DOF and 10 states). `state_count = #integral I + #integral C` is the number
+//! of states of the resulting ODE/DAE, listed in `states`.
 
 use super::model::{BondGraph, BondId, ElementId, ElementKind};
 use super::validate::{validate, ValidationErrors};
@@ -83,10 +87,17 @@ pub struct DifferentialStorage {
     pub element: String,
     /// Its bond.
     pub bond: String,
-    /// The junction (or element) that imposed the causality.
+    /// The junction where the constraint closes: following the variable the storage receives
+    /// (flow for I, effort for C) back through the causal graph, the first junction computing
+    /// it as a balance of two or more other bonds; when the chain ends at a state or source
+    /// instead, the last junction on it.
     pub forced_by_junction: String,
-    /// The bonds at that junction that determined it.
+    /// The bonds at that junction that determined it (never empty).
     pub via_bonds: Vec<String>,
+    /// The elements at the other ends of `via_bonds` (e.g. the pin's 1-junction).
+    pub via_elements: Vec<String>,
+    /// Junctions and two-ports from the storage back to `forced_by_junction`, in that order.
+    pub path: Vec<String>,
     /// The element whose choice started the propagation (e.g. an inertia made integral earlier).
     pub origin: String,
 }
@@ -146,13 +157,15 @@ pub struct Causality {
 /// The serializable causality report.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CausalityReport {
-    /// Number of integral storages (= states).
+    /// Degrees of freedom: the number of inertias with integral causality (seed 16.5).
     pub dof: usize,
+    /// Number of integral storages (I and C), `= states.len()`: the states of the ODE/DAE.
+    pub state_count: usize,
     /// Integral storage element names (I first, then C, each in element order).
     pub states: Vec<String>,
     /// State variable names: `p_<I>`, `q_<C>`.
     pub state_variables: Vec<String>,
-    /// Number of inertias with integral causality.
+    /// Number of inertias with integral causality (equal to `dof`; kept for compatibility).
     pub integral_inertias: usize,
     /// Storages with differential causality.
     pub differential: Vec<DifferentialStorage>,
@@ -590,7 +603,25 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
             };
             s.rollback(m);
             let via = graph.element_by_name(&culprit);
-            s.choose(b, differential, e, Stage::Storage, via);
+            // the bonds at the over-determined junction already fixed before this choice
+            // (all of its bonds when the clash only appears deeper in the completion)
+            let causes: Vec<BondId> = match via {
+                Some(j) => {
+                    let fixed: Vec<BondId> = s.adj[j.0]
+                        .iter()
+                        .copied()
+                        .filter(|&x| x != b && s.receiver(x).is_some())
+                        .collect();
+                    if fixed.is_empty() {
+                        s.adj[j.0].iter().copied().filter(|&x| x != b).collect()
+                    } else {
+                        fixed
+                    }
+                }
+                None => vec![],
+            };
+            s.set(b, differential, e, Stage::Storage, via, causes);
+            s.propagate();
             let alt_ok = s.conflicts.len() == m.conflicts && s.look_ahead().is_none();
             if !alt_ok {
                 s.rollback(m);
@@ -676,6 +707,79 @@ impl Causality {
         graph.bonds_of(e)[0]
     }
 
+    /// Where the constraint on a differential storage closes, read from the final causal
+    /// graph (so it does not depend on the order in which SCAP or its look-ahead fixed the
+    /// bonds): follow the variable the storage receives (flow for I, effort for C) back to the
+    /// element computing it, as the equations do. A junction passing on its common variable
+    /// from the bond that imposes it, a TF/MTF (same variable) and a GY/MGY (flow ↔ effort) are
+    /// passed through; the first junction that computes the variable as a balance of two or
+    /// more other bonds (a 0-junction's flow, a 1-junction's effort) is where the constraint
+    /// closes, and those bonds are returned. When the chain ends at a state or a source instead,
+    /// the last junction passed and the bond towards that element are returned.
+    fn closing_junction(
+        &self,
+        graph: &BondGraph,
+        storage: ElementId,
+        b0: BondId,
+    ) -> (ElementId, Vec<BondId>, Vec<ElementId>) {
+        let mut flow = graph.element(storage).kind == ElementKind::I;
+        let (mut b, mut x) = (b0, graph.other_end(b0, storage));
+        let mut path = Vec::new();
+        let mut last: Option<(ElementId, BondId)> = None;
+        for _ in 0..=self.bonds.len() {
+            let kind = graph.element(x).kind;
+            let others: Vec<BondId> = graph.bonds_of(x).into_iter().filter(|&o| o != b).collect();
+            let next = match kind {
+                ElementKind::Zero | ElementKind::One => {
+                    path.push(x);
+                    let zero = kind == ElementKind::Zero;
+                    if zero == flow {
+                        // the variable is a balance of the other bonds
+                        if others.len() >= 2 {
+                            return (x, others, path);
+                        }
+                        others.first().copied()
+                    } else {
+                        // the common variable, imposed by one bond
+                        others.iter().copied().find(|o| {
+                            let r = self.bonds[o.0].effort_receiver;
+                            if zero {
+                                r == x
+                            } else {
+                                r != x
+                            }
+                        })
+                    }
+                }
+                k if k.is_two_port() => {
+                    path.push(x);
+                    if k.is_gyrator() {
+                        flow = !flow;
+                    }
+                    others.first().copied()
+                }
+                _ => None,
+            };
+            let Some(n) = next else {
+                break;
+            };
+            if kind.is_junction() {
+                last = Some((x, n));
+            }
+            b = n;
+            x = graph.other_end(n, x);
+        }
+        match last {
+            Some((j, via)) => {
+                while path.last().is_some_and(|&p| p != j) {
+                    path.pop();
+                }
+                (j, vec![via], path)
+            }
+            None => (x, vec![b], path),
+        }
+    }
+
     /// Causality of a storage element, if it is one.
     pub fn storage_causality(&self, e: ElementId) -> Option<StorageCausality> {
         self.storage
@@ -720,15 +824,17 @@ impl Causality {
                 }
                 StorageCausality::Differential => {
                     let a = &self.bonds[b.0];
+                    let (at, causes, path) = self.closing_junction(graph, e, b);
                     differential.push(DifferentialStorage {
                         element: el.name.clone(),
                         bond: graph.bond(b).name.clone(),
-                        forced_by_junction: name(a.via.unwrap_or(a.effort_source)),
-                        via_bonds: a
-                            .causes
+                        forced_by_junction: name(at),
+                        via_bonds: causes.iter().map(|c| graph.bond(*c).name.clone()).collect(),
+                        via_elements: causes
                             .iter()
-                            .map(|c| graph.bond(*c).name.clone())
+                            .map(|&c| name(graph.other_end(c, at)))
                             .collect(),
+                        path: path.into_iter().map(name).collect(),
                         origin: name(a.origin),
                     });
                 }
@@ -751,7 +857,8 @@ impl Causality {
             })
             .collect();
         CausalityReport {
-            dof: states.len(),
+            dof: integral_inertias,
+            state_count: states.len(),
             states,
             state_variables,
             integral_inertias,

@@ -5,6 +5,7 @@
 
 use super::identifiers::{variables, ScanError};
 use super::model::{BondGraph, ElementId, ElementKind, Parameter};
+use crate::expr::{Expr, ExprGraph};
 use std::collections::{HashMap, HashSet};
 
 /// The JSON path prefix of a raw bond graph inside a scene.
@@ -171,6 +172,17 @@ pub enum BondError {
         element: String,
         /// What is wrong.
         reason: String,
+    },
+    /// A TF/GY/MTF/MGY modulus that is identically zero (a constant 0 or an expression that
+    /// simplifies to 0): the equations divide by it (`e₂ = e₁/m`, `f₁ = f₂/m`, `f = e/r`).
+    #[error("{path}: {kind} element '{element}': modulus is identically zero (the equations divide by it)")]
+    ZeroModulus {
+        /// JSON path of the modulus.
+        path: String,
+        /// Element name.
+        element: String,
+        /// Kind spelled as in JSON.
+        kind: String,
     },
 }
 
@@ -444,9 +456,27 @@ pub(crate) fn check_parameter(
             });
         }
     };
+    let zero_modulus = |errors: &mut Vec<BondError>| {
+        errors.push(BondError::ZeroModulus {
+            path: path.into(),
+            element: name.into(),
+            kind: kind.as_str().into(),
+        })
+    };
     match p {
-        Parameter::Const(v) => check_number(*v, errors),
-        Parameter::Expr(s) => check_expression(name, s, path, known, errors),
+        Parameter::Const(v) => {
+            check_number(*v, errors);
+            if kind.is_two_port() && *v == 0.0 {
+                zero_modulus(errors);
+            }
+        }
+        Parameter::Expr(s) => {
+            let before = errors.len();
+            check_expression(name, s, path, known, errors);
+            if kind.is_two_port() && errors.len() == before && is_constant_zero(s) {
+                zero_modulus(errors);
+            }
+        }
         Parameter::Table { t, v } => {
             if t.is_empty() || t.len() != v.len() {
                 errors.push(BondError::BadParameter {
@@ -472,6 +502,20 @@ pub(crate) fn check_parameter(
             }
         }
     }
+}
+
+/// Does `expr` simplify to the constant 0 (every name taken as an independent variable)?
+fn is_constant_zero(expr: &str) -> bool {
+    let mut g = ExprGraph::new();
+    let slots: HashMap<String, Expr> = variables(expr)
+        .unwrap_or_default()
+        .into_iter()
+        .enumerate()
+        .map(|(i, n)| (n, g.var(i as u32)))
+        .collect();
+    g.parse(expr, &mut |n| slots.get(n).copied())
+        .ok()
+        .is_some_and(|e| g.as_const(e) == Some(0.0))
 }
 
 fn check_expression(

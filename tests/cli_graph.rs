@@ -1,0 +1,191 @@
+//! `bondmech graph`: the DOT drawing, the `--causality` JSON report with the seed's counts
+//! (16.7: the double pendulum has 2 integral and 4 differential inertias; its decoupled twin of
+//! Fig. 21 has 6 integral inertias, "seis grados de libertad") and SVG output through Graphviz.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn bondmech(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args(args)
+        .output()
+        .expect("bondmech runs")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bondmech-cli-graph-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn stdout_ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+fn causality(args: &[&str]) -> Value {
+    let text = stdout_ok(&bondmech(args));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"))
+}
+
+fn names(v: &Value) -> Vec<String> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn graph_prints_dot_with_inertia_labels_half_arrows_and_causal_strokes() {
+    let dot = stdout_ok(&bondmech(&["graph", &scene("double_pendulum.json")]));
+    assert!(dot.starts_with("digraph"), "{dot}");
+    assert!(dot.trim_end().ends_with('}'));
+    // the six inertias of the two bars, labelled as in the seed's figures
+    let inertias = dot.lines().filter(|l| l.contains("label=\"I:")).count();
+    assert_eq!(inertias, 6, "{dot}");
+    // half arrows (the default edge head) and a causal stroke on every bond
+    assert!(dot.contains("edge [arrowhead=lnormal]"));
+    let edges: Vec<&str> = dot.lines().filter(|l| l.contains("->")).collect();
+    assert!(!edges.is_empty());
+    for e in &edges {
+        let strokes = e.contains("teelnormal") as usize + e.contains("arrowtail=tee") as usize;
+        assert_eq!(strokes, 1, "{e}");
+    }
+    // the four differential-causality inertias of 16.7 in red
+    let red = dot
+        .lines()
+        .filter(|l| l.contains("label=\"I:") && l.contains("color=red"))
+        .count();
+    assert_eq!(red, 4, "{dot}");
+}
+
+#[test]
+fn causality_json_of_the_double_pendulum_has_the_seed_counts() {
+    let r = causality(&["graph", &scene("double_pendulum.json"), "--causality"]);
+    for key in [
+        "dof",
+        "states",
+        "differential",
+        "conflicts",
+        "algebraic_loops",
+    ] {
+        assert!(r.get(key).is_some(), "missing {key}: {r}");
+    }
+    // 16.7: two inertias keep integral causality (the DOF), four are differential
+    assert_eq!(r["dof"], 2);
+    assert_eq!(names(&r["states"]).len(), 2);
+    assert_eq!(r["state_count"], 2);
+    let diff = r["differential"].as_array().unwrap();
+    assert_eq!(diff.len(), 4);
+    for d in diff {
+        let el = d["element"].as_str().unwrap();
+        assert!(
+            el.contains(".I_"),
+            "a differential storage is an inertia: {d}"
+        );
+        assert!(!d["forced_by_junction"].as_str().unwrap().is_empty(), "{d}");
+    }
+    assert_eq!(r["conflicts"], serde_json::json!([]));
+    assert_eq!(r["algebraic_loops"], serde_json::json!([]));
+}
+
+#[test]
+fn causality_json_of_the_decoupled_double_pendulum_has_six_degrees_of_freedom() {
+    let r = causality(&[
+        "graph",
+        &scene("double_pendulum.json"),
+        "--causality",
+        "--decoupled",
+    ]);
+    // Fig. 21: four springs replace the pins, every inertia integral: 6 DOF, 0 differential;
+    // the 4 spring displacements are states too
+    assert_eq!(r["dof"], 6);
+    assert_eq!(r["differential"], serde_json::json!([]));
+    assert_eq!(r["state_count"], 10);
+    let states = names(&r["states"]);
+    assert_eq!(states.len(), 10);
+    assert_eq!(states.iter().filter(|s| s.contains(".I_")).count(), 6);
+    assert_eq!(r["conflicts"], serde_json::json!([]));
+}
+
+#[test]
+fn causality_json_of_a_raw_bond_graph_scene_counts_inertias_as_dof() {
+    // one mass on a spring and a damper: 1 DOF, 2 states (p_m, q_k)
+    let r = causality(&["graph", &scene("bg_mass_spring_damper.json"), "--causality"]);
+    assert_eq!(r["dof"], 1);
+    assert_eq!(names(&r["states"]), vec!["m", "k"]);
+    assert_eq!(r["state_count"], 2);
+}
+
+#[test]
+fn graph_out_dot_writes_the_same_drawing_as_stdout() {
+    let path = tmp("dp.dot");
+    let out = bondmech(&[
+        "graph",
+        &scene("double_pendulum.json"),
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    stdout_ok(&out);
+    let file = std::fs::read_to_string(&path).unwrap();
+    let printed = stdout_ok(&bondmech(&["graph", &scene("double_pendulum.json")]));
+    assert_eq!(file, printed);
+}
+
+fn graphviz_installed() -> bool {
+    Command::new("dot")
+        .arg("-V")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+#[test]
+fn graph_out_svg_renders_with_graphviz() {
+    if !graphviz_installed() {
+        // CI installs graphviz (scripts/install-deps.sh): there its absence is a failure
+        assert!(
+            std::env::var("CI").map_or(true, |v| v != "true"),
+            "Graphviz 'dot' is not installed but CI=true"
+        );
+        eprintln!("skipping: Graphviz 'dot' not installed");
+        return;
+    }
+    let path = tmp("dp.svg");
+    let out = bondmech(&[
+        "graph",
+        &scene("double_pendulum.json"),
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    stdout_ok(&out);
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.contains("<svg"), "{svg}");
+    assert!(svg.trim_end().ends_with("</svg>"));
+    // element labels survive into the drawing
+    assert!(svg.contains("I:bar1.I_m_x"), "{svg}");
+}
+
+#[test]
+fn graph_of_a_missing_scene_fails_with_a_message() {
+    let out = bondmech(&["graph", "no/such/scene.json"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no/such/scene.json"), "{err}");
+}
