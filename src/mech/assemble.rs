@@ -780,11 +780,27 @@ impl<'a> Assembler<'a> {
                 direction: dir.to_string(),
             };
             match &j.kind {
+                JointKind::Hinge { axis } => {
+                    if !self.spatial {
+                        return Err(MechError::at(
+                            &format!("{path}.axis"),
+                            "a planar revolute pins about z and takes no axis",
+                        ));
+                    }
+                    for (k, axis) in axes.iter().enumerate() {
+                        g_rows.push(self.g.sub(pa.position[k], pb.position[k]));
+                        meta.push(row(axis));
+                    }
+                    for (dir, e) in self.hinge_rows(&ka, &kb, axis, &path)? {
+                        g_rows.push(e);
+                        meta.push(row(dir));
+                    }
+                }
                 JointKind::Revolute | JointKind::Spherical => {
                     if self.spatial && matches!(j.kind, JointKind::Revolute) {
                         return Err(MechError::at(
-                            &format!("{path}.type"),
-                            "revolute is a planar pin; in 3D use spherical or weld",
+                            &format!("{path}.axis"),
+                            "a revolute joint in 3D is a hinge and needs an axis; use spherical for a ball joint",
                         ));
                     }
                     for (k, axis) in axes.iter().enumerate().take(pa.position.len()) {
@@ -867,6 +883,56 @@ impl<'a> Assembler<'a> {
         let d = self.g.sub(ab, aa);
         let c = self.g.constant(rel0);
         Some(self.g.sub(d, c))
+    }
+
+    /// The two orientation rows of a spatial hinge: with `a = R_a â` the hinge axis (`â` the
+    /// unit `axis` in body a's frame) and `c_1, c_2` an orthonormal pair perpendicular to the
+    /// axis as body b sees it initially (`R_b(0)ᵀ R_a(0) â`), the rows are `a · (R_b c_1) = 0`
+    /// and `a · (R_b c_2) = 0` (dimensionless: about the small relative rotation angles).
+    fn hinge_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if axis.len() != 3 || !(norm > 0.0) {
+            return Err(MechError::at(
+                &format!("{path}.axis"),
+                "needs a non-zero 3D direction",
+            ));
+        }
+        let u: Vec<f64> = axis.iter().map(|x| x / norm).collect();
+        let ra = ka.rotation3(&mut self.g);
+        let rb = kb.rotation3(&mut self.g);
+        let x0 = self.initial_slots();
+        let ev = |g: &ExprGraph, r: &[[Expr; 3]; 3]| -> [[f64; 3]; 3] {
+            let mut m = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for k in 0..3 {
+                    m[i][k] = g.eval(r[i][k], &x0);
+                }
+            }
+            m
+        };
+        let (ra0, rb0) = (ev(&self.g, &ra), ev(&self.g, &rb));
+        // global axis at t = 0, then seen from body b
+        let ag: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())
+            .collect();
+        let ab: [f64; 3] =
+            std::array::from_fn(|k| (0..3).map(|i| rb0[i][k] * ag[i]).sum::<f64>());
+        let (c1, c2) = perpendicular_pair(ab);
+        let ue: Vec<Expr> = u.iter().map(|&c| self.g.constant(c)).collect();
+        let a: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ue)).collect();
+        let mut out = Vec::with_capacity(2);
+        for (dir, c) in [("axis1", c1), ("axis2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let bc: Vec<Expr> = (0..3).map(|i| self.g.dot(&rb[i], &ce)).collect();
+            out.push((dir, self.g.dot(&a, &bc)));
+        }
+        Ok(out)
     }
 
     /// Orientation rows of a spatial weld: the skew part of `C = R0ᵀ R_aᵀ R_b`.
@@ -989,6 +1055,30 @@ fn coord(body: &str, what: &str, initial: f64) -> Coordinate {
         name: format!("{body}.{what}"),
         initial,
     }
+}
+
+/// An orthonormal pair `(c_1, c_2)` perpendicular to the non-zero vector `a`.
+fn perpendicular_pair(a: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let a = [a[0] / n, a[1] / n, a[2] / n];
+    // start from the global axis least aligned with a
+    let k = (0..3)
+        .min_by(|&i, &j| a[i].abs().total_cmp(&a[j].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let d = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
+    let mut c1 = [e[0] - d * a[0], e[1] - d * a[1], e[2] - d * a[2]];
+    let n1 = (c1[0] * c1[0] + c1[1] * c1[1] + c1[2] * c1[2]).sqrt();
+    for x in &mut c1 {
+        *x /= n1;
+    }
+    let c2 = [
+        a[1] * c1[2] - a[2] * c1[1],
+        a[2] * c1[0] - a[0] * c1[2],
+        a[0] * c1[1] - a[1] * c1[0],
+    ];
+    (c1, c2)
 }
 
 fn planar_inertia(i: &Inertia) -> f64 {

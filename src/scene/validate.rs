@@ -5,7 +5,7 @@
 //! 3), finite numbers everywhere, mass > 0, inertia >= 0 (0 is a point mass),
 //! unique non-empty body and joint names without `.`, no body called
 //! `ground`, joints/springs/loads naming known bodies and points, no joint
-//! between a body and itself, prismatic axis non-zero, no spherical joint in a
+//! between a body and itself, prismatic and hinge axes non-zero, no spherical joint in a
 //! plane and no planar pin in space, t_end > 0, output_step in (0, t_end],
 //! output_times strictly increasing in [0, t_end], positive rtol, atol and
 //! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
@@ -282,10 +282,14 @@ fn joint(p: &mut Problems, scene: &Scene, path: &str, j: &Joint) {
             "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane",
         ),
         (JointKind::Revolute, Dimension::Spatial) => p.push(
-            tp,
-            "revolute is a planar pin; a spatial scene supports spherical, prismatic and weld",
+            field(path, "axis"),
+            "a revolute joint in a spatial scene is a hinge and needs an axis (the hinge axis in the frame of the first body, global for ground; body 2 keeps the relative orientation of the initial configuration about it); use spherical for a ball joint",
         ),
-        (JointKind::Prismatic { axis }, dim) => {
+        (JointKind::Hinge { .. }, Dimension::Planar) => p.push(
+            field(path, "axis"),
+            "only a prismatic joint has an axis in a planar scene (a planar revolute pins about z)",
+        ),
+        (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
             let ap = field(path, "axis");
             vec_len(p, &ap, axis, dim.coords());
             let norm2: f64 = axis.iter().map(|x| x * x).sum();
