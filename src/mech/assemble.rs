@@ -37,6 +37,8 @@ struct Assembler<'a> {
 enum Plan {
     Planar { angle: bool, body_fixed: bool },
     Spatial,
+    /// Spatial point mass: translation only.
+    SpatialParticle,
 }
 
 impl<'a> Assembler<'a> {
@@ -97,7 +99,7 @@ impl<'a> Assembler<'a> {
     fn plan(&self) -> Result<Vec<Plan>, MechError> {
         let s = self.scene;
         if self.spatial {
-            return Ok(s.bodies.iter().map(|_| Plan::Spatial).collect());
+            return self.spatial_plan();
         }
         let mut need: Vec<bool> = s
             .bodies
@@ -190,6 +192,95 @@ impl<'a> Assembler<'a> {
             .collect())
     }
 
+    /// Spatial bodies: a body with principal moments `[0, 0, 0]` is a point mass and carries
+    /// translation only; every point a joint, spring, load or output uses on it must be at its
+    /// centre (a massless rotation would make the mass matrix singular), no torque may act on
+    /// it, and hinges and welds (which fix a rotation) cannot attach to it.
+    fn spatial_plan(&self) -> Result<Vec<Plan>, MechError> {
+        let s = self.scene;
+        let particle: Vec<bool> = s
+            .bodies
+            .iter()
+            .map(|b| matches!(b.inertia, Inertia::Principal(j) if j.iter().all(|&x| x == 0.0)))
+            .collect();
+        let is_particle = |name: &str| {
+            s.bodies
+                .iter()
+                .position(|b| b.name == name)
+                .is_some_and(|i| particle[i])
+        };
+        let check = |body: &str, p: &PointRef, path: &str| -> Result<(), MechError> {
+            if !is_particle(body) {
+                return Ok(());
+            }
+            let c = self.point_coords(body, p, path)?;
+            if c.iter().any(|&x| x != 0.0) {
+                return Err(MechError::at(
+                    path,
+                    format!(
+                        "body '{body}' is a point mass (inertia [0, 0, 0]) and has no rotation, so its points must be at its centre [0, 0, 0] (got {c:?}); give it principal moments of inertia to use off-centre points"
+                    ),
+                ));
+            }
+            Ok(())
+        };
+        for (ji, j) in s.joints.iter().enumerate() {
+            for k in 0..2 {
+                check(&j.bodies[k], &j.points[k], &format!("joints[{ji}].points[{k}]"))?;
+                if is_particle(&j.bodies[k])
+                    && matches!(j.kind, JointKind::Hinge { .. } | JointKind::Weld)
+                {
+                    return Err(MechError::at(
+                        &format!("joints[{ji}].bodies[{k}]"),
+                        format!(
+                            "body '{}' is a point mass (inertia [0, 0, 0]) with no rotation; a hinge or weld cannot fix it (use spherical)",
+                            j.bodies[k]
+                        ),
+                    ));
+                }
+            }
+        }
+        for (si, sp) in s.springs.iter().enumerate() {
+            for k in 0..2 {
+                check(&sp.bodies[k], &sp.points[k], &format!("springs[{si}].points[{k}]"))?;
+            }
+        }
+        for (li, l) in s.loads.iter().enumerate() {
+            if let Some(p) = &l.point {
+                check(&l.body, p, &format!("loads[{li}].point"))?;
+            }
+            if matches!(l.kind, LoadKind::Torque) && is_particle(&l.body) {
+                return Err(MechError::at(
+                    &format!("loads[{li}].body"),
+                    format!(
+                        "body '{}' is a point mass (inertia [0, 0, 0]); a torque cannot act on it",
+                        l.body
+                    ),
+                ));
+            }
+        }
+        for (oi, o) in s.outputs.iter().enumerate() {
+            if let Some((b, p)) = o.split_once('.') {
+                let p = p.split('.').next().unwrap_or(p);
+                if s.bodies.iter().any(|bb| bb.name == b && bb.point(p).is_some()) {
+                    check(b, &PointRef::Named(p.to_string()), &format!("outputs[{oi}]"))?;
+                }
+            }
+        }
+        for (bi, b) in s.bodies.iter().enumerate() {
+            if particle[bi] && b.angular_velocity.iter().any(|&w| w != 0.0) {
+                return Err(MechError::at(
+                    &format!("bodies[{bi}].angular_velocity"),
+                    "a point mass (inertia [0, 0, 0]) has no rotation",
+                ));
+            }
+        }
+        Ok(particle
+            .into_iter()
+            .map(|p| if p { Plan::SpatialParticle } else { Plan::Spatial })
+            .collect())
+    }
+
     fn run(mut self) -> Result<MultibodySystem, MechError> {
         let plans = self.plan()?;
         // Count coordinates first so velocity slots follow all coordinates.
@@ -198,6 +289,7 @@ impl<'a> Assembler<'a> {
             .map(|p| match p {
                 Plan::Planar { angle, .. } => 2 + usize::from(*angle),
                 Plan::Spatial => 7,
+                Plan::SpatialParticle => 3,
             })
             .sum();
         let mut qi = 0u32;
@@ -277,6 +369,18 @@ impl<'a> Assembler<'a> {
                             omega: om,
                         }
                     });
+                }
+                Plan::SpatialParticle => {
+                    let r = [qslot(&mut qi), qslot(&mut qi), qslot(&mut qi)];
+                    for (k, n) in ["x", "y", "z"].iter().enumerate() {
+                        self.coords.push(coord(&b.name, n, pos(k)));
+                    }
+                    let v = [vslot(&mut vi), vslot(&mut vi), vslot(&mut vi)];
+                    for (k, n) in ["vx", "vy", "vz"].iter().enumerate() {
+                        self.vels.push(coord(&b.name, n, vel(k)));
+                    }
+                    self.mass.extend([b.mass, b.mass, b.mass]);
+                    self.kin.push(BodyKinematics::Particle { r, v });
                 }
                 Plan::Spatial => {
                     let jj = match &b.inertia {
@@ -364,6 +468,11 @@ impl<'a> Assembler<'a> {
                     let v = k.centre_velocity(&mut self.g);
                     out.extend(v);
                     out.push(self.g.var(*omega));
+                }
+                BodyKinematics::Particle { v, .. } => {
+                    for s in v {
+                        out.push(self.g.var(*s));
+                    }
                 }
                 BodyKinematics::Spatial { e, v, w, .. } => {
                     for s in v {
@@ -633,6 +742,11 @@ impl<'a> Assembler<'a> {
                 cols.push((format!("{b}.psi"), (psi, true)));
                 cols.push((format!("{b}.theta"), (theta, false)));
                 cols.push((format!("{b}.phi"), (phi, true)));
+            }
+            BodyKinematics::Particle { .. } => {
+                for (i, e) in v.iter().enumerate() {
+                    cols.push((format!("{b}.v{}", axes[i]), (*e, false)));
+                }
             }
             _ => {
                 let a = k.planar_angle(g);
