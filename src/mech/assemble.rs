@@ -922,13 +922,13 @@ impl<'a> Assembler<'a> {
                         meta.push(row(axis));
                     }
                 }
-                JointKind::Prismatic { axis } => {
-                    if self.spatial {
-                        return Err(MechError::at(
-                            &format!("{path}.type"),
-                            "prismatic joints are planar in this version",
-                        ));
+                JointKind::Prismatic { axis } if self.spatial => {
+                    for (dir, e) in self.spatial_prismatic_rows(&ka, &kb, &pa, &pb, axis, &path)? {
+                        g_rows.push(e);
+                        meta.push(row(dir));
                     }
+                }
+                JointKind::Prismatic { axis } => {
                     // n = R(α_a)·perp(u); n·(P_b − P_a) = 0
                     let norm = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
                     let perp = [-axis[1] / norm, axis[0] / norm];
@@ -1045,6 +1045,49 @@ impl<'a> Assembler<'a> {
             let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
             let bc: Vec<Expr> = (0..3).map(|i| self.g.dot(&rb[i], &ce)).collect();
             out.push((dir, self.g.dot(&a, &bc)));
+        }
+        Ok(out)
+    }
+
+    /// Rows of a spatial prismatic joint: with `d = P_b − P_a` and `c_1, c_2` an orthonormal pair
+    /// perpendicular to `axis` in body a's frame, `(R_a c_1)·d = 0` and `(R_a c_2)·d = 0` (body b's
+    /// point stays on the line through `P_a` along `R_a axis`), plus the three rows of a weld
+    /// fixing the relative rotation (left out when body b is a point mass, which has none).
+    fn spatial_prismatic_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        pa: &PointKinematics,
+        pb: &PointKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if axis.len() != 3 || !(norm > 0.0) {
+            return Err(MechError::at(
+                &format!("{path}.axis"),
+                "needs a non-zero 3D direction",
+            ));
+        }
+        if matches!(ka, BodyKinematics::Particle { .. }) {
+            return Err(MechError::at(
+                &format!("{path}.bodies[0]"),
+                "the first body of a prismatic joint carries the axis and needs a rotation; a point mass (inertia [0, 0, 0]) has none (list it second)",
+            ));
+        }
+        let (c1, c2) = perpendicular_pair([axis[0], axis[1], axis[2]]);
+        let ra = ka.rotation3(&mut self.g);
+        let d: Vec<Expr> = (0..3)
+            .map(|k| self.g.sub(pb.position[k], pa.position[k]))
+            .collect();
+        let mut out = Vec::with_capacity(5);
+        for (dir, c) in [("normal1", c1), ("normal2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let n: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ce)).collect();
+            out.push((dir, self.g.dot(&n, &d)));
+        }
+        if !matches!(kb, BodyKinematics::Particle { .. }) {
+            out.extend(self.relative_rotation_rows(ka, kb));
         }
         Ok(out)
     }
