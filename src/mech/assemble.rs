@@ -145,7 +145,7 @@ impl<'a> Assembler<'a> {
             }
         }
         for (oi, o) in s.outputs.iter().enumerate() {
-            let mut parts = o.splitn(2, '.');
+            let mut parts = o.splitn(3, '.');
             if let (Some(b), Some(p)) = (parts.next(), parts.next()) {
                 if !matches!(p, "x" | "y" | "angle" | "vx" | "vy" | "omega") {
                     mark(

@@ -455,6 +455,29 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                 return;
             };
             let body = &scene.bodies[bi];
+            // `b.P.x`, `b.P.vx`, … : one coordinate or velocity component of a named point
+            if let Some((pt, comp)) = rest.split_once('.') {
+                let comps: &[&str] = match scene.dimension {
+                    Dimension::Planar => &["x", "y", "vx", "vy"],
+                    Dimension::Spatial => &["x", "y", "z", "vx", "vy", "vz"],
+                };
+                if body.point(pt).is_none() {
+                    let names: Vec<&str> = body.point_names().collect();
+                    p.push(
+                        path,
+                        format!("body '{b}' has no point '{pt}' (it has: {})", names.join(", ")),
+                    );
+                } else if !comps.contains(&comp) {
+                    p.push(
+                        path,
+                        format!(
+                            "unknown point component '{comp}' (expected one of: {})",
+                            comps.join(", ")
+                        ),
+                    );
+                }
+                return;
+            }
             if body.point(rest).is_none() && !BODY_COLUMNS.contains(&rest) {
                 let names: Vec<&str> = body.point_names().collect();
                 p.push(
