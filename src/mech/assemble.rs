@@ -16,6 +16,9 @@ use crate::scene::{
     BodyFrame, Dimension, Inertia, JointKind, LoadKind, LoadValue, PointRef, Scene,
 };
 
+/// Initial joint violations above this norm are reported as warnings.
+pub const INITIAL_VIOLATION_WARNING: f64 = 1e-9;
+
 /// Builds the multibody system of a scene (planar or spatial).
 pub fn assemble(scene: &Scene) -> Result<MultibodySystem, MechError> {
     Assembler::new(scene)?.run()
@@ -434,7 +437,7 @@ impl<'a> Assembler<'a> {
         let outputs = self.outputs(&names, energy)?;
         self.connectivity();
 
-        Ok(MultibodySystem {
+        let mut sys = MultibodySystem {
             graph: self.g,
             coords: self.coords,
             velocities: self.vels,
@@ -447,7 +450,24 @@ impl<'a> Assembler<'a> {
             kinetic,
             outputs,
             warnings: self.warnings,
-        })
+        };
+        let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
+        for v in sys.initial_violation(&names) {
+            if v.norm > INITIAL_VIOLATION_WARNING {
+                sys.warnings.push(format!(
+                    "joints[{}] '{}': the initial configuration violates the joint by {:.3e} ({}); the solver projects it onto the joint before starting",
+                    v.index,
+                    v.joint,
+                    v.norm,
+                    v.rows
+                        .iter()
+                        .map(|(d, r)| format!("{d} {r:.3e}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+        }
+        Ok(sys)
     }
 
     /// `K(q) v`, coordinate by coordinate.
