@@ -34,7 +34,11 @@ fn misplaced_body_reports_the_violated_joint_and_its_gap() {
         .filter(|w| w.contains("violates"))
         .collect();
     assert_eq!(w.len(), 1, "{:?}", model.warnings());
-    assert!(w[0].contains("joints[1] 'knee'") && w[0].contains("1.414e-1"), "{}", w[0]);
+    assert!(
+        w[0].contains("joints[1] 'knee'") && w[0].contains("1.414e-1"),
+        "{}",
+        w[0]
+    );
     // the solver still starts, from the projected state
     let sol = model.solve(&model.default_options()).unwrap();
     assert!(sol.summary.initial_position_correction > 0.05);
@@ -43,7 +47,13 @@ fn misplaced_body_reports_the_violated_joint_and_its_gap() {
 
 #[test]
 fn example_scenes_start_on_their_joints() {
-    for name in ["pendulum", "two_bars", "double_pendulum", "slider_crank", "four_bar"] {
+    for name in [
+        "pendulum",
+        "two_bars",
+        "double_pendulum",
+        "slider_crank",
+        "four_bar",
+    ] {
         let path = format!("{}/scenes/{name}.json", env!("CARGO_MANIFEST_DIR"));
         let scene = Scene::from_json_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         let model = Model::new(&scene).unwrap();

@@ -36,7 +36,10 @@ fn planar_point_velocity_outputs_equal_centre_velocity_plus_omega_cross_r() {
         // the pivot point of bar1 does not move (up to the solver's constraint error)
         assert!(v("bar1.O.vx").abs() < 1e-6 && v("bar1.O.vy").abs() < 1e-6);
     }
-    assert!(moving > 0.5, "the tip must move for the check to mean something");
+    assert!(
+        moving > 0.5,
+        "the tip must move for the check to mean something"
+    );
 }
 
 #[test]
@@ -58,7 +61,11 @@ fn spatial_point_velocity_outputs_equal_centre_velocity_plus_omega_cross_r() {
         let want = Vector3::new(v("b.vx"), v("b.vy"), v("b.vz"))
             + wg.cross(&(r * Vector3::new(0.3, -0.2, 0.1)));
         let got = Vector3::new(v("b.T.vx"), v("b.T.vy"), v("b.T.vz"));
-        assert!((got - want).norm() < 1e-9, "t = {}: {got} vs {want}", sol.times[k]);
+        assert!(
+            (got - want).norm() < 1e-9,
+            "t = {}: {got} vs {want}",
+            sol.times[k]
+        );
     }
 }
 
@@ -70,5 +77,8 @@ fn unknown_point_component_output_is_refused_naming_the_output() {
       "solve":{"t_end":1,"output_step":0.1},"outputs":["bar.O.vz","bar.Q.vx"]}"#;
     let err = Scene::from_json_str(json).unwrap_err().to_string();
     assert!(err.contains("outputs[0]") && err.contains("'vz'"), "{err}");
-    assert!(err.contains("outputs[1]") && err.contains("no point 'Q'"), "{err}");
+    assert!(
+        err.contains("outputs[1]") && err.contains("no point 'Q'"),
+        "{err}"
+    );
 }

@@ -82,7 +82,10 @@ fn ground_and_three_bars_on_one_pin_swing_as_independent_compound_pendulums() {
         }
     }
     let k = sol.times.len() - 1;
-    let pin = [sol.value(k, "c.O.x").unwrap(), sol.value(k, "c.O.y").unwrap()];
+    let pin = [
+        sol.value(k, "c.O.x").unwrap(),
+        sol.value(k, "c.O.y").unwrap(),
+    ];
     assert!(pin[0].abs() < 1e-9 && pin[1].abs() < 1e-9, "{pin:?}");
 }
 
@@ -147,16 +150,33 @@ fn four_bars_on_one_moving_pin_conserve_momentum_angular_momentum_and_energy() {
     let mut spread = 0.0f64;
     for k in 0..sol.times.len() {
         let (px, py, lz) = totals(k);
-        assert!((px - px0).abs() < 1e-8 && (py - py0).abs() < 1e-8, "momentum at {k}");
-        assert!((lz - lz0).abs() < 1e-8 * lz0.abs().max(1.0), "L at {k}: {lz} vs {lz0}");
-        assert!((e[k] - e[0]).abs() < 1e-8 * e[0], "energy at {k}: {} vs {}", e[k], e[0]);
-        let o1 = [sol.value(k, "s1.O.x").unwrap(), sol.value(k, "s1.O.y").unwrap()];
+        assert!(
+            (px - px0).abs() < 1e-8 && (py - py0).abs() < 1e-8,
+            "momentum at {k}"
+        );
+        assert!(
+            (lz - lz0).abs() < 1e-8 * lz0.abs().max(1.0),
+            "L at {k}: {lz} vs {lz0}"
+        );
+        assert!(
+            (e[k] - e[0]).abs() < 1e-8 * e[0],
+            "energy at {k}: {} vs {}",
+            e[k],
+            e[0]
+        );
+        let o1 = [
+            sol.value(k, "s1.O.x").unwrap(),
+            sol.value(k, "s1.O.y").unwrap(),
+        ];
         for n in ["s2", "s3", "s4"] {
             let on = [
                 sol.value(k, &format!("{n}.O.x")).unwrap(),
                 sol.value(k, &format!("{n}.O.y")).unwrap(),
             ];
-            assert!((on[0] - o1[0]).hypot(on[1] - o1[1]) < 1e-9, "{n} left the pin at {k}");
+            assert!(
+                (on[0] - o1[0]).hypot(on[1] - o1[1]) < 1e-9,
+                "{n} left the pin at {k}"
+            );
         }
         spread = spread.max((sol.value(k, "s4.angle").unwrap() - 5.0).abs());
     }

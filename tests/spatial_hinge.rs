@@ -85,8 +85,21 @@ fn hinged_compound_pendulum_matches_one_dof_reference_for_both_joint_orders() {
                 "velocity":[{},{},{}],"angular_velocity":[{},{},{}]}}],
             "joints":[{joint}],
             "solve":{{"t_end":3.0,"output_step":0.1}},"outputs":["energy"]}}"#,
-            jp[0], jp[1], jp[2], s_o.x, s_o.y, s_o.z, r0.x, r0.y, r0.z, v0.x, v0.y, v0.z, wb.x,
-            wb.y, wb.z
+            jp[0],
+            jp[1],
+            jp[2],
+            s_o.x,
+            s_o.y,
+            s_o.z,
+            r0.x,
+            r0.y,
+            r0.z,
+            v0.x,
+            v0.y,
+            v0.z,
+            wb.x,
+            wb.y,
+            wb.z
         );
         let scene = Scene::from_json_str(&json).expect("valid scene");
         let model = Model::new(&scene).expect("model");
@@ -188,7 +201,10 @@ fn dp() -> DoublePendulum {
 #[test]
 fn double_pendulum_on_two_parallel_hinges_matches_planar_reference() {
     let p = dp();
-    let th = [-std::f64::consts::FRAC_PI_2 + 0.8, -std::f64::consts::FRAC_PI_2 + 1.5];
+    let th = [
+        -std::f64::consts::FRAC_PI_2 + 0.8,
+        -std::f64::consts::FRAC_PI_2 + 1.5,
+    ];
     let w = [0.5, -1.0];
     let scene = Scene::from_json_str(&double_pendulum_3d(th, w, &p, 0.4)).expect("scene");
     let model = Model::new(&scene).expect("model");
@@ -203,7 +219,11 @@ fn double_pendulum_on_two_parallel_hinges_matches_planar_reference() {
     for (k, rk) in r.iter().enumerate() {
         let v = |n: &str| sol.value(k, n).unwrap();
         for (b, c) in [("bar1", rk.c1), ("bar2", rk.c2)] {
-            let got = [v(&format!("{b}.x")), v(&format!("{b}.y")), v(&format!("{b}.z"))];
+            let got = [
+                v(&format!("{b}.x")),
+                v(&format!("{b}.y")),
+                v(&format!("{b}.z")),
+            ];
             let err = ((got[0] - c[0]).powi(2) + got[1].powi(2) + (got[2] - c[1]).powi(2)).sqrt();
             assert!(
                 err < 1e-6,
@@ -230,7 +250,10 @@ fn double_pendulum_on_two_parallel_hinges_matches_planar_reference() {
 #[test]
 fn decoupled_twin_of_hinged_double_pendulum_follows_planar_reference() {
     let p = dp();
-    let th = [-std::f64::consts::FRAC_PI_2 + 0.8, -std::f64::consts::FRAC_PI_2 + 1.5];
+    let th = [
+        -std::f64::consts::FRAC_PI_2 + 0.8,
+        -std::f64::consts::FRAC_PI_2 + 1.5,
+    ];
     let w = [0.5, -1.0];
     let scene = Scene::from_json_str(&double_pendulum_3d(th, w, &p, 0.4)).expect("scene");
     let model = Model::new(&scene).expect("model");
@@ -246,9 +269,17 @@ fn decoupled_twin_of_hinged_double_pendulum_follows_planar_reference() {
     let r = simulate_double_pendulum(&p, [th[0], th[1], w[0], w[1]], &sol.times);
     assert!(sol.summary.max_constraint_error < 1e-5, "{:?}", sol.summary);
     for (k, rk) in r.iter().enumerate() {
-        let got = [sol.value(k, "bar2.x").unwrap(), sol.value(k, "bar2.z").unwrap()];
+        let got = [
+            sol.value(k, "bar2.x").unwrap(),
+            sol.value(k, "bar2.z").unwrap(),
+        ];
         let err = ((got[0] - rk.c2[0]).powi(2) + (got[1] - rk.c2[1]).powi(2)).sqrt();
-        assert!(err < 1e-3, "t = {}: bar2 {got:?} vs {:?}", sol.times[k], rk.c2);
+        assert!(
+            err < 1e-3,
+            "t = {}: bar2 {got:?} vs {:?}",
+            sol.times[k],
+            rk.c2
+        );
     }
 }
 

@@ -150,7 +150,7 @@ fn point_bob_on_a_hanging_rod_conserves_energy_and_vertical_momentum() {
     let (l0, e0) = (lz(0), e[0]);
     assert!(l0.abs() > 0.1, "needs vertical angular momentum, got {l0}");
     let escale = (mr + mb) * G * l;
-    for k in 0..sol.times.len() {
+    for (k, &ek) in e.iter().enumerate() {
         assert!(
             (lz(k) - l0).abs() < 1e-8 * l0.abs(),
             "L_z at t = {}: {} vs {l0}",
@@ -158,17 +158,21 @@ fn point_bob_on_a_hanging_rod_conserves_energy_and_vertical_momentum() {
             lz(k)
         );
         assert!(
-            (e[k] - e0).abs() < 1e-8 * escale,
-            "energy at t = {}: {} vs {e0}",
-            sol.times[k],
-            e[k]
+            (ek - e0).abs() < 1e-8 * escale,
+            "energy at t = {}: {ek} vs {e0}",
+            sol.times[k]
         );
         // the bob stays at the rod tip (a distance L from the pivot, and on the rod's axis)
         let v = |n: &str| sol.value(k, n).unwrap();
         let r = cardan_matrix(v("rod.psi"), v("rod.theta"), v("rod.phi"));
-        let tip_k = Vector3::new(v("rod.x"), v("rod.y"), v("rod.z")) + r * Vector3::new(0.5 * l, 0.0, 0.0);
+        let tip_k =
+            Vector3::new(v("rod.x"), v("rod.y"), v("rod.z")) + r * Vector3::new(0.5 * l, 0.0, 0.0);
         let bob = Vector3::new(v("bob.x"), v("bob.y"), v("bob.z"));
-        assert!((tip_k - bob).norm() < 1e-8, "tip joint open at t = {}", sol.times[k]);
+        assert!(
+            (tip_k - bob).norm() < 1e-8,
+            "tip joint open at t = {}",
+            sol.times[k]
+        );
     }
     // the bob really swings out of the initial vertical plane
     let last = sol.times.len() - 1;

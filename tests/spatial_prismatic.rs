@@ -84,7 +84,11 @@ fn block_on_tilted_frictionless_rail_follows_closed_form() {
         o.rtol = 1e-10;
         o.atol = 1e-12;
         let sol = model.solve(&o).expect("solve");
-        assert!(sol.summary.max_constraint_error < 1e-9, "{label}: {:?}", sol.summary);
+        assert!(
+            sol.summary.max_constraint_error < 1e-9,
+            "{label}: {:?}",
+            sol.summary
+        );
         for (k, &t) in sol.times.iter().enumerate() {
             let s = v0 * t + 0.5 * G * alpha.sin() * t * t;
             let want = c0 + u * s;

@@ -38,7 +38,10 @@ struct Assembler<'a> {
 
 /// Planned slots of one body, before the coordinate count is known.
 enum Plan {
-    Planar { angle: bool, body_fixed: bool },
+    Planar {
+        angle: bool,
+        body_fixed: bool,
+    },
     Spatial,
     /// Spatial point mass: translation only.
     SpatialParticle,
@@ -229,7 +232,11 @@ impl<'a> Assembler<'a> {
         };
         for (ji, j) in s.joints.iter().enumerate() {
             for k in 0..2 {
-                check(&j.bodies[k], &j.points[k], &format!("joints[{ji}].points[{k}]"))?;
+                check(
+                    &j.bodies[k],
+                    &j.points[k],
+                    &format!("joints[{ji}].points[{k}]"),
+                )?;
                 if is_particle(&j.bodies[k])
                     && matches!(j.kind, JointKind::Hinge { .. } | JointKind::Weld)
                 {
@@ -245,7 +252,11 @@ impl<'a> Assembler<'a> {
         }
         for (si, sp) in s.springs.iter().enumerate() {
             for k in 0..2 {
-                check(&sp.bodies[k], &sp.points[k], &format!("springs[{si}].points[{k}]"))?;
+                check(
+                    &sp.bodies[k],
+                    &sp.points[k],
+                    &format!("springs[{si}].points[{k}]"),
+                )?;
             }
         }
         for (li, l) in s.loads.iter().enumerate() {
@@ -265,8 +276,15 @@ impl<'a> Assembler<'a> {
         for (oi, o) in s.outputs.iter().enumerate() {
             if let Some((b, p)) = o.split_once('.') {
                 let p = p.split('.').next().unwrap_or(p);
-                if s.bodies.iter().any(|bb| bb.name == b && bb.point(p).is_some()) {
-                    check(b, &PointRef::Named(p.to_string()), &format!("outputs[{oi}]"))?;
+                if s.bodies
+                    .iter()
+                    .any(|bb| bb.name == b && bb.point(p).is_some())
+                {
+                    check(
+                        b,
+                        &PointRef::Named(p.to_string()),
+                        &format!("outputs[{oi}]"),
+                    )?;
                 }
             }
         }
@@ -280,7 +298,13 @@ impl<'a> Assembler<'a> {
         }
         Ok(particle
             .into_iter()
-            .map(|p| if p { Plan::SpatialParticle } else { Plan::Spatial })
+            .map(|p| {
+                if p {
+                    Plan::SpatialParticle
+                } else {
+                    Plan::Spatial
+                }
+            })
             .collect())
     }
 
@@ -1031,7 +1055,7 @@ impl<'a> Assembler<'a> {
         path: &str,
     ) -> Result<Vec<(&'static str, Expr)>, MechError> {
         let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if axis.len() != 3 || !(norm > 0.0) {
+        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
             return Err(MechError::at(
                 &format!("{path}.axis"),
                 "needs a non-zero 3D direction",
@@ -1055,8 +1079,7 @@ impl<'a> Assembler<'a> {
         let ag: Vec<f64> = (0..3)
             .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())
             .collect();
-        let ab: [f64; 3] =
-            std::array::from_fn(|k| (0..3).map(|i| rb0[i][k] * ag[i]).sum::<f64>());
+        let ab: [f64; 3] = std::array::from_fn(|k| (0..3).map(|i| rb0[i][k] * ag[i]).sum::<f64>());
         let (c1, c2) = perpendicular_pair(ab);
         let ue: Vec<Expr> = u.iter().map(|&c| self.g.constant(c)).collect();
         let a: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ue)).collect();
@@ -1083,7 +1106,7 @@ impl<'a> Assembler<'a> {
         path: &str,
     ) -> Result<Vec<(&'static str, Expr)>, MechError> {
         let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if axis.len() != 3 || !(norm > 0.0) {
+        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
             return Err(MechError::at(
                 &format!("{path}.axis"),
                 "needs a non-zero 3D direction",

@@ -465,7 +465,10 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                     let names: Vec<&str> = body.point_names().collect();
                     p.push(
                         path,
-                        format!("body '{b}' has no point '{pt}' (it has: {})", names.join(", ")),
+                        format!(
+                            "body '{b}' has no point '{pt}' (it has: {})",
+                            names.join(", ")
+                        ),
                     );
                 } else if !comps.contains(&comp) {
                     p.push(

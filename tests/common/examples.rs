@@ -122,7 +122,10 @@ impl FourBar {
         let t2 = (b - a).y.atan2((b - a).x);
         let t3 = (b - o4).y.atan2((b - o4).x);
         let am = Matrix2::from_columns(&[r2 * ep(t2), -r3 * ep(t3)]);
-        let k = am.lu().solve(&(-r1 * ep(phi))).expect("not at a dead point");
+        let k = am
+            .lu()
+            .solve(&(-r1 * ep(phi)))
+            .expect("not at a dead point");
         let w = [w1, k.x * w1, k.y * w1];
         let th = [phi, t2, t3];
         let c = [0.5 * a, a + 0.5 * r2 * e(t2), o4 + 0.5 * r3 * e(t3)];
