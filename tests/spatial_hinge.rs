@@ -304,3 +304,42 @@ fn planar_revolute_with_axis_is_refused_naming_the_axis() {
     let err = Scene::from_json_str(json).unwrap_err().to_string();
     assert!(err.contains("joints[0].axis"), "{err}");
 }
+
+/// `scenes/hinged_double_pendulum_3d.json` moves like the planar double pendulum released
+/// horizontal at rest (planar y → z).
+#[test]
+fn hinged_double_pendulum_scene_matches_planar_reference() {
+    let path = format!(
+        "{}/scenes/hinged_double_pendulum_3d.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let scene = Scene::from_path(&path).expect("scene");
+    let model = Model::new(&scene).expect("model");
+    let mut o = model.default_options();
+    o.rtol = 1e-10;
+    o.atol = 1e-12;
+    o.output_times = (0..=20).map(|i| 0.1 * i as f64).collect();
+    let sol = model.solve(&o).expect("solve");
+    let p = DoublePendulum {
+        m1: 1.0,
+        l1: 1.0,
+        m2: 1.0,
+        l2: 1.0,
+        g: G,
+    };
+    let r = simulate_double_pendulum(&p, [0.0; 4], &sol.times);
+    for (k, rk) in r.iter().enumerate() {
+        let (x, z) = (
+            sol.value(k, "bar2.A.x").unwrap(),
+            sol.value(k, "bar2.A.z").unwrap(),
+        );
+        let err = (x - rk.a2[0]).hypot(z - rk.a2[1]);
+        assert!(
+            err < 1e-6,
+            "t = {}: tip ({x}, {z}) vs {:?}",
+            sol.times[k],
+            rk.a2
+        );
+        assert!(sol.value(k, "bar2.A.y").unwrap().abs() < 1e-9);
+    }
+}
