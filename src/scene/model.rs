@@ -148,9 +148,11 @@ pub enum PointRef {
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
 pub enum JointKind {
-    /// `"revolute"`: planar pin (the two points coincide).
+    /// `"revolute"` without `axis`: planar pin (the two points coincide).
     Revolute,
-    /// `"prismatic"`: slider along `axis` (frame of the first body); relative angle fixed.
+    /// `"prismatic"`: slider along `axis` (frame of the first body); relative rotation fixed
+    /// (planar: one normal row and the relative angle; spatial: two normal rows and three
+    /// rotation rows, the latter left out when the second body is a point mass).
     Prismatic {
         /// Sliding direction in the frame of the first body (non-zero; not normalised).
         axis: Vec<f64>,

@@ -6,7 +6,7 @@
 //! unique non-empty body and joint names without `.`, no body called
 //! `ground`, joints/springs/loads naming known bodies and points, no joint
 //! between a body and itself, prismatic and hinge axes non-zero, no spherical joint in a
-//! plane and no planar pin in space, t_end > 0, output_step in (0, t_end],
+//! plane, a spatial revolute (hinge) with an axis and a planar one without, t_end > 0, output_step in (0, t_end],
 //! output_times strictly increasing in [0, t_end], positive rtol, atol and
 //! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
 //! naming known bodies/points, and bodies or a bond graph present.
