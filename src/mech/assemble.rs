@@ -16,6 +16,9 @@ use crate::scene::{
     BodyFrame, Dimension, Inertia, JointKind, LoadKind, LoadValue, PointRef, Scene,
 };
 
+/// Initial joint violations above this norm are reported as warnings.
+pub const INITIAL_VIOLATION_WARNING: f64 = 1e-9;
+
 /// Builds the multibody system of a scene (planar or spatial).
 pub fn assemble(scene: &Scene) -> Result<MultibodySystem, MechError> {
     Assembler::new(scene)?.run()
@@ -35,8 +38,13 @@ struct Assembler<'a> {
 
 /// Planned slots of one body, before the coordinate count is known.
 enum Plan {
-    Planar { angle: bool, body_fixed: bool },
+    Planar {
+        angle: bool,
+        body_fixed: bool,
+    },
     Spatial,
+    /// Spatial point mass: translation only.
+    SpatialParticle,
 }
 
 impl<'a> Assembler<'a> {
@@ -97,7 +105,7 @@ impl<'a> Assembler<'a> {
     fn plan(&self) -> Result<Vec<Plan>, MechError> {
         let s = self.scene;
         if self.spatial {
-            return Ok(s.bodies.iter().map(|_| Plan::Spatial).collect());
+            return self.spatial_plan();
         }
         let mut need: Vec<bool> = s
             .bodies
@@ -143,7 +151,7 @@ impl<'a> Assembler<'a> {
             }
         }
         for (oi, o) in s.outputs.iter().enumerate() {
-            let mut parts = o.splitn(2, '.');
+            let mut parts = o.splitn(3, '.');
             if let (Some(b), Some(p)) = (parts.next(), parts.next()) {
                 if !matches!(p, "x" | "y" | "angle" | "vx" | "vy" | "omega") {
                     mark(
@@ -190,6 +198,116 @@ impl<'a> Assembler<'a> {
             .collect())
     }
 
+    /// Spatial bodies: a body with principal moments `[0, 0, 0]` is a point mass and carries
+    /// translation only; every point a joint, spring, load or output uses on it must be at its
+    /// centre (a massless rotation would make the mass matrix singular), no torque may act on
+    /// it, and hinges and welds (which fix a rotation) cannot attach to it.
+    fn spatial_plan(&self) -> Result<Vec<Plan>, MechError> {
+        let s = self.scene;
+        let particle: Vec<bool> = s
+            .bodies
+            .iter()
+            .map(|b| matches!(b.inertia, Inertia::Principal(j) if j.iter().all(|&x| x == 0.0)))
+            .collect();
+        let is_particle = |name: &str| {
+            s.bodies
+                .iter()
+                .position(|b| b.name == name)
+                .is_some_and(|i| particle[i])
+        };
+        let check = |body: &str, p: &PointRef, path: &str| -> Result<(), MechError> {
+            if !is_particle(body) {
+                return Ok(());
+            }
+            let c = self.point_coords(body, p, path)?;
+            if c.iter().any(|&x| x != 0.0) {
+                return Err(MechError::at(
+                    path,
+                    format!(
+                        "body '{body}' is a point mass (inertia [0, 0, 0]) and has no rotation, so its points must be at its centre [0, 0, 0] (got {c:?}); give it principal moments of inertia to use off-centre points"
+                    ),
+                ));
+            }
+            Ok(())
+        };
+        for (ji, j) in s.joints.iter().enumerate() {
+            for k in 0..2 {
+                check(
+                    &j.bodies[k],
+                    &j.points[k],
+                    &format!("joints[{ji}].points[{k}]"),
+                )?;
+                if is_particle(&j.bodies[k])
+                    && matches!(j.kind, JointKind::Hinge { .. } | JointKind::Weld)
+                {
+                    return Err(MechError::at(
+                        &format!("joints[{ji}].bodies[{k}]"),
+                        format!(
+                            "body '{}' is a point mass (inertia [0, 0, 0]) with no rotation; a hinge or weld cannot fix it (use spherical)",
+                            j.bodies[k]
+                        ),
+                    ));
+                }
+            }
+        }
+        for (si, sp) in s.springs.iter().enumerate() {
+            for k in 0..2 {
+                check(
+                    &sp.bodies[k],
+                    &sp.points[k],
+                    &format!("springs[{si}].points[{k}]"),
+                )?;
+            }
+        }
+        for (li, l) in s.loads.iter().enumerate() {
+            if let Some(p) = &l.point {
+                check(&l.body, p, &format!("loads[{li}].point"))?;
+            }
+            if matches!(l.kind, LoadKind::Torque) && is_particle(&l.body) {
+                return Err(MechError::at(
+                    &format!("loads[{li}].body"),
+                    format!(
+                        "body '{}' is a point mass (inertia [0, 0, 0]); a torque cannot act on it",
+                        l.body
+                    ),
+                ));
+            }
+        }
+        for (oi, o) in s.outputs.iter().enumerate() {
+            if let Some((b, p)) = o.split_once('.') {
+                let p = p.split('.').next().unwrap_or(p);
+                if s.bodies
+                    .iter()
+                    .any(|bb| bb.name == b && bb.point(p).is_some())
+                {
+                    check(
+                        b,
+                        &PointRef::Named(p.to_string()),
+                        &format!("outputs[{oi}]"),
+                    )?;
+                }
+            }
+        }
+        for (bi, b) in s.bodies.iter().enumerate() {
+            if particle[bi] && b.angular_velocity.iter().any(|&w| w != 0.0) {
+                return Err(MechError::at(
+                    &format!("bodies[{bi}].angular_velocity"),
+                    "a point mass (inertia [0, 0, 0]) has no rotation",
+                ));
+            }
+        }
+        Ok(particle
+            .into_iter()
+            .map(|p| {
+                if p {
+                    Plan::SpatialParticle
+                } else {
+                    Plan::Spatial
+                }
+            })
+            .collect())
+    }
+
     fn run(mut self) -> Result<MultibodySystem, MechError> {
         let plans = self.plan()?;
         // Count coordinates first so velocity slots follow all coordinates.
@@ -198,6 +316,7 @@ impl<'a> Assembler<'a> {
             .map(|p| match p {
                 Plan::Planar { angle, .. } => 2 + usize::from(*angle),
                 Plan::Spatial => 7,
+                Plan::SpatialParticle => 3,
             })
             .sum();
         let mut qi = 0u32;
@@ -278,6 +397,18 @@ impl<'a> Assembler<'a> {
                         }
                     });
                 }
+                Plan::SpatialParticle => {
+                    let r = [qslot(&mut qi), qslot(&mut qi), qslot(&mut qi)];
+                    for (k, n) in ["x", "y", "z"].iter().enumerate() {
+                        self.coords.push(coord(&b.name, n, pos(k)));
+                    }
+                    let v = [vslot(&mut vi), vslot(&mut vi), vslot(&mut vi)];
+                    for (k, n) in ["vx", "vy", "vz"].iter().enumerate() {
+                        self.vels.push(coord(&b.name, n, vel(k)));
+                    }
+                    self.mass.extend([b.mass, b.mass, b.mass]);
+                    self.kin.push(BodyKinematics::Particle { r, v });
+                }
                 Plan::Spatial => {
                     let jj = match &b.inertia {
                         Inertia::Principal(j) => *j,
@@ -330,7 +461,7 @@ impl<'a> Assembler<'a> {
         let outputs = self.outputs(&names, energy)?;
         self.connectivity();
 
-        Ok(MultibodySystem {
+        let mut sys = MultibodySystem {
             graph: self.g,
             coords: self.coords,
             velocities: self.vels,
@@ -343,7 +474,24 @@ impl<'a> Assembler<'a> {
             kinetic,
             outputs,
             warnings: self.warnings,
-        })
+        };
+        let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
+        for v in sys.initial_violation(&names) {
+            if v.norm > INITIAL_VIOLATION_WARNING {
+                sys.warnings.push(format!(
+                    "joints[{}] '{}': the initial configuration violates the joint by {:.3e} ({}); the solver projects it onto the joint before starting",
+                    v.index,
+                    v.joint,
+                    v.norm,
+                    v.rows
+                        .iter()
+                        .map(|(d, r)| format!("{d} {r:.3e}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+        }
+        Ok(sys)
     }
 
     /// `K(q) v`, coordinate by coordinate.
@@ -364,6 +512,11 @@ impl<'a> Assembler<'a> {
                     let v = k.centre_velocity(&mut self.g);
                     out.extend(v);
                     out.push(self.g.var(*omega));
+                }
+                BodyKinematics::Particle { v, .. } => {
+                    for s in v {
+                        out.push(self.g.var(*s));
+                    }
                 }
                 BodyKinematics::Spatial { e, v, w, .. } => {
                     for s in v {
@@ -634,6 +787,11 @@ impl<'a> Assembler<'a> {
                 cols.push((format!("{b}.theta"), (theta, false)));
                 cols.push((format!("{b}.phi"), (phi, true)));
             }
+            BodyKinematics::Particle { .. } => {
+                for (i, e) in v.iter().enumerate() {
+                    cols.push((format!("{b}.v{}", axes[i]), (*e, false)));
+                }
+            }
             _ => {
                 let a = k.planar_angle(g);
                 let w = k.planar_omega(g);
@@ -780,11 +938,27 @@ impl<'a> Assembler<'a> {
                 direction: dir.to_string(),
             };
             match &j.kind {
+                JointKind::Hinge { axis } => {
+                    if !self.spatial {
+                        return Err(MechError::at(
+                            &format!("{path}.axis"),
+                            "a planar revolute pins about z and takes no axis",
+                        ));
+                    }
+                    for (k, axis) in axes.iter().enumerate() {
+                        g_rows.push(self.g.sub(pa.position[k], pb.position[k]));
+                        meta.push(row(axis));
+                    }
+                    for (dir, e) in self.hinge_rows(&ka, &kb, axis, &path)? {
+                        g_rows.push(e);
+                        meta.push(row(dir));
+                    }
+                }
                 JointKind::Revolute | JointKind::Spherical => {
                     if self.spatial && matches!(j.kind, JointKind::Revolute) {
                         return Err(MechError::at(
-                            &format!("{path}.type"),
-                            "revolute is a planar pin; in 3D use spherical or weld",
+                            &format!("{path}.axis"),
+                            "a revolute joint in 3D is a hinge and needs an axis; use spherical for a ball joint",
                         ));
                     }
                     for (k, axis) in axes.iter().enumerate().take(pa.position.len()) {
@@ -792,13 +966,13 @@ impl<'a> Assembler<'a> {
                         meta.push(row(axis));
                     }
                 }
-                JointKind::Prismatic { axis } => {
-                    if self.spatial {
-                        return Err(MechError::at(
-                            &format!("{path}.type"),
-                            "prismatic joints are planar in this version",
-                        ));
+                JointKind::Prismatic { axis } if self.spatial => {
+                    for (dir, e) in self.spatial_prismatic_rows(&ka, &kb, &pa, &pb, axis, &path)? {
+                        g_rows.push(e);
+                        meta.push(row(dir));
                     }
+                }
+                JointKind::Prismatic { axis } => {
                     // n = R(α_a)·perp(u); n·(P_b − P_a) = 0
                     let norm = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
                     let perp = [-axis[1] / norm, axis[0] / norm];
@@ -867,6 +1041,98 @@ impl<'a> Assembler<'a> {
         let d = self.g.sub(ab, aa);
         let c = self.g.constant(rel0);
         Some(self.g.sub(d, c))
+    }
+
+    /// The two orientation rows of a spatial hinge: with `a = R_a â` the hinge axis (`â` the
+    /// unit `axis` in body a's frame) and `c_1, c_2` an orthonormal pair perpendicular to the
+    /// axis as body b sees it initially (`R_b(0)ᵀ R_a(0) â`), the rows are `a · (R_b c_1) = 0`
+    /// and `a · (R_b c_2) = 0` (dimensionless: about the small relative rotation angles).
+    fn hinge_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
+            return Err(MechError::at(
+                &format!("{path}.axis"),
+                "needs a non-zero 3D direction",
+            ));
+        }
+        let u: Vec<f64> = axis.iter().map(|x| x / norm).collect();
+        let ra = ka.rotation3(&mut self.g);
+        let rb = kb.rotation3(&mut self.g);
+        let x0 = self.initial_slots();
+        let ev = |g: &ExprGraph, r: &[[Expr; 3]; 3]| -> [[f64; 3]; 3] {
+            let mut m = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for k in 0..3 {
+                    m[i][k] = g.eval(r[i][k], &x0);
+                }
+            }
+            m
+        };
+        let (ra0, rb0) = (ev(&self.g, &ra), ev(&self.g, &rb));
+        // global axis at t = 0, then seen from body b
+        let ag: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())
+            .collect();
+        let ab: [f64; 3] = std::array::from_fn(|k| (0..3).map(|i| rb0[i][k] * ag[i]).sum::<f64>());
+        let (c1, c2) = perpendicular_pair(ab);
+        let ue: Vec<Expr> = u.iter().map(|&c| self.g.constant(c)).collect();
+        let a: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ue)).collect();
+        let mut out = Vec::with_capacity(2);
+        for (dir, c) in [("axis1", c1), ("axis2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let bc: Vec<Expr> = (0..3).map(|i| self.g.dot(&rb[i], &ce)).collect();
+            out.push((dir, self.g.dot(&a, &bc)));
+        }
+        Ok(out)
+    }
+
+    /// Rows of a spatial prismatic joint: with `d = P_b − P_a` and `c_1, c_2` an orthonormal pair
+    /// perpendicular to `axis` in body a's frame, `(R_a c_1)·d = 0` and `(R_a c_2)·d = 0` (body b's
+    /// point stays on the line through `P_a` along `R_a axis`), plus the three rows of a weld
+    /// fixing the relative rotation (left out when body b is a point mass, which has none).
+    fn spatial_prismatic_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        pa: &PointKinematics,
+        pb: &PointKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
+            return Err(MechError::at(
+                &format!("{path}.axis"),
+                "needs a non-zero 3D direction",
+            ));
+        }
+        if matches!(ka, BodyKinematics::Particle { .. }) {
+            return Err(MechError::at(
+                &format!("{path}.bodies[0]"),
+                "the first body of a prismatic joint carries the axis and needs a rotation; a point mass (inertia [0, 0, 0]) has none (list it second)",
+            ));
+        }
+        let (c1, c2) = perpendicular_pair([axis[0], axis[1], axis[2]]);
+        let ra = ka.rotation3(&mut self.g);
+        let d: Vec<Expr> = (0..3)
+            .map(|k| self.g.sub(pb.position[k], pa.position[k]))
+            .collect();
+        let mut out = Vec::with_capacity(5);
+        for (dir, c) in [("normal1", c1), ("normal2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let n: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ce)).collect();
+            out.push((dir, self.g.dot(&n, &d)));
+        }
+        if !matches!(kb, BodyKinematics::Particle { .. }) {
+            out.extend(self.relative_rotation_rows(ka, kb));
+        }
+        Ok(out)
     }
 
     /// Orientation rows of a spatial weld: the skew part of `C = R0ᵀ R_aᵀ R_b`.
@@ -989,6 +1255,30 @@ fn coord(body: &str, what: &str, initial: f64) -> Coordinate {
         name: format!("{body}.{what}"),
         initial,
     }
+}
+
+/// An orthonormal pair `(c_1, c_2)` perpendicular to the non-zero vector `a`.
+fn perpendicular_pair(a: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let a = [a[0] / n, a[1] / n, a[2] / n];
+    // start from the global axis least aligned with a
+    let k = (0..3)
+        .min_by(|&i, &j| a[i].abs().total_cmp(&a[j].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let d = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
+    let mut c1 = [e[0] - d * a[0], e[1] - d * a[1], e[2] - d * a[2]];
+    let n1 = (c1[0] * c1[0] + c1[1] * c1[1] + c1[2] * c1[2]).sqrt();
+    for x in &mut c1 {
+        *x /= n1;
+    }
+    let c2 = [
+        a[1] * c1[2] - a[2] * c1[1],
+        a[2] * c1[0] - a[0] * c1[2],
+        a[0] * c1[1] - a[1] * c1[0],
+    ];
+    (c1, c2)
 }
 
 fn planar_inertia(i: &Inertia) -> f64 {

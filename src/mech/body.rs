@@ -49,6 +49,14 @@ pub enum BodyKinematics {
         /// slot of ω
         omega: u32,
     },
+    /// Spatial point mass (principal moments [0, 0, 0], every used point at its centre):
+    /// translation only, `r' = V`, `m V' = F`; no attitude, no rotational states.
+    Particle {
+        /// slots of x, y, z
+        r: [u32; 3],
+        /// slots of global velocity
+        v: [u32; 3],
+    },
     /// Spatial rigid body.
     Spatial {
         /// slots of x, y, z
@@ -90,7 +98,7 @@ impl BodyKinematics {
                 AngleSlot::Fixed(a) => g.constant(*a),
             },
             BodyKinematics::PlanarBodyFixed { angle, .. } => g.var(*angle),
-            BodyKinematics::Spatial { .. } => g.zero(),
+            BodyKinematics::Spatial { .. } | BodyKinematics::Particle { .. } => g.zero(),
         }
     }
 
@@ -184,6 +192,18 @@ impl BodyKinematics {
                     velocity: vec![pvx, pvy],
                 }
             }
+            BodyKinematics::Particle { r, v } => {
+                // every point of a particle is at its centre (checked when assembling)
+                let position = (0..3)
+                    .map(|i| {
+                        let ri = g.var(r[i]);
+                        let si = g.constant(s[i]);
+                        g.add(ri, si)
+                    })
+                    .collect();
+                let velocity = v.iter().map(|&k| g.var(k)).collect();
+                PointKinematics { position, velocity }
+            }
             BodyKinematics::Spatial { r, v, w, .. } => {
                 let rot = self.rotation3(g);
                 let sc: Vec<Expr> = s.iter().map(|&c| g.constant(c)).collect();
@@ -249,7 +269,9 @@ impl BodyKinematics {
                 let (a, b) = self.centre_velocity_body_fixed(g, *u, *w);
                 vec![a, b]
             }
-            BodyKinematics::Spatial { v, .. } => v.iter().map(|&k| g.var(k)).collect(),
+            BodyKinematics::Spatial { v, .. } | BodyKinematics::Particle { v, .. } => {
+                v.iter().map(|&k| g.var(k)).collect()
+            }
         }
     }
 
@@ -259,7 +281,9 @@ impl BodyKinematics {
             BodyKinematics::Ground => vec![],
             BodyKinematics::PlanarInertial { x, y, .. }
             | BodyKinematics::PlanarBodyFixed { x, y, .. } => vec![g.var(*x), g.var(*y)],
-            BodyKinematics::Spatial { r, .. } => r.iter().map(|&k| g.var(k)).collect(),
+            BodyKinematics::Spatial { r, .. } | BodyKinematics::Particle { r, .. } => {
+                r.iter().map(|&k| g.var(k)).collect()
+            }
         }
     }
 }

@@ -193,6 +193,12 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
                 };
                 prismatic(&mut g, &j.name, (p1, w1), other, ax);
             }
+            (JointKind::Hinge { .. }, _) => {
+                return Err(MechError::at(
+                    &format!("{path}.axis"),
+                    "a revolute joint with an axis (hinge) exists only in 3D scenes",
+                ))
+            }
             (JointKind::Spherical, _) => {
                 return Err(MechError::at(
                     &format!("{path}.type"),

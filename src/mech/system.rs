@@ -47,6 +47,21 @@ pub struct OutputColumn {
     pub unwrap: bool,
 }
 
+/// How far the user's initial configuration is from satisfying one joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointViolation {
+    /// Name of the joint (as in the scene).
+    pub joint: String,
+    /// Index of the joint in the scene's `joints` array.
+    pub index: usize,
+    /// The joint's rows `g_i(q₀)` at the initial coordinates, with their directions
+    /// (`x`, `y`, `z` in metres: the gap between the two joint points; `normal*` in metres;
+    /// `angle` in radians; `axis*`, `r*` dimensionless, about the misalignment angle).
+    pub rows: Vec<(String, f64)>,
+    /// Euclidean norm of `rows` (for a pin: the distance between the two joint points).
+    pub norm: f64,
+}
+
 /// The symbolic multibody system: see the module documentation for the equations.
 #[derive(Clone, Debug)]
 pub struct MultibodySystem {
@@ -144,6 +159,31 @@ impl MultibodySystem {
             rows.push(row);
         }
         rows
+    }
+
+    /// The constraint violation of every joint at the user's initial coordinates `q₀` (before
+    /// the projection onto `g(q) = 0` that the solvers do), in the order of the scene's joints;
+    /// `joints` are the scene's joint names (to number them). Joints without rows are absent.
+    pub fn initial_violation(&self, joints: &[String]) -> Vec<JointViolation> {
+        let mut x = vec![0.0];
+        x.extend(self.initial_state());
+        let mut out: Vec<JointViolation> = Vec::new();
+        for (row, &g) in self.rows.iter().zip(&self.constraints) {
+            let val = self.graph.eval(g, &x);
+            match out.last_mut() {
+                Some(v) if v.joint == row.joint => v.rows.push((row.direction.clone(), val)),
+                _ => out.push(JointViolation {
+                    joint: row.joint.clone(),
+                    index: joints.iter().position(|j| *j == row.joint).unwrap_or(0),
+                    rows: vec![(row.direction.clone(), val)],
+                    norm: 0.0,
+                }),
+            }
+        }
+        for v in &mut out {
+            v.norm = v.rows.iter().map(|(_, r)| r * r).sum::<f64>().sqrt();
+        }
+        out
     }
 
     /// Index of the output column called `name`.

@@ -148,11 +148,21 @@ pub enum PointRef {
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
 pub enum JointKind {
-    /// `"revolute"`: planar pin (the two points coincide).
+    /// `"revolute"` without `axis`: planar pin (the two points coincide).
     Revolute,
-    /// `"prismatic"`: slider along `axis` (frame of the first body); relative angle fixed.
+    /// `"prismatic"`: slider along `axis` (frame of the first body); relative rotation fixed
+    /// (planar: one normal row and the relative angle; spatial: two normal rows and three
+    /// rotation rows, the latter left out when the second body is a point mass).
     Prismatic {
         /// Sliding direction in the frame of the first body (non-zero; not normalised).
+        axis: Vec<f64>,
+    },
+    /// `"revolute"` with an `axis` in a spatial scene: a hinge. Five rows: the two points
+    /// coincide (3) and the hinge axis `a = R_1 axis` stays perpendicular to two body-2 vectors
+    /// `R_2 c_1`, `R_2 c_2` (2), where `c_1, c_2` span the plane perpendicular to the axis as seen
+    /// in body 2 at the initial configuration (`R_2(0)ᵀ R_1(0) axis`).
+    Hinge {
+        /// Hinge axis in the frame of the first body (global for ground; non-zero).
         axis: Vec<f64>,
     },
     /// `"spherical"`: 3D ball joint.
@@ -166,7 +176,7 @@ pub enum JointKind {
 pub struct Joint {
     /// Unique name (default `"joint<i>"`).
     pub name: String,
-    /// Revolute, prismatic, spherical or weld.
+    /// Revolute (planar pin or spatial hinge), prismatic, spherical or weld.
     pub kind: JointKind,
     /// The two bodies, by name.
     pub bodies: [String; 2],

@@ -456,12 +456,19 @@ fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
                 None
             }
         },
+        Some("revolute") => match axis {
+            Some(axis) => Some(JointKind::Hinge { axis }),
+            None if f.get("axis").is_some() => None,
+            None => Some(JointKind::Revolute),
+        },
         Some(k) => {
             if f.get("axis").is_some() {
-                p.push(f.path("axis"), "only a prismatic joint has an axis");
+                p.push(
+                    f.path("axis"),
+                    "only a prismatic joint or a spatial revolute (hinge) has an axis",
+                );
             }
             match k {
-                "revolute" => Some(JointKind::Revolute),
                 "spherical" => Some(JointKind::Spherical),
                 "weld" => Some(JointKind::Weld),
                 other => {

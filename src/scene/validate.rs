@@ -5,8 +5,8 @@
 //! 3), finite numbers everywhere, mass > 0, inertia >= 0 (0 is a point mass),
 //! unique non-empty body and joint names without `.`, no body called
 //! `ground`, joints/springs/loads naming known bodies and points, no joint
-//! between a body and itself, prismatic axis non-zero, no spherical joint in a
-//! plane and no planar pin in space, t_end > 0, output_step in (0, t_end],
+//! between a body and itself, prismatic and hinge axes non-zero, no spherical joint in a
+//! plane, a spatial revolute (hinge) with an axis and a planar one without, t_end > 0, output_step in (0, t_end],
 //! output_times strictly increasing in [0, t_end], positive rtol, atol and
 //! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
 //! naming known bodies/points, and bodies or a bond graph present.
@@ -282,10 +282,14 @@ fn joint(p: &mut Problems, scene: &Scene, path: &str, j: &Joint) {
             "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane",
         ),
         (JointKind::Revolute, Dimension::Spatial) => p.push(
-            tp,
-            "revolute is a planar pin; a spatial scene supports spherical, prismatic and weld",
+            field(path, "axis"),
+            "a revolute joint in a spatial scene is a hinge and needs an axis (the hinge axis in the frame of the first body, global for ground; body 2 keeps the relative orientation of the initial configuration about it); use spherical for a ball joint",
         ),
-        (JointKind::Prismatic { axis }, dim) => {
+        (JointKind::Hinge { .. }, Dimension::Planar) => p.push(
+            field(path, "axis"),
+            "only a prismatic joint has an axis in a planar scene (a planar revolute pins about z)",
+        ),
+        (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
             let ap = field(path, "axis");
             vec_len(p, &ap, axis, dim.coords());
             let norm2: f64 = axis.iter().map(|x| x * x).sum();
@@ -451,6 +455,32 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                 return;
             };
             let body = &scene.bodies[bi];
+            // `b.P.x`, `b.P.vx`, … : one coordinate or velocity component of a named point
+            if let Some((pt, comp)) = rest.split_once('.') {
+                let comps: &[&str] = match scene.dimension {
+                    Dimension::Planar => &["x", "y", "vx", "vy"],
+                    Dimension::Spatial => &["x", "y", "z", "vx", "vy", "vz"],
+                };
+                if body.point(pt).is_none() {
+                    let names: Vec<&str> = body.point_names().collect();
+                    p.push(
+                        path,
+                        format!(
+                            "body '{b}' has no point '{pt}' (it has: {})",
+                            names.join(", ")
+                        ),
+                    );
+                } else if !comps.contains(&comp) {
+                    p.push(
+                        path,
+                        format!(
+                            "unknown point component '{comp}' (expected one of: {})",
+                            comps.join(", ")
+                        ),
+                    );
+                }
+                return;
+            }
             if body.point(rest).is_none() && !BODY_COLUMNS.contains(&rest) {
                 let names: Vec<&str> = body.point_names().collect();
                 p.push(

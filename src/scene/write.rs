@@ -77,7 +77,7 @@ fn body(b: &Body, dim: Dimension) -> Json {
 fn joint(j: &Joint) -> Json {
     let mut e = vec![("name", text(&j.name))];
     let kind = match &j.kind {
-        JointKind::Revolute => "revolute",
+        JointKind::Revolute | JointKind::Hinge { .. } => "revolute",
         JointKind::Prismatic { .. } => "prismatic",
         JointKind::Spherical => "spherical",
         JointKind::Weld => "weld",
@@ -91,7 +91,7 @@ fn joint(j: &Joint) -> Json {
         "points",
         Json::Array(j.points.iter().map(point_ref).collect()),
     ));
-    if let JointKind::Prismatic { axis } = &j.kind {
+    if let JointKind::Prismatic { axis } | JointKind::Hinge { axis } = &j.kind {
         e.push(("axis", nums(axis)));
     }
     obj(e)

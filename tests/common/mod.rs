@@ -16,6 +16,7 @@
 
 pub mod double_pendulum;
 pub mod elliptic;
+pub mod examples;
 pub mod four_bar_chain;
 pub mod integrate;
 pub mod n_link;
