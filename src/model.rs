@@ -54,7 +54,9 @@ enum Kind {
 /// let scene = bondmech::Scene::from_path("scenes/bg_mass_spring_damper.json")?;
 /// let model = bondmech::Model::new(&scene)?;
 /// assert!(model.is_raw_bond_graph());
-/// assert_eq!(model.causality()?.dof, 2); // p_m and q_k
+/// let causality = model.causality()?;
+/// assert_eq!(causality.dof, 1); // one integral-causality inertia, p_m (seed 16.5)
+/// assert_eq!(causality.state_count, 2); // p_m and q_k
 /// let solution = model.solve(&model.default_options())?;
 /// assert!(solution.column("q_k").is_some());
 /// # Ok(()) }

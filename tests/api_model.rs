@@ -260,7 +260,10 @@ fn raw_bond_graph_causality_has_two_integral_storages_and_no_twin() {
     let model =
         Model::new(&Scene::from_path(scene_path("bg_mass_spring_damper.json")).unwrap()).unwrap();
     let r = model.causality().unwrap();
-    assert_eq!(r.dof, 2); // p_m and q_k
+    // seed 16.5: degrees of freedom are the integral-causality inertias (p_m); the spring's
+    // displacement q_k is a state but not a degree of freedom
+    assert_eq!(r.dof, 1);
+    assert_eq!(r.state_count, 2); // p_m and q_k
     assert!(r.differential.is_empty());
     let err = model.compare(&model.default_options()).unwrap_err();
     assert!(err.to_string().contains("raw bond graph"), "{err}");
