@@ -178,6 +178,51 @@ impl Builder<'_> {
         self.g.element(e).name.clone()
     }
 
+    /// The constitutive law of a nonlinear R: `e = Φ(f)` (`effort` true, `own` = the flow into
+    /// the resistor) or `f = Φ⁻¹(e)` (`own` = its effort).
+    fn law(&mut self, x: ElementId, effort: bool, own: Expr) -> Res<Expr> {
+        let el = self.g.element(x);
+        let law = el.law.as_ref().expect("called for R elements with a law");
+        let (src, var, field, causality) = if effort {
+            (
+                &law.effort,
+                "f",
+                "effort_law",
+                "resistance causality (its flow is imposed)",
+            )
+        } else {
+            (
+                &law.flow,
+                "e",
+                "flow_law",
+                "conductance causality (its effort is imposed)",
+            )
+        };
+        let Some(src) = src else {
+            return Err(EquationError::MissingParameter {
+                element: el.name.clone(),
+                what: format!(
+                    "`{field}` (the resistor has {causality} in this graph, and only the other \
+                     form of its law is given)"
+                ),
+            });
+        };
+        let names = &self.names;
+        self.eg
+            .parse(src, &mut |n| {
+                if n == var {
+                    Some(own)
+                } else {
+                    names.get(n).copied()
+                }
+            })
+            .map_err(|source| EquationError::Expression {
+                element: el.name.clone(),
+                expr: src.clone(),
+                source,
+            })
+    }
+
     fn param(&mut self, e: ElementId, what: &str) -> Res<Expr> {
         if let Some(&p) = self.params.get(&e) {
             return Ok(p);
@@ -334,8 +379,13 @@ impl Builder<'_> {
                 self.eg.div(q, cc)
             }
             ElementKind::R => {
-                let r = self.param(x, "resistance")?;
                 let f = self.flow(b)?;
+                if self.g.element(x).law.is_some() {
+                    // e = Φ(f_in), f_in = s·f the flow into the resistor
+                    let f_in = self.eg.scale(s, f);
+                    return self.law(x, true, f_in);
+                }
+                let r = self.param(x, "resistance")?;
                 let rf = self.eg.mul(r, f);
                 self.eg.scale(s, rf)
             }
@@ -387,8 +437,13 @@ impl Builder<'_> {
                 self.eg.scale(s, mu)
             }
             ElementKind::R => {
-                let r = self.param(x, "resistance")?;
                 let e = self.effort(b)?;
+                if self.g.element(x).law.is_some() {
+                    // f = s·Φ⁻¹(e): the law gives the flow into the resistor
+                    let f_in = self.law(x, false, e)?;
+                    return Ok(self.eg.scale(s, f_in));
+                }
+                let r = self.param(x, "resistance")?;
                 let er = self.eg.div(e, r);
                 self.eg.scale(s, er)
             }

@@ -13,8 +13,12 @@
 //! compliance), two-ports take `modulus`, junctions nothing. Bond names default to `b<index>`.
 //! Storage elements may give `"initial"`: the initial momentum of an I, the initial
 //! displacement of a C (default 0; a finite number; not allowed on other kinds).
+//! A nonlinear R gives its constitutive law instead of a `value`: `"effort_law"`, `e = Φ(f)`
+//! in the flow `f` into the resistor (used under resistance causality), and/or
+//! `"flow_law"`, `f = Φ⁻¹(e)` in its effort `e` (under conductance causality), e.g.
+//! `{"name": "drag", "kind": "R", "effort_law": "0.3*f*abs(f)"}`.
 
-use super::model::{BondGraph, ElementId, ElementKind, Parameter};
+use super::model::{BondGraph, ElementId, ElementKind, Parameter, ResistorLaw};
 use super::validate::{
     bond_path, check_parameter, collect_errors, element_path, known_variables, BondError,
     ValidationErrors,
@@ -73,6 +77,12 @@ pub struct RawElement {
     /// Initial state of a storage element: momentum of I, displacement of C (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<f64>,
+    /// Nonlinear R: `e = Φ(f)`, an expression in the flow `f` into the resistor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effort_law: Option<String>,
+    /// Nonlinear R: `f = Φ⁻¹(e)`, an expression in the effort `e` on the resistor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flow_law: Option<String>,
 }
 
 /// A bond as written in JSON.
@@ -179,9 +189,41 @@ impl RawBondGraph {
                 by_name.entry(raw.name.as_str()).or_insert(id);
                 continue;
             };
-            let parameter =
-                element_parameter(raw, kind, &path, &mut errors, &mut stiffness_checks, i);
+            let has_law = raw.effort_law.is_some() || raw.flow_law.is_some();
+            let parameter = if has_law && kind == ElementKind::R && raw.value.is_none() {
+                None
+            } else {
+                element_parameter(raw, kind, &path, &mut errors, &mut stiffness_checks, i)
+            };
             let id = graph.add_element(raw.name.clone(), kind, parameter);
+            if has_law {
+                let field = if raw.effort_law.is_some() {
+                    "effort_law"
+                } else {
+                    "flow_law"
+                };
+                if kind != ElementKind::R {
+                    errors.push(BondError::BadParameter {
+                        path: format!("{path}.{field}"),
+                        element: raw.name.clone(),
+                        reason: format!(
+                            "a constitutive law applies to R elements only, not to {}",
+                            kind.as_str()
+                        ),
+                    });
+                } else if raw.value.is_some() {
+                    errors.push(BondError::BadParameter {
+                        path: format!("{path}.{field}"),
+                        element: raw.name.clone(),
+                        reason: "give either `value` (linear, e = R·f) or a law, not both".into(),
+                    });
+                } else {
+                    graph.elements[id.0].law = Some(ResistorLaw {
+                        effort: raw.effort_law.clone(),
+                        flow: raw.flow_law.clone(),
+                    });
+                }
+            }
             if let Some(l) = &raw.label {
                 graph.set_label(id, l.clone());
             }
@@ -368,6 +410,8 @@ impl BondGraph {
                     compliance: None,
                     label: e.label.clone(),
                     initial: e.initial,
+                    effort_law: e.law.as_ref().and_then(|l| l.effort.clone()),
+                    flow_law: e.law.as_ref().and_then(|l| l.flow.clone()),
                 };
                 match e.kind {
                     ElementKind::C => raw.compliance = p,

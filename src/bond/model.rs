@@ -154,6 +154,30 @@ pub struct Element {
     /// `None` means 0. Ignored for storages in differential causality (their state follows
     /// from the constraint).
     pub initial: Option<f64>,
+    /// Nonlinear constitutive law of an R element (instead of a resistance `parameter`).
+    pub law: Option<ResistorLaw>,
+}
+
+/// The constitutive law of a nonlinear resistor, `e = Φ(f)` and/or `f = Φ⁻¹(e)`, with `e` and
+/// `f` counted *into* the resistor (so the power it dissipates is `e·f`).
+///
+/// Which form the equations use depends on the causality SCAP gives the resistor: resistance
+/// causality (its flow is imposed) needs `effort`, conductance causality (its effort is
+/// imposed) needs `flow`. Both may be given. The expressions may also use time `t`, states
+/// (`p_<I>`, `q_<C>`, `x_<I>`, `x_<1-junction>`) and signals, like any modulus.
+///
+/// ```
+/// use bondmech::bond::model::ResistorLaw;
+/// // quadratic drag, e = c·f·|f| with c = 0.3
+/// let drag = ResistorLaw { effort: Some("0.3*f*abs(f)".into()), flow: None };
+/// assert!(drag.flow.is_none());
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResistorLaw {
+    /// `e = Φ(f, states, t)`: names the flow into the resistor `f`.
+    pub effort: Option<String>,
+    /// `f = Φ⁻¹(e, states, t)`: names the effort on the resistor `e`.
+    pub flow: Option<String>,
 }
 
 /// A bond: half arrow from `from` to `to` (positive power direction).
@@ -198,6 +222,7 @@ impl BondGraph {
             parameter,
             label: None,
             initial: None,
+            law: None,
         });
         ElementId(self.elements.len() - 1)
     }

@@ -248,6 +248,26 @@ pub(crate) fn collect_errors(
     check_ports(graph, skip_counts, &mut errors);
     let known = known_variables(graph);
     for (i, e) in graph.elements.iter().enumerate() {
+        if let Some(law) = &e.law {
+            for (field, own, expr) in [
+                ("effort_law", "f", &law.effort),
+                ("flow_law", "e", &law.flow),
+            ] {
+                let Some(expr) = expr else { continue };
+                let mut with_own = known.clone();
+                with_own.insert(own.into());
+                check_parameter(
+                    &e.name,
+                    e.kind,
+                    Some(&Parameter::Expr(expr.clone())),
+                    &format!("{}.{field}", element_path(i)),
+                    &element_path(i),
+                    &with_own,
+                    &mut errors,
+                );
+            }
+            continue;
+        }
         let path = format!("{}.{}", element_path(i), parameter_field(e.kind));
         check_parameter(
             &e.name,
