@@ -90,12 +90,7 @@ fn discharge(cap: f64, q0: f64, law: (&str, String)) -> Value {
 #[test]
 fn capacitor_through_cubic_conductance_follows_the_closed_form() {
     let (cap, gain, q0) = (0.5, 0.2, 0.8);
-    let g = graph(discharge(
-        cap,
-        gain,
-        q0,
-        ("flow_law", format!("{gain}*e^3")),
-    ));
+    let g = graph(discharge(cap, q0, ("flow_law", format!("{gain}*e^3"))));
     let e = BondEquations::new(&g, &assign_causality(&g).unwrap()).unwrap();
     for q in [-1.0f64, 0.1, 0.8] {
         let want = -gain * (q / cap).powi(3);
