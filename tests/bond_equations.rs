@@ -3,39 +3,14 @@
 //! a lever (TF), an algebraic loop of two resistors, two masses rigidly coupled (one
 //! differential inertia); and every generated Jacobian against finite differences.
 
+mod support;
+
 use bondmech::bond::equations::{BondEquations, EquationError, VariableKind};
 use bondmech::bond::{assign_causality, BondGraph, RawBondGraph};
 use bondmech::dae::ImplicitDae;
 use proptest::prelude::*;
 use serde_json::{json, Value};
-
-fn graph(v: Value) -> BondGraph {
-    let raw: RawBondGraph = serde_json::from_value(v).unwrap();
-    raw.to_graph().unwrap()
-}
-
-fn eqs(g: &BondGraph) -> BondEquations {
-    BondEquations::new(g, &assign_causality(g).unwrap()).unwrap()
-}
-
-/// Right-hand sides at `(t, y)` by the reference interpreter.
-fn rhs_at(e: &BondEquations, t: f64, y: &[f64]) -> Vec<f64> {
-    let mut vars = vec![t];
-    vars.extend_from_slice(y);
-    e.rhs.iter().map(|&r| e.graph.eval(r, &vars)).collect()
-}
-
-/// Deterministic pseudo-random numbers in `[lo, hi)`.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
+use support::bond::{eqs, graph, rhs_at, Lcg};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + b.abs())

@@ -6,37 +6,10 @@
 //! - an MGY whose modulus depends on a momentum (separately excited DC motor, flux ∝ field current);
 //! - flow sources as functions of time (expression and table) and a state-modulated effort source.
 
-use bondmech::bond::equations::BondEquations;
-use bondmech::bond::{assign_causality, BondGraph, RawBondGraph};
+mod support;
+
 use serde_json::{json, Value};
-
-fn graph(v: Value) -> BondGraph {
-    let raw: RawBondGraph = serde_json::from_value(v).unwrap();
-    raw.to_graph().unwrap()
-}
-
-fn eqs(g: &BondGraph) -> BondEquations {
-    BondEquations::new(g, &assign_causality(g).unwrap()).unwrap()
-}
-
-/// Right-hand sides at `(t, y)` by the reference interpreter.
-fn rhs_at(e: &BondEquations, t: f64, y: &[f64]) -> Vec<f64> {
-    let mut vars = vec![t];
-    vars.extend_from_slice(y);
-    e.rhs.iter().map(|&r| e.graph.eval(r, &vars)).collect()
-}
-
-/// Deterministic pseudo-random numbers in `[lo, hi)`.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
+use support::bond::{eqs, graph, rhs_at, Lcg};
 
 fn assert_close(got: &[f64], want: &[f64], tol: f64) {
     assert_eq!(got.len(), want.len());

@@ -1,29 +1,9 @@
 //! The command-line contract of docs/scene-format.md: columns, summary keys, exit codes and
 //! one-line error messages naming the JSON path or the solver failure and its time.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod support;
 
-fn bondmech(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bondmech"))
-        .args(args)
-        .output()
-        .expect("bondmech runs")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bondmech-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn scene(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name)
-        .display()
-        .to_string()
-}
+use support::cli::{bondmech, scene, tmp};
 
 #[test]
 fn run_writes_standard_columns_and_summary_keys() {

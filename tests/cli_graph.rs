@@ -2,31 +2,12 @@
 //! (16.7: the double pendulum has 2 integral and 4 differential inertias; its decoupled twin of
 //! Fig. 21 has 6 integral inertias, "seis grados de libertad") and SVG output through Graphviz.
 
-use std::path::{Path, PathBuf};
+mod support;
+
 use std::process::{Command, Output};
+use support::cli::{bondmech, scene, tmp};
 
 use serde_json::Value;
-
-fn bondmech(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bondmech"))
-        .args(args)
-        .output()
-        .expect("bondmech runs")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bondmech-cli-graph-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn scene(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 fn stdout_ok(out: &Output) -> String {
     assert!(
