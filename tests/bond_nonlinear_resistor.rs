@@ -6,24 +6,17 @@
 //!   `q' = −g (q/C)³`, so `q(t) = q₀ / √(1 + 2 g q₀² t / C³)`;
 //! - errors that name the element, the JSON path and the missing form of the law.
 
+mod support;
+
 use bondmech::bond::equations::BondEquations;
-use bondmech::bond::{assign_causality, BondGraph, RawBondGraph};
+use bondmech::bond::{assign_causality, RawBondGraph};
 use bondmech::solve::bond_run::solve_bond_graph;
 use bondmech::SolveOptions;
 use serde_json::{json, Value};
+use support::bond::{graph, rhs_at};
 
 fn raw(v: Value) -> RawBondGraph {
     serde_json::from_value(v).unwrap()
-}
-
-fn graph(v: Value) -> BondGraph {
-    raw(v).to_graph().unwrap()
-}
-
-fn rhs_at(e: &BondEquations, t: f64, y: &[f64]) -> Vec<f64> {
-    let mut vars = vec![t];
-    vars.extend_from_slice(y);
-    e.rhs.iter().map(|&r| e.graph.eval(r, &vars)).collect()
 }
 
 fn drag(m: f64, f: f64, c: f64, reversed: bool) -> Value {
