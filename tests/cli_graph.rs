@@ -189,3 +189,42 @@ fn graph_of_a_missing_scene_fails_with_a_message() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no/such/scene.json"), "{err}");
 }
+
+#[test]
+fn graph_of_the_hinged_double_pendulum_3d_prints_dot_with_twelve_inertias() {
+    let dot = stdout_ok(&bondmech(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+    ]));
+    assert!(dot.starts_with("digraph"), "{dot}");
+    // two rigid bodies of seed 16.1: six inertias each
+    let inertias = dot.lines().filter(|l| l.contains("label=\"I:")).count();
+    assert_eq!(inertias, 12, "{dot}");
+    // 12 velocities − 2 DOF = 10 independent hinge rows (5 per hinge), drawn in red
+    let red = dot
+        .lines()
+        .filter(|l| l.contains("label=\"I:") && l.contains("color=red"))
+        .count();
+    assert_eq!(red, 10, "{dot}");
+}
+
+#[test]
+fn causality_json_of_the_hinged_double_pendulum_3d_has_two_integral_ten_differential() {
+    let r = causality(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+        "--causality",
+    ]);
+    // two hinges of 5 rows each on 2 × 6 velocities: 2 DOF
+    assert_eq!(r["dof"], 2);
+    assert_eq!(r["differential"].as_array().unwrap().len(), 10);
+    assert_eq!(r["conflicts"], serde_json::json!([]));
+    let d = causality(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+        "--causality",
+        "--decoupled",
+    ]);
+    assert_eq!(d["dof"], 12);
+    assert_eq!(d["differential"], serde_json::json!([]));
+}
