@@ -228,3 +228,44 @@ fn causality_json_of_the_hinged_double_pendulum_3d_has_two_integral_ten_differen
     assert_eq!(d["dof"], 12);
     assert_eq!(d["differential"], serde_json::json!([]));
 }
+
+#[test]
+fn causality_report_into_an_svg_file_is_refused_and_nothing_is_written() {
+    for name in ["report.svg", "report.dot"] {
+        let out_path = tmp(name);
+        let _ = std::fs::remove_file(&out_path);
+        let out = bondmech(&[
+            "graph",
+            &scene("double_pendulum.json"),
+            "--causality",
+            "--out",
+            out_path.to_str().unwrap(),
+        ]);
+        assert!(!out.status.success(), "{name} accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--causality") && err.contains(".json"),
+            "{err}"
+        );
+        assert!(!out_path.exists(), "{name} was written");
+    }
+}
+
+#[test]
+fn causality_report_into_a_json_file_is_the_printed_report() {
+    let out_path = tmp("report.json");
+    let args = ["graph", &scene("double_pendulum.json"), "--causality"];
+    let printed = causality(&args);
+    let out = bondmech(&[
+        args[0],
+        args[1],
+        args[2],
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    stdout_ok(&out);
+    let written: Value =
+        serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
+    assert_eq!(written, printed);
+    assert_eq!(written["dof"], 2);
+}
