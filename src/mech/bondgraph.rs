@@ -3,7 +3,10 @@
 //! The drawing and the causality report of a mechanism: planar bodies in the frame the scene
 //! asks for (16.3 or 16.8), joints as the 1-junctions that equate point velocities (16.5) or as
 //! zero flow sources to ground (16.7), the piston's slider (Fig. 29), springs and dampers along
-//! the global axes, loads as effort sources. The *decoupled* variant replaces every joint by the
+//! the global axes, loads as effort sources. Joints, springs and forces meet body-fixed bars
+//! (16.3) through the frame change of 16.4 (an MTF pair modulated by the relative angle
+//! between two body-fixed bars, or by −α towards the global frame), so their 1-junctions
+//! always equate components along the same axes. The *decoupled* variant replaces every joint by the
 //! springs of 16.6 (Fig. 17–18, 21), so every inertia gets integral causality.
 //!
 //! Spatial scenes use the rigid body of 16.1 with the Cardan frame change of 16.2 carried as
@@ -17,10 +20,10 @@
 use std::collections::HashMap;
 
 use crate::bond::fragments::{
-    coupling, decoupled_revolute, equate_flows, force, linear_expression, pin_to_ground,
-    planar_body_fixed_frame, planar_body_translating, point_mass_3d, prismatic, projection,
-    revolute, rigid_body_3d, spatial_point, spring_damper, torque, weld, zero_flow, Axis,
-    PlanarBody, PlanarBodySpec, Point3, PointJunctions, RigidBody3Spec,
+    change_frame, coupling, decoupled_revolute, equate_flows, force, linear_expression,
+    pin_to_ground, planar_body_fixed_frame, planar_body_translating, point_mass_3d, prismatic,
+    projection, revolute, rigid_body_3d, spatial_point, spring_damper, torque, weld, zero_flow,
+    Axis, PlanarBody, PlanarBodySpec, Point3, PointJunctions, RigidBody3Spec,
 };
 use crate::bond::model::{BondGraph, ElementId, Parameter};
 use crate::scene::{
@@ -138,6 +141,22 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         let path = format!("joints[{ji}]");
         let pa = point(&j.bodies[0], &joint_points[ji][0], &path)?;
         let pb = point(&j.bodies[1], &joint_points[ji][1], &path)?;
+        // a pin or weld to ground is Sf = 0 in any frame; otherwise both points in one frame
+        let to_ground_pin = matches!(variant, Variant::Pinned)
+            && matches!(j.kind, JointKind::Revolute | JointKind::Weld);
+        let (pa, pb) = if to_ground_pin && (pa.is_none() || pb.is_none()) {
+            (pa, pb)
+        } else {
+            let global = matches!(j.kind, JointKind::Prismatic { .. });
+            common_frame(
+                &mut g,
+                scene,
+                &j.name,
+                [&j.bodies[0], &j.bodies[1]],
+                [pa, pb],
+                global,
+            )
+        };
         // ground first, or second
         let (p1, p2, b1, b2) = match (&pa, &pb) {
             (None, Some(p)) => (p, None, &j.bodies[1], None),
@@ -170,14 +189,9 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
                         weld(&mut g, &j.name, (p1, w1), (p2, w2));
                     }
                     _ => {
+                        // fixed to ground: Sf = 0 on both components and on ω
                         pin_to_ground(&mut g, &j.name, p1);
-                        prismatic(
-                            &mut g,
-                            &format!("{}.rot", j.name),
-                            (p1, Some(w1)),
-                            None,
-                            Axis::X,
-                        );
+                        zero_flow(&mut g, &format!("{}.w", j.name), w1);
                     }
                 }
             }
@@ -217,6 +231,15 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         let path = format!("springs[{si}]");
         let pa = point(&s.bodies[0], &spring_points[si][0], &path)?;
         let pb = point(&s.bodies[1], &spring_points[si][1], &path)?;
+        // springs act along the global axes
+        let (pa, pb) = common_frame(
+            &mut g,
+            scene,
+            &s.name,
+            [&s.bodies[0], &s.bodies[1]],
+            [pa, pb],
+            true,
+        );
         let (p1, p2) = match (&pa, &pb) {
             (Some(a), b) => (a, b.as_ref()),
             (None, Some(b)) => (b, None),
@@ -248,6 +271,16 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
                 let Some(p) = point(&l.body, &name, &path)? else {
                     continue;
                 };
+                // forces are given in the global frame
+                let p = match body_fixed_angle(scene, &l.body) {
+                    Some(a) => change_frame(
+                        &mut g,
+                        &format!("{}.{}.in_global", l.name, p.name),
+                        &p,
+                        &format!("-{a}"),
+                    ),
+                    None => p,
+                };
                 for (ax, prm) in [Axis::X, Axis::Y].into_iter().zip(params) {
                     let n = format!("{}.{}", l.name, if ax == Axis::X { "x" } else { "y" });
                     force(&mut g, &n, &p, ax, prm);
@@ -262,6 +295,55 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         }
     }
     Ok(g)
+}
+
+/// The angle variable `x_<body>.omega` of a planar body written in its body-fixed frame
+/// (seed 16.3), None for a body in the non-rotating frame (16.8) or ground.
+fn body_fixed_angle(scene: &Scene, body: &str) -> Option<String> {
+    scene
+        .bodies
+        .iter()
+        .find(|b| b.name == body && matches!(b.frame, BodyFrame::BodyFixed))
+        .map(|b| format!("x_{}.omega", b.name))
+}
+
+/// Brings the two points of a joint or spring into one frame, so that its 1-junctions equate
+/// components along the same axes (seed 16.4–16.5, Fig. 9–10 and 15): between two
+/// body-fixed bars the point of the first is changed into the frame of the second through
+/// the MTF pair [`change_frame`] modulated by the relative angle `α_b − α_a`
+/// (`<name>.<body a>.<point>.in_<body b>`); otherwise (`global`, or one side non-rotating or
+/// ground) each body-fixed point is changed into the global frame with the angle `−α`
+/// (`<name>.<body>.<point>.in_global`). Points of non-rotating bodies are global already.
+fn common_frame(
+    g: &mut BondGraph,
+    scene: &Scene,
+    name: &str,
+    bodies: [&str; 2],
+    points: [Option<PointJunctions>; 2],
+    global: bool,
+) -> (Option<PointJunctions>, Option<PointJunctions>) {
+    let [fa, fb] = bodies.map(|b| body_fixed_angle(scene, b));
+    let [pa, pb] = points;
+    match (pa, pb, fa, fb) {
+        (Some(pa), Some(pb), Some(aa), Some(ab)) if !global => {
+            let n = format!("{name}.{}.in_{}", pa.name, bodies[1]);
+            let pa = change_frame(g, &n, &pa, &format!("{ab} - {aa}"));
+            (Some(pa), Some(pb))
+        }
+        (pa, pb, fa, fb) => {
+            let mut to_global = |p: Option<PointJunctions>, f: Option<String>| match (p, f) {
+                (Some(p), Some(a)) => Some(change_frame(
+                    g,
+                    &format!("{name}.{}.in_global", p.name),
+                    &p,
+                    &format!("-{a}"),
+                )),
+                (p, _) => p,
+            };
+            let pa = to_global(pa, fa);
+            (pa, to_global(pb, fb))
+        }
+    }
 }
 
 fn has_rotation(scene: &Scene, body: &str) -> bool {
