@@ -447,6 +447,43 @@ impl Mechanism {
         self.joint(name, JointKind::Spherical, a.into(), b.into())
     }
 
+    /// A hinge (spatial revolute joint, `"type": "revolute"` with an `"axis"` in a 3D scene):
+    /// the points `a` and `b` coincide (three rows, `P_a = P_b`) and body b turns relative to
+    /// body a about `axis` only (two rows, `(R_a axis) · (R_b c_k) = 0` with `c_1, c_2`
+    /// perpendicular to the axis as body b sees it initially). `axis` is in the frame of `a`'s
+    /// body (global when `a` is the ground).
+    ///
+    /// ```
+    /// use bondmech::{Ground, Mechanism, Model, SpatialBody};
+    /// // A bar of 1 m hinged at one end about the global Y axis: one degree of freedom
+    /// // (6 velocities, 5 independent hinge rows).
+    /// let scene = Mechanism::spatial()
+    ///     .gravity([0.0, 0.0, -9.81])
+    ///     .body(
+    ///         SpatialBody::new("bar", 1.0, [0.02, 1.0 / 12.0, 1.0 / 12.0])
+    ///             .point("O", [-0.5, 0.0, 0.0])
+    ///             .at([0.5, 0.0, 0.0], [0.0, 0.0, 0.0]),
+    ///     )
+    ///     .hinge("pivot", Ground.at([0.0, 0.0, 0.0]), ("bar", "O"), [0.0, 1.0, 0.0])
+    ///     .t_end(1.0)
+    ///     .build()?;
+    /// let dof = Model::new(&scene)?.dof()?;
+    /// assert_eq!((dof.velocities, dof.rank, dof.dof), (6, 5, 1));
+    /// # Ok::<(), bondmech::Error>(())
+    /// ```
+    pub fn hinge(
+        self,
+        name: &str,
+        a: impl Into<Endpoint>,
+        b: impl Into<Endpoint>,
+        axis: [f64; 3],
+    ) -> Self {
+        let kind = JointKind::Hinge {
+            axis: axis.to_vec(),
+        };
+        self.joint(name, kind, a.into(), b.into())
+    }
+
     /// A weld: the two bodies are fixed together at their current relative pose.
     pub fn weld(self, name: &str, a: impl Into<Endpoint>, b: impl Into<Endpoint>) -> Self {
         self.joint(name, JointKind::Weld, a.into(), b.into())

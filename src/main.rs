@@ -64,7 +64,8 @@ enum Command {
         /// Draw the decoupled twin (joints replaced by stiff springs) instead.
         #[arg(long)]
         decoupled: bool,
-        /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`.
+        /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`. With
+        /// `--causality` the file gets the JSON report, so `.svg` and `.dot` are refused.
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -201,6 +202,16 @@ fn run(cli: Cli) -> Result<(), Error> {
             decoupled,
             out,
         } => {
+            // the causality report is JSON: refuse to write it into a drawing's file
+            if let Some(p) = out.as_ref().filter(|_| causality) {
+                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if ext.eq_ignore_ascii_case("svg") || ext.eq_ignore_ascii_case("dot") {
+                    return Err(Error::Options(format!(
+                        "--out {}: --causality writes the causality report as JSON; give --out a .json file (or draw the graph without --causality)",
+                        p.display()
+                    )));
+                }
+            }
             let model = Model::new(&Scene::from_path(&scene)?)?;
             let variant = if decoupled {
                 bondmech::mech::Variant::Decoupled
@@ -214,9 +225,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 g.dot()
             };
             match out {
-                Some(p) if p.extension().is_some_and(|e| e == "svg") && !causality => {
-                    svg(&text, &p)
-                }
+                Some(p) if p.extension().is_some_and(|e| e == "svg") => svg(&text, &p),
                 Some(p) => write(&p, &text),
                 None => {
                     print!("{text}");

@@ -321,3 +321,56 @@ fn mechanism_from_a_loaded_scene_appends_elements() {
     assert_eq!(more.loads.len(), n + 1);
     assert_eq!(more.loads[n].name, "motor");
 }
+
+#[test]
+fn hinged_double_pendulum_3d_built_in_code_equals_the_json_file() {
+    let from_file = Scene::from_path("scenes/hinged_double_pendulum_3d.json").unwrap();
+    // the file writes 1/12 rounded to 16 digits
+    let inertia = [0.02, 0.08333333333333333, 0.08333333333333333];
+    let bar = |name: &str, x: f64| {
+        SpatialBody::new(name, 1.0, inertia)
+            .point("O", [-0.5, 0.0, 0.0])
+            .point("A", [0.5, 0.0, 0.0])
+            .at([x, 0.0, 0.0], [0.0, 0.0, 0.0])
+    };
+    let built = Mechanism::spatial()
+        .name("hinged_double_pendulum_3d")
+        .description(from_file.description.as_deref().unwrap())
+        .gravity([0.0, 0.0, -9.81])
+        .body(bar("bar1", 0.5))
+        .body(bar("bar2", 1.5))
+        .hinge(
+            "pivot",
+            Ground.at([0.0, 0.0, 0.0]),
+            ("bar1", "O"),
+            [0.0, 1.0, 0.0],
+        )
+        .hinge("knee", ("bar1", "A"), ("bar2", "O"), [0.0, 1.0, 0.0])
+        .t_end(5.0)
+        .output_step(0.01)
+        .tolerances(1e-8, 1e-10)
+        .formulation(Formulation::Dae)
+        .output("bar2.A")
+        .output("energy")
+        .output("constraint_error")
+        .build()
+        .unwrap();
+    assert_eq!(built, from_file);
+}
+
+#[test]
+fn hinge_in_a_plane_is_refused_naming_the_joint() {
+    let e = Mechanism::planar()
+        .body(PlanarBody::bar("bar1", 1.0, 1.0))
+        .hinge(
+            "pivot",
+            Ground.at([0.0, 0.0]),
+            ("bar1", "O"),
+            [0.0, 0.0, 1.0],
+        )
+        .t_end(1.0)
+        .build()
+        .unwrap_err();
+    let p = problems(e);
+    assert!(p.iter().any(|l| l.starts_with("joint 'pivot'")), "{p:?}");
+}

@@ -170,3 +170,83 @@ fn graph_of_a_missing_scene_fails_with_a_message() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no/such/scene.json"), "{err}");
 }
+
+#[test]
+fn graph_of_the_hinged_double_pendulum_3d_prints_dot_with_twelve_inertias() {
+    let dot = stdout_ok(&bondmech(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+    ]));
+    assert!(dot.starts_with("digraph"), "{dot}");
+    // two rigid bodies of seed 16.1: six inertias each
+    let inertias = dot.lines().filter(|l| l.contains("label=\"I:")).count();
+    assert_eq!(inertias, 12, "{dot}");
+    // 12 velocities − 2 DOF = 10 independent hinge rows (5 per hinge), drawn in red
+    let red = dot
+        .lines()
+        .filter(|l| l.contains("label=\"I:") && l.contains("color=red"))
+        .count();
+    assert_eq!(red, 10, "{dot}");
+}
+
+#[test]
+fn causality_json_of_the_hinged_double_pendulum_3d_has_two_integral_ten_differential() {
+    let r = causality(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+        "--causality",
+    ]);
+    // two hinges of 5 rows each on 2 × 6 velocities: 2 DOF
+    assert_eq!(r["dof"], 2);
+    assert_eq!(r["differential"].as_array().unwrap().len(), 10);
+    assert_eq!(r["conflicts"], serde_json::json!([]));
+    let d = causality(&[
+        "graph",
+        &scene("hinged_double_pendulum_3d.json"),
+        "--causality",
+        "--decoupled",
+    ]);
+    assert_eq!(d["dof"], 12);
+    assert_eq!(d["differential"], serde_json::json!([]));
+}
+
+#[test]
+fn causality_report_into_an_svg_file_is_refused_and_nothing_is_written() {
+    for name in ["report.svg", "report.dot"] {
+        let out_path = tmp(name);
+        let _ = std::fs::remove_file(&out_path);
+        let out = bondmech(&[
+            "graph",
+            &scene("double_pendulum.json"),
+            "--causality",
+            "--out",
+            out_path.to_str().unwrap(),
+        ]);
+        assert!(!out.status.success(), "{name} accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--causality") && err.contains(".json"),
+            "{err}"
+        );
+        assert!(!out_path.exists(), "{name} was written");
+    }
+}
+
+#[test]
+fn causality_report_into_a_json_file_is_the_printed_report() {
+    let out_path = tmp("report.json");
+    let args = ["graph", &scene("double_pendulum.json"), "--causality"];
+    let printed = causality(&args);
+    let out = bondmech(&[
+        args[0],
+        args[1],
+        args[2],
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    stdout_ok(&out);
+    let written: Value =
+        serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
+    assert_eq!(written, printed);
+    assert_eq!(written["dof"], 2);
+}

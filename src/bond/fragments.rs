@@ -564,13 +564,35 @@ pub fn spring_damper(
     damping: Option<f64>,
 ) {
     let ax = axis_name(axis);
+    coupling(
+        g,
+        &format!("{name}.{ax}"),
+        a.axis(axis),
+        b.map(|b| b.axis(axis)),
+        stiffness,
+        damping,
+    );
+}
+
+/// Spring (C, compliance 1/k) and/or damper (R) on the difference of two flows `f_a − f_b`
+/// (`b = None`: on `f_a` itself, i.e. to ground): a 0-junction `name` forms `f_a − f_b`, a
+/// 1-junction `name.rel` carries it, `name.k` and `name.c` act on it in parallel; so the
+/// effort `k ∫(f_a − f_b) + c (f_a − f_b)` acts against `a` and for `b`.
+pub fn coupling(
+    g: &mut BondGraph,
+    name: &str,
+    a: ElementId,
+    b: Option<ElementId>,
+    stiffness: Option<f64>,
+    damping: Option<f64>,
+) {
     let rel = match b {
-        None => a.axis(axis),
+        None => a,
         Some(b) => {
-            let z = g.add_junction(format!("{name}.{ax}"), ElementKind::Zero);
-            g.add_bond(a.axis(axis), z);
-            g.add_bond(z, b.axis(axis));
-            let rel = g.add_junction(format!("{name}.{ax}.rel"), ElementKind::One);
+            let z = g.add_junction(name.to_string(), ElementKind::Zero);
+            g.add_bond(a, z);
+            g.add_bond(z, b);
+            let rel = g.add_junction(format!("{name}.rel"), ElementKind::One);
             g.add_bond(z, rel);
             rel
         }
@@ -578,7 +600,7 @@ pub fn spring_damper(
     if let Some(k) = stiffness {
         one_port(
             g,
-            format!("{name}.{ax}.k"),
+            format!("{name}.k"),
             ElementKind::C,
             Parameter::Const(1.0 / k),
             rel,
@@ -587,7 +609,7 @@ pub fn spring_damper(
     if let Some(c) = damping {
         one_port(
             g,
-            format!("{name}.{ax}.c"),
+            format!("{name}.c"),
             ElementKind::R,
             Parameter::Const(c),
             rel,
@@ -660,4 +682,114 @@ pub fn change_frame(
         vx: out[0],
         vy: out[1],
     }
+}
+
+/// A point of a 3D body: the 1-junctions whose common flows are its global velocity
+/// components `V_X, V_Y, V_Z`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point3 {
+    /// Full name (`bar1.A`).
+    pub name: String,
+    /// 1-junctions of the global velocity components X, Y, Z.
+    pub v: [ElementId; 3],
+}
+
+/// A spatial point mass (translation only): three 1-junctions `<name>.V_X`, `.V_Y`, `.V_Z` of
+/// the global velocity, each with I:m (`<name>.I_m_X`, …): `ṗ_I = F_I`. Its centre is its only
+/// point.
+pub fn point_mass_3d(g: &mut BondGraph, name: &str, mass: f64) -> Point3 {
+    let v = ["X", "Y", "Z"].map(|ax| {
+        let j = g.add_junction(format!("{name}.V_{ax}"), ElementKind::One);
+        one_port(
+            g,
+            format!("{name}.I_m_{ax}"),
+            ElementKind::I,
+            Parameter::Const(mass),
+            j,
+        );
+        j
+    });
+    Point3 {
+        name: name.into(),
+        v,
+    }
+}
+
+/// Global velocity of a point of a 3D body, `V_P = V_O + Ω × r` (seed 16.1–16.2 in the
+/// inertial frame): `centre` are the body's inertial velocity ports `V_O` (see
+/// [`rigid_body_3d`] with a rotation), `omega` its inertial angular velocity ports `Ω`, and
+/// `r` the global components of the arm `r = R r_body` as expressions of the attitude. Per
+/// axis I (with (I, J, K) cyclic) a 0-junction `<name>.sum_I` adds `V_OI`, `r_K·Ω_J` and
+/// `−r_J·Ω_K` (MTFs `<name>.mtf_IJ`, `<name>.mtf_IK`) into the 1-junction `<name>.V_I`; the
+/// efforts return `F` to the centre and `r × F` to the rotation.
+pub fn spatial_point(
+    g: &mut BondGraph,
+    name: &str,
+    centre: [ElementId; 3],
+    omega: [ElementId; 3],
+    r: &[String; 3],
+) -> Point3 {
+    let ax = ["X", "Y", "Z"];
+    let mut v = [ElementId(0); 3];
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let sum = g.add_junction(format!("{name}.sum_{}", ax[i]), ElementKind::Zero);
+        g.add_bond(centre[i], sum);
+        for (from, m) in [(j, r[k].clone()), (k, format!("-({})", r[j]))] {
+            let tf = g.add_element(
+                format!("{name}.mtf_{}{}", ax[i], ax[from]),
+                ElementKind::MTF,
+                Some(Parameter::Expr(m.clone())),
+            );
+            g.set_label(tf, m.replace('*', "·"));
+            g.add_bond(omega[from], tf);
+            g.add_bond(tf, sum);
+        }
+        v[i] = g.add_junction(format!("{name}.V_{}", ax[i]), ElementKind::One);
+        g.add_bond(sum, v[i]);
+    }
+    Point3 {
+        name: name.into(),
+        v,
+    }
+}
+
+/// Projection of flows on a direction, `f = Σ_k c_k f_k`: a (M)TF per source (TF for a
+/// constant modulus, MTF for an expression) into a 0-junction `<name>.sum`, feeding the
+/// 1-junction `name`, whose flow is the projection (e.g. a component of an angular velocity
+/// across a hinge axis); the effort returns as `c_k e` to each source.
+pub fn projection(g: &mut BondGraph, name: &str, sources: &[(ElementId, Parameter)]) -> ElementId {
+    let sum = g.add_junction(format!("{name}.sum"), ElementKind::Zero);
+    for (k, (from, m)) in sources.iter().enumerate() {
+        let kind = match m {
+            Parameter::Const(_) => ElementKind::TF,
+            _ => ElementKind::MTF,
+        };
+        let tf = g.add_element(format!("{name}.tf{k}"), kind, Some(m.clone()));
+        if let Parameter::Expr(e) = m {
+            g.set_label(tf, e.replace('*', "·"));
+        }
+        g.add_bond(*from, tf);
+        g.add_bond(tf, sum);
+    }
+    let out = g.add_junction(name.to_string(), ElementKind::One);
+    g.add_bond(sum, out);
+    out
+}
+
+/// A zero flow source `Sf = 0` named `name` on `junction` (a constrained direction to ground,
+/// seed 16.7); its effort is the reaction.
+pub fn zero_flow(g: &mut BondGraph, name: &str, junction: ElementId) -> ElementId {
+    one_port(
+        g,
+        name.into(),
+        ElementKind::Sf,
+        Parameter::Const(0.0),
+        junction,
+    )
+}
+
+/// `Σ c_i·x_i` as an expression string (`"0"` when every coefficient vanishes).
+pub fn linear_expression(terms: &[(f64, String)]) -> String {
+    linear(terms)
 }

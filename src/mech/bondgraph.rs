@@ -3,8 +3,16 @@
 //! The drawing and the causality report of a mechanism: planar bodies in the frame the scene
 //! asks for (16.3 or 16.8), joints as the 1-junctions that equate point velocities (16.5) or as
 //! zero flow sources to ground (16.7), the piston's slider (Fig. 29), springs and dampers along
-//! the global axes, loads as effort sources. The *decoupled* variant replaces every joint by the
+//! the global axes, loads as effort sources. Joints, springs and forces meet body-fixed bars
+//! (16.3) through the frame change of 16.4 (an MTF pair modulated by the relative angle
+//! between two body-fixed bars, or by −α towards the global frame), so their 1-junctions
+//! always equate components along the same axes. The *decoupled* variant replaces every joint by the
 //! springs of 16.6 (Fig. 17–18, 21), so every inertia gets integral causality.
+//!
+//! Spatial scenes use the rigid body of 16.1 with the Cardan frame change of 16.2 carried as
+//! MTF moduli (the rotation entries as signals), point velocities `V_P = V + Ω × R r`, and one
+//! 1-junction (or Sf = 0 to ground) per constraint row of a spherical joint, hinge, prismatic
+//! joint or weld (see `spatial` below).
 //!
 //! The inertias that SCAP forces into differential causality here are the ones whose flows
 //! the joints impose: one per independent constraint row of the multibody system.
@@ -12,11 +20,12 @@
 use std::collections::HashMap;
 
 use crate::bond::fragments::{
-    decoupled_revolute, force, pin_to_ground, planar_body_fixed_frame, planar_body_translating,
-    prismatic, revolute, rigid_body_3d, spring_damper, torque, weld, Axis, PlanarBody,
-    PlanarBodySpec, PointJunctions, RigidBody3Spec,
+    change_frame, coupling, decoupled_revolute, equate_flows, force, linear_expression,
+    pin_to_ground, planar_body_fixed_frame, planar_body_translating, point_mass_3d, prismatic,
+    projection, revolute, rigid_body_3d, spatial_point, spring_damper, torque, weld, zero_flow,
+    Axis, PlanarBody, PlanarBodySpec, Point3, PointJunctions, RigidBody3Spec,
 };
-use crate::bond::model::{BondGraph, Parameter};
+use crate::bond::model::{BondGraph, ElementId, Parameter};
 use crate::scene::{
     BodyFrame, Dimension, Inertia, JointKind, LoadKind, LoadValue, PointRef, Scene,
 };
@@ -35,7 +44,7 @@ pub enum Variant {
 /// Builds the bond graph of a scene.
 pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
     if matches!(scene.dimension, Dimension::Spatial) {
-        return spatial(scene);
+        return spatial(scene, variant);
     }
     let mut g = BondGraph::default();
     let gy = -scene.gravity.get(1).copied().unwrap_or(0.0);
@@ -132,6 +141,22 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         let path = format!("joints[{ji}]");
         let pa = point(&j.bodies[0], &joint_points[ji][0], &path)?;
         let pb = point(&j.bodies[1], &joint_points[ji][1], &path)?;
+        // a pin or weld to ground is Sf = 0 in any frame; otherwise both points in one frame
+        let to_ground_pin = matches!(variant, Variant::Pinned)
+            && matches!(j.kind, JointKind::Revolute | JointKind::Weld);
+        let (pa, pb) = if to_ground_pin && (pa.is_none() || pb.is_none()) {
+            (pa, pb)
+        } else {
+            let global = matches!(j.kind, JointKind::Prismatic { .. });
+            common_frame(
+                &mut g,
+                scene,
+                &j.name,
+                [&j.bodies[0], &j.bodies[1]],
+                [pa, pb],
+                global,
+            )
+        };
         // ground first, or second
         let (p1, p2, b1, b2) = match (&pa, &pb) {
             (None, Some(p)) => (p, None, &j.bodies[1], None),
@@ -164,14 +189,9 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
                         weld(&mut g, &j.name, (p1, w1), (p2, w2));
                     }
                     _ => {
+                        // fixed to ground: Sf = 0 on both components and on ω
                         pin_to_ground(&mut g, &j.name, p1);
-                        prismatic(
-                            &mut g,
-                            &format!("{}.rot", j.name),
-                            (p1, Some(w1)),
-                            None,
-                            Axis::X,
-                        );
+                        zero_flow(&mut g, &format!("{}.w", j.name), w1);
                     }
                 }
             }
@@ -211,6 +231,15 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         let path = format!("springs[{si}]");
         let pa = point(&s.bodies[0], &spring_points[si][0], &path)?;
         let pb = point(&s.bodies[1], &spring_points[si][1], &path)?;
+        // springs act along the global axes
+        let (pa, pb) = common_frame(
+            &mut g,
+            scene,
+            &s.name,
+            [&s.bodies[0], &s.bodies[1]],
+            [pa, pb],
+            true,
+        );
         let (p1, p2) = match (&pa, &pb) {
             (Some(a), b) => (a, b.as_ref()),
             (None, Some(b)) => (b, None),
@@ -242,6 +271,16 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
                 let Some(p) = point(&l.body, &name, &path)? else {
                     continue;
                 };
+                // forces are given in the global frame
+                let p = match body_fixed_angle(scene, &l.body) {
+                    Some(a) => change_frame(
+                        &mut g,
+                        &format!("{}.{}.in_global", l.name, p.name),
+                        &p,
+                        &format!("-{a}"),
+                    ),
+                    None => p,
+                };
                 for (ax, prm) in [Axis::X, Axis::Y].into_iter().zip(params) {
                     let n = format!("{}.{}", l.name, if ax == Axis::X { "x" } else { "y" });
                     force(&mut g, &n, &p, ax, prm);
@@ -256,6 +295,55 @@ pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, Me
         }
     }
     Ok(g)
+}
+
+/// The angle variable `x_<body>.omega` of a planar body written in its body-fixed frame
+/// (seed 16.3), None for a body in the non-rotating frame (16.8) or ground.
+fn body_fixed_angle(scene: &Scene, body: &str) -> Option<String> {
+    scene
+        .bodies
+        .iter()
+        .find(|b| b.name == body && matches!(b.frame, BodyFrame::BodyFixed))
+        .map(|b| format!("x_{}.omega", b.name))
+}
+
+/// Brings the two points of a joint or spring into one frame, so that its 1-junctions equate
+/// components along the same axes (seed 16.4–16.5, Fig. 9–10 and 15): between two
+/// body-fixed bars the point of the first is changed into the frame of the second through
+/// the MTF pair [`change_frame`] modulated by the relative angle `α_b − α_a`
+/// (`<name>.<body a>.<point>.in_<body b>`); otherwise (`global`, or one side non-rotating or
+/// ground) each body-fixed point is changed into the global frame with the angle `−α`
+/// (`<name>.<body>.<point>.in_global`). Points of non-rotating bodies are global already.
+fn common_frame(
+    g: &mut BondGraph,
+    scene: &Scene,
+    name: &str,
+    bodies: [&str; 2],
+    points: [Option<PointJunctions>; 2],
+    global: bool,
+) -> (Option<PointJunctions>, Option<PointJunctions>) {
+    let [fa, fb] = bodies.map(|b| body_fixed_angle(scene, b));
+    let [pa, pb] = points;
+    match (pa, pb, fa, fb) {
+        (Some(pa), Some(pb), Some(aa), Some(ab)) if !global => {
+            let n = format!("{name}.{}.in_{}", pa.name, bodies[1]);
+            let pa = change_frame(g, &n, &pa, &format!("{ab} - {aa}"));
+            (Some(pa), Some(pb))
+        }
+        (pa, pb, fa, fb) => {
+            let mut to_global = |p: Option<PointJunctions>, f: Option<String>| match (p, f) {
+                (Some(p), Some(a)) => Some(change_frame(
+                    g,
+                    &format!("{name}.{}.in_global", p.name),
+                    &p,
+                    &format!("-{a}"),
+                )),
+                (p, _) => p,
+            };
+            let pa = to_global(pa, fa);
+            (pa, to_global(pb, fb))
+        }
+    }
 }
 
 fn has_rotation(scene: &Scene, body: &str) -> bool {
@@ -282,28 +370,455 @@ fn load_parameters(v: &LoadValue) -> Vec<Parameter> {
     }
 }
 
-fn spatial(scene: &Scene) -> Result<BondGraph, MechError> {
-    if let Some((ji, _)) = scene.joints.iter().enumerate().next() {
-        return Err(MechError::at(
-            &format!("joints[{ji}]"),
-            "the bond graph of jointed 3D mechanisms is not drawn yet (free 3D bodies are)",
-        ));
+/// Global axis letters and the row directions of the multibody system (`x`, `y`, `z`).
+const BIG: [&str; 3] = ["X", "Y", "Z"];
+const ROW: [&str; 3] = ["x", "y", "z"];
+
+/// A spatial body of the drawing: its global velocity ports, its rotation (None for a point
+/// mass or ground) and its points, created on demand.
+struct Body3 {
+    name: String,
+    /// Inertial velocity of the centre (1-junctions `V_X, V_Y, V_Z`).
+    centre: [ElementId; 3],
+    /// Inertial angular velocity ports `W_X, W_Y, W_Z` and the rotation entries `R[I][i]`
+    /// (signals `<body>.R_<I><i>`); None for a point mass.
+    rotation: Option<([ElementId; 3], [[String; 3]; 3])>,
+    points: HashMap<String, Point3>,
+}
+
+impl Body3 {
+    /// The global components of the body vector `c` (body frame), `R c`, as expressions.
+    fn global(&self, c: &[f64; 3]) -> [Parameter; 3] {
+        match &self.rotation {
+            None => c.map(Parameter::Const),
+            Some((_, r)) => std::array::from_fn(|i| {
+                Parameter::Expr(linear_expression(&[
+                    (c[0], r[i][0].clone()),
+                    (c[1], r[i][1].clone()),
+                    (c[2], r[i][2].clone()),
+                ]))
+            }),
+        }
     }
+
+    /// The point `tag` at body coordinates `c`, built once: `V_P = V_O + Ω × R c`.
+    fn point(
+        &mut self,
+        g: &mut BondGraph,
+        tag: &str,
+        c: &[f64],
+        path: &str,
+    ) -> Result<Point3, MechError> {
+        if let Some(p) = self.points.get(tag) {
+            return Ok(p.clone());
+        }
+        let c3 = [0, 1, 2].map(|k| c.get(k).copied().unwrap_or(0.0));
+        let name = format!("{}.{tag}", self.name);
+        let p = if c3 == [0.0; 3] {
+            Point3 {
+                name,
+                v: self.centre,
+            }
+        } else {
+            let Some((w, r)) = &self.rotation else {
+                return Err(MechError::at(
+                    path,
+                    format!(
+                        "body '{}' is a point mass (inertia [0, 0, 0]); its points must be at its centre",
+                        self.name
+                    ),
+                ));
+            };
+            let arm: [String; 3] = std::array::from_fn(|i| {
+                linear_expression(&[
+                    (c3[0], r[i][0].clone()),
+                    (c3[1], r[i][1].clone()),
+                    (c3[2], r[i][2].clone()),
+                ])
+            });
+            spatial_point(g, &name, self.centre, *w, &arm)
+        };
+        self.points.insert(tag.to_string(), p.clone());
+        Ok(p)
+    }
+}
+
+/// Two unit vectors perpendicular to `u` and to each other.
+fn perpendicular_pair(u: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+    let u = u.map(|x| x / n);
+    // the global axis least aligned with u
+    let k = (0..3)
+        .min_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let c1 = cross(u, e);
+    let m = (c1[0] * c1[0] + c1[1] * c1[1] + c1[2] * c1[2]).sqrt();
+    let c1 = c1.map(|x| x / m);
+    (c1, cross(u, c1))
+}
+
+/// The bond graph of a spatial scene (seed 16.1–16.2 for each body, 16.5–16.7 for joints).
+///
+/// Each rigid body is [`rigid_body_3d`]: six I on its principal axes, the Euler junction
+/// structure of MGYs, and inertial ports `V = R v`, `Ω = R ω` through MTFs modulated by the
+/// rotation entries `R[I][i]` (declared as signals `<body>.R_<I><i>`, I ∈ {X, Y, Z},
+/// i ∈ {x, y, z}). Points: `V_P = V + Ω × (R r)` ([`spatial_point`]). A point mass
+/// (inertia [0, 0, 0]) is three I on its global velocity ([`point_mass_3d`]). The weight acts
+/// on the centre's ports as Se `m g_I` (`<body>.weight_<I>`).
+///
+/// Each constraint row of the multibody system is one 1-junction (`<joint>.<direction>`)
+/// equating the two bodies' flows, or an Sf = 0 of that name on the one body's flow when the
+/// other is ground:
+/// - spherical: `x, y, z`, the global velocity components of the two points;
+/// - hinge: those three plus `axis1, axis2`, the relative angular velocity `Ω_a − Ω_b`
+///   projected on `d_k = R_a c_k`, with `c_1, c_2` perpendicular to the axis in body a;
+/// - prismatic: `normal1, normal2`, the point velocities projected on `R_a c_k` (the term
+///   `(Ω_a × R_a c_k)·(P_b − P_a)` of the exact row is not drawn: it vanishes while the points
+///   coincide and changes no causality), and `rx, ry, rz`, the global components of `Ω_a − Ω_b`
+///   (left out when body b is a point mass);
+/// - weld: `x, y, z, rx, ry, rz`.
+///
+/// The decoupled variant puts a spring of stiffness `joint_stiffness` (and damper
+/// `joint_damping`) on every row instead ([`coupling`]), so every inertia is integral.
+fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
     let mut g = BondGraph::default();
-    for b in &scene.bodies {
+    let mut bodies: HashMap<String, Body3> = HashMap::new();
+    for (bi, b) in scene.bodies.iter().enumerate() {
         let inertia = match b.inertia {
             Inertia::Principal(j) => j,
             Inertia::Planar(j) => [j; 3],
         };
-        rigid_body_3d(
-            &mut g,
-            &RigidBody3Spec {
+        let body = if inertia == [0.0; 3] {
+            let p = point_mass_3d(&mut g, &b.name, b.mass);
+            Body3 {
                 name: b.name.clone(),
-                mass: b.mass,
-                inertia,
+                centre: p.v,
                 rotation: None,
-            },
-        );
+                points: HashMap::new(),
+            }
+        } else {
+            let small = ["x", "y", "z"];
+            let rot: [[String; 3]; 3] = std::array::from_fn(|i| {
+                std::array::from_fn(|k| format!("{}.R_{}{}", b.name, BIG[i], small[k]))
+            });
+            for row in &rot {
+                for e in row {
+                    g.add_signal(e.clone());
+                }
+            }
+            let rb = rigid_body_3d(
+                &mut g,
+                &RigidBody3Spec {
+                    name: b.name.clone(),
+                    mass: b.mass,
+                    inertia,
+                    rotation: Some(rot.clone()),
+                },
+            );
+            let (Some(v), Some(w)) = (rb.force_ports, rb.torque_ports) else {
+                return Err(MechError::at(
+                    &format!("bodies[{bi}]"),
+                    "internal: the 3D body was built without inertial ports",
+                ));
+            };
+            Body3 {
+                name: b.name.clone(),
+                centre: v,
+                rotation: Some((w, rot)),
+                points: HashMap::new(),
+            }
+        };
+        for (k, &gk) in scene.gravity.iter().enumerate().take(3) {
+            if gk != 0.0 {
+                zero_or_effort(
+                    &mut g,
+                    &format!("{}.weight_{}", b.name, BIG[k]),
+                    body.centre[k],
+                    Parameter::Const(b.mass * gk),
+                );
+            }
+        }
+        bodies.insert(b.name.clone(), body);
+    }
+    let coords_of = |body: &str, p: &PointRef, path: &str| -> Result<Vec<f64>, MechError> {
+        match p {
+            PointRef::Coords(c) => Ok(c.clone()),
+            PointRef::Named(n) => scene
+                .bodies
+                .iter()
+                .find(|b| b.name == body)
+                .and_then(|b| b.point(n))
+                .map(|c| c.to_vec())
+                .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'"))),
+        }
+    };
+    // the point of body `body` (None for ground)
+    let point = |g: &mut BondGraph,
+                 bodies: &mut HashMap<String, Body3>,
+                 body: &str,
+                 p: &PointRef,
+                 tag: String,
+                 path: &str|
+     -> Result<Option<Point3>, MechError> {
+        if body == "ground" {
+            return Ok(None);
+        }
+        let c = coords_of(body, p, path)?;
+        let b = bodies
+            .get_mut(body)
+            .ok_or_else(|| MechError::at(path, format!("unknown body '{body}'")))?;
+        let tag = match p {
+            PointRef::Named(n) => n.clone(),
+            PointRef::Coords(_) => tag,
+        };
+        b.point(g, &tag, &c, path).map(Some)
+    };
+    let k = scene.solve.joint_stiffness;
+    let c = (scene.solve.joint_damping > 0.0).then_some(scene.solve.joint_damping);
+    // one constraint row between flows `a` and `b` (None = ground)
+    let row = |g: &mut BondGraph, name: String, a: Option<ElementId>, b: Option<ElementId>| match (
+        variant, a, b,
+    ) {
+        (_, None, None) => {}
+        (Variant::Pinned, Some(a), Some(b)) => {
+            equate_flows(g, name, a, b);
+        }
+        (Variant::Pinned, Some(x), None) | (Variant::Pinned, None, Some(x)) => {
+            zero_flow(g, &name, x);
+        }
+        (Variant::Decoupled, Some(a), b) => coupling(g, &name, a, b, Some(k), c),
+        (Variant::Decoupled, None, Some(b)) => coupling(g, &name, b, None, Some(k), c),
+    };
+    for (ji, j) in scene.joints.iter().enumerate() {
+        let path = format!("joints[{ji}]");
+        let pa = point(
+            &mut g,
+            &mut bodies,
+            &j.bodies[0],
+            &j.points[0],
+            format!("{}_0", j.name),
+            &format!("{path}.points[0]"),
+        )?;
+        let pb = point(
+            &mut g,
+            &mut bodies,
+            &j.bodies[1],
+            &j.points[1],
+            format!("{}_1", j.name),
+            &format!("{path}.points[1]"),
+        )?;
+        if pa.is_none() && pb.is_none() {
+            return Err(MechError::at(&path, "a joint between ground and ground"));
+        }
+        // angular velocity ports of each side: Err(()) for a point mass, Ok(None) for ground
+        let omega = |k: usize| -> Result<Option<[ElementId; 3]>, MechError> {
+            if j.bodies[k] == "ground" {
+                return Ok(None);
+            }
+            bodies[&j.bodies[k]]
+                .rotation
+                .as_ref()
+                .map(|(w, _)| Some(*w))
+                .ok_or_else(|| {
+                    MechError::at(
+                        &format!("{path}.bodies[{k}]"),
+                        format!(
+                            "body '{}' is a point mass (inertia [0, 0, 0]) with no rotation; this joint fixes a rotation (use spherical, or list it second in a prismatic joint)",
+                            j.bodies[k]
+                        ),
+                    )
+                })
+        };
+        let translation = |g: &mut BondGraph| {
+            for (k, dir) in ROW.iter().enumerate() {
+                row(
+                    g,
+                    format!("{}.{dir}", j.name),
+                    pa.as_ref().map(|p| p.v[k]),
+                    pb.as_ref().map(|p| p.v[k]),
+                );
+            }
+        };
+        // global components of a body-a vector (global for ground)
+        let dir_of = |c: &[f64; 3]| -> [Parameter; 3] {
+            match bodies.get(&j.bodies[0]) {
+                Some(b) => b.global(c),
+                None => c.map(Parameter::Const),
+            }
+        };
+        let project =
+            |g: &mut BondGraph, name: String, from: Option<[ElementId; 3]>, d: &[Parameter; 3]| {
+                from.map(|f| {
+                    let src: Vec<(ElementId, Parameter)> = (0..3)
+                        .filter(|&i| !matches!(d[i], Parameter::Const(x) if x == 0.0))
+                        .map(|i| (f[i], d[i].clone()))
+                        .collect();
+                    projection(g, &name, &src)
+                })
+            };
+        let axis3 = |axis: &[f64]| -> Result<[f64; 3], MechError> {
+            let n = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if axis.len() != 3 || !n.is_finite() || n <= 0.0 {
+                return Err(MechError::at(
+                    &format!("{path}.axis"),
+                    "needs a non-zero 3D direction",
+                ));
+            }
+            Ok([axis[0], axis[1], axis[2]])
+        };
+        match &j.kind {
+            JointKind::Spherical => translation(&mut g),
+            JointKind::Hinge { axis } => {
+                let u = axis3(axis)?;
+                let (wa, wb) = (omega(0)?, omega(1)?);
+                translation(&mut g);
+                let (c1, c2) = perpendicular_pair(u);
+                for (dir, ck) in [("axis1", c1), ("axis2", c2)] {
+                    let d = dir_of(&ck);
+                    let n = format!("{}.{dir}", j.name);
+                    let a = project(&mut g, format!("{n}.a"), wa, &d);
+                    let b = project(&mut g, format!("{n}.b"), wb, &d);
+                    row(&mut g, n, a, b);
+                }
+            }
+            JointKind::Prismatic { axis } => {
+                let u = axis3(axis)?;
+                if j.bodies[0] != "ground" {
+                    omega(0)?;
+                }
+                let (c1, c2) = perpendicular_pair(u);
+                for (dir, ck) in [("normal1", c1), ("normal2", c2)] {
+                    let d = dir_of(&ck);
+                    let n = format!("{}.{dir}", j.name);
+                    let a = project(&mut g, format!("{n}.a"), pa.as_ref().map(|p| p.v), &d);
+                    let b = project(&mut g, format!("{n}.b"), pb.as_ref().map(|p| p.v), &d);
+                    row(&mut g, n, a, b);
+                }
+                let wb = if j.bodies[1] == "ground" { Ok(None) } else { omega(1) };
+                if let Ok(wb) = wb {
+                    let wa = omega(0)?;
+                    for (k, dir) in ["rx", "ry", "rz"].iter().enumerate() {
+                        row(&mut g, format!("{}.{dir}", j.name), wa.map(|w| w[k]), wb.map(|w| w[k]));
+                    }
+                }
+            }
+            JointKind::Weld => {
+                let (wa, wb) = (omega(0)?, omega(1)?);
+                translation(&mut g);
+                for (k, dir) in ["rx", "ry", "rz"].iter().enumerate() {
+                    row(&mut g, format!("{}.{dir}", j.name), wa.map(|w| w[k]), wb.map(|w| w[k]));
+                }
+            }
+            JointKind::Revolute => {
+                return Err(MechError::at(
+                    &format!("{path}.axis"),
+                    "a revolute joint in 3D is a hinge and needs an axis; use spherical for a ball joint",
+                ))
+            }
+        }
+    }
+    for (si, s) in scene.springs.iter().enumerate() {
+        let path = format!("springs[{si}]");
+        let pa = point(
+            &mut g,
+            &mut bodies,
+            &s.bodies[0],
+            &s.points[0],
+            format!("{}_0", s.name),
+            &format!("{path}.points[0]"),
+        )?;
+        let pb = point(
+            &mut g,
+            &mut bodies,
+            &s.bodies[1],
+            &s.points[1],
+            format!("{}_1", s.name),
+            &format!("{path}.points[1]"),
+        )?;
+        let (p1, p2) = match (&pa, &pb) {
+            (Some(a), b) => (a, b.as_ref()),
+            (None, Some(b)) => (b, None),
+            (None, None) => continue,
+        };
+        let damp = (s.damping > 0.0).then_some(s.damping);
+        for (k, dir) in ROW.iter().enumerate() {
+            coupling(
+                &mut g,
+                &format!("{}.{dir}", s.name),
+                p1.v[k],
+                p2.map(|p| p.v[k]),
+                Some(s.stiffness),
+                damp,
+            );
+        }
+    }
+    for (li, l) in scene.loads.iter().enumerate() {
+        let path = format!("loads[{li}]");
+        let params = load_parameters(&l.value);
+        for p in &params {
+            if let Parameter::Expr(e) = p {
+                for v in crate::bond::identifiers::variables(e).unwrap_or_default() {
+                    if v != "t" {
+                        g.add_signal(v);
+                    }
+                }
+            }
+        }
+        if l.body == "ground" {
+            continue;
+        }
+        let ports = match l.kind {
+            LoadKind::Force => {
+                let pref = l.point.clone().unwrap_or(PointRef::Coords(vec![0.0; 3]));
+                point(
+                    &mut g,
+                    &mut bodies,
+                    &l.body,
+                    &pref,
+                    format!("{}_p", l.name),
+                    &format!("{path}.point"),
+                )?
+                .map(|p| p.v)
+            }
+            LoadKind::Torque => {
+                let b = bodies.get(&l.body).ok_or_else(|| {
+                    MechError::at(
+                        &format!("{path}.body"),
+                        format!("unknown body '{}'", l.body),
+                    )
+                })?;
+                Some(b.rotation.as_ref().map(|(w, _)| *w).ok_or_else(|| {
+                    MechError::at(
+                        &format!("{path}.body"),
+                        format!("body '{}' has no modelled rotation", l.body),
+                    )
+                })?)
+            }
+        };
+        if let Some(ports) = ports {
+            for ((dir, prm), port) in ROW.iter().zip(params).zip(ports) {
+                zero_or_effort(&mut g, &format!("{}.{dir}", l.name), port, prm);
+            }
+        }
     }
     Ok(g)
+}
+
+/// An effort source `Se` of value `value` into `junction`.
+fn zero_or_effort(g: &mut BondGraph, name: &str, junction: ElementId, value: Parameter) {
+    let e = g.add_element(
+        name.to_string(),
+        crate::bond::model::ElementKind::Se,
+        Some(value),
+    );
+    g.add_bond(e, junction);
 }
