@@ -83,6 +83,10 @@ pub struct Summary {
     pub joint_stiffness: f64,
     /// Non-fatal remarks about the model.
     pub warnings: Vec<String>,
+    /// GGL on IDA: the steps accepted after recovered Newton convergence or error test failures
+    /// (time and counts), at most [`crate::sundials::MAX_LOGGED_FAILURES`]; empty for the
+    /// other formulations.
+    pub recovered_failures: Vec<crate::sundials::RecoveredFailure>,
 }
 
 /// A solved trajectory: one row per output time.
@@ -710,6 +714,7 @@ fn run_ggl(
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     total.accumulate(&solver.ida.stats());
     fill_stats(summary, &total);
+    summary.recovered_failures = solver.ida.recovered_failures().to_vec();
     summary.compliance_used = eps_start > 0.0 || !summary.singular_passages.is_empty();
     summary.compliance = if summary.compliance_used {
         eps_start.max(eps_switch)

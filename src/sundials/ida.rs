@@ -14,7 +14,7 @@ use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
 use super::options::{check_tolerances, check_vector, CalcIc, IdaOptions, Step};
-use super::stats::SolverStats;
+use super::stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 use super::vector::{slice_of, slice_of_mut, NVector};
 use std::os::raw::{c_int, c_long, c_void};
 use std::ptr;
@@ -57,8 +57,18 @@ pub struct Ida {
     tmp: NVector,
     data: Box<IdaData>,
     driver: DriverState,
+    /// Steps accepted after recovered failures, and the failure counters seen so far.
+    failures: FailureLog,
     #[allow(dead_code)] // owned: freed last
     ctx: Context,
+}
+
+/// The [`RecoveredFailure`] log of one IDA: counters are compared after every step.
+#[derive(Debug, Default)]
+struct FailureLog {
+    log: Vec<RecoveredFailure>,
+    conv: u64,
+    etf: u64,
 }
 
 // SAFETY: an Ida exclusively owns its context, memory, vectors and closures (all
@@ -347,12 +357,40 @@ impl Ida {
             tmp,
             data,
             driver: DriverState::new(t0, opts.max_steps, opts.max_wall_clock),
+            failures: FailureLog::default(),
             ctx,
         })
     }
 
     fn raw(&self) -> *mut c_void {
         self.mem.0
+    }
+
+    /// Steps accepted after Newton convergence or error test failures, in order, since the
+    /// solver was created (across `reinit`; at most [`MAX_LOGGED_FAILURES`]).
+    pub fn recovered_failures(&self) -> &[RecoveredFailure] {
+        &self.failures.log
+    }
+
+    /// Logs the step that just reached `t` if the failure counters moved.
+    fn log_failures(&mut self, t: f64) {
+        let (mut conv, mut etf): (c_long, c_long) = (0, 0);
+        // SAFETY: live IDA memory and valid out-pointers.
+        unsafe {
+            sys::IDAGetNumNonlinSolvConvFails(self.raw(), &mut conv);
+            sys::IDAGetNumErrTestFails(self.raw(), &mut etf);
+        }
+        let (conv, etf) = (conv.max(0) as u64, etf.max(0) as u64);
+        let f = &mut self.failures;
+        if (conv > f.conv || etf > f.etf) && f.log.len() < MAX_LOGGED_FAILURES {
+            f.log.push(RecoveredFailure {
+                t,
+                convergence_failures: (conv - f.conv.min(conv)) as u32,
+                error_test_failures: (etf - f.etf.min(etf)) as u32,
+            });
+        }
+        f.conv = conv;
+        f.etf = etf;
     }
 
     /// Turn a failing flag into an error, preferring a callback's own error.
@@ -469,6 +507,9 @@ impl Ida {
             return Err(self.fail("IDAReInit", flag));
         }
         self.driver.restart(t0);
+        // IDAReInit zeroes SUNDIALS' counters
+        self.failures.conv = 0;
+        self.failures.etf = 0;
         Ok(())
     }
 
@@ -543,6 +584,9 @@ impl Stepper for Ida {
                 sys::IDA_ONE_STEP,
             )
         };
+        if flag >= 0 {
+            self.log_failures(tret);
+        }
         match flag {
             sys::IDA_SUCCESS => Ok((tret, RawEvent::Success)),
             sys::IDA_ROOT_RETURN => Ok((tret, RawEvent::Root)),

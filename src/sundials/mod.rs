@@ -41,5 +41,5 @@ pub use error::{CallbackError, CallbackResult, SolverError};
 pub use ida::Ida;
 pub use matrix::DenseMatrixMut;
 pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
-pub use stats::SolverStats;
+pub use stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 pub use version::{header_version, version};

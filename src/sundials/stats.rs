@@ -27,6 +27,22 @@ pub struct SolverStats {
     pub last_order: i32,
 }
 
+/// A step that IDA had to retry: the Newton iteration failed to converge, or the local error
+/// test failed, before the step at `t` was accepted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct RecoveredFailure {
+    /// Time reached by the accepted step.
+    pub t: f64,
+    /// Newton convergence failures before it was accepted.
+    pub convergence_failures: u32,
+    /// Error test failures before it was accepted.
+    pub error_test_failures: u32,
+}
+
+/// At most this many [`RecoveredFailure`]s are logged per solver (the counters in
+/// [`SolverStats`] keep counting beyond).
+pub const MAX_LOGGED_FAILURES: usize = 10_000;
+
 impl SolverStats {
     /// Add the counters of `other` (e.g. a run after a restart); `last_*` taken from `other`.
     pub fn accumulate(&mut self, other: &SolverStats) {
