@@ -183,3 +183,16 @@ fn initial_angles_are_the_test_set_consistent_values() {
         );
     }
 }
+
+/// Seven planar bodies carry 21 inertias; ten pins (O, P, B, two on A, F, G, and three joining
+/// four bodies at E) remove 20 coordinates, so SCAP leaves one inertia in integral causality.
+#[test]
+fn causality_has_one_degree_of_freedom_and_twenty_differential_inertias() {
+    let r = model().causality().unwrap();
+    let inertias = r.storages.iter().filter(|s| s.kind == "I").count();
+    assert_eq!(inertias, 21);
+    assert_eq!(r.dof, 1);
+    assert_eq!(r.integral_inertias, 1);
+    assert_eq!(r.differential.len(), 20);
+    assert!(r.conflicts.is_empty() && r.algebraic_loops.is_empty());
+}
