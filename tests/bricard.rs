@@ -25,6 +25,15 @@ fn bricard_benchmark_a04_is_named_redundant_conserves_energy_and_follows_the_1do
     let mut o = m.default_options();
     let times: Vec<f64> = (0..=100).map(|i| 0.1 * i as f64).collect();
     o.output_times = times.clone();
+    // Grübler: 5 bodies × 6 − 6 hinges × 5 = 0; the real mobility is 1, so G_v (30 rows) has
+    // rank 29 at the initial state
+    let d = m.dof().expect("dof report");
+    assert_eq!(
+        (d.velocities, d.constraint_rows, d.rank, d.dof),
+        (30, 30, 29, 1),
+        "{d:?}"
+    );
+    assert!(!d.redundant_joints.is_empty(), "{d:?}");
     let s = m
         .solve(&o)
         .expect("the overconstrained loop is solved, not refused");
