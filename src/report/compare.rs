@@ -42,12 +42,73 @@ pub struct LargestDifference {
     pub t: f64,
 }
 
+/// The body `b` when `name` is one of its Cardan columns `b.psi`, `b.theta`, `b.phi` and all
+/// three are present.
+fn cardan_body<'a>(name: &'a str, columns: &[String]) -> Option<&'a str> {
+    let (body, last) = name.rsplit_once('.')?;
+    if !matches!(last, "psi" | "theta" | "phi") {
+        return None;
+    }
+    let has = |s: &str| columns.iter().any(|c| c == &format!("{body}.{s}"));
+    (has("psi") && has("theta") && has("phi")).then_some(body)
+}
+
+/// Cardan rotation `R = Rz(ψ) Ry(θ) Rx(φ)` (seed 16.2).
+fn cardan_matrix(psi: f64, theta: f64, phi: f64) -> [[f64; 3]; 3] {
+    let (s1, c1) = psi.sin_cos();
+    let (s2, c2) = theta.sin_cos();
+    let (s3, c3) = phi.sin_cos();
+    [
+        [c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3],
+        [s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3],
+        [-s2, c2 * s3, c2 * c3],
+    ]
+}
+
+/// Largest attitude difference of `body` over time: the angle of the relative rotation
+/// `R_aᵀ R_b`, `acos((tr(R_aᵀ R_b) − 1)/2)`, reported under the column `body.cardan`. Comparing
+/// ψ, θ, φ one by one would report the arbitrary branch that each run takes through
+/// θ = ±π/2 (e.g. (ψ, φ) = (−π, π) against (−2π, 2π), the same orientation).
+fn attitude_difference(body: &str, dae: &Solution, dec: &Solution, best: &mut LargestDifference) {
+    let col = |s: &Solution, c: &str| s.columns.iter().position(|n| n == &format!("{body}.{c}"));
+    let (Some(a), Some(b), Some(c)) = (col(dae, "psi"), col(dae, "theta"), col(dae, "phi")) else {
+        return;
+    };
+    let (Some(x), Some(y), Some(z)) = (col(dec, "psi"), col(dec, "theta"), col(dec, "phi")) else {
+        return;
+    };
+    for (k, (ra, rb)) in dae.rows.iter().zip(&dec.rows).enumerate() {
+        let ma = cardan_matrix(ra[a], ra[b], ra[c]);
+        let mb = cardan_matrix(rb[x], rb[y], rb[z]);
+        let trace: f64 = (0..3)
+            .map(|i| (0..3).map(|j| ma[j][i] * mb[j][i]).sum::<f64>())
+            .sum();
+        // the sine form, |skew(R_aᵀ R_b)|, keeps small angles accurate where acos does not
+        let mut s = [0.0; 3];
+        for (n, (i, j)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
+            let rij: f64 = (0..3).map(|l| ma[l][i] * mb[l][j]).sum();
+            let rji: f64 = (0..3).map(|l| ma[l][j] * mb[l][i]).sum();
+            s[n] = 0.5 * (rji - rij);
+        }
+        let sin = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+        let d = sin.atan2(0.5 * (trace - 1.0));
+        if d > best.value || (d.is_nan() && !best.value.is_nan()) {
+            *best = LargestDifference {
+                value: d,
+                column: format!("{body}.cardan"),
+                t: dae.times[k],
+            };
+        }
+    }
+}
+
 /// The result of `bondmech compare`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Comparison {
     /// Largest position difference (m).
     pub position: LargestDifference,
-    /// Largest angle difference (rad).
+    /// Largest angle difference (rad); for a spatial body the angle of the rotation between the
+    /// two attitudes (column `b.cardan`), not the difference of one Cardan angle.
     pub angle: LargestDifference,
     /// Largest velocity difference (m/s).
     pub velocity: LargestDifference,
@@ -69,6 +130,13 @@ impl Comparison {
             LargestDifference::default(),
         ];
         for (ci, name) in dae.columns.iter().enumerate() {
+            // spatial attitudes are compared as rotations, not angle by angle (below)
+            if let Some(body) = cardan_body(name, &dae.columns) {
+                if name.ends_with(".psi") {
+                    attitude_difference(body, dae, dec, &mut best[1]);
+                }
+                continue;
+            }
             let slot = match column_kind(name) {
                 ColumnKind::Position => 0,
                 ColumnKind::Angle => 1,
@@ -190,5 +258,49 @@ impl Comparison {
             ));
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn solution(columns: &[&str], rows: Vec<Vec<f64>>) -> Solution {
+        Solution {
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            times: (0..rows.len()).map(|k| k as f64).collect(),
+            rows,
+            summary: Default::default(),
+        }
+    }
+
+    /// Bricard's mechanism: bar1 turns about Y through θ = π/2, where the DAE took the branch
+    /// (ψ, φ) = (−2π, 2π) and the twin (0, 0): the same attitude, reported as 2π apart before.
+    #[test]
+    fn compare_cardan_branch_through_gimbal_lock_is_not_a_difference() {
+        let cols = ["bar1.psi", "bar1.theta", "bar1.phi", "bar2.angle"];
+        let a = solution(&cols, vec![vec![-2.0 * PI, 1.5385, 2.0 * PI, 0.0]]);
+        let b = solution(&cols, vec![vec![0.0, 1.5385, 0.0, 0.0]]);
+        let c = Comparison::new(&a, &b);
+        assert!(c.angle.value < 1e-12, "{:?}", c.angle);
+        // (ψ, θ, φ) and (ψ + π, π − θ, φ + π) are one attitude too
+        let b2 = solution(&cols, vec![vec![-PI, PI - 1.5385, 3.0 * PI, 0.0]]);
+        assert!(Comparison::new(&a, &b2).angle.value < 1e-12);
+    }
+
+    #[test]
+    fn compare_cardan_reports_the_relative_rotation_angle() {
+        let cols = ["bar1.psi", "bar1.theta", "bar1.phi", "bar2.angle"];
+        let a = solution(&cols, vec![vec![0.3, 0.2, 0.1, 0.0]]);
+        // a further 1e-3 rad about the body x axis: φ + 1e-3
+        let b = solution(&cols, vec![vec![0.3, 0.2, 0.1 + 1e-3, 0.0]]);
+        let c = Comparison::new(&a, &b);
+        assert!((c.angle.value - 1e-3).abs() < 1e-12, "{:?}", c.angle);
+        assert_eq!(c.angle.column, "bar1.cardan");
+        // planar angles keep the plain difference
+        let d = solution(&cols, vec![vec![0.3, 0.2, 0.1, 0.5]]);
+        let c = Comparison::new(&a, &d);
+        assert!((c.angle.value - 0.5).abs() < 1e-15 && c.angle.column == "bar2.angle");
     }
 }

@@ -148,6 +148,8 @@ struct OutputEval {
     tapes: MechanicsTapes,
     columns: Vec<String>,
     unwrap: Vec<bool>,
+    /// Output indices of each spatial body's `(ψ, θ, φ)`.
+    cardan: Vec<[usize; 3]>,
     want_constraint_error: bool,
     vars: Vec<f64>,
     work: Vec<f64>,
@@ -166,6 +168,18 @@ impl OutputEval {
         let sys = sys.borrow();
         let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
         let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
+        let at = |n: String| columns.iter().position(|c| *c == n);
+        let cardan = columns
+            .iter()
+            .filter_map(|c| c.strip_suffix(".psi"))
+            .filter_map(|b| {
+                Some([
+                    at(format!("{b}.psi"))?,
+                    at(format!("{b}.theta"))?,
+                    at(format!("{b}.phi"))?,
+                ])
+            })
+            .collect();
         // constraint_error is always written (it is cheap and always meaningful)
         columns.push("constraint_error".into());
         let n_out = tapes.outputs.n_outputs();
@@ -179,6 +193,7 @@ impl OutputEval {
             tapes,
             columns,
             unwrap,
+            cardan,
             want_constraint_error: true,
             energy0: None,
             energy_dev: 0.0,
@@ -204,8 +219,26 @@ impl OutputEval {
         let ge = self.g.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         self.max_g = self.max_g.max(ge);
         let mut row: Vec<f64> = self.out[..k - 2].to_vec();
-        // continuous angles: add the multiple of 2π closest to the previous value
+        // continuous angles: add the multiple of 2π closest to the previous value; a Cardan
+        // triple may also switch to its twin (ψ + π, π − θ, φ + π), the same attitude, so that
+        // θ passes ±π/2 continuously instead of ψ and φ jumping by π
         if let Some(prev) = &self.prev {
+            let near = |a: f64, p: f64| {
+                a - ((a - p) / std::f64::consts::TAU).round() * std::f64::consts::TAU
+            };
+            for &[i, j, k] in &self.cardan {
+                let pi = std::f64::consts::PI;
+                let dist = |a: f64, b: f64, c: f64| {
+                    (near(a, prev[i]) - prev[i]).powi(2)
+                        + (near(b, prev[j]) - prev[j]).powi(2)
+                        + (near(c, prev[k]) - prev[k]).powi(2)
+                };
+                let (a, b, c) = (row[i] + pi, pi - row[j], row[k] + pi);
+                if dist(a, b, c) < dist(row[i], row[j], row[k]) {
+                    (row[i], row[j], row[k]) = (a, b, c);
+                }
+                row[j] = near(row[j], prev[j]);
+            }
             for (i, u) in self.unwrap.iter().enumerate() {
                 if *u {
                     let d = row[i] - prev[i];
