@@ -1054,14 +1054,7 @@ impl<'a> Assembler<'a> {
         axis: &[f64],
         path: &str,
     ) -> Result<Vec<(&'static str, Expr)>, MechError> {
-        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
-            return Err(MechError::at(
-                &format!("{path}.axis"),
-                "needs a non-zero 3D direction",
-            ));
-        }
-        let u: Vec<f64> = axis.iter().map(|x| x / norm).collect();
+        let u = unit_axis(axis, path)?;
         let ra = ka.rotation3(&mut self.g);
         let rb = kb.rotation3(&mut self.g);
         let x0 = self.initial_slots();
@@ -1105,20 +1098,14 @@ impl<'a> Assembler<'a> {
         axis: &[f64],
         path: &str,
     ) -> Result<Vec<(&'static str, Expr)>, MechError> {
-        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
-            return Err(MechError::at(
-                &format!("{path}.axis"),
-                "needs a non-zero 3D direction",
-            ));
-        }
+        let axis = unit_axis(axis, path)?;
         if matches!(ka, BodyKinematics::Particle { .. }) {
             return Err(MechError::at(
                 &format!("{path}.bodies[0]"),
                 "the first body of a prismatic joint carries the axis and needs a rotation; a point mass (inertia [0, 0, 0]) has none (list it second)",
             ));
         }
-        let (c1, c2) = perpendicular_pair([axis[0], axis[1], axis[2]]);
+        let (c1, c2) = perpendicular_pair(axis);
         let ra = ka.rotation3(&mut self.g);
         let d: Vec<Expr> = (0..3)
             .map(|k| self.g.sub(pb.position[k], pa.position[k]))
@@ -1258,6 +1245,19 @@ fn coord(body: &str, what: &str, initial: f64) -> Coordinate {
 }
 
 /// An orthonormal pair `(c_1, c_2)` perpendicular to the non-zero vector `a`.
+/// The unit vector along a joint's `axis` (a non-zero, finite 3D direction), or an error at
+/// `<path>.axis`.
+fn unit_axis(axis: &[f64], path: &str) -> Result<[f64; 3], MechError> {
+    let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if axis.len() != 3 || !norm.is_finite() || norm <= 0.0 {
+        return Err(MechError::at(
+            &format!("{path}.axis"),
+            "needs a non-zero 3D direction",
+        ));
+    }
+    Ok([axis[0] / norm, axis[1] / norm, axis[2] / norm])
+}
+
 fn perpendicular_pair(a: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     let a = [a[0] / n, a[1] / n, a[2] / n];

@@ -582,6 +582,34 @@ fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
         };
         b.point(g, &tag, &c, path).map(Some)
     };
+    // the two points a joint or spring connects, tagged `<name>_0`, `<name>_1` when given by
+    // coordinates
+    let endpoints = |g: &mut BondGraph,
+                     bodies: &mut HashMap<String, Body3>,
+                     pair: &[String],
+                     points: &[PointRef],
+                     name: &str,
+                     path: &str|
+     -> Result<(Option<Point3>, Option<Point3>), MechError> {
+        Ok((
+            point(
+                g,
+                bodies,
+                &pair[0],
+                &points[0],
+                format!("{name}_0"),
+                &format!("{path}.points[0]"),
+            )?,
+            point(
+                g,
+                bodies,
+                &pair[1],
+                &points[1],
+                format!("{name}_1"),
+                &format!("{path}.points[1]"),
+            )?,
+        ))
+    };
     let k = scene.solve.joint_stiffness;
     let c = (scene.solve.joint_damping > 0.0).then_some(scene.solve.joint_damping);
     // one constraint row between flows `a` and `b` (None = ground)
@@ -600,22 +628,7 @@ fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
     };
     for (ji, j) in scene.joints.iter().enumerate() {
         let path = format!("joints[{ji}]");
-        let pa = point(
-            &mut g,
-            &mut bodies,
-            &j.bodies[0],
-            &j.points[0],
-            format!("{}_0", j.name),
-            &format!("{path}.points[0]"),
-        )?;
-        let pb = point(
-            &mut g,
-            &mut bodies,
-            &j.bodies[1],
-            &j.points[1],
-            format!("{}_1", j.name),
-            &format!("{path}.points[1]"),
-        )?;
+        let (pa, pb) = endpoints(&mut g, &mut bodies, &j.bodies, &j.points, &j.name, &path)?;
         if pa.is_none() && pb.is_none() {
             return Err(MechError::at(&path, "a joint between ground and ground"));
         }
@@ -728,22 +741,7 @@ fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
     }
     for (si, s) in scene.springs.iter().enumerate() {
         let path = format!("springs[{si}]");
-        let pa = point(
-            &mut g,
-            &mut bodies,
-            &s.bodies[0],
-            &s.points[0],
-            format!("{}_0", s.name),
-            &format!("{path}.points[0]"),
-        )?;
-        let pb = point(
-            &mut g,
-            &mut bodies,
-            &s.bodies[1],
-            &s.points[1],
-            format!("{}_1", s.name),
-            &format!("{path}.points[1]"),
-        )?;
+        let (pa, pb) = endpoints(&mut g, &mut bodies, &s.bodies, &s.points, &s.name, &path)?;
         let (p1, p2) = match (&pa, &pb) {
             (Some(a), b) => (a, b.as_ref()),
             (None, Some(b)) => (b, None),
