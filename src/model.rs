@@ -85,6 +85,8 @@ fn empty_system() -> MultibodySystem {
         kinetic: zero,
         outputs: Vec::new(),
         warnings: Vec::new(),
+        load_terms: Vec::new(),
+        body_size: 0.0,
     }
 }
 

@@ -67,7 +67,7 @@ pub enum EquationError {
         what: String,
     },
     /// An expression does not parse against the graph's variables.
-    #[error("element '{element}': expression '{expr}': {source}")]
+    #[error("element '{element}': expression {}: {source}", crate::expr::excerpt(expr, source.pos()))]
     Expression {
         /// Element name.
         element: String,

@@ -12,7 +12,10 @@ pub mod system;
 
 pub use assemble::assemble;
 pub use bondgraph::{scene_bond_graph, Variant};
-pub use system::{ConstraintRow, Coordinate, JointViolation, MultibodySystem, OutputColumn};
+pub use system::{
+    ConstraintRow, Coordinate, JointViolation, LoadTerm, MultibodySystem, NonFiniteValue,
+    OutputColumn,
+};
 
 /// A mechanism that cannot be built, with the JSON path of the culprit.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

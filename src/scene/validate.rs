@@ -380,18 +380,32 @@ fn expression(p: &mut Problems, path: &str, s: &str) {
         return;
     }
     let mut depth = 0i64;
-    for c in s.chars() {
+    // byte offset of the offending parenthesis: the first unmatched ')' or the last unclosed '('
+    let mut open = Vec::new();
+    let mut at = None;
+    for (b, c) in s.char_indices() {
         match c {
-            '(' => depth += 1,
-            ')' => depth -= 1,
+            '(' => {
+                depth += 1;
+                open.push(b);
+            }
+            ')' => {
+                depth -= 1;
+                open.pop();
+            }
             _ => {}
         }
         if depth < 0 {
+            at = Some(b);
             break;
         }
     }
     if depth != 0 {
-        p.push(path, format!("unbalanced parentheses in \"{s}\""));
+        let pos = at.or(open.last().copied()).unwrap_or(0);
+        p.push(
+            path,
+            format!("unbalanced parentheses in {}", crate::expr::excerpt(s, pos)),
+        );
     }
 }
 
