@@ -250,6 +250,7 @@ impl Model {
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
+                    .map_err(|e| crate::solve::non_finite::name_in_mechanism(sys, e))
             }
             Kind::BondGraph(g, _) => {
                 let mut sol = solve_bond_graph(g, opts)?;

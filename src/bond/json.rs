@@ -315,7 +315,11 @@ impl RawBondGraph {
                 errors.push(err);
             }
         }
-        check_single_bond_junctions(&graph, &skip, &mut errors);
+        // a junction left with one bond is often the consequence of another error (a bond
+        // with a misspelt end): reported only when the graph has no other problem
+        if errors.is_empty() {
+            check_single_bond_junctions(&graph, &skip, &mut errors);
+        }
         if errors.is_empty() {
             Ok(graph)
         } else {

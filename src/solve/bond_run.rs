@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 use cpu_time::ThreadTime;
 
+use super::non_finite::name_in_bond_graph;
 use super::options::{FormulationKind, SolveOptions};
 use super::run::{Solution, Summary};
 use crate::bond::assign_causality;
@@ -224,7 +225,7 @@ pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, 
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &cv.stats());
-                    return Err(Error::Solver(e));
+                    return Err(name_in_bond_graph(g, &eq, e));
                 }
             }
         }
@@ -303,7 +304,7 @@ pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, 
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &ida.stats());
-                    return Err(Error::Solver(e));
+                    return Err(name_in_bond_graph(g, &eq, e));
                 }
             }
         }
