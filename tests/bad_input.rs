@@ -137,3 +137,272 @@ fn regression_rtol_1e308_is_refused_through_the_cli() {
     assert!(!out.status.success(), "accepted: {err}");
     assert!(err.contains("solve.rtol"), "{err}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Non-finite load values: name the load (JSON path, name, expression) and the time
+// ---------------------------------------------------------------------------------------------
+
+/// The pendulum with `loads`, formulation `formulation`.
+fn loaded(loads: Value, formulation: &str) -> Value {
+    let mut v = pendulum();
+    v["loads"] = loads;
+    v["solve"]["formulation"] = json!(formulation);
+    v
+}
+
+/// The error of solving `v` through the library.
+fn library_error(v: &Value) -> bondmech::Error {
+    let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
+    let model = bondmech::Model::new(&scene).expect("model");
+    model
+        .solve(&model.default_options())
+        .expect_err("the solve must fail")
+}
+
+/// The stderr of `bondmech run` on `v` (written to `name`); asserts a failure exit.
+fn cli_error(v: &Value, name: &str) -> String {
+    let path = tmp(name);
+    std::fs::write(&path, v.to_string()).unwrap();
+    let out = bondmech(&["run", path.to_str().unwrap(), "--table"]);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "exit 0: {err}");
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    err
+}
+
+#[test]
+fn regression_load_1_over_t_at_t0_names_the_load_and_time() {
+    let v = loaded(
+        json!([{ "type": "torque", "body": "bar", "value": 0.5 },
+               { "name": "kick", "type": "torque", "body": "bar", "value": "1/t" }]),
+        "dae",
+    );
+    let e = library_error(&v).to_string();
+    assert!(
+        e.contains("loads[1].value") && e.contains("'kick'") && e.contains("\"1/t\""),
+        "{e}"
+    );
+    assert!(e.contains("inf at t = 0"), "{e}");
+    let cli = cli_error(&v, "load_1_over_t.json");
+    assert!(
+        cli.contains("loads[1].value (load 'kick', \"1/t\") evaluates to inf at t = 0"),
+        "{cli}"
+    );
+}
+
+#[test]
+fn regression_load_sqrt_of_minus_1_names_the_component() {
+    let v = loaded(
+        json!([{ "type": "force", "body": "bar", "point": "A", "value": ["0", "sqrt(-1)"] }]),
+        "dae",
+    );
+    let e = library_error(&v).to_string();
+    assert!(
+        e.contains("loads[0].value[1]") && e.contains("NaN at t = 0"),
+        "{e}"
+    );
+}
+
+#[test]
+fn regression_load_log_turning_non_finite_mid_solve_names_the_load_and_time() {
+    // log(0.5 − t) is −∞ at t = 0.5 and NaN after: every formulation must name the load and
+    // stop at 0.5 (before issue 12: a bare IDA_CONV_FAIL, or 100 000 steps of "too much work")
+    for formulation in ["dae", "index1", "decoupled"] {
+        let v = loaded(
+            json!([{ "name": "gas", "type": "torque", "body": "bar", "value": "log(0.5 - t)" }]),
+            formulation,
+        );
+        let e = library_error(&v);
+        let bondmech::Error::NonFinite { culprit, .. } = &e else {
+            panic!("{formulation}: expected NonFinite, got {e:?}");
+        };
+        assert_eq!(culprit.path, "loads[0].value", "{formulation}");
+        assert!(culprit.what.contains("'gas'"), "{formulation}: {e}");
+        assert!(
+            (0.5..0.5 + 1e-9).contains(&culprit.t),
+            "{formulation}: t = {}",
+            culprit.t
+        );
+        let cli = cli_error(&v, &format!("load_log_{formulation}.json"));
+        assert!(
+            cli.contains("loads[0].value (load 'gas', \"log(0.5 - t)\")")
+                && cli.contains("at t = 0.5"),
+            "{formulation}: {cli}"
+        );
+    }
+}
+
+#[test]
+fn regression_load_depending_on_the_state_turning_nan_names_the_load() {
+    // sqrt(angle + 0.5) turns NaN when the falling bar passes −0.5 rad
+    let v = loaded(
+        json!([{ "type": "torque", "body": "bar", "value": "sqrt(bar.angle + 0.5)" }]),
+        "dae",
+    );
+    let e = library_error(&v);
+    let bondmech::Error::NonFinite { culprit, .. } = &e else {
+        panic!("expected NonFinite, got {e:?}");
+    };
+    assert_eq!(culprit.path, "loads[0].value");
+    assert!(culprit.t > 0.1 && culprit.t < 1.0, "{e}");
+}
+
+/// The mass–spring–damper of `scenes/bg_mass_spring_damper.json` with force `force`.
+fn spring_mass(force: &str) -> Value {
+    json!({
+        "bond_graph": {
+            "elements": [
+                {"name": "F", "kind": "Se", "value": force},
+                {"name": "v", "kind": "1"},
+                {"name": "m", "kind": "I", "value": 1.5},
+                {"name": "k", "kind": "C", "stiffness": 6.0, "initial": 0.1},
+                {"name": "b", "kind": "R", "value": 0.3}
+            ],
+            "bonds": [{"from": "F", "to": "v"}, {"from": "v", "to": "m"},
+                      {"from": "v", "to": "k"}, {"from": "v", "to": "b"}]
+        },
+        "solve": {"t_end": 1.0, "output_step": 0.1}
+    })
+}
+
+#[test]
+fn regression_raw_bond_graph_source_1_over_t_names_the_element_not_a_cvode_flag() {
+    // before issue 12: "CVode failed with CV_FIRST_RHSFUNC_ERR (-8) at t = 0"
+    let v = spring_mass("1/t");
+    let e = library_error(&v).to_string();
+    assert_eq!(
+        e,
+        "bond_graph.elements[0] (Se 'F', value \"1/t\") evaluates to inf at t = 0"
+    );
+    let cli = cli_error(&v, "bg_1_over_t.json");
+    assert!(
+        cli.contains("bond_graph.elements[0] (Se 'F'") && !cli.contains("RHSFUNC"),
+        "{cli}"
+    );
+}
+
+#[test]
+fn regression_raw_bond_graph_resistance_turning_nan_mid_solve_names_the_element() {
+    // the DC motor (an IDA DAE) with an armature resistance sqrt(0.5 − t)
+    let mut v: Value = serde_json::from_str(
+        &std::fs::read_to_string(support::cli::scene("bg_dc_motor.json")).unwrap(),
+    )
+    .unwrap();
+    v["bond_graph"]["elements"][2]["value"] = json!("sqrt(0.5-t)");
+    v["solve"]["t_end"] = json!(1.0);
+    let e = library_error(&v);
+    let bondmech::Error::NonFinite { culprit, .. } = &e else {
+        panic!("expected NonFinite, got {e:?}");
+    };
+    assert_eq!(culprit.path, "bond_graph.elements[2]");
+    assert!(culprit.what.contains("'Ra'"), "{e}");
+    assert!((0.5..0.5 + 1e-9).contains(&culprit.t), "{e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Raw bond graphs: single-bond junctions, unknown fields
+// ---------------------------------------------------------------------------------------------
+
+fn dc_motor() -> Value {
+    serde_json::from_str(&std::fs::read_to_string(support::cli::scene("bg_dc_motor.json")).unwrap())
+        .unwrap()
+}
+
+#[test]
+fn regression_single_bond_zero_junction_locking_the_dc_motor_is_refused() {
+    // a 0-junction hung on the rotor's 1-junction forces its flow (the rotor speed) to zero
+    let mut v = dc_motor();
+    v["bond_graph"]["elements"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "lock", "kind": "0"}));
+    v["bond_graph"]["bonds"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"from": "omega", "to": "lock"}));
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let e = bondmech::Model::new(&scene).unwrap_err().to_string();
+    assert!(
+        e.contains("bond_graph.elements[8]") && e.contains("0-junction 'lock' has a single bond"),
+        "{e}"
+    );
+    let cli = cli_error(&v, "bg_single_bond.json");
+    assert!(cli.contains("'lock'"), "{cli}");
+}
+
+#[test]
+fn regression_unknown_field_in_a_bond_graph_element_names_its_index_and_name() {
+    let mut v = dc_motor();
+    v["bond_graph"]["elements"][2] = json!({"name": "Ra", "kind": "R", "resistence": 1.0});
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let e = bondmech::Model::new(&scene).unwrap_err().to_string();
+    assert!(
+        e.contains("bond_graph.elements[2] (name \"Ra\"): unknown field \"resistence\" (did you mean \"value\"?"),
+        "{e}"
+    );
+    v["bond_graph"]["elements"][2] = json!({"name": "Ra", "kind": "R", "valeu": 1.0});
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let e = bondmech::Model::new(&scene).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown field \"valeu\" (did you mean \"value\"?"),
+        "{e}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Huge expressions: the error shows the offending part only
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn regression_100_kb_expression_is_not_echoed_whole_in_its_error() {
+    let mut expr = "0.001*t + ".repeat(10_000);
+    expr.push_str("nosuchname");
+    assert!(expr.len() > 100_000);
+    let v = loaded(
+        json!([{ "type": "torque", "body": "bar", "value": expr }]),
+        "dae",
+    );
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let e = bondmech::Model::new(&scene).unwrap_err().to_string();
+    assert!(
+        e.len() < 400,
+        "{} characters: {}",
+        e.len(),
+        &e[..400.min(e.len())]
+    );
+    assert!(
+        e.contains("loads[0].value") && e.contains("nosuchname"),
+        "{e}"
+    );
+    assert!(
+        e.contains('…') && e.contains("column 100001 of 100010"),
+        "{e}"
+    );
+    // unbalanced parentheses (found by the scene validation)
+    let mut expr = "(t + ".repeat(30_000);
+    expr.push_str(" 1");
+    let v = loaded(
+        json!([{ "type": "torque", "body": "bar", "value": expr }]),
+        "dae",
+    );
+    let problems = refused(&v);
+    assert!(problems.iter().all(|p| p.len() < 300), "{problems:?}");
+    assert!(
+        problems[0].contains("unbalanced parentheses"),
+        "{problems:?}"
+    );
+}
+
+#[test]
+fn regression_100_kb_bond_graph_expression_is_not_echoed_whole() {
+    let mut expr = "0.001*t + ".repeat(10_000);
+    expr.push_str("x_nosuch");
+    let v = spring_mass(&expr);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let e = bondmech::Model::new(&scene).unwrap_err().to_string();
+    assert!(e.len() < 500, "{} characters", e.len());
+    assert!(
+        e.contains("bond_graph.elements[0]") && e.contains("x_nosuch"),
+        "{e}"
+    );
+}
