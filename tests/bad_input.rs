@@ -406,3 +406,44 @@ fn regression_100_kb_bond_graph_expression_is_not_echoed_whole() {
         "{e}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// A joint stiffness that makes the decoupled twin meaningless: warned
+// ---------------------------------------------------------------------------------------------
+
+/// The summary warnings of the pendulum's decoupled twin at stiffness `k`.
+fn twin_warnings(k: f64) -> Vec<String> {
+    let mut v = pendulum();
+    v["solve"]["formulation"] = json!("decoupled");
+    v["solve"]["joint_stiffness"] = json!(k);
+    v["solve"]["t_end"] = json!(0.1);
+    v["solve"]["output_step"] = json!(0.05);
+    let scene = Scene::from_json_str(&v.to_string()).expect("a soft joint is not refused");
+    let model = bondmech::Model::new(&scene).unwrap();
+    model
+        .solve(&model.default_options())
+        .unwrap()
+        .summary
+        .warnings
+}
+
+#[test]
+fn regression_joint_stiffness_1e_minus_3_warns_that_the_twin_starts_kilometres_away() {
+    // the pivot carries m g / 4 = 2.45 N at the start: λ/k = 2.45 km at k = 1e-3 N/m
+    let w = twin_warnings(1e-3);
+    let prestress: Vec<&String> = w.iter().filter(|w| w.contains("λ/k")).collect();
+    assert_eq!(prestress.len(), 1, "{w:#?}");
+    assert!(
+        prestress[0].contains("solve.joint_stiffness")
+            && prestress[0].contains("2.452e3 m")
+            && prestress[0].contains("'pivot'"),
+        "{}",
+        prestress[0]
+    );
+    // the default stiffness (stretch 2.45e-8 m) says nothing
+    assert!(
+        twin_warnings(1e8).iter().all(|w| !w.contains("λ/k")),
+        "{:#?}",
+        twin_warnings(1e8)
+    );
+}

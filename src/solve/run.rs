@@ -306,6 +306,13 @@ pub fn solve_system(
             let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
             build += t.elapsed().as_secs_f64();
             summary.joint_stiffness = opts.joint_stiffness;
+            summary
+                .warnings
+                .extend(crate::dae::decoupled::prestress_warning(
+                    &sys,
+                    &init.lambda,
+                    opts.joint_stiffness,
+                ));
             run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
         }
         FormulationKind::Index1 => {
