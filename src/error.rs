@@ -55,6 +55,9 @@ pub enum Error {
         #[source]
         solver: SolverError,
     },
+    /// The model would not fit in this machine's memory (estimated before building it).
+    #[error("{0}")]
+    TooLarge(#[from] crate::mech::size::SizeError),
     /// Invalid solve options.
     #[error("invalid options: {0}")]
     Options(String),

@@ -94,9 +94,11 @@ impl Model {
     /// Builds the multibody system of `scene`, or reads and validates its raw `"bond_graph"`.
     ///
     /// Errors name the culprit: the JSON path of a bad body, joint or load, or the bond graph
-    /// element or bond that is invalid.
+    /// element or bond that is invalid. A model whose dense matrices would not fit in this
+    /// machine's memory is refused before it is built ([`crate::mech::size`]).
     pub fn new(scene: &Scene) -> Result<Model> {
         let clock = ThreadTime::now();
+        crate::mech::size::check_scene_memory(scene, scene.solve.formulation)?;
         let kind = if scene.bond_graph.is_some() {
             Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
         } else {

@@ -447,3 +447,87 @@ fn regression_joint_stiffness_1e_minus_3_warns_that_the_twin_starts_kilometres_a
         twin_warnings(1e8)
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Models beyond the machine: refused before they are built, naming the limit
+// ---------------------------------------------------------------------------------------------
+
+/// `n` free planar bars side by side under gravity.
+fn free_bodies(n: usize) -> Scene {
+    let bodies: Vec<Value> = (0..n)
+        .map(|i| json!({ "name": format!("b{i}"), "mass": 1.0, "inertia": 0.1, "position": [i as f64, 0.0] }))
+        .collect();
+    Scene::from_json_str(
+        &json!({ "gravity": [0.0, -9.81], "bodies": bodies, "solve": { "t_end": 0.01 } })
+            .to_string(),
+    )
+    .unwrap()
+}
+
+/// An `n`-link pendulum of 1 m bars.
+fn chain(n: usize) -> Scene {
+    let bodies: Vec<Value> = (0..n)
+        .map(|i| json!({ "name": format!("b{i}"), "mass": 1.0, "inertia": 0.08,
+                         "points": { "O": [-0.5, 0.0], "A": [0.5, 0.0] }, "position": [i as f64 + 0.5, 0.0] }))
+        .collect();
+    let mut joints = vec![
+        json!({ "type": "revolute", "bodies": ["ground", "b0"], "points": [[0.0, 0.0], "O"] }),
+    ];
+    joints.extend((1..n).map(|i| {
+        json!({ "type": "revolute", "bodies": [format!("b{}", i - 1), format!("b{i}")], "points": ["A", "O"] })
+    }));
+    Scene::from_json_str(
+        &json!({ "gravity": [0.0, -9.81], "bodies": bodies, "joints": joints, "solve": { "t_end": 0.01 } })
+            .to_string(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn regression_6000_free_bodies_are_refused_on_a_4_gib_machine_naming_the_limit() {
+    use bondmech::mech::size::{check_memory, estimate_memory};
+    use bondmech::scene::Formulation;
+    const GIB: u64 = 1 << 30;
+    let scene = free_bodies(6000);
+    let est = estimate_memory(&scene, Formulation::Dae);
+    // 18 000 coordinates and velocities: the GGL Newton matrix (36 000²) and the start's SVD
+    // (4 × 18 000²) are both 9.7 GiB
+    assert_eq!(
+        (est.coordinates, est.velocities, est.constraint_rows),
+        (18_000, 18_000, 0)
+    );
+    assert!((est.bytes / GIB as f64 - 9.8).abs() < 0.2, "{est:?}");
+    let e = check_memory(&est, Some(4 * GIB)).unwrap_err().to_string();
+    assert!(
+        e.contains("~9.8 GiB") && e.contains("4.0 GiB available") && e.contains("limit: 80 %"),
+        "{e}"
+    );
+    // the decoupled twin keeps two dense matrices of 36 000²
+    let twin = estimate_memory(&scene, Formulation::Decoupled);
+    assert!(
+        twin.bytes > 1.9 * est.bytes && twin.what.contains("CVODE"),
+        "{twin:?}"
+    );
+    // chains of a few hundred bodies are far from the limit
+    for n in [300, 500] {
+        let est = estimate_memory(&chain(n), Formulation::Dae);
+        assert_eq!(est.constraint_rows, 2 * n);
+        check_memory(&est, Some(4 * GIB)).unwrap_or_else(|e| panic!("{n}-link chain: {e}"));
+    }
+    assert!(check_memory(&est, None).is_ok(), "no known limit: accepted");
+}
+
+#[test]
+fn regression_model_far_beyond_the_machine_is_refused_by_model_new() {
+    // 20 000 free bodies: the consistent start alone needs 4 × 60 000² doubles (107 GiB)
+    let scene = free_bodies(20_000);
+    let e = bondmech::Model::new(&scene).unwrap_err();
+    assert!(matches!(e, bondmech::Error::TooLarge(_)), "{e:?}");
+    let text = e.to_string();
+    assert!(
+        text.contains("MemAvailable")
+            && text.contains("60000 coordinates")
+            && text.contains("GiB for the dense"),
+        "{text}"
+    );
+}

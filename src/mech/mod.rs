@@ -8,6 +8,7 @@
 pub mod assemble;
 pub mod body;
 pub mod bondgraph;
+pub mod size;
 pub mod system;
 
 pub use assemble::assemble;
