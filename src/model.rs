@@ -85,6 +85,9 @@ fn empty_system() -> MultibodySystem {
         kinetic: zero,
         outputs: Vec::new(),
         warnings: Vec::new(),
+        reactions: Vec::new(),
+        reaction_outputs: false,
+        events: Vec::new(),
     }
 }
 
