@@ -36,6 +36,11 @@ struct SolveArgs {
     /// Joint stiffness of the decoupled twin (N/m).
     #[arg(long = "joint-stiffness")]
     joint_stiffness: Option<f64>,
+    /// Add every joint's reaction columns (`J.Fx, J.Fy[, J.Fz]`, and `J.Mz` or `J.Mx, J.My,
+    /// J.Mz` for prismatic, weld and hinge joints): force and moment on the joint's second
+    /// body, global frame, N and N·m; as `"outputs": ["reactions"]` in the scene.
+    #[arg(long)]
+    reactions: bool,
 }
 
 #[derive(Subcommand)]
@@ -117,7 +122,12 @@ fn main() -> ExitCode {
 
 /// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
 fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
-    let model = Model::new(&Scene::from_path(&args.scene)?)?;
+    let mut scene = Scene::from_path(&args.scene)?;
+    if args.reactions && !scene.outputs.iter().any(|o| o == "reactions") {
+        scene.outputs.push("reactions".into());
+        scene.validate()?;
+    }
+    let model = Model::new(&scene)?;
     let mut opts = model.default_options();
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
@@ -189,6 +199,9 @@ fn run(cli: Cli) -> Result<(), Error> {
                     s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
                     s.max_constraint_error, s.energy_drift
                 );
+                for e in &s.events {
+                    println!("event {} at t = {}", e.name, e.t);
+                }
             }
             if let Some(p) = &summary {
                 let j = serde_json::to_string_pretty(&sol.summary).expect("summary serialises");
