@@ -218,6 +218,13 @@ impl Model {
         Ok(SolveOptions::times(t_end, step))
     }
 
+    /// The names of the columns of every row a solve produces (without `t`), in order — what
+    /// a [`Model::solve_streaming`] observer needs to read its rows. `None` for a raw bond
+    /// graph scene, whose columns come from its causal equations (see [`Solution::columns`]).
+    pub fn columns(&self) -> Option<Vec<String>> {
+        self.mechanism().map(crate::solve::run::output_columns)
+    }
+
     /// Solves with `opts`.
     pub fn solve(&self, opts: &SolveOptions) -> Result<Solution> {
         self.solve_streaming(opts, &mut |_| ControlFlow::Continue(()))

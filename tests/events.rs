@@ -45,7 +45,8 @@ fn solve(scene: &Value, f: FormulationKind, rtol: f64) -> Solution {
 fn pendulum_released_horizontal_reaches_the_vertical_at_a_quarter_period() {
     let (m, l) = (1.0, 1.2);
     let quarter = period(l) / 4.0;
-    let events = json!([{ "name": "vertical", "when": "bar.x", "direction": "falling", "action": "stop" }]);
+    let events =
+        json!([{ "name": "vertical", "when": "bar.x", "direction": "falling", "action": "stop" }]);
     let scene = bar(m, l, events, 3.0);
     for f in [
         FormulationKind::Ggl,
@@ -57,19 +58,29 @@ fn pendulum_released_horizontal_reaches_the_vertical_at_a_quarter_period() {
         assert_eq!(ev.len(), 1, "{f:?}: {ev:?}");
         assert_eq!(ev[0].name, "vertical");
         let rel = (ev[0].t - quarter).abs() / quarter;
-        eprintln!("{f:?}: event at {} s, T/4 = {quarter} s, relative error {rel:.1e}", ev[0].t);
+        eprintln!(
+            "{f:?}: event at {} s, T/4 = {quarter} s, relative error {rel:.1e}",
+            ev[0].t
+        );
         assert!(rel < 1e-9, "{f:?}: {} against {quarter}: {rel:e}", ev[0].t);
         // the event row is the last row, at the event time, with the bar vertical
         assert_eq!(*sol.times.last().unwrap(), ev[0].t, "{f:?}");
         let k = sol.rows.len() - 1;
         assert!(sol.value(k, "bar.x").unwrap().abs() < 1e-9, "{f:?}");
         // the output rows before it were kept: every multiple of 0.05 below T/4
-        assert_eq!(sol.rows.len(), (quarter / 0.05).floor() as usize + 2, "{f:?}");
+        assert_eq!(
+            sol.rows.len(),
+            (quarter / 0.05).floor() as usize + 2,
+            "{f:?}"
+        );
     }
     // the decoupled twin finds it too (its pin stretches by about m g / k, hence the looser bound)
     let sol = solve(&scene, FormulationKind::Decoupled, 1e-10);
     let t = sol.summary.events[0].t;
-    assert!((t - quarter).abs() < 1e-5 * quarter, "twin: {t} against {quarter}");
+    assert!(
+        (t - quarter).abs() < 1e-5 * quarter,
+        "twin: {t} against {quarter}"
+    );
 }
 
 /// `record` events add rows and let the run go on; the direction picks the crossings: `bar.x`
@@ -141,7 +152,11 @@ fn an_event_on_a_reaction_column_fires_where_the_pin_force_reaches_twice_the_wei
         // at the event the bar's angle below the horizontal has sin φ = −bar.angle's sine
         let k = sol.rows.len() - 1;
         let phi = -sol.value(k, "bar.angle").unwrap();
-        let tol = if f == FormulationKind::Decoupled { 1e-5 } else { 1e-8 };
+        let tol = if f == FormulationKind::Decoupled {
+            1e-5
+        } else {
+            1e-8
+        };
         assert!(
             (phi.sin().powi(2) - s2).abs() < tol,
             "{f:?}: sin²φ = {} against {s2}",
@@ -165,15 +180,39 @@ fn problems(scene: &Value) -> String {
 fn bad_events_name_their_json_path() {
     let cases = [
         (json!([{ "when": "bar.x +" }]), "events[0].when", "expected"),
-        (json!([{ "when": "bar.nope" }]), "events[0].when", "unknown name 'bar.nope'"),
-        (json!([{ "when": "pivot.Mz" }]), "events[0].when", "unknown name 'pivot.Mz'"),
+        (
+            json!([{ "when": "bar.nope" }]),
+            "events[0].when",
+            "unknown name 'bar.nope'",
+        ),
+        (
+            json!([{ "when": "pivot.Mz" }]),
+            "events[0].when",
+            "unknown name 'pivot.Mz'",
+        ),
         (json!([{ "when": "" }]), "events[0].when", "non-empty"),
         (json!([{ "name": "e" }]), "events[0].when", "missing"),
         (json!([{ "when": 3 }]), "events[0].when", "string"),
-        (json!([{ "when": "t - 1", "direction": "up" }]), "events[0].direction", "rising"),
-        (json!([{ "when": "t - 1", "action": "halt" }]), "events[0].action", "stop"),
-        (json!([{ "when": "t - 1", "tolerance": 1 }]), "events[0].tolerance", "unknown field"),
-        (json!([{ "name": "a", "when": "t - 1" }, { "name": "a", "when": "t - 2" }]), "events[1].name", "duplicate"),
+        (
+            json!([{ "when": "t - 1", "direction": "up" }]),
+            "events[0].direction",
+            "rising",
+        ),
+        (
+            json!([{ "when": "t - 1", "action": "halt" }]),
+            "events[0].action",
+            "stop",
+        ),
+        (
+            json!([{ "when": "t - 1", "tolerance": 1 }]),
+            "events[0].tolerance",
+            "unknown field",
+        ),
+        (
+            json!([{ "name": "a", "when": "t - 1" }, { "name": "a", "when": "t - 2" }]),
+            "events[1].name",
+            "duplicate",
+        ),
         (json!({ "when": "t - 1" }), "events", "array"),
     ];
     for (events, path, fragment) in cases {

@@ -64,7 +64,10 @@ fn pinned_bar_released_horizontal_carries_two_and_a_half_weights_at_the_vertical
             "{f:?}: pivot.Fy = {fy}, expected 2.5 m g = {}",
             2.5 * m * G
         );
-        assert!(fx.abs() < 1e-6 * m * G, "{f:?}: pivot.Fx = {fx}, expected 0");
+        assert!(
+            fx.abs() < 1e-6 * m * G,
+            "{f:?}: pivot.Fx = {fx}, expected 0"
+        );
         // no moment column for a pin
         assert!(sol.column("pivot.Mz").is_none());
         // at release (ω = 0, α = 3g/(2L)): the centre accelerates down at (L/2) α = 3g/4, so
@@ -275,7 +278,10 @@ fn twin_reactions_approach_the_dae_as_the_joints_stiffen() {
         }
         diffs.push(worst);
     }
-    eprintln!("twin − DAE reaction difference: k = 1e5: {:e} N, k = 1e7: {:e} N", diffs[0], diffs[1]);
+    eprintln!(
+        "twin − DAE reaction difference: k = 1e5: {:e} N, k = 1e7: {:e} N",
+        diffs[0], diffs[1]
+    );
     assert!(diffs[1] < 0.05 * diffs[0], "{diffs:?}");
     assert!(diffs[1] < 0.05, "{diffs:?}");
 }

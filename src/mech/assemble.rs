@@ -963,11 +963,7 @@ impl<'a> Assembler<'a> {
                     ),
                 )
             })?;
-            let uses_reactions = self
-                .g
-                .vars(expr)
-                .iter()
-                .any(|&s| s as usize >= base);
+            let uses_reactions = self.g.vars(expr).iter().any(|&s| s as usize >= base);
             out.push(EventFunction {
                 name: ev.name.clone(),
                 expr,
@@ -1036,9 +1032,7 @@ impl<'a> Assembler<'a> {
     }
 
     #[allow(clippy::type_complexity)]
-    fn joints(
-        &mut self,
-    ) -> Result<(Vec<Expr>, Vec<ConstraintRow>, Vec<JointReaction>), MechError> {
+    fn joints(&mut self) -> Result<(Vec<Expr>, Vec<ConstraintRow>, Vec<JointReaction>), MechError> {
         let mut g_rows = Vec::new();
         let mut meta = Vec::new();
         let mut reactions = Vec::new();

@@ -75,7 +75,8 @@ impl ReactionEval {
         self.vars[0] = t;
         self.vars[1..].copy_from_slice(&y[..nq + nv]);
         self.tape.eval(&self.vars, &mut self.work, &mut self.vals);
-        self.gv.eval(&self.vars, &mut self.gv_work, &mut self.gv_vals);
+        self.gv
+            .eval(&self.vars, &mut self.gv_work, &mut self.gv_vals);
         match &self.source {
             Multipliers::Unknowns(off) => self.lambda.copy_from_slice(&y[*off..*off + nc]),
             Multipliers::Springs(tape) => {

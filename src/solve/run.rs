@@ -17,12 +17,12 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
+use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_conditioning,
     select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
     ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
 };
-use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
 use crate::sundials::{
@@ -158,6 +158,18 @@ pub struct Row<'a> {
     pub values: &'a [f64],
 }
 
+/// The columns of a mechanism's rows (without `t`): the standard and requested outputs, every
+/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), then
+/// `constraint_error` (always written: cheap and always meaningful).
+pub fn output_columns(sys: &MultibodySystem) -> Vec<String> {
+    let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+    if sys.reaction_outputs {
+        columns.extend(sys.reaction_columns());
+    }
+    columns.push("constraint_error".into());
+    columns
+}
+
 /// Evaluates output rows from states `[q, v]`.
 struct OutputEval {
     tapes: MechanicsTapes,
@@ -181,9 +193,15 @@ struct OutputEval {
 }
 
 impl OutputEval {
-    fn new(sys: impl std::borrow::Borrow<MultibodySystem>, tapes: MechanicsTapes) -> Self {
+    /// The evaluator of [`output_columns`]; the reactions (when asked for) read their
+    /// constraint forces from `multipliers`.
+    fn new(
+        sys: impl std::borrow::Borrow<MultibodySystem>,
+        tapes: MechanicsTapes,
+        multipliers: &Multipliers,
+    ) -> Self {
         let sys = sys.borrow();
-        let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+        let columns = output_columns(sys);
         let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
         let at = |n: String| columns.iter().position(|c| *c == n);
         let cardan = columns
@@ -197,8 +215,9 @@ impl OutputEval {
                 ])
             })
             .collect();
-        // constraint_error is always written (it is cheap and always meaningful)
-        columns.push("constraint_error".into());
+        let reactions = sys
+            .reaction_outputs
+            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone()));
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
         OutputEval {
@@ -212,26 +231,13 @@ impl OutputEval {
             unwrap,
             cardan,
             want_constraint_error: true,
-            reactions: None,
+            reactions,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
             max_g: 0.0,
             prev: None,
         }
-    }
-
-    /// Adds the reaction columns (before `constraint_error`) when the system asks for them.
-    fn with_reactions(mut self, sys: &MultibodySystem, source: &Multipliers) -> Self {
-        if sys.reaction_outputs {
-            let r = ReactionEval::new(sys, &self.tapes.gv, source.clone());
-            let at = self.columns.len() - 1;
-            for (i, c) in sys.reaction_columns().into_iter().enumerate() {
-                self.columns.insert(at + i, c);
-            }
-            self.reactions = Some(r);
-        }
-        self
     }
 
     /// The row at `(t, x)`; `x` is the solver's state vector, `[q, v]` followed by the
@@ -660,7 +666,7 @@ fn run_ggl(
     let mut solver = make_ggl_ida(&ggl, atol, eps_start, t0, &y0, &yp0, opts)?;
     let mut total = SolverStats::default();
     let multipliers = Multipliers::Unknowns(nq + nv);
-    let mut out = OutputEval::new(sys, tapes.clone()).with_reactions(sys, &multipliers);
+    let mut out = OutputEval::new(sys, tapes.clone(), &multipliers);
     let events = event_eval(sys, &tapes, &multipliers);
     set_ida_events(&mut solver.ida, &events)?;
     let mut sol = Solution {
@@ -908,7 +914,7 @@ fn run_index1(
     let mut total = SolverStats::default();
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + nc);
-    let mut out = OutputEval::new(sys.clone(), tapes.clone()).with_reactions(&sys, &multipliers);
+    let mut out = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
     let events = event_eval(&sys, &tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
@@ -1081,7 +1087,7 @@ fn run_decoupled(
             }),
         )?;
     }
-    let mut out = OutputEval::new(sys, tapes).with_reactions(sys, &multipliers);
+    let mut out = OutputEval::new(sys, tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -1138,7 +1144,11 @@ fn emit(
 }
 
 /// The scene's event functions with the reactions read from `multipliers`.
-fn event_eval(sys: &MultibodySystem, tapes: &MechanicsTapes, multipliers: &Multipliers) -> EventEval {
+fn event_eval(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    multipliers: &Multipliers,
+) -> EventEval {
     EventEval::new(sys, &ReactionEval::new(sys, &tapes.gv, multipliers.clone()))
 }
 
