@@ -36,10 +36,12 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         ([b], [j]) if j.kind == JointKind::Revolute && j.bodies[0] == "ground" => {
             (b.clone(), j.clone())
         }
-        _ => return Err(format!(
+        _ => {
+            return Err(format!(
             "{path}: expected one planar body on one revolute joint to the ground (listed first)"
         )
-        .into()),
+            .into())
+        }
     };
     let s_pin = match &pin.points[1] {
         PointRef::Named(n) => body.point(n).ok_or("pin point not on the body")?.to_vec(),

@@ -282,6 +282,12 @@ fn twin_reactions_approach_the_dae_as_the_joints_stiffen() {
         "twin − DAE reaction difference: k = 1e5: {:e} N, k = 1e7: {:e} N",
         diffs[0], diffs[1]
     );
+    // `compare` diffs the same columns (forces in N) at the shared output times
+    o.formulation = FormulationKind::Ggl;
+    let (cmp, _, _) = model.compare(&o).unwrap();
+    assert!(cmp.force.column.ends_with(".Fx") || cmp.force.column.ends_with(".Fy"));
+    assert_eq!(cmp.force.value, diffs[1]);
+    assert!(cmp.moment.column.is_empty(), "pins transmit no moment");
     assert!(diffs[1] < 0.05 * diffs[0], "{diffs:?}");
     assert!(diffs[1] < 0.05, "{diffs:?}");
 }
