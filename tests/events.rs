@@ -244,3 +244,21 @@ fn time_event_stops_every_formulation_and_round_trips() {
     let back = Scene::from_json_str(&serde_json::to_string(&s).unwrap()).unwrap();
     assert_eq!(back.events, s.events);
 }
+
+/// An event whose value is not a number (here the square root of a negative height) stops the
+/// solve with an error naming the event's JSON path, on IDA and on CVODE.
+#[test]
+fn an_event_that_is_not_a_number_fails_with_its_path() {
+    let events = json!([{ "name": "bad", "when": "sqrt(bar.y - 0.1)" }]);
+    let scene = Scene::from_json_str(&bar(1.0, 1.0, events, 1.0).to_string()).unwrap();
+    let model = Model::new(&scene).unwrap();
+    for f in [FormulationKind::Ggl, FormulationKind::Decoupled] {
+        let mut o = model.default_options();
+        o.formulation = f;
+        let err = model.solve(&o).unwrap_err().to_string();
+        assert!(
+            err.contains("events[0].when") && err.contains("NaN"),
+            "{f:?}: {err}"
+        );
+    }
+}

@@ -966,6 +966,7 @@ impl<'a> Assembler<'a> {
             let uses_reactions = self.g.vars(expr).iter().any(|&s| s as usize >= base);
             out.push(EventFunction {
                 name: ev.name.clone(),
+                when: ev.when.clone(),
                 expr,
                 direction: ev.direction,
                 action: ev.action,

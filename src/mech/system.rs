@@ -56,6 +56,8 @@ pub struct OutputColumn {
 pub struct EventFunction {
     /// Event name (as in the scene).
     pub name: String,
+    /// The `when` expression as written (for messages).
+    pub when: String,
     /// The function whose zero crossings are the event.
     pub expr: Expr,
     /// Which crossings count.

@@ -8,6 +8,7 @@
 
 use crate::expr::{Expr, Tape};
 use crate::mech::{EventFunction, JointReaction, MultibodySystem};
+use crate::sundials::{CallbackError, CallbackResult};
 
 /// Where the constraint forces of a formulation are.
 #[derive(Clone, Debug)]
@@ -112,6 +113,8 @@ pub(crate) struct EventEval {
     vars: Vec<f64>,
     work: Vec<f64>,
     n_state: usize,
+    /// `(name, when)` of each event, for messages.
+    sources: Vec<(String, String)>,
 }
 
 impl EventEval {
@@ -128,12 +131,30 @@ impl EventEval {
             reactions: uses.then(|| reactions.clone()),
             vars: vec![0.0; n_vars],
             n_state,
+            sources: sys
+                .events
+                .iter()
+                .map(|e| (e.name.clone(), e.when.clone()))
+                .collect(),
         }
     }
 
     /// Number of event functions.
     pub(crate) fn len(&self) -> usize {
         self.tape.n_outputs()
+    }
+
+    /// The event functions at `(t, y)` into `out`, as a root-function callback: a value that
+    /// is not finite stops the solve with a message naming the event's JSON path.
+    pub(crate) fn roots(&mut self, t: f64, y: &[f64], out: &mut [f64]) -> CallbackResult {
+        self.eval(t, y, out);
+        match out.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(CallbackError::Fatal(format!(
+                "events[{i}].when: event '{}' evaluates to {} (\"{}\")",
+                self.sources[i].0, out[i], self.sources[i].1
+            ))),
+        }
     }
 
     /// The event functions at `(t, y)` into `out`.

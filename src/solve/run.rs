@@ -1079,13 +1079,7 @@ fn run_decoupled(
     let events = event_eval(sys, &tapes, &multipliers);
     if events.len() > 0 {
         let mut ev = events.clone();
-        cv.set_roots(
-            ev.len(),
-            Box::new(move |t, y, g| {
-                ev.eval(t, y, g);
-                Ok(())
-            }),
-        )?;
+        cv.set_roots(ev.len(), Box::new(move |t, y, g| ev.roots(t, y, g)))?;
     }
     let mut out = OutputEval::new(sys, tapes, &multipliers);
     let mut sol = Solution {
@@ -1158,13 +1152,7 @@ fn set_ida_events(ida: &mut Ida, events: &EventEval) -> Result<(), Error> {
         return Ok(());
     }
     let mut ev = events.clone();
-    ida.set_roots(
-        ev.len(),
-        Box::new(move |t, y, _yp, g| {
-            ev.eval(t, y, g);
-            Ok(())
-        }),
-    )?;
+    ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;
     Ok(())
 }
 
