@@ -119,16 +119,18 @@ pub(crate) struct EventEval {
 
 impl EventEval {
     /// Compiles the event functions; the reactions are evaluated only when an event uses them.
-    pub(crate) fn new(sys: &MultibodySystem, reactions: &ReactionEval) -> Self {
+    pub(crate) fn new(sys: &MultibodySystem, reactions: impl FnOnce() -> ReactionEval) -> Self {
         let exprs: Vec<Expr> = sys.events.iter().map(|e| e.expr).collect();
         let tape = sys.graph.compile(&exprs);
         let uses = sys.events.iter().any(|e: &EventFunction| e.uses_reactions);
         let n_state = 1 + sys.nq() + sys.nv();
-        let n_vars = (n_state + reactions.n_columns).max(tape.n_vars());
+        let reactions = uses.then(reactions);
+        let n_reactions = reactions.as_ref().map_or(0, |r| r.n_columns);
+        let n_vars = (n_state + n_reactions).max(tape.n_vars());
         EventEval {
             work: tape.workspace(),
             tape,
-            reactions: uses.then(|| reactions.clone()),
+            reactions,
             vars: vec![0.0; n_vars],
             n_state,
             sources: sys

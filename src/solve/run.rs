@@ -1046,7 +1046,13 @@ fn run_decoupled(
         opts.joint_stiffness,
     );
     y0.extend(&init.v);
-    let multipliers = Multipliers::Springs(sys.graph.compile(&dec.row_force));
+    // the joint springs' forces, compiled only when reactions are read
+    let row_force = if needs_reactions(sys) {
+        &dec.row_force[..]
+    } else {
+        &[]
+    };
+    let multipliers = Multipliers::Springs(sys.graph.compile(row_force));
     let cv_opts = CvodeOptions {
         rtol: opts.rtol,
         atol: vec![opts.atol],
@@ -1143,7 +1149,14 @@ fn event_eval(
     tapes: &MechanicsTapes,
     multipliers: &Multipliers,
 ) -> EventEval {
-    EventEval::new(sys, &ReactionEval::new(sys, &tapes.gv, multipliers.clone()))
+    EventEval::new(sys, || {
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone())
+    })
+}
+
+/// Whether a solve computes reactions at all (as output columns or inside an event).
+fn needs_reactions(sys: &MultibodySystem) -> bool {
+    sys.reaction_outputs || sys.events.iter().any(|e| e.uses_reactions)
 }
 
 /// Registers the event functions as IDA root functions (nothing when there are none).
