@@ -65,6 +65,12 @@ fn pendulum_released_horizontal_reaches_the_vertical_at_a_quarter_period() {
         assert!(rel < 1e-9, "{f:?}: {} against {quarter}: {rel:e}", ev[0].t);
         // the event row is the last row, at the event time, with the bar vertical
         assert_eq!(*sol.times.last().unwrap(), ev[0].t, "{f:?}");
+        // a stop event ends the run successfully: completed, at the event time
+        assert!(
+            sol.summary.completed && sol.summary.stopped_by.is_none(),
+            "{f:?}"
+        );
+        assert_eq!(sol.summary.t_reached, ev[0].t, "{f:?}");
         let k = sol.rows.len() - 1;
         assert!(sol.value(k, "bar.x").unwrap().abs() < 1e-9, "{f:?}");
         // the output rows before it were kept: every multiple of 0.05 below T/4

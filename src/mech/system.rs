@@ -116,6 +116,9 @@ pub struct MultibodySystem {
     pub reaction_outputs: bool,
     /// The scene's events.
     pub events: Vec<EventFunction>,
+    /// Why the mechanical energy is not conserved (the first damper or load that exchanges
+    /// energy with the mechanism, e.g. `loads[0] ('gas') does work`); `None` when it is.
+    pub energy_exchange: Option<String>,
 }
 
 impl MultibodySystem {
