@@ -358,3 +358,37 @@ fn body_fixed_frame_gives_the_same_knee_force() {
         assert!((v("pivot.Fy") - (m1 + m2) * G).abs() < 1e-7 * (m1 + m2) * G);
     }
 }
+
+/// 3D: a box hanging at rest from a ball joint at its top point, gravity −z, tilted axes (the
+/// body's frame is not the global one): the joint carries the weight, F = (0, 0, m g), and has
+/// no moment columns; the same on the twin.
+#[test]
+fn body_hanging_from_a_spherical_joint_carries_its_weight() {
+    let (m, h) = (2.3, 0.4);
+    let scene = json!({
+        "dimension": 3, "gravity": [0.0, 0.0, -G],
+        "bodies": [{ "name": "box", "mass": m, "inertia": [0.05, 0.07, 0.09],
+                     "points": { "top": [0.0, 0.0, h] }, "position": [0.0, 0.0, -h],
+                     "cardan": [0.7, 0.0, 0.0] }],
+        "joints": [{ "name": "ball", "type": "spherical", "bodies": ["ground", "box"],
+                     "points": [[0.0, 0.0, 0.0], "top"] }],
+        "solve": { "t_end": 0.5, "output_step": 0.1 },
+        "outputs": ["reactions"]
+    });
+    for f in [FormulationKind::Ggl, FormulationKind::Decoupled] {
+        let sol = solve(&scene, f, 1e-9);
+        assert!(sol.column("ball.Mx").is_none());
+        for k in 0..sol.rows.len() {
+            let v = |c: &str| sol.value(k, c).unwrap();
+            assert!(
+                v("ball.Fx").abs() < 1e-7 && v("ball.Fy").abs() < 1e-7,
+                "{f:?}"
+            );
+            assert!(
+                (v("ball.Fz") - m * G).abs() < 1e-7 * m * G,
+                "{f:?}: {}",
+                v("ball.Fz")
+            );
+        }
+    }
+}
