@@ -11,7 +11,6 @@ use std::process::{Command, Stdio};
 
 use bondmech::{Error, FormulationKind, Model, Scene, SolveOptions};
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
-use common::elliptic::pendulum_period;
 use serde_json::{json, Value};
 use support::cli::{bondmech, scene, tmp};
 
@@ -190,16 +189,13 @@ fn regression_default_step_budget_stopped_a_2000_s_pendulum() {
     let (header, rows) = read_csv(&String::from_utf8_lossy(&out.stdout));
     assert_eq!(rows.len(), times.len());
     assert_eq!(rows.last().unwrap()[0], 2000.0);
-    // it passed the old 100 000-step cap and did real work: a sound trajectory at 10 s, where
-    // the elliptic solution says the bob is back on the horizontal after an integer number of
-    // periods plus a known phase (checked loosely: the accuracy over 2000 s is issue 14's)
+    // it passed the old cap of 100 000 steps per output interval and kept the energy (the
+    // accuracy over 2000 s against the elliptic solution is issue 14's)
     let s: Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
     assert!(s["steps"].as_u64().unwrap() > 100_000, "{s}");
     assert_eq!(s["completed"], json!(true));
     let e = header.iter().position(|h| h == "energy").unwrap();
     assert!(rows.iter().all(|r| (r[e] - rows[0][e]).abs() < 1e-3 * 9.81));
-    let period = pendulum_period(1.0, 9.81, std::f64::consts::FRAC_PI_2);
-    assert!(period > 2.0 && period < 2.5);
 }
 
 #[test]
@@ -429,19 +425,21 @@ fn regression_run_dash_did_not_read_standard_input() {
 
 #[test]
 fn regression_huge_t_end_aborted_out_of_memory() {
-    for cmd in ["run", "compare", "sweep"] {
-        for t in ["1e12", "1e9", "2e5"] {
-            let out = bondmech(
-                &[cmd, &scene("double_pendulum.json"), "--t-end", t, "--quick"]
-                    [..if cmd == "sweep" { 5 } else { 4 }],
-            );
-            assert_eq!(
-                out.status.code(),
-                Some(1),
-                "{cmd} --t-end {t}: {}",
+    // the scene's output_step is 0.01 s: 1e12 s would be 1e14 rows
+    let dp = scene("double_pendulum.json");
+    for t in ["1e12", "1e9", "2e5"] {
+        for args in [
+            vec!["run", &dp, "--t-end", t],
+            vec!["compare", &dp, "--t-end", t],
+            vec!["sweep", &dp, "--quick", "--t-end", t],
+        ] {
+            let out = bondmech(&args);
+            assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+            assert!(
+                stderr(&out).contains("--t-end"),
+                "{args:?}: {}",
                 stderr(&out)
             );
-            assert!(stderr(&out).contains("--t-end"), "{cmd}: {}", stderr(&out));
         }
     }
 }
