@@ -144,3 +144,49 @@ impl JointReaction {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::expr::ExprGraph;
+
+    /// A joint whose second body is ground, in 3D, with `B = I` and `G_v = I` (six rows on the
+    /// first body's six velocities): the wrench on the first body is `−λ = (F₁, M₁)` about P₁,
+    /// and the columns are the ground's: `F = −F₁ = λ_F`, `M = −M₁ − (P₁ − P₂) × F₁`.
+    #[test]
+    fn ground_second_body_in_3d_moves_the_moment_by_the_lever() {
+        let mut g = ExprGraph::new();
+        let z = g.zero();
+        let r = JointReaction {
+            joint: "j".into(),
+            rows: (0..6).collect(),
+            velocities: (0..6).collect(),
+            dim: 3,
+            rotations: 3,
+            flip: true,
+            moment: true,
+            basis: vec![z; 36],
+            lever: vec![z; 3],
+        };
+        let mut basis = vec![0.0; 36];
+        let mut gv = vec![0.0; 36];
+        for i in 0..6 {
+            basis[i * 6 + i] = 1.0;
+            gv[i * 6 + i] = 1.0;
+        }
+        let lambda = [1.0, -2.0, 3.0, 0.5, -0.25, 2.0];
+        let lever = [0.1, 0.2, -0.3];
+        let mut out = [0.0; 6];
+        r.wrench(&basis, &lever, &gv, 6, &lambda, &mut out);
+        // F₁ = (−1, 2, −3), M₁ = (−0.5, 0.25, −2); d × F₁ with d = (0.1, 0.2, −0.3):
+        // (0.2·(−3) − (−0.3)·2, (−0.3)·(−1) − 0.1·(−3), 0.1·2 − 0.2·(−1)) = (0, 0.6, 0.4)
+        let expected = [1.0, -2.0, 3.0, 0.5, -0.25 - 0.6, 2.0 - 0.4];
+        for (a, b) in out.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-15, "{out:?} against {expected:?}");
+        }
+        assert_eq!(
+            r.columns(),
+            ["j.Fx", "j.Fy", "j.Fz", "j.Mx", "j.My", "j.Mz"]
+        );
+    }
+}
