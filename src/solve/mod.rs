@@ -4,7 +4,8 @@
 pub mod bond_run;
 pub(crate) mod non_finite;
 pub mod options;
+mod reactions;
 pub mod run;
 
 pub use options::{FormulationKind, SolveOptions};
-pub use run::{solve_system, Row, SingularPassage, Solution, Summary};
+pub use run::{solve_system, EventRecord, Row, SingularPassage, Solution, Summary};

@@ -15,9 +15,26 @@ use crate::Error;
 /// name, expression) or generalized force that produced it. The state of every formulation
 /// starts with `[q, v]`.
 pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: Error) -> Error {
-    let Error::Solver(solver @ SolverError::NonFinite { .. }) = e else {
-        return e;
-    };
+    map_solver_cause(e, |solver| name_solver_error(sys, solver))
+}
+
+/// `e` with `f` applied to the solver error it comes from: `e` itself, or the cause of an
+/// [`Error::Incomplete`] (a solve that stopped and kept its rows). Other errors are unchanged.
+pub(crate) fn map_solver_cause(e: Error, f: impl FnOnce(SolverError) -> Error) -> Error {
+    match e {
+        Error::Solver(s) => f(s),
+        Error::Incomplete { cause, partial } => Error::Incomplete {
+            cause: Box::new(map_solver_cause(*cause, f)),
+            partial,
+        },
+        other => other,
+    }
+}
+
+fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> Error {
+    if !matches!(solver, SolverError::NonFinite { .. }) {
+        return Error::Solver(solver);
+    }
     let SolverError::NonFinite { t, y, stuck, .. } = &solver else {
         unreachable!("matched above")
     };
