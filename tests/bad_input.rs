@@ -159,6 +159,14 @@ fn library_error(v: &Value) -> bondmech::Error {
         .expect_err("the solve must fail")
 }
 
+/// The cause of `e`: `e` itself, or what stopped an incomplete solve (which keeps its rows).
+fn root(e: &bondmech::Error) -> &bondmech::Error {
+    match e {
+        bondmech::Error::Incomplete { cause, .. } => root(cause),
+        other => other,
+    }
+}
+
 /// The stderr of `bondmech run` on `v` (written to `name`); asserts a failure exit.
 fn cli_error(v: &Value, name: &str) -> String {
     let path = tmp(name);
@@ -213,7 +221,7 @@ fn regression_load_log_turning_non_finite_mid_solve_names_the_load_and_time() {
             formulation,
         );
         let e = library_error(&v);
-        let bondmech::Error::NonFinite { culprit, .. } = &e else {
+        let bondmech::Error::NonFinite { culprit, .. } = root(&e) else {
             panic!("{formulation}: expected NonFinite, got {e:?}");
         };
         assert_eq!(culprit.path, "loads[0].value", "{formulation}");
@@ -240,7 +248,7 @@ fn regression_load_depending_on_the_state_turning_nan_names_the_load() {
         "dae",
     );
     let e = library_error(&v);
-    let bondmech::Error::NonFinite { culprit, .. } = &e else {
+    let bondmech::Error::NonFinite { culprit, .. } = root(&e) else {
         panic!("expected NonFinite, got {e:?}");
     };
     assert_eq!(culprit.path, "loads[0].value");
@@ -270,9 +278,9 @@ fn regression_raw_bond_graph_source_1_over_t_names_the_element_not_a_cvode_flag(
     // before issue 12: "CVode failed with CV_FIRST_RHSFUNC_ERR (-8) at t = 0"
     let v = spring_mass("1/t");
     let e = library_error(&v).to_string();
-    assert_eq!(
-        e,
-        "bond_graph.elements[0] (Se 'F', value \"1/t\") evaluates to inf at t = 0"
+    assert!(
+        e.starts_with("bond_graph.elements[0] (Se 'F', value \"1/t\") evaluates to inf at t = 0"),
+        "{e}"
     );
     let cli = cli_error(&v, "bg_1_over_t.json");
     assert!(
@@ -291,7 +299,7 @@ fn regression_raw_bond_graph_resistance_turning_nan_mid_solve_names_the_element(
     v["bond_graph"]["elements"][2]["value"] = json!("sqrt(0.5-t)");
     v["solve"]["t_end"] = json!(1.0);
     let e = library_error(&v);
-    let bondmech::Error::NonFinite { culprit, .. } = &e else {
+    let bondmech::Error::NonFinite { culprit, .. } = root(&e) else {
         panic!("expected NonFinite, got {e:?}");
     };
     assert_eq!(culprit.path, "bond_graph.elements[2]");
