@@ -48,12 +48,12 @@ pub enum Error {
     #[error("{culprit}{}", if *stuck { "; the solver cannot step past it" } else { "" })]
     NonFinite {
         /// The culprit, its value and the time.
-        culprit: crate::mech::NonFiniteValue,
+        culprit: Box<crate::mech::NonFiniteValue>,
         /// Whether the solver's steps piled up against it (rather than failing otherwise).
         stuck: bool,
         /// The solver's own error.
         #[source]
-        solver: SolverError,
+        solver: Box<SolverError>,
     },
     /// The model would not fit in this machine's memory (estimated before building it).
     #[error("{0}")]

@@ -50,7 +50,7 @@ pub enum SizeError {
     #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this machine has {} available (/proc/meminfo MemAvailable); limit: {:.0} % of it (the linear solver is dense: memory grows as the square of the unknowns)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), MEMORY_FRACTION * 100.0)]
     TooLarge {
         /// The estimate.
-        estimate: MemoryEstimate,
+        estimate: Box<MemoryEstimate>,
         /// Bytes available.
         available: u64,
     },
@@ -138,7 +138,7 @@ pub fn available_memory() -> Option<u64> {
 pub fn check_memory(estimate: &MemoryEstimate, available: Option<u64>) -> Result<(), SizeError> {
     match available {
         Some(a) if estimate.bytes > MEMORY_FRACTION * a as f64 => Err(SizeError::TooLarge {
-            estimate: estimate.clone(),
+            estimate: Box::new(estimate.clone()),
             available: a,
         }),
         _ => Ok(()),

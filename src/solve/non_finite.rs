@@ -44,9 +44,9 @@ fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> Error {
         .flatten()
     {
         Some(culprit) => Error::NonFinite {
-            culprit,
+            culprit: Box::new(culprit),
             stuck: *stuck,
-            solver,
+            solver: Box::new(solver),
         },
         None => Error::Solver(solver),
     }
@@ -95,9 +95,9 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
                 None => format!("{} '{}', {}", el.kind.as_str(), el.name, term.field),
             };
             return Error::NonFinite {
-                culprit: element(term.element.0, what, value),
+                culprit: Box::new(element(term.element.0, what, value)),
                 stuck: *stuck,
-                solver: e,
+                solver: Box::new(e),
             };
         }
     }
@@ -118,13 +118,13 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
                 f64::NAN
             };
             Error::NonFinite {
-                culprit: element(
+                culprit: Box::new(element(
                     i,
                     format!("{} '{}', the equation of {name}", el.kind.as_str(), el.name),
                     value,
-                ),
+                )),
                 stuck: *stuck,
-                solver: e,
+                solver: Box::new(e),
             }
         }
         None => Error::Solver(e),
