@@ -73,7 +73,10 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
         ));
     }
     if names.len() < 2 {
-        return Err(bad(header_line, "the header names no column after `t`".into()));
+        return Err(bad(
+            header_line,
+            "the header names no column after `t`".into(),
+        ));
     }
     if let Some((_, dup)) = names
         .iter()
@@ -101,7 +104,11 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
             let v: f64 = cell.parse().map_err(|_| {
                 bad(
                     line_no,
-                    format!("column {} (`{}`): `{cell}` is not a number", c + 1, names[c]),
+                    format!(
+                        "column {} (`{}`): `{cell}` is not a number",
+                        c + 1,
+                        names[c]
+                    ),
                 )
             })?;
             if !v.is_finite() {
@@ -198,7 +205,10 @@ mod tests {
     fn other_tools_csv_quoted_headers_time_column_comments() {
         let text = "\u{feff}# exported by another tool\n\"Time\", \"bar1.x\" ,\"bar1.angle\"\n\n0, 0.5, 0\n\"0.5\",0.25,1e-1\n";
         let r = reference_from_csv_str(text, "other.csv").unwrap();
-        assert_eq!(r.columns, vec!["bar1.x".to_string(), "bar1.angle".to_string()]);
+        assert_eq!(
+            r.columns,
+            vec!["bar1.x".to_string(), "bar1.angle".to_string()]
+        );
         assert_eq!(r.times, vec![0.0, 0.5]);
         assert_eq!(r.column("bar1.angle"), Some(vec![0.0, 0.1]));
         // line numbers count the comment and blank lines of the file
