@@ -370,6 +370,14 @@ fn animate(
     csv: Option<&Path>,
 ) -> Result<(), Error> {
     use bondmech::report::animate::{animation, AnimationFormat, AnimationOptions, View};
+    for input in std::iter::once(args.scene.as_path()).chain(csv) {
+        if same_file(input, out) {
+            return Err(Error::Options(format!(
+                "--out {}: that is an input file; choose another name",
+                out.display()
+            )));
+        }
+    }
     let format = match out.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("svg") => AnimationFormat::Svg,
         Some(e) if e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm") => {
@@ -382,14 +390,6 @@ fn animate(
             )))
         }
     };
-    for input in std::iter::once(args.scene.as_path()).chain(csv) {
-        if same_file(input, out) {
-            return Err(Error::Options(format!(
-                "--out {}: that is an input file; choose another name",
-                out.display()
-            )));
-        }
-    }
     let scene = Scene::from_path(&args.scene)?;
     let (sol, source) = match csv {
         Some(path) => {

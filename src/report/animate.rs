@@ -530,6 +530,15 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
                     .collect()
             };
             let (ra, rb) = (track(b1, &end(lo - pad)), track(b1, &end(hi + pad)));
+            if b1 == GROUND {
+                // the rail's end nearer its anchor point is where it meets the ground
+                let near = if (lo - pad).abs() <= (hi + pad).abs() {
+                    ra[0]
+                } else {
+                    rb[0]
+                };
+                items.push(Item::Ground { at: near });
+            }
             items.push(Item::Line {
                 pts: ra.iter().zip(&rb).map(|(a, e)| [*a, *e]).collect(),
                 colour: INK.into(),
@@ -554,8 +563,9 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
                 stroke: true,
             });
         }
+        let slider = matches!(j.kind, JointKind::Prismatic { .. });
         for (i, b) in [b1, b2].into_iter().enumerate() {
-            if b == GROUND {
+            if b == GROUND && !(slider && i == 0) {
                 let at = if i == 0 { &p1 } else { &p2 };
                 items.push(Item::Ground { at: to3(at) });
             }
@@ -578,13 +588,18 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
         let (r, g, bl) = TRACE_COLOURS[n_traces % TRACE_COLOURS.len()];
         n_traces += 1;
         let colour = format!("rgb({r},{g},{bl})");
-        let pts = track(b, coords);
+        // the trace through every row of the solution, the marker at the frames
+        let bi = scene.body_index(b).expect("a body of the scene");
         items.push(Item::Trace {
-            pts: pts.clone(),
+            pts: sol
+                .rows
+                .iter()
+                .map(|row| pose(&cols[bi], row).apply(coords))
+                .collect(),
             colour: colour.clone(),
         });
         items.push(Item::Dot {
-            pts,
+            pts: track(b, coords),
             radius: 6.0,
             fill: colour,
             stroke: false,
