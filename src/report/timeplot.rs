@@ -323,6 +323,6 @@ mod tests {
         assert_eq!(range([0.0].into_iter(), false), (-1.0, 1.0));
         let (lo, hi) = range([0.0, 10.0].into_iter(), false);
         assert!((lo + 0.5).abs() < 1e-12 && (hi - 10.5).abs() < 1e-12);
-        assert_eq!(range([0.0, 1e-9].into_iter(), true), (5e-10, 1e-8));
+        assert_eq!(range([0.0, 1e-9].into_iter(), true), (5e-10, 2e-8));
     }
 }
