@@ -391,6 +391,12 @@ fn animate(
         }
     };
     let scene = Scene::from_path(&args.scene)?;
+    if scene.bodies.is_empty() {
+        return Err(Error::Options(format!(
+            "{}: animate needs a scene with bodies (a raw bond graph has no geometry to draw)",
+            args.scene.display()
+        )));
+    }
     let (sol, source) = match csv {
         Some(path) => {
             let solve_flags = args.formulation.is_some()

@@ -277,7 +277,10 @@ fn html_animation_solves_the_scene_and_seeks_to_the_requested_time() {
     let text = std::fs::read_to_string(&html).unwrap();
     assert!(text.starts_with("<!DOCTYPE html>"));
     for remote in ["src=\"http", "href=\"http", "<link", "@import", "url(http"] {
-        assert!(!text.contains(remote), "nothing is loaded from the network ({remote})");
+        assert!(
+            !text.contains(remote),
+            "nothing is loaded from the network ({remote})"
+        );
     }
     let map = ViewMap::read(&html);
     for t in [0.5, 2.25] {
@@ -400,7 +403,13 @@ fn another_tools_csv_with_a_time_column_and_quoted_names_animates_the_same() {
         .next()
         .unwrap()
         .split(',')
-        .map(|h| if h == "t" { "\"time\"".into() } else { format!(" \"{h}\"") })
+        .map(|h| {
+            if h == "t" {
+                "\"time\"".into()
+            } else {
+                format!(" \"{h}\"")
+            }
+        })
         .collect();
     let mut other = format!("# written by another tool\n{}\n", header.join(","));
     for l in lines {
@@ -426,4 +435,86 @@ fn another_tools_csv_with_a_time_column_and_quoted_names_animates_the_same() {
     );
     assert!(a.contains("<animate "), "the motion is animated");
     assert_eq!(a, b, "the same motion read from either table");
+}
+
+#[test]
+fn spatial_attitude_from_cardan_columns_draws_what_the_quaternion_draws() {
+    // the same run without its quaternion columns: the Cardan angles give the same picture
+    let csv = tmp("anim-cardan-q.csv");
+    run_ok(&[
+        "run",
+        &scene("spatial_slider_crank.json"),
+        "--t-end",
+        "0.5",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let keep: Vec<usize> = (0..rows[0].len())
+        .filter(|&c| {
+            !matches!(
+                rows[0][c].rsplit('.').next(),
+                Some("qw" | "qx" | "qy" | "qz")
+            )
+        })
+        .collect();
+    assert!(
+        keep.len() < rows[0].len(),
+        "the run wrote quaternion columns"
+    );
+    let cardan: String = rows
+        .iter()
+        .map(|r| keep.iter().map(|&c| r[c]).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    let csv_cardan = tmp("anim-cardan-e.csv");
+    std::fs::write(&csv_cardan, cardan).unwrap();
+    let numbers = |input: &Path, out: &str| -> Vec<f64> {
+        let out = tmp(out);
+        run_ok(&[
+            "animate",
+            &scene("spatial_slider_crank.json"),
+            "--csv",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        // the traces of crank.A and slider.C: every row's pose, through the attitude columns
+        let svg = std::fs::read_to_string(out).unwrap();
+        svg.lines()
+            .filter(|l| l.starts_with("<polyline points=\""))
+            .flat_map(|l| {
+                let l = &l["<polyline points=\"".len()..];
+                l[..l.find('"').unwrap()]
+                    .split([' ', ','])
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let (q, e) = (
+        numbers(&csv, "anim-cardan-q.svg"),
+        numbers(&csv_cardan, "anim-cardan-e.svg"),
+    );
+    assert_eq!(q.len(), e.len());
+    assert!(q.len() > 200, "two traces of 51 rows");
+    let worst = q
+        .iter()
+        .zip(&e)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 0.1 + 1e-9, "pixel coordinates differ by {worst}");
+}
+
+#[test]
+fn animate_refuses_a_raw_bond_graph_scene() {
+    let out = bondmech(&[
+        "animate",
+        &scene("bg_mass_spring_damper.json"),
+        "--out",
+        tmp("anim-bg.svg").to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("animate needs a scene with bodies"), "{err}");
 }
