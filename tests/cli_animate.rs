@@ -361,7 +361,7 @@ fn animate_refuses_bad_input_with_one_line_naming_it() {
                 "--out",
                 csv.to_str().unwrap(),
             ],
-            "is an input file",
+            "is an input of this command",
         ),
     ];
     let bad_out = tmp("anim-bad.svg");
