@@ -213,6 +213,9 @@ fn run(cli: Cli) -> Result<(), Error> {
                 }
             }
             let model = Model::new(&Scene::from_path(&scene)?)?;
+            // the scene's own `solve.formulation: "decoupled"` draws the twin too
+            let decoupled = decoupled
+                || model.scene().solve.formulation == bondmech::scene::Formulation::Decoupled;
             let variant = if decoupled {
                 bondmech::mech::Variant::Decoupled
             } else {
