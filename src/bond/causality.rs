@@ -290,10 +290,11 @@ fn assign(
     at_state: bool,
 ) -> Result<Causality, ValidationErrors> {
     validate(graph)?;
-    let at = constraint_rank(graph, t, values, &[]);
+    let deferred = joint_rows(graph);
+    let at = constraint_rank(graph, t, values, &[], &deferred);
     let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();
     let generic_values = |n: &str| Some(generic_value(n));
-    let generic = constraint_rank(graph, t, &generic_values, &first);
+    let generic = constraint_rank(graph, t, &generic_values, &first, &deferred);
     let chosen: &ConstraintRank = if at_state { &at } else { &generic };
     let differential: Vec<ElementId> = chosen.pivots.iter().map(|p| p.1).collect();
     let constraints = ConstraintSummary {
@@ -306,6 +307,33 @@ fn assign(
     };
     let sources = orient(graph, &differential, &chosen.redundant, &at.zero_moduli);
     Ok(finish(graph, sources, constraints))
+}
+
+/// The elements whose rows are joint constraints: the graph's annotated constraint junctions,
+/// or, in a graph without annotations, every Sf and every 1-junction of two bonds with no
+/// storage on it (a junction that only equates two flows, seed Fig. 16).
+fn joint_rows(graph: &BondGraph) -> Vec<bool> {
+    let mut d = vec![false; graph.elements.len()];
+    if !graph.constraint_junctions.is_empty() {
+        for c in &graph.constraint_junctions {
+            d[c.element.0] = true;
+        }
+        return d;
+    }
+    let adj = adjacency(graph);
+    for e in graph.element_ids() {
+        d[e.0] = match graph.element(e).kind {
+            ElementKind::Sf => true,
+            ElementKind::One => {
+                adj[e.0].len() == 2
+                    && adj[e.0]
+                        .iter()
+                        .all(|&b| !graph.element(graph.other_end(b, e)).kind.is_storage())
+            }
+            _ => false,
+        };
+    }
+    d
 }
 
 /// Adjacency in canonical bond order.
@@ -877,6 +905,13 @@ impl Causality {
                 .iter()
                 .map(|&r| {
                     let junction = name(r);
+                    if let Some(c) = graph.constraint_junction(r) {
+                        return RedundantJunction {
+                            junction,
+                            joint: c.joint.clone(),
+                            direction: c.direction.clone(),
+                        };
+                    }
                     let (joint, direction) = match junction.rsplit_once('.') {
                         Some((j, d)) => (j.to_string(), d.to_string()),
                         None => (junction.clone(), String::new()),

@@ -128,6 +128,7 @@ pub fn constraint_rank(
     t: f64,
     values: Valuation,
     first: &[ElementId],
+    deferred: &[bool],
 ) -> ConstraintRank {
     let bonds = canonical_bonds(graph);
     let mut col_of = vec![0usize; graph.bonds.len()];
@@ -258,13 +259,28 @@ pub fn constraint_rank(
             continue;
         }
         done[c] = true;
+        // threshold partial pivoting: among entries within 1/100 of the column's largest,
+        // a row that is not a joint's constraint row first (the joint rows stay as the
+        // constraints of phase 2, so a redundancy is named after a joint), then the largest
+        let top = col_rows[c]
+            .iter()
+            .filter(|&&i| active[i])
+            .fold(0.0f64, |m, &i| m.max(rows[i][&c].abs()));
         let best = col_rows[c]
             .iter()
             .copied()
-            .filter(|&i| active[i])
-            .map(|i| (rows[i][&c].abs(), Reverse(rows[i].len()), Reverse(i), i))
+            .filter(|&i| active[i] && rows[i][&c].abs() >= 0.01 * top)
+            .map(|i| {
+                (
+                    !deferred[origin[i].0],
+                    rows[i][&c].abs(),
+                    Reverse(rows[i].len()),
+                    Reverse(i),
+                    i,
+                )
+            })
             .max_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-        let Some((mag, _, _, p)) = best else { continue };
+        let Some((_, mag, _, _, p)) = best else { continue };
         if mag <= tol {
             // numerically zero at this state: drop the entries
             for i in col_rows[c].clone() {
@@ -329,10 +345,28 @@ pub fn constraint_rank(
         }
     }
     loop {
+        // complete pivoting; a pivot from a non-joint row is taken when it is within 1/10 of
+        // the largest entry, so the rows left over are joint rows where possible
         let mut best: Option<(f64, usize, usize)> = None;
+        let mut best_free: Option<(f64, usize, usize)> = None;
         for (i, r) in rows.iter().enumerate() {
             if !active[i] {
                 continue;
+            }
+            for (&c, &v) in r {
+                if inertia_of[c].is_none() || deferred[origin[i].0] {
+                    continue;
+                }
+                let better = match best_free {
+                    None => true,
+                    Some((m, bc, bi)) => {
+                        v.abs() > m * (1.0 + 1e-12)
+                            || (v.abs() >= m * (1.0 - 1e-12) && (c, i) < (bc, bi))
+                    }
+                };
+                if better {
+                    best_free = Some((v.abs(), c, i));
+                }
             }
             for (&c, &v) in r {
                 if inertia_of[c].is_none() {
@@ -347,6 +381,11 @@ pub fn constraint_rank(
                 if better {
                     best = Some((v.abs(), c, i));
                 }
+            }
+        }
+        if let (Some(f), Some(b)) = (best_free, best) {
+            if f.0 >= 0.1 * b.0 {
+                best = Some(f);
             }
         }
         match best {
