@@ -311,16 +311,22 @@ pub fn constraint_rank(
         col_rows[c].retain(|&i| active[i] && rows[i].contains_key(&c));
     }
 
-    // phase 2: complete pivoting on the constraint rows G (inertia columns)
+    // phase 2: pivoting on the constraint rows G (inertia columns), causal order first
     let mut pivots = Vec::new();
-    let mut used_col = vec![false; bonds.len()];
+    let mut frozen = vec![false; bonds.len()];
     let mut pivot_on = |p: usize,
                         c: usize,
                         rows: &mut Vec<Row>,
                         col_rows: &mut Vec<std::collections::BTreeSet<usize>>,
-                        active: &mut Vec<bool>| {
+                        active: &mut Vec<bool>,
+                        frozen: &mut Vec<bool>| {
         active[p] = false;
-        used_col[c] = true;
+        // the row's other inertias are read, not solved for, by this row: they stay integral
+        for &k in rows[p].keys() {
+            if k != c {
+                frozen[k] = true;
+            }
+        }
         pivots.push((origin[p], inertia_of[c].expect("inertia column")));
         let mut touched = Vec::new();
         eliminate(rows, col_rows, p, c, &mut touched);
@@ -340,57 +346,63 @@ pub fn constraint_rank(
             .max_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
         if let Some((mag, _, p)) = best {
             if mag > tol {
-                pivot_on(p, c, &mut rows, &mut col_rows, &mut active);
+                pivot_on(p, c, &mut rows, &mut col_rows, &mut active, &mut frozen);
             }
         }
     }
     loop {
-        // complete pivoting; a pivot from a non-joint row is taken when it is within 1/10 of
-        // the largest entry, so the rows left over are joint rows where possible
-        let mut best: Option<(f64, usize, usize)> = None;
-        let mut best_free: Option<(f64, usize, usize)> = None;
+        // (1) causal pivots: an inertia not read by an earlier pivot row, in a row with the
+        // fewest such inertias (a row that names one inertia determines it), at least 1/10 of
+        // the row's largest entry (never a vanishing modulus); a non-joint row before a joint
+        // row (so joint rows are what is left over); then the largest entry; ties to the
+        // later name.
+        // (2) when no causal pivot is left, complete pivoting over every entry: the rows that
+        // still carry an entry are independent, and solving them couples inertias (an
+        // algebraic loop of the junction structure); what is left below the tolerance is
+        // redundant.
+        type Key = (Reverse<usize>, bool, f64, usize, Reverse<usize>);
+        let mut causal: Option<(Key, usize, usize)> = None;
+        let mut any: Option<(f64, usize, usize)> = None;
         for (i, r) in rows.iter().enumerate() {
             if !active[i] {
                 continue;
             }
+            let row_max = r.values().fold(0.0f64, |m, v| m.max(v.abs()));
+            let free = r.keys().filter(|&&k| !frozen[k]).count();
             for (&c, &v) in r {
-                if inertia_of[c].is_none() || deferred[origin[i].0] {
+                let m = v.abs();
+                if m <= tol {
                     continue;
                 }
-                let better = match best_free {
+                if any.is_none_or(|(bm, bc, bi)| {
+                    m > bm * (1.0 + 1e-12) || (m >= bm * (1.0 - 1e-12) && (c, i) > (bc, bi))
+                }) {
+                    any = Some((m, c, i));
+                }
+                if frozen[c] || m < 0.1 * row_max {
+                    continue;
+                }
+                let key: Key = (Reverse(free), !deferred[origin[i].0], m, c, Reverse(i));
+                let better = match &causal {
                     None => true,
-                    Some((m, bc, bi)) => {
-                        v.abs() > m * (1.0 + 1e-12)
-                            || (v.abs() >= m * (1.0 - 1e-12) && (c, i) < (bc, bi))
+                    Some((k, _, _)) => {
+                        (key.0, key.1) > (k.0, k.1)
+                            || ((key.0, key.1) == (k.0, k.1)
+                                && (m > k.2 * (1.0 + 1e-12)
+                                    || (m >= k.2 * (1.0 - 1e-12) && (c, Reverse(i)) > (k.3, k.4))))
                     }
                 };
                 if better {
-                    best_free = Some((v.abs(), c, i));
-                }
-            }
-            for (&c, &v) in r {
-                if inertia_of[c].is_none() {
-                    continue;
-                }
-                let better = match best {
-                    None => true,
-                    Some((m, bc, bi)) => {
-                        v.abs() > m * (1.0 + 1e-12) || (v.abs() >= m * (1.0 - 1e-12) && (c, i) < (bc, bi))
-                    }
-                };
-                if better {
-                    best = Some((v.abs(), c, i));
+                    causal = Some((key, c, i));
                 }
             }
         }
-        if let (Some(f), Some(b)) = (best_free, best) {
-            if f.0 >= 0.1 * b.0 {
-                best = Some(f);
-            }
-        }
-        match best {
-            Some((m, c, p)) if m > tol => pivot_on(p, c, &mut rows, &mut col_rows, &mut active),
-            _ => break,
+        if let Some((_, c, p)) = causal {
+            pivot_on(p, c, &mut rows, &mut col_rows, &mut active, &mut frozen);
+        } else if let Some((_, c, p)) = any {
+            pivot_on(p, c, &mut rows, &mut col_rows, &mut active, &mut frozen);
+        } else {
+            break;
         }
     }
     let redundant = (0..n_rows)
