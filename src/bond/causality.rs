@@ -292,10 +292,16 @@ fn assign(
     validate(graph)?;
     let deferred = joint_rows(graph);
     let at = constraint_rank(graph, t, values, &[], &deferred);
-    let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();
     let generic_values = |n: &str| Some(generic_value(n));
-    let generic = constraint_rank(graph, t, &generic_values, &first, &deferred);
-    let chosen: &ConstraintRank = if at_state { &at } else { &generic };
+    let mut generic = constraint_rank(graph, t, &generic_values, &[], &deferred);
+    if !at_state && generic.rank > at.rank {
+        // singular at the state: keep its well-conditioned pivots, complete them generically
+        let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();
+        generic = constraint_rank(graph, t, &generic_values, &first, &deferred);
+    }
+    // at full generic rank the state's own pivots are the choice (best conditioned there)
+    let generic_choice = if generic.rank == at.rank { &at } else { &generic };
+    let chosen: &ConstraintRank = if at_state { &at } else { generic_choice };
     let differential: Vec<ElementId> = chosen.pivots.iter().map(|p| p.1).collect();
     let constraints = ConstraintSummary {
         rows: at.rows,
@@ -372,6 +378,14 @@ fn orient(
     let bonds = canonical_bonds(graph);
     let elements = canonical_elements(graph);
     let nb = bonds.len();
+    let mut is_zero = vec![false; graph.elements.len()];
+    for &z in zero_moduli {
+        is_zero[z.0] = true;
+    }
+    let mut is_differential = vec![false; graph.elements.len()];
+    for &d in differential {
+        is_differential[d.0] = true;
+    }
     let mut node_of = vec![0usize; graph.elements.len()];
     for (k, e) in elements.iter().enumerate() {
         node_of[e.0] = 2 + nb + k;
@@ -385,7 +399,7 @@ fn orient(
         let bd = graph.bond(b);
         for e in [bd.from, bd.to] {
             // a TF is the effort source of its outward bond when it computes f₁ = f₂/m
-            let divides = zero_moduli.contains(&e) && bd.from == e;
+            let divides = is_zero[e.0] && bd.from == e;
             if divides {
                 held.push((arcs.len(), 2 + k, node_of[e.0]));
                 arcs.push((b, e, usize::MAX));
@@ -415,7 +429,7 @@ fn orient(
     // the wanted count of a storage: I integral 0 / differential 1; C integral 1
     let wanted = |e: ElementId| -> i64 {
         match kind(e) {
-            ElementKind::I => i64::from(differential.contains(&e)),
+            ElementKind::I => i64::from(is_differential[e.0]),
             _ => 1,
         }
     };

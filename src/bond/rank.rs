@@ -219,14 +219,20 @@ pub fn constraint_rank(
     let mut active = vec![true; n_rows];
 
     // row_i -= (a_ic / a_pc) row_p, keeping the column index up to date
+    // (only active rows: the pivot rows are not updated, as in LU, so no fill accumulates)
     let eliminate = |rows: &mut Vec<Row>,
                      col_rows: &mut Vec<std::collections::BTreeSet<usize>>,
+                     active: &[bool],
                      p: usize,
                      c: usize,
                      touched: &mut Vec<usize>| {
         let pivot_row = rows[p].clone();
         let a = pivot_row[&c];
-        let others: Vec<usize> = col_rows[c].iter().copied().filter(|&i| i != p).collect();
+        let others: Vec<usize> = col_rows[c]
+            .iter()
+            .copied()
+            .filter(|&i| i != p && active[i])
+            .collect();
         for i in others {
             let f = rows[i].get(&c).copied().unwrap_or(0.0) / a;
             for (&k, &v) in &pivot_row {
@@ -291,7 +297,7 @@ pub fn constraint_rank(
         }
         active[p] = false;
         let mut touched = Vec::new();
-        eliminate(&mut rows, &mut col_rows, p, c, &mut touched);
+        eliminate(&mut rows, &mut col_rows, &active, p, c, &mut touched);
         touched.sort_unstable();
         touched.dedup();
         for k in touched {
@@ -329,7 +335,7 @@ pub fn constraint_rank(
         }
         pivots.push((origin[p], inertia_of[c].expect("inertia column")));
         let mut touched = Vec::new();
-        eliminate(rows, col_rows, p, c, &mut touched);
+        eliminate(rows, col_rows, active, p, c, &mut touched);
         for k in touched {
             col_rows[k].retain(|&i| active[i] && rows[i].contains_key(&k));
         }
