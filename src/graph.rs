@@ -17,7 +17,7 @@ use std::collections::HashMap;
 pub struct SceneGraph {
     /// The bond graph.
     pub graph: BondGraph,
-    /// The SCAP causal assignment.
+    /// The causal assignment (by matching, see [`crate::bond::causality`]).
     pub causality: Causality,
 }
 

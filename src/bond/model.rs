@@ -161,7 +161,7 @@ pub struct Element {
 /// The constitutive law of a nonlinear resistor, `e = Φ(f)` and/or `f = Φ⁻¹(e)`, with `e` and
 /// `f` counted *into* the resistor (so the power it dissipates is `e·f`).
 ///
-/// Which form the equations use depends on the causality SCAP gives the resistor: resistance
+/// Which form the equations use depends on the causality assignment gives the resistor: resistance
 /// causality (its flow is imposed) needs `effort`, conductance causality (its effort is
 /// imposed) needs `flow`. Both may be given. The expressions may also use time `t`, states
 /// (`p_<I>`, `q_<C>`, `x_<I>`, `x_<1-junction>`) and signals, like any modulus.

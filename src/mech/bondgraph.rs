@@ -14,7 +14,7 @@
 //! 1-junction (or Sf = 0 to ground) per constraint row of a spherical joint, hinge, prismatic
 //! joint or weld (see `spatial` below).
 //!
-//! The inertias that SCAP forces into differential causality here are the ones whose flows
+//! The inertias that causality assignment forces into differential causality here are the ones whose flows
 //! the joints impose: one per independent constraint row of the multibody system.
 
 use std::collections::HashMap;
