@@ -12,9 +12,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use bondmech::bond::causality::{assign_causality, CausalityReport, StorageCausality};
-use bondmech::bond::fragments::{
-    pin_to_ground, planar_body_translating, revolute, PlanarBodySpec,
-};
+use bondmech::bond::fragments::{pin_to_ground, planar_body_translating, revolute, PlanarBodySpec};
 use bondmech::bond::json::RawBondGraph;
 use bondmech::bond::model::BondGraph;
 use bondmech::graph::SceneGraph;
@@ -84,17 +82,38 @@ fn cli_causality(args: &[&str]) -> Value {
         .args(args)
         .output()
         .expect("bondmech runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("JSON report")
 }
 
 #[test]
 fn cli_draws_the_twin_for_decoupled_flag_and_for_a_decoupled_scene() {
     let r = cli_causality(&["graph", "scenes/double_pendulum.json", "--causality"]);
-    assert_eq!((r["dof"].as_u64(), r["differential"].as_array().map(|a| a.len())), (Some(2), Some(4)));
+    assert_eq!(
+        (
+            r["dof"].as_u64(),
+            r["differential"].as_array().map(|a| a.len())
+        ),
+        (Some(2), Some(4))
+    );
     assert!(r["differential"][0]["element"].is_string());
-    let r = cli_causality(&["graph", "scenes/double_pendulum.json", "--causality", "--decoupled"]);
-    assert_eq!((r["dof"].as_u64(), r["differential"].as_array().map(|a| a.len())), (Some(6), Some(0)));
+    let r = cli_causality(&[
+        "graph",
+        "scenes/double_pendulum.json",
+        "--causality",
+        "--decoupled",
+    ]);
+    assert_eq!(
+        (
+            r["dof"].as_u64(),
+            r["differential"].as_array().map(|a| a.len())
+        ),
+        (Some(6), Some(0))
+    );
     // the same scene with `solve.formulation: "decoupled"` and no flag
     let mut v: Value =
         serde_json::from_str(&std::fs::read_to_string("scenes/double_pendulum.json").unwrap())
@@ -105,7 +124,13 @@ fn cli_draws_the_twin_for_decoupled_flag_and_for_a_decoupled_scene() {
     let path = dir.join("double_pendulum_decoupled.json");
     std::fs::write(&path, v.to_string()).unwrap();
     let r = cli_causality(&["graph", path.to_str().unwrap(), "--causality"]);
-    assert_eq!((r["dof"].as_u64(), r["differential"].as_array().map(|a| a.len())), (Some(6), Some(0)));
+    assert_eq!(
+        (
+            r["dof"].as_u64(),
+            r["differential"].as_array().map(|a| a.len())
+        ),
+        (Some(6), Some(0))
+    );
 }
 
 #[test]
@@ -115,7 +140,12 @@ fn bricard_has_one_dof_and_one_named_redundant_hinge_row() {
     // the initial configuration the rows have rank 29 and one hinge row is redundant.
     let s = scene("bricard");
     let r = scene_report(&s, Variant::Pinned);
-    assert_eq!((r.generic_rank, r.numeric_rank, r.dof), (30, 29, 1), "{:?}", content(&r));
+    assert_eq!(
+        (r.generic_rank, r.numeric_rank, r.dof),
+        (30, 29, 1),
+        "{:?}",
+        content(&r)
+    );
     assert_eq!(r.differential.len(), 29);
     assert_eq!(r.redundant.len(), 1, "{:?}", r.redundant);
     let red = &r.redundant[0];
@@ -196,7 +226,12 @@ fn shuffled_raw_graph_gives_the_same_assignment() {
 
 #[test]
 fn shuffled_scenes_give_the_same_report() {
-    for name in ["bricard", "andrews_squeezer", "four_bar_chain_3", "slider_crank"] {
+    for name in [
+        "bricard",
+        "andrews_squeezer",
+        "four_bar_chain_3",
+        "slider_crank",
+    ] {
         let s = scene(name);
         let base = content(&scene_report(&s, Variant::Pinned));
         let mut v: Value =
@@ -209,7 +244,11 @@ fn shuffled_scenes_give_the_same_report() {
                 }
             }
             let t = Scene::from_json_str(&v.to_string()).unwrap();
-            assert_eq!(content(&scene_report(&t, Variant::Pinned)), base, "{name} seed {seed}");
+            assert_eq!(
+                content(&scene_report(&t, Variant::Pinned)),
+                base,
+                "{name} seed {seed}"
+            );
         }
     }
 }
@@ -232,7 +271,12 @@ fn raw_double_pendulum() -> BondGraph {
     let b1 = planar_body_translating(&mut g, &bar("bar1"));
     let b2 = planar_body_translating(&mut g, &bar("bar2"));
     pin_to_ground(&mut g, "pivot", b1.point("O").unwrap());
-    revolute(&mut g, "knee", b1.point("A").unwrap(), b2.point("O").unwrap());
+    revolute(
+        &mut g,
+        "knee",
+        b1.point("A").unwrap(),
+        b2.point("O").unwrap(),
+    );
     g
 }
 
@@ -253,7 +297,9 @@ fn regression_raw_double_pendulum_started_horizontal_runs() {
         "solve": {"t_end": 1.0, "output_times": times, "rtol": 1e-10, "atol": 1e-12}
     });
     let model = Model::new(&Scene::from_json_str(&scene.to_string()).unwrap()).unwrap();
-    let sol = model.solve(&model.default_options()).expect("runs from the horizontal start");
+    let sol = model
+        .solve(&model.default_options())
+        .expect("runs from the horizontal start");
     let th1 = sol.column("x_bar1.omega").expect("angle of bar 1");
     let th2 = sol.column("x_bar2.omega").expect("angle of bar 2");
     // the hand-derived double pendulum (Lagrange in the absolute angles), released at rest

@@ -36,7 +36,9 @@
 
 use super::model::{BondGraph, BondId, ElementId, ElementKind};
 use super::orient::Network;
-use super::rank::{canonical_bonds, canonical_elements, constraint_rank, ConstraintRank, Valuation};
+use super::rank::{
+    canonical_bonds, canonical_elements, constraint_rank, ConstraintRank, Valuation,
+};
 use super::validate::{validate, ValidationErrors};
 use serde::Serialize;
 
@@ -300,7 +302,11 @@ fn assign(
         generic = constraint_rank(graph, t, &generic_values, &first, &deferred);
     }
     // at full generic rank the state's own pivots are the choice (best conditioned there)
-    let generic_choice = if generic.rank == at.rank { &at } else { &generic };
+    let generic_choice = if generic.rank == at.rank {
+        &at
+    } else {
+        &generic
+    };
     let chosen: &ConstraintRank = if at_state { &at } else { generic_choice };
     let differential: Vec<ElementId> = chosen.pivots.iter().map(|p| p.1).collect();
     let constraints = ConstraintSummary {
@@ -420,7 +426,10 @@ fn orient(
     for &r in redundant {
         // an Sf row over-determines the junction it feeds
         let at = if kind(r) == ElementKind::Sf {
-            adj[r.0].first().map(|&b| graph.other_end(b, r)).unwrap_or(r)
+            adj[r.0]
+                .first()
+                .map(|&b| graph.other_end(b, r))
+                .unwrap_or(r)
         } else {
             r
         };
@@ -582,11 +591,16 @@ fn finish(graph: &BondGraph, source: Vec<ElementId>, constraints: ConstraintSumm
                 } else {
                     "needs one causal stroke at it and one away"
                 };
-                (neighbours(&adj[e.0]), format!("{} '{name}' {rule}", k.as_str()))
+                (
+                    neighbours(&adj[e.0]),
+                    format!("{} '{name}' {rule}", k.as_str()),
+                )
             }
             _ => (
                 neighbours(&adj[e.0]),
-                format!("source '{name}' is bonded directly to another source with the same causality"),
+                format!(
+                    "source '{name}' is bonded directly to another source with the same causality"
+                ),
             ),
         };
         conflicts.push(Conflict {
@@ -636,7 +650,11 @@ fn algebraic_loops(graph: &BondGraph, c: &Causality, adj: &[Vec<BondId>]) -> Vec
         let b = BondId(v / 2);
         let effort = v % 2 == 0;
         let a = &c.bonds[b.0];
-        let x = if effort { a.effort_source } else { a.effort_receiver };
+        let x = if effort {
+            a.effort_source
+        } else {
+            a.effort_receiver
+        };
         let others = || adj[x.0].iter().copied().filter(move |&o| o != b);
         let e = |o: BondId| 2 * o.0;
         let f = |o: BondId| 2 * o.0 + 1;

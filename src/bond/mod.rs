@@ -13,14 +13,14 @@
 //! - [`fragments`]: the chapter's constructions (planar bodies in both frames, the 3D rigid body
 //!   with its Euler junction structure, joints, springs, dampers, loads).
 pub mod causality;
-pub mod orient;
-pub mod rank;
 pub mod dot;
 pub mod equations;
 pub mod fragments;
 pub mod identifiers;
 pub mod json;
 pub mod model;
+pub mod orient;
+pub mod rank;
 pub mod validate;
 
 pub use causality::{assign_causality, CausalityReport};

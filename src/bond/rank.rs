@@ -286,7 +286,9 @@ pub fn constraint_rank(
                 )
             })
             .max_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-        let Some((_, mag, _, _, p)) = best else { continue };
+        let Some((_, mag, _, _, p)) = best else {
+            continue;
+        };
         if mag <= tol {
             // numerically zero at this state: drop the entries
             for i in col_rows[c].clone() {

@@ -133,4 +133,3 @@ pub fn chain_json(n: usize) -> String {
         joints.join(",\n")
     )
 }
-
