@@ -42,18 +42,18 @@ use super::rank::{
 use super::validate::{validate, ValidationErrors};
 use serde::Serialize;
 
-/// Which step of the procedure fixed a bond.
+/// What kind of bond this is for the assignment (the matching fixes all bonds at once).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Stage {
-    /// Required by a source.
+    /// The bond of a source (its causality is required).
     Source,
-    /// Chosen for a storage element (integral causality).
+    /// The bond of a storage element (its causality chosen from the constraint rows' pivots).
     Storage,
-    /// Chosen for a resistor.
+    /// The bond of a resistor.
     Resistor,
-    /// Chosen arbitrarily for a leftover bond.
+    /// Not produced by the matching (kept so that reports of older versions still parse).
     Arbitrary,
-    /// Forced by propagation through a junction or two-port.
+    /// A bond of the junction structure (junctions and two-ports only).
     Propagated,
 }
 
@@ -64,13 +64,14 @@ pub struct BondAssignment {
     pub effort_receiver: ElementId,
     /// The element that imposes the effort (the other end).
     pub effort_source: ElementId,
-    /// The element whose choice started the propagation that fixed this bond.
+    /// The element that imposes the effort (the matching has no propagation order to record).
     pub origin: ElementId,
-    /// The step that fixed it.
+    /// What kind of bond it is.
     pub stage: Stage,
-    /// The junction/two-port that propagated it (None for a direct choice).
+    /// None: the matching fixes every bond at once (see [`DifferentialStorage`] for what forced
+    /// a differential storage, read from the final causal graph).
     pub via: Option<ElementId>,
-    /// The bonds at `via` whose causality forced this one.
+    /// Empty, as `via`.
     pub causes: Vec<BondId>,
 }
 
@@ -101,7 +102,8 @@ pub struct DifferentialStorage {
     pub via_elements: Vec<String>,
     /// Junctions and two-ports from the storage back to `forced_by_junction`, in that order.
     pub path: Vec<String>,
-    /// The element whose choice started the propagation (e.g. an inertia made integral earlier).
+    /// The constraint junction whose row was solved for this storage (the pivot row of the
+    /// rank-revealing factorisation, e.g. `knee.y`); the forcing junction otherwise.
     pub origin: String,
 }
 
@@ -874,7 +876,6 @@ impl Causality {
                     }
                 }
                 StorageCausality::Differential => {
-                    let a = &self.bonds[b.0];
                     let (at, causes, path) = self.closing_junction(graph, e, b);
                     differential.push(DifferentialStorage {
                         element: el.name.clone(),
@@ -892,7 +893,7 @@ impl Causality {
                             .iter()
                             .find(|p| p.0 == e)
                             .map(|p| name(p.1))
-                            .unwrap_or_else(|| name(a.origin)),
+                            .unwrap_or_else(|| name(at)),
                     });
                 }
             }
