@@ -48,10 +48,9 @@ impl SceneGraph {
             None => {
                 let graph = scene_bond_graph(scene, variant)?;
                 let values = initial_values(scene);
-                let causality = assign_causality_at(&graph, scene.solve.t_start, &|n| {
-                    values.get(n).copied()
-                })
-                    .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?;
+                let causality =
+                    assign_causality_at(&graph, scene.solve.t_start, &|n| values.get(n).copied())
+                        .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?;
                 Ok(SceneGraph { graph, causality })
             }
         }

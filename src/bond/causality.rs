@@ -650,7 +650,7 @@ fn algebraic_loops(graph: &BondGraph, c: &Causality, adj: &[Vec<BondId>]) -> Vec
     // node 2b: effort of bond b, 2b+1: its flow
     let deps = |v: usize| -> Vec<usize> {
         let b = BondId(v / 2);
-        let effort = v % 2 == 0;
+        let effort = v.is_multiple_of(2);
         let a = &c.bonds[b.0];
         let x = if effort {
             a.effort_source

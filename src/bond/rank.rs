@@ -315,8 +315,8 @@ pub fn constraint_rank(
             r.retain(|&k, v| inertia_of[k].is_some() && v.abs() > tol);
         }
     }
-    for c in 0..bonds.len() {
-        col_rows[c].retain(|&i| active[i] && rows[i].contains_key(&c));
+    for (c, set) in col_rows.iter_mut().enumerate() {
+        set.retain(|&i| active[i] && rows[i].contains_key(&c));
     }
 
     // phase 2: pivoting on the constraint rows G (inertia columns), causal order first
