@@ -338,3 +338,22 @@ fn causality_cost_per_chain_length() {
         eprintln!("N = {n}: {} bonds, causality in {elapsed:?}", g.bonds.len());
     }
 }
+
+#[test]
+fn gyrator_driven_by_an_effort_source_takes_both_strokes() {
+    // Se imposes the effort on the GY, so the GY must take the flow-side causality on both
+    // ports (e₂ from f₁ is impossible): f₁ = e₂/r with e₂ = q/C from an integral C.
+    let raw: RawBondGraph = serde_json::from_value(json!({
+        "elements": [
+            {"name": "E", "kind": "Se", "value": 1.0},
+            {"name": "g", "kind": "GY", "modulus": 2.0},
+            {"name": "k", "kind": "C", "stiffness": 3.0}
+        ],
+        "bonds": [{"from": "E", "to": "g"}, {"from": "g", "to": "k"}]
+    }))
+    .unwrap();
+    let g = raw.to_graph().unwrap();
+    let r = assign_causality(&g).unwrap().report(&g);
+    assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
+    assert_eq!(r.states, vec!["k"]);
+}

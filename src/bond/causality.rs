@@ -319,7 +319,36 @@ fn assign(
         redundant: chosen.redundant.clone(),
         pivot_rows: chosen.pivots.iter().map(|&(r, i)| (i, r)).collect(),
     };
-    let sources = orient(graph, &differential, &chosen.redundant, &at.zero_moduli);
+    // a gyrator first has both strokes away (efforts from flows); one left outside its rule is
+    // given the other gyrator causality (both strokes at it) and the matching is solved again
+    let mut gy_in = vec![false; graph.elements.len()];
+    let mut sources;
+    loop {
+        sources = orient(
+            graph,
+            &differential,
+            &chosen.redundant,
+            &at.zero_moduli,
+            &gy_in,
+        );
+        let mut changed = false;
+        for e in graph.element_ids() {
+            if graph.element(e).kind.is_gyrator() && !gy_in[e.0] {
+                let n = graph
+                    .bonds
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, b)| (b.from == e || b.to == e) && sources[*i] == e);
+                if n.count() != 2 {
+                    gy_in[e.0] = true;
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
     Ok(finish(graph, sources, constraints))
 }
 
@@ -381,6 +410,7 @@ fn orient(
     differential: &[ElementId],
     redundant: &[ElementId],
     zero_moduli: &[ElementId],
+    gy_in: &[bool],
 ) -> Vec<ElementId> {
     let adj = adjacency(graph);
     let bonds = canonical_bonds(graph);
@@ -454,7 +484,12 @@ fn orient(
     // 1. structural lower bounds of junctions, two-ports and sources
     for &e in &elements {
         if !storage(e) && kind(e) != ElementKind::R {
-            set(&mut net, &mut cap, e, rule(kind(e), degree(e)).0);
+            let lo = if gy_in[e.0] {
+                0
+            } else {
+                rule(kind(e), degree(e)).0
+            };
+            set(&mut net, &mut cap, e, lo);
         }
     }
     net.augment();
@@ -470,7 +505,12 @@ fn orient(
         let c = if storage(e) {
             wanted(e)
         } else {
-            rule(kind(e), degree(e)).1 + relax[e.0]
+            let hi = if gy_in[e.0] {
+                0
+            } else {
+                rule(kind(e), degree(e)).1
+            };
+            hi + relax[e.0]
         };
         set(&mut net, &mut cap, e, c);
     }
@@ -543,7 +583,7 @@ fn finish(graph: &BondGraph, source: Vec<ElementId>, constraints: ConstraintSumm
         }
         let (lo, hi) = rule(k, adj[e.0].len() as i64);
         let n = count(e);
-        if (lo..=hi).contains(&n) {
+        if (lo..=hi).contains(&n) || (k.is_gyrator() && n == 0) {
             continue;
         }
         let name = &graph.element(e).name;
@@ -589,7 +629,7 @@ fn finish(graph: &BondGraph, source: Vec<ElementId>, constraints: ConstraintSumm
             }
             k if k.is_two_port() => {
                 let rule = if k.is_gyrator() {
-                    "needs both causal strokes away from it"
+                    "needs both causal strokes at it or both away"
                 } else {
                     "needs one causal stroke at it and one away"
                 };

@@ -5,7 +5,8 @@
 //! bonds an element is the effort source of:
 //! Se 1, Sf 0, 1-junction exactly 1 (the bond whose other end imposes the common flow),
 //! 0-junction exactly `d − 1` (one bond imposes the common effort), TF/MTF exactly 1 (one
-//! stroke in, one out), GY/MGY 2 (both strokes away: efforts from flows), R 0 or 1, I 0 when
+//! stroke in, one out), GY/MGY 2 (both strokes away: efforts from flows; 0, both strokes at
+//! it, when 2 cannot hold: the caller solves again), R 0 or 1, I 0 when
 //! integral and 1 when differential, C 1 when integral and 0 when differential.
 //!
 //! That is a bipartite `b`-matching between bonds (each matched once) and elements (each
