@@ -152,7 +152,7 @@ impl Model {
     }
 
     /// The bond graph of `variant` (for a mechanism: joints kept, or replaced by stiff
-    /// springs; a raw bond graph has one variant only) with its SCAP causal assignment.
+    /// springs; a raw bond graph has one variant only) with its causal assignment (by matching).
     pub fn scene_graph(&self, variant: Variant) -> Result<SceneGraph> {
         match &self.kind {
             Kind::BondGraph(g, _) => SceneGraph::from_graph((**g).clone()),

@@ -361,13 +361,23 @@ fn check_bonds(graph: &BondGraph, errors: &mut Vec<BondError>) {
 }
 
 fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<BondError>) {
+    // bond counts per element in one pass (linear in the graph)
+    let mut inward_of = vec![0usize; graph.elements.len()];
+    let mut outward_of = vec![0usize; graph.elements.len()];
+    for b in &graph.bonds {
+        if let Some(n) = inward_of.get_mut(b.to.0) {
+            *n += 1;
+        }
+        if let Some(n) = outward_of.get_mut(b.from.0) {
+            *n += 1;
+        }
+    }
     for (i, e) in graph.elements.iter().enumerate() {
         let id = ElementId(i);
         if skip.contains(&id) {
             continue;
         }
-        let inward = graph.bonds.iter().filter(|b| b.to == id).count();
-        let outward = graph.bonds.iter().filter(|b| b.from == id).count();
+        let (inward, outward) = (inward_of[i], outward_of[i]);
         let found = inward + outward;
         let path = element_path(i);
         if e.kind.is_one_port() && found != 1 {
