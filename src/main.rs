@@ -36,6 +36,10 @@ struct SolveArgs {
     /// Joint stiffness of the decoupled twin (N/m).
     #[arg(long = "joint-stiffness")]
     joint_stiffness: Option<f64>,
+    /// Change one scene field before solving: PATH=JSON, e.g. 'bodies[0].mass=2',
+    /// 'gravity=[0,-1.62]', 'solve.formulation="index1"' (repeatable, applied in order).
+    #[arg(long = "set", value_name = "PATH=JSON")]
+    set: Vec<String>,
 }
 
 #[derive(Subcommand)]
@@ -117,7 +121,7 @@ fn main() -> ExitCode {
 
 /// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
 fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
-    let model = Model::new(&Scene::from_path(&args.scene)?)?;
+    let model = Model::new(&bondmech::scene::path::scene_from_path_with(&args.scene, &args.set)?)?;
     let mut opts = model.default_options();
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {

@@ -46,6 +46,9 @@ pub enum SceneError {
         /// All problems found, in document order (structural problems first).
         problems: Vec<Problem>,
     },
+    /// A `PATH=JSON` assignment (`--set`, `sweep --vary`) could not be parsed or applied.
+    #[error("{0}")]
+    Path(#[from] super::path::PathError),
     /// The scene file could not be read.
     #[error("cannot read scene file '{}': {source}", path.display())]
     Io {
@@ -61,7 +64,7 @@ impl SceneError {
     pub fn problems(&self) -> &[Problem] {
         match self {
             SceneError::Invalid { problems } => problems,
-            SceneError::Io { .. } => &[],
+            SceneError::Io { .. } | SceneError::Path(_) => &[],
         }
     }
 }

@@ -42,6 +42,7 @@
 mod error;
 pub mod model;
 pub mod parse;
+pub mod path;
 mod tree;
 pub mod validate;
 mod write;
