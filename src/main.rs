@@ -104,6 +104,29 @@ enum Command {
         /// measured against it, at its times, instead of against GGL at a tight tolerance.
         #[arg(long)]
         reference: Option<PathBuf>,
+        /// Sweep a scene parameter instead: PATH=[v1, v2, ...], e.g. 'bodies[1].mass=[1,2,4]' or
+        /// 'gravity=[[0,-9.81],[0,-1.62]]'; several give the cartesian product (first slowest).
+        #[arg(long = "vary", value_name = "PATH=[JSON,...]")]
+        vary: Vec<String>,
+        /// Change one scene field before sweeping: PATH=JSON (repeatable).
+        #[arg(long = "set", value_name = "PATH=JSON")]
+        set: Vec<String>,
+        /// With --vary: run only the i-th of n slices (points k with k mod n = i-1) and write a
+        /// partial result for `sweep-merge`.
+        #[arg(long, value_name = "i/n")]
+        shard: Option<String>,
+        /// With --vary: the final-state columns to report (comma-separated; default all).
+        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+    },
+    /// Combine the shards of a `sweep --vary ... --shard i/n` into the whole sweep's CSV/JSON/SVG.
+    SweepMerge {
+        /// The shards' output directories (all n of them, any order).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory for the merged result (not one of the shards').
+        #[arg(long)]
+        out: PathBuf,
     },
 }
 
@@ -121,7 +144,10 @@ fn main() -> ExitCode {
 
 /// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
 fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
-    let model = Model::new(&bondmech::scene::path::scene_from_path_with(&args.scene, &args.set)?)?;
+    let model = Model::new(&bondmech::scene::path::scene_from_path_with(
+        &args.scene,
+        &args.set,
+    )?)?;
     let mut opts = model.default_options();
     if let Some(f) = &args.formulation {
         opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
@@ -262,9 +288,44 @@ fn run(cli: Cli) -> Result<(), Error> {
             repeats,
             t_end,
             reference,
+            vary,
+            set,
+            shard,
+            columns,
         } => {
             use bondmech::report::SweepConfig;
-            let model = Model::new(&Scene::from_path(&scene)?)?;
+            if !vary.is_empty() {
+                let flags = [
+                    ("--quick", quick),
+                    ("--accuracy", accuracy.is_some()),
+                    ("--repeats", repeats.is_some()),
+                ];
+                if let Some((f, _)) = flags.iter().find(|(_, given)| *given) {
+                    return Err(Error::Options(format!(
+                        "{f} belongs to the tolerance/stiffness sweep, not to a --vary sweep"
+                    )));
+                }
+                return vary_sweep(
+                    &scene,
+                    &out,
+                    &set,
+                    &vary,
+                    shard.as_deref(),
+                    t_end,
+                    columns,
+                    reference.as_deref(),
+                );
+            }
+            if shard.is_some() || columns.is_some() {
+                return Err(Error::Options(
+                    "--shard and --columns need --vary (the tolerance/stiffness sweep is not sharded)"
+                        .into(),
+                ));
+            }
+            let mut inputs = vec![scene.as_path()];
+            inputs.extend(reference.as_deref());
+            bondmech::report::vary::check_out_dir(&out, &inputs)?;
+            let model = Model::new(&bondmech::scene::path::scene_from_path_with(&scene, &set)?)?;
             if model.is_raw_bond_graph() {
                 return Err(Error::Options(
                     "sweep needs bodies and joints (a raw bond graph has no decoupled twin)".into(),
@@ -294,7 +355,45 @@ fn run(cli: Cli) -> Result<(), Error> {
             println!("wrote {}", out.display());
             Ok(())
         }
+        Command::SweepMerge { dirs, out } => {
+            let merged = bondmech::report::vary::merge_command(&dirs, &out)?;
+            print!("{}", merged.table());
+            println!("merged {} shards into {}", dirs.len(), out.display());
+            Ok(())
+        }
     }
+}
+
+/// `sweep --vary`: a parameter sweep (whole, or one shard of it).
+#[allow(clippy::too_many_arguments)]
+fn vary_sweep(
+    scene: &Path,
+    out: &Path,
+    set: &[String],
+    vary: &[String],
+    shard: Option<&str>,
+    t_end: Option<f64>,
+    columns: Option<Vec<String>>,
+    reference: Option<&Path>,
+) -> Result<(), Error> {
+    use bondmech::report::vary::{vary_command, Shard, VarySweep};
+    let shard = shard.map(Shard::parse).transpose()?;
+    let (text, stem) = bondmech::scene::path::read_scene_text(scene)?;
+    let reference_path = reference;
+    let reference = match reference {
+        Some(path) => Some(bondmech::report::ExternalReference {
+            source: path.display().to_string(),
+            solution: bondmech::report::reference::reference_from_csv(path)?,
+        }),
+        None => None,
+    };
+    let sweep = VarySweep::new(&text, &stem, set, vary, t_end, columns, reference)?;
+    let mut inputs = vec![scene];
+    inputs.extend(reference_path);
+    let report = vary_command(&sweep, shard, out, &inputs)?;
+    print!("{}", report.table());
+    println!("wrote {}", out.display());
+    Ok(())
 }
 
 /// Renders DOT to SVG with Graphviz.

@@ -6,6 +6,7 @@ pub mod generate;
 pub mod plot;
 pub mod reference;
 pub mod sweep;
+pub mod vary;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
 pub use sweep::{run_sweep, ExternalReference, SweepConfig, SweepReport};

@@ -43,7 +43,7 @@ mod error;
 pub mod model;
 pub mod parse;
 pub mod path;
-mod tree;
+pub(crate) mod tree;
 pub mod validate;
 mod write;
 

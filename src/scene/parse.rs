@@ -186,7 +186,10 @@ pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
 }
 
 /// Reads an already parsed tree into a [`Scene`], collecting every shape problem.
-pub(crate) fn scene_from_tree(tree: &Json, default_name: &str) -> Result<Scene, Vec<super::Problem>> {
+pub(crate) fn scene_from_tree(
+    tree: &Json,
+    default_name: &str,
+) -> Result<Scene, Vec<super::Problem>> {
     let mut p = Problems::default();
     let scene = scene(&mut p, tree, default_name);
     match scene {

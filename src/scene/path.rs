@@ -90,7 +90,11 @@ pub enum PathError {
         message: String,
     },
     /// A key is not there (and could not be added, because an index follows it).
-    #[error("{path}: no key '{key}' in {} (keys there: {})", where_(at), list(available))]
+    #[error(
+        "{path}: no key '{key}' in {} (keys there: {})",
+        where_(at),
+        list(available)
+    )]
     UnknownKey {
         /// The whole path.
         path: String,
@@ -114,7 +118,11 @@ pub enum PathError {
         len: usize,
     },
     /// No entry of an array has this `"name"`.
-    #[error("{path}: no entry named '{name}' in {} (names there: {})", where_(at), list(names))]
+    #[error(
+        "{path}: no entry named '{name}' in {} (names there: {})",
+        where_(at),
+        list(names)
+    )]
     UnknownName {
         /// The whole path.
         path: String,
@@ -204,8 +212,7 @@ impl ScenePath {
                         .parse::<usize>()
                         .map_err(|_| bad(i, format!("index '{inner}' too large")))?;
                     segments.push(Segment::Index(n));
-                } else if inner.starts_with('-') && inner[1..].chars().all(|c| c.is_ascii_digit())
-                {
+                } else if inner.starts_with('-') && inner[1..].chars().all(|c| c.is_ascii_digit()) {
                     return Err(bad(i + 1, format!("negative index {inner}")));
                 } else {
                     segments.push(Segment::Name(inner.to_string()));
@@ -383,7 +390,11 @@ fn article(kind: &str) -> String {
 
 /// Puts `value` at `path` in `root`; returns the path with names resolved to indices
 /// (`bodies[bar2].mass` → `bodies[1].mass`), the form in which scene errors name it.
-pub(crate) fn apply_tree(root: &mut Json, path: &ScenePath, value: Json) -> Result<String, PathError> {
+pub(crate) fn apply_tree(
+    root: &mut Json,
+    path: &ScenePath,
+    value: Json,
+) -> Result<String, PathError> {
     let mut at = String::new();
     let mut node = root;
     let n = path.segments.len();
@@ -599,15 +610,28 @@ mod tests {
         );
         assert_eq!(
             segs("joints[2].points[0]"),
-            vec![Key("joints".into()), Index(2), Key("points".into()), Index(0)]
+            vec![
+                Key("joints".into()),
+                Index(2),
+                Key("points".into()),
+                Index(0)
+            ]
         );
     }
 
     #[test]
     fn rejects_malformed_paths_with_the_position() {
         for bad in [
-            "", "bodies[", "bodies[]", "bodies..mass", "bodies.", "[0]", "bodies[-1]", "a]b",
-            "bodies[0]mass", "a b",
+            "",
+            "bodies[",
+            "bodies[]",
+            "bodies..mass",
+            "bodies.",
+            "[0]",
+            "bodies[-1]",
+            "a]b",
+            "bodies[0]mass",
+            "a b",
         ] {
             let e = ScenePath::parse(bad).unwrap_err();
             assert!(matches!(e, PathError::Syntax { .. }), "{bad}: {e}");
@@ -624,11 +648,20 @@ mod tests {
         let mut v = json!({"bodies": [{"name": "a", "mass": 1.0}, {"name": "b", "mass": 2.0}],
                             "gravity": [0.0, -9.81], "solve": {"t_end": 1.0}});
         let p = |s| ScenePath::parse(s).unwrap();
-        assert_eq!(apply(&mut v, &p("gravity[1]"), json!(-1.62)).unwrap(), "gravity[1]");
+        assert_eq!(
+            apply(&mut v, &p("gravity[1]"), json!(-1.62)).unwrap(),
+            "gravity[1]"
+        );
         assert_eq!(v["gravity"], json!([0.0, -1.62]));
-        assert_eq!(apply(&mut v, &p("solve.rtol"), json!(1e-9)).unwrap(), "solve.rtol");
+        assert_eq!(
+            apply(&mut v, &p("solve.rtol"), json!(1e-9)).unwrap(),
+            "solve.rtol"
+        );
         assert_eq!(v["solve"]["rtol"], json!(1e-9));
-        assert_eq!(apply(&mut v, &p("bodies[b].mass"), json!(3.0)).unwrap(), "bodies[1].mass");
+        assert_eq!(
+            apply(&mut v, &p("bodies[b].mass"), json!(3.0)).unwrap(),
+            "bodies[1].mass"
+        );
         assert_eq!(v["bodies"][1]["mass"], json!(3.0));
 
         let e = apply(&mut v, &p("bodies[2].mass"), json!(1)).unwrap_err();
@@ -647,9 +680,15 @@ mod tests {
             "bodeis[0].mass: no key 'bodeis' in the scene (keys there: bodies, gravity, solve)"
         );
         let e = apply(&mut v, &p("gravity.x"), json!(1)).unwrap_err();
-        assert_eq!(e.to_string(), "gravity.x: 'gravity' is an array, it has no key 'x'");
+        assert_eq!(
+            e.to_string(),
+            "gravity.x: 'gravity' is an array, it has no key 'x'"
+        );
         let e = apply(&mut v, &p("solve.t_end[0]"), json!(1)).unwrap_err();
-        assert!(e.to_string().contains("is a number, it has no index 0"), "{e}");
+        assert!(
+            e.to_string().contains("is a number, it has no index 0"),
+            "{e}"
+        );
     }
 
     #[test]
