@@ -50,6 +50,133 @@ pub const SVG_FILE: &str = "vary.svg";
 /// Format tag stored in every result, checked by [`merge`].
 pub const FORMAT: &str = "bondmech-vary-1";
 
+/// Why a parameter sweep, a shard or a merge was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum VaryError {
+    /// `--shard` is not `i/n` with `1 <= i <= n`.
+    #[error("--shard '{text}': {why} (expected i/n with 1 <= i <= n, e.g. 3/8)")]
+    BadShard {
+        /// The flag's value.
+        text: String,
+        /// What is wrong.
+        why: String,
+    },
+    /// A point's values make an invalid scene.
+    #[error("sweep point {index} ({values}): {message}")]
+    BadPoint {
+        /// Point number (from 0).
+        index: usize,
+        /// Its values, `PATH=VALUE, …`.
+        values: String,
+        /// The scene's problems, with their paths.
+        message: String,
+    },
+    /// `--columns` names a column the runs do not write.
+    #[error("--columns: no column '{column}' (the runs write: {available})")]
+    UnknownColumn {
+        /// The column asked for.
+        column: String,
+        /// The columns there are, comma-separated.
+        available: String,
+    },
+    /// The reference cannot be used for this scene.
+    #[error("sweep: the reference {source_name} {message}")]
+    Reference {
+        /// Where the reference came from.
+        source_name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A directory given to `sweep-merge` holds no readable result.
+    #[error("{dir}: {message}")]
+    NotAResult {
+        /// The directory (or file).
+        dir: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A directory given to `sweep-merge` holds a whole sweep.
+    #[error("sweep-merge: {dir} holds a whole sweep, not a shard (written without --shard)")]
+    WholeSweep {
+        /// The directory.
+        dir: String,
+    },
+    /// Two shards come from different sweeps.
+    #[error("sweep-merge: {first} (fingerprint {first_fingerprint}) and {other} (fingerprint {other_fingerprint}) are shards of different sweeps: {difference}")]
+    DifferentSweeps {
+        /// The first directory.
+        first: String,
+        /// Its fingerprint.
+        first_fingerprint: String,
+        /// The other directory.
+        other: String,
+        /// Its fingerprint.
+        other_fingerprint: String,
+        /// What differs.
+        difference: String,
+    },
+    /// A shard's fingerprint does not match its spec.
+    #[error("sweep-merge: {dir}: the fingerprint does not match its spec (edited by hand?)")]
+    FingerprintMismatch {
+        /// The directory.
+        dir: String,
+    },
+    /// Shards of different splits (`1/3` and `2/4`).
+    #[error("sweep-merge: {dir} is shard {shard} but {first} is a shard of {count}: every shard must come from the same --shard i/n split")]
+    ShardCountMismatch {
+        /// The directory.
+        dir: String,
+        /// Its shard.
+        shard: Shard,
+        /// The first directory.
+        first: String,
+        /// The first directory's shard count.
+        count: usize,
+    },
+    /// The same shard twice.
+    #[error("sweep-merge: shard {shard} given twice: {first} and {second}")]
+    DuplicateShard {
+        /// The shard.
+        shard: Shard,
+        /// One directory holding it.
+        first: String,
+        /// The other.
+        second: String,
+    },
+    /// A shard whose points are not its slice of the sweep.
+    #[error("sweep-merge: {dir}: its points are not those of shard {shard} of a {total}-point sweep (incomplete or edited result)")]
+    WrongPoints {
+        /// The directory.
+        dir: String,
+        /// Its shard.
+        shard: Shard,
+        /// Points in the whole sweep.
+        total: usize,
+    },
+    /// Shards missing.
+    #[error("sweep-merge: missing shard{} {} (given {given} of {count})", if missing.len() == 1 { "" } else { "s" }, missing.join(", "))]
+    MissingShards {
+        /// The missing shards, `i/n`.
+        missing: Vec<String>,
+        /// How many were given.
+        given: usize,
+        /// How many there should be.
+        count: usize,
+    },
+    /// `sweep-merge` without directories.
+    #[error("sweep-merge: give the shards' directories")]
+    NoShards,
+    /// The output directory cannot be used.
+    #[error("--out {dir}: {message}")]
+    OutDir {
+        /// The directory.
+        dir: String,
+        /// Why.
+        message: String,
+    },
+}
+
 /// One `--vary`: a scene path and its values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Variation {
@@ -81,11 +208,10 @@ pub struct Shard {
 
 impl Shard {
     /// Parses `i/n` with `1 <= i <= n`.
-    pub fn parse(text: &str) -> Result<Shard> {
-        let bad = |why: &str| {
-            Error::Options(format!(
-                "--shard '{text}': {why} (expected i/n with 1 <= i <= n, e.g. 3/8)"
-            ))
+    pub fn parse(text: &str) -> Result<Shard, VaryError> {
+        let bad = |why: &str| VaryError::BadShard {
+            text: text.to_string(),
+            why: why.to_string(),
         };
         let (i, n) = text.split_once('/').ok_or_else(|| bad("no '/'"))?;
         let i: usize = i
@@ -362,13 +488,16 @@ impl VarySweep {
                 .copied()
                 .unwrap_or(0.0);
             if r.times.len() < 2 || (r.times[0] - t0).abs() > 1e-12 * (1.0 + t0.abs()) {
-                return Err(Error::Options(format!(
-                    "sweep: the reference {} must start at the scene's start t = {t0} and have at \
-                     least two times up to t_end (it has {} from t = {})",
-                    sweep.spec.reference.as_deref().unwrap_or(""),
-                    r.times.len(),
-                    r.times.first().copied().unwrap_or(f64::NAN)
-                )));
+                return Err(VaryError::Reference {
+                    source_name: sweep.spec.reference.clone().unwrap_or_default(),
+                    message: format!(
+                        "must start at the scene's start t = {t0} and have at least two times up \
+                         to t_end (it has {} from t = {})",
+                        r.times.len(),
+                        r.times.first().copied().unwrap_or(f64::NAN)
+                    ),
+                }
+                .into());
             }
         }
         // every point's scene, before anything is solved
@@ -388,7 +517,7 @@ impl VarySweep {
         let values = self.spec.point_values(k);
         let mut sets = self.sets.clone();
         for (p, v) in self.paths.iter().zip(&values) {
-            sets.push(Assignment::new(p.clone(), v.clone()));
+            sets.push(Assignment::new(p.clone(), v.clone()).labelled("--vary"));
         }
         scene_from_tree_with(self.base.clone(), &self.default_name, &sets).map_err(|e| {
             let what: Vec<String> = self
@@ -398,11 +527,11 @@ impl VarySweep {
                 .zip(&values)
                 .map(|(v, x)| format!("{}={x}", v.path))
                 .collect();
-            Error::Options(format!(
-                "sweep point {k} ({}): {}",
-                what.join(", "),
-                e.to_string().replace('\n', "; ")
-            ))
+            Error::from(VaryError::BadPoint {
+                index: k,
+                values: what.join(", "),
+                message: e.to_string().replace('\n', "; "),
+            })
         })
     }
 
@@ -492,19 +621,20 @@ impl VarySweep {
         }
         if let (Some(t), Some(row)) = (sol.times.last(), sol.rows.last()) {
             point.t_final = finite_or_nan(*t);
-            point.final_values = sol
-                .columns
-                .iter()
-                .zip(row)
-                .filter(|(c, _)| {
-                    self.spec
-                        .columns
-                        .as_ref()
-                        .is_none_or(|want| want.contains(c))
-                })
+            let all: Vec<(&String, f64)> = sol.columns.iter().zip(row.iter().copied()).collect();
+            let chosen: Vec<(&String, f64)> = match &self.spec.columns {
+                None => all,
+                // in the order asked for
+                Some(want) => want
+                    .iter()
+                    .filter_map(|w| all.iter().find(|(c, _)| *c == w).copied())
+                    .collect(),
+            };
+            point.final_values = chosen
+                .into_iter()
                 .map(|(c, x)| FinalValue {
                     column: c.clone(),
-                    value: finite_or_nan(*x),
+                    value: finite_or_nan(x),
                 })
                 .collect();
         }
@@ -516,10 +646,11 @@ impl VarySweep {
     fn check_columns(&self, columns: &[String]) -> Result<()> {
         if let Some(want) = &self.spec.columns {
             if let Some(c) = want.iter().find(|c| !columns.contains(c)) {
-                return Err(Error::Options(format!(
-                    "--columns: no column '{c}' (the runs write: {})",
-                    columns.join(", ")
-                )));
+                return Err(VaryError::UnknownColumn {
+                    column: c.clone(),
+                    available: columns.join(", "),
+                }
+                .into());
             }
         }
         if let Some(r) = &self.reference {
@@ -528,13 +659,16 @@ impl VarySweep {
                     && columns.contains(c)
             });
             if !shared {
-                return Err(Error::Options(format!(
-                    "sweep: the reference {} shares no position or angle column with the scene's \
-                     output (reference columns: {}; scene columns: {})",
-                    self.spec.reference.as_deref().unwrap_or(""),
-                    r.columns.join(","),
-                    columns.join(",")
-                )));
+                return Err(VaryError::Reference {
+                    source_name: self.spec.reference.clone().unwrap_or_default(),
+                    message: format!(
+                        "shares no position or angle column with the scene's output (reference \
+                         columns: {}; scene columns: {})",
+                        r.columns.join(","),
+                        columns.join(",")
+                    ),
+                }
+                .into());
             }
         }
         Ok(())
@@ -701,24 +835,23 @@ impl VaryReport {
     /// Reads a result written by [`VaryReport::write_all`] from `dir`.
     pub fn read(dir: &Path) -> Result<VaryReport> {
         let p = dir.join(JSON_FILE);
-        let text = std::fs::read_to_string(&p).map_err(|e| {
-            Error::Options(format!(
-                "{}: cannot read {JSON_FILE} ({e}); is it the --out directory of a `bondmech sweep --vary ... --shard i/n`?",
-                dir.display()
-            ))
+        let text = std::fs::read_to_string(&p).map_err(|e| VaryError::NotAResult {
+            dir: dir.display().to_string(),
+            message: format!(
+                "cannot read {JSON_FILE} ({e}); is it the --out directory of a `bondmech \
+                     sweep --vary ... --shard i/n`?"
+            ),
         })?;
-        let r: VaryReport = serde_json::from_str(&text).map_err(|e| {
-            Error::Options(format!(
-                "{}: not a bondmech parameter sweep result: {e}",
-                p.display()
-            ))
+        let r: VaryReport = serde_json::from_str(&text).map_err(|e| VaryError::NotAResult {
+            dir: p.display().to_string(),
+            message: format!("not a bondmech parameter sweep result: {e}"),
         })?;
         if r.format != FORMAT {
-            return Err(Error::Options(format!(
-                "{}: format '{}', expected '{FORMAT}'",
-                p.display(),
-                r.format
-            )));
+            return Err(VaryError::NotAResult {
+                dir: p.display().to_string(),
+                message: format!("format '{}', expected '{FORMAT}'", r.format),
+            }
+            .into());
         }
         Ok(r)
     }
@@ -757,35 +890,32 @@ fn spec_difference(a: &VarySpec, b: &VarySpec) -> String {
 /// whole sweep among the shards, and a shard whose points are not its slice.
 pub fn merge(parts: &[(PathBuf, VaryReport)]) -> Result<VaryReport> {
     let Some((first_dir, first)) = parts.first() else {
-        return Err(Error::Options(
-            "sweep-merge: no shard directories given".into(),
-        ));
+        return Err(VaryError::NoShards.into());
     };
     let mut have: Vec<Option<&Path>> = Vec::new();
     let mut count = None;
     for (dir, r) in parts {
         let Some(shard) = r.shard else {
-            return Err(Error::Options(format!(
-                "sweep-merge: {} holds a whole sweep, not a shard (written without --shard)",
-                dir.display()
-            )));
+            return Err(VaryError::WholeSweep {
+                dir: dir.display().to_string(),
+            }
+            .into());
         };
         if r.fingerprint != first.fingerprint || r.spec != first.spec {
-            return Err(Error::Options(format!(
-                "sweep-merge: {} (fingerprint {}) and {} (fingerprint {}) are shards of different \
-                 sweeps: {}",
-                first_dir.display(),
-                first.fingerprint,
-                dir.display(),
-                r.fingerprint,
-                spec_difference(&first.spec, &r.spec)
-            )));
+            return Err(VaryError::DifferentSweeps {
+                first: first_dir.display().to_string(),
+                first_fingerprint: first.fingerprint.clone(),
+                other: dir.display().to_string(),
+                other_fingerprint: r.fingerprint.clone(),
+                difference: spec_difference(&first.spec, &r.spec),
+            }
+            .into());
         }
         if r.fingerprint != r.spec.fingerprint() {
-            return Err(Error::Options(format!(
-                "sweep-merge: {}: the fingerprint does not match its spec (edited by hand?)",
-                dir.display()
-            )));
+            return Err(VaryError::FingerprintMismatch {
+                dir: dir.display().to_string(),
+            }
+            .into());
         }
         match count {
             None => {
@@ -793,38 +923,42 @@ pub fn merge(parts: &[(PathBuf, VaryReport)]) -> Result<VaryReport> {
                 have = vec![None; shard.count];
             }
             Some(n) if n != shard.count => {
-                return Err(Error::Options(format!(
-                    "sweep-merge: {} is shard {shard} but {} is a shard of {n}: every shard must \
-                     come from the same --shard i/n split",
-                    dir.display(),
-                    first_dir.display()
-                )))
+                return Err(VaryError::ShardCountMismatch {
+                    dir: dir.display().to_string(),
+                    shard,
+                    first: first_dir.display().to_string(),
+                    count: n,
+                }
+                .into())
             }
             Some(_) => {}
         }
         if shard.index == 0 || shard.index > shard.count {
-            return Err(Error::Options(format!(
-                "sweep-merge: {}: invalid shard {shard}",
-                dir.display()
-            )));
+            return Err(VaryError::WrongPoints {
+                dir: dir.display().to_string(),
+                shard,
+                total: r.total_points,
+            }
+            .into());
         }
         if let Some(prev) = have[shard.index - 1] {
-            return Err(Error::Options(format!(
-                "sweep-merge: shard {shard} given twice: {} and {}",
-                prev.display(),
-                dir.display()
-            )));
+            return Err(VaryError::DuplicateShard {
+                shard,
+                first: prev.display().to_string(),
+                second: dir.display().to_string(),
+            }
+            .into());
         }
         have[shard.index - 1] = Some(dir);
         let expected: Vec<usize> = (0..r.total_points).filter(|&k| shard.owns(k)).collect();
         let got: Vec<usize> = r.points.iter().map(|p| p.index).collect();
         if r.total_points != r.spec.total_points() || got != expected {
-            return Err(Error::Options(format!(
-                "sweep-merge: {}: its points are not those of shard {shard} of {} (incomplete or \
-                 edited result)",
-                dir.display(),
-                r.spec.total_points()
-            )));
+            return Err(VaryError::WrongPoints {
+                dir: dir.display().to_string(),
+                shard,
+                total: r.spec.total_points(),
+            }
+            .into());
         }
     }
     let n = count.unwrap_or(0);
@@ -835,12 +969,12 @@ pub fn merge(parts: &[(PathBuf, VaryReport)]) -> Result<VaryReport> {
         .map(|(i, _)| format!("{}/{n}", i + 1))
         .collect();
     if !missing.is_empty() {
-        return Err(Error::Options(format!(
-            "sweep-merge: missing shard{} {} (given {} of {n})",
-            if missing.len() == 1 { "" } else { "s" },
-            missing.join(", "),
-            n - missing.len()
-        )));
+        return Err(VaryError::MissingShards {
+            given: n - missing.len(),
+            missing,
+            count: n,
+        }
+        .into());
     }
     let mut points: Vec<VaryPoint> = parts
         .iter()
@@ -866,8 +1000,10 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
     };
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let probe = dir.join(format!(".bondmech-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .map_err(|e| Error::Options(format!("--out {}: not writable ({e})", dir.display())))?;
+    std::fs::write(&probe, b"").map_err(|e| VaryError::OutDir {
+        dir: dir.display().to_string(),
+        message: format!("not writable ({e})"),
+    })?;
     let _ = std::fs::remove_file(&probe);
     let canon_dir = dir.canonicalize().map_err(|e| io(dir, e))?;
     for input in inputs {
@@ -875,10 +1011,11 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
             continue;
         };
         if c == canon_dir {
-            return Err(Error::Options(format!(
-                "--out {}: is an input directory; write the merged result elsewhere",
-                dir.display()
-            )));
+            return Err(VaryError::OutDir {
+                dir: dir.display().to_string(),
+                message: "is an input directory; write the merged result elsewhere".into(),
+            }
+            .into());
         }
         for name in [
             JSON_FILE,
@@ -891,11 +1028,11 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
             "stiffness.svg",
         ] {
             if canon_dir.join(name) == c {
-                return Err(Error::Options(format!(
-                    "--out {}: would overwrite the input {}",
-                    dir.display(),
-                    input.display()
-                )));
+                return Err(VaryError::OutDir {
+                    dir: dir.display().to_string(),
+                    message: format!("would overwrite the input {}", input.display()),
+                }
+                .into());
             }
         }
     }
@@ -938,9 +1075,7 @@ pub fn vary_command(
 /// sweep's CSV, JSON and SVG into `out`.
 pub fn merge_command(dirs: &[PathBuf], out: &Path) -> Result<VaryReport> {
     if dirs.is_empty() {
-        return Err(Error::Options(
-            "sweep-merge: give the shards' directories".into(),
-        ));
+        return Err(VaryError::NoShards.into());
     }
     let inputs: Vec<&Path> = dirs.iter().map(PathBuf::as_path).collect();
     let mut parts = Vec::with_capacity(dirs.len());

@@ -278,6 +278,7 @@ pub struct Assignment {
     path: ScenePath,
     value: Json,
     text: String,
+    origin: &'static str,
 }
 
 impl Assignment {
@@ -288,7 +289,14 @@ impl Assignment {
             path,
             value: Json::from_value(&value),
             text,
+            origin: "--set",
         }
+    }
+
+    /// The same assignment, named after `flag` (`--vary`) in scene errors.
+    pub fn labelled(mut self, flag: &'static str) -> Assignment {
+        self.origin = flag;
+        self
     }
 
     /// The path.
@@ -311,7 +319,12 @@ impl Assignment {
     }
 
     pub(crate) fn from_tree(path: ScenePath, value: Json, text: String) -> Assignment {
-        Assignment { path, value, text }
+        Assignment {
+            path,
+            value,
+            text,
+            origin: "--set",
+        }
     }
 }
 
@@ -516,13 +529,13 @@ pub(crate) fn scene_from_tree_with(
     let mut resolved = Vec::with_capacity(sets.len());
     for a in sets {
         let r = apply_tree(&mut tree, &a.path, a.value.clone())?;
-        resolved.push((r, a.as_str().to_string()));
+        resolved.push((r, format!("{} {}", a.origin, a.as_str())));
     }
     let annotate = |mut problems: Vec<Problem>| {
         for p in &mut problems {
             // the last assignment to a path wins, so name the last one that covers the problem
             if let Some((_, text)) = resolved.iter().rev().find(|(r, _)| covers(r, &p.path)) {
-                p.message = format!("{} (set by --set {text})", p.message);
+                p.message = format!("{} (set by {text})", p.message);
             }
         }
         SceneError::Invalid { problems }
