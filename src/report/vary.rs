@@ -998,7 +998,10 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
         path: p.display().to_string(),
         source,
     };
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| VaryError::OutDir {
+        dir: dir.display().to_string(),
+        message: format!("cannot create it ({e})"),
+    })?;
     let probe = dir.join(format!(".bondmech-write-test-{}", std::process::id()));
     std::fs::write(&probe, b"").map_err(|e| VaryError::OutDir {
         dir: dir.display().to_string(),
@@ -1154,6 +1157,7 @@ pub fn vary_svg(report: &VaryReport, path: &Path) -> Result<()> {
             let mut chart = $chart.map_err(|e| err(&e))?;
             chart
                 .configure_mesh()
+                .light_line_style(TRANSPARENT)
                 .x_desc(name.as_str())
                 .y_desc(y_desc)
                 .y_label_formatter(&|v| format!("{v:.0e}"))
