@@ -35,7 +35,7 @@ use serde::{Deserialize, Serialize};
 use super::compare::{column_kind, ColumnKind};
 use super::sweep::{solution_error, ExternalReference};
 use crate::scene::path::{
-    parse_assignment, parse_variation, scene_from_tree_with, Assignment, ScenePath,
+    apply_tree, parse_assignment, parse_variation, scene_from_tree_with, Assignment, ScenePath,
 };
 use crate::scene::{parse, tree::Json, Scene, SceneError};
 use crate::solve::Solution;
@@ -164,6 +164,16 @@ pub enum VaryError {
         /// How many there should be.
         count: usize,
     },
+    /// Two `--vary` of the same field.
+    #[error("--vary {first} and --vary {second} both vary {field}")]
+    DuplicateVary {
+        /// The first path as written.
+        first: String,
+        /// The second.
+        second: String,
+        /// The field (indices resolved).
+        field: String,
+    },
     /// `sweep-merge` without directories.
     #[error("sweep-merge: give the shards' directories")]
     NoShards,
@@ -281,10 +291,13 @@ impl VarySpec {
         out
     }
 
-    /// A hash of the whole spec (hex): equal for shards of one sweep.
+    /// A hash of the spec (hex): equal for shards of one sweep. The reference counts by its
+    /// content (`reference_hash`), not by where it was read from.
     pub fn fingerprint(&self) -> String {
+        let mut s = self.clone();
+        s.reference = None;
         fnv_hex(
-            serde_json::to_string(self)
+            serde_json::to_string(&s)
                 .expect("spec serialises")
                 .as_bytes(),
         )
@@ -458,6 +471,26 @@ impl VarySweep {
             .collect();
         let base = parse::parse_tree(text).map_err(|problems| SceneError::Invalid { problems })?;
         let scene = scene_from_tree_with(base.clone(), default_name, &sets)?;
+        // two --vary of one field (by index and by name, say) would make equal points
+        let mut with_sets = base.clone();
+        for a in &sets {
+            apply_tree(&mut with_sets, a.path(), a.tree_value().clone())
+                .map_err(SceneError::from)?;
+        }
+        let mut resolved: Vec<(String, &str)> = Vec::new();
+        for (p, v) in paths.iter().zip(&variations) {
+            let mut t = with_sets.clone();
+            let at = apply_tree(&mut t, p, Json::Null).map_err(SceneError::from)?;
+            if let Some((_, first)) = resolved.iter().find(|(r, _)| *r == at) {
+                return Err(VaryError::DuplicateVary {
+                    first: first.to_string(),
+                    second: v.path.clone(),
+                    field: at,
+                }
+                .into());
+            }
+            resolved.push((at, &v.path));
+        }
         let reference = reference.map(|r| {
             let sol = super::reference::truncate_reference(&r.solution, t_end);
             (r.source, sol)
@@ -541,7 +574,19 @@ impl VarySweep {
         let ks: Vec<usize> = (0..self.spec.total_points())
             .filter(|&k| shard.is_none_or(|s| s.owns(k)))
             .collect();
-        let runs: Vec<(VaryPoint, Vec<String>)> = ks
+        // the first point alone: a misspelt --columns or an unusable reference is refused after
+        // one solve, not after the whole slice
+        let mut runs: Vec<(VaryPoint, Vec<String>)> = Vec::with_capacity(ks.len());
+        if let Some(&k0) = ks.first() {
+            runs.push(self.run_point(k0)?);
+            tick();
+            if runs[0].0.failure.is_none() {
+                self.check_columns(&runs[0].1)?;
+            }
+        }
+        let rest: Vec<(VaryPoint, Vec<String>)> = ks
+            .get(1..)
+            .unwrap_or_default()
             .par_iter()
             .map(|&k| {
                 let p = self.run_point(k);
@@ -549,6 +594,7 @@ impl VarySweep {
                 p
             })
             .collect::<Result<_>>()?;
+        runs.extend(rest);
         if let Some((_, columns)) = runs.iter().find(|(p, _)| p.failure.is_none()) {
             self.check_columns(columns)?;
         }
@@ -901,7 +947,7 @@ pub fn merge(parts: &[(PathBuf, VaryReport)]) -> Result<VaryReport> {
             }
             .into());
         };
-        if r.fingerprint != first.fingerprint || r.spec != first.spec {
+        if r.fingerprint != first.fingerprint || r.spec.fingerprint() != first.spec.fingerprint() {
             return Err(VaryError::DifferentSweeps {
                 first: first_dir.display().to_string(),
                 first_fingerprint: first.fingerprint.clone(),
