@@ -497,6 +497,19 @@ fn bad_paths_values_and_flags_are_refused_with_one_line() {
             SCENE,
             "--vary",
             "bodies[1].mass=[1,2]",
+            "--vary",
+            "bodies[bar2].mass=[3]",
+            "--out",
+            o,
+        ],
+        "--vary bodies[1].mass and --vary bodies[bar2].mass both vary bodies[1].mass",
+    );
+    refused(
+        &[
+            "sweep",
+            SCENE,
+            "--vary",
+            "bodies[1].mass=[1,2]",
             "--quick",
             "--out",
             o,
