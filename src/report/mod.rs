@@ -1,5 +1,6 @@
 //! Reports: comparisons of the DAE with its decoupled twin, speed-against-error sweeps, their
-//! SVG plots, and generated benchmark scenes.
+//! SVG plots, parameter sweeps over scene fields (sharded and merged), and generated benchmark
+//! scenes.
 
 pub mod compare;
 pub mod generate;
