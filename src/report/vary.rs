@@ -47,6 +47,8 @@ pub const JSON_FILE: &str = "vary.json";
 pub const CSV_FILE: &str = "vary.csv";
 /// File name of the plot (one numeric `--vary` only).
 pub const SVG_FILE: &str = "vary.svg";
+/// The largest number of points one sweep may have (every point's scene is checked first).
+pub const MAX_POINTS: usize = 10_000_000;
 /// Format tag stored in every result, checked by [`merge`].
 pub const FORMAT: &str = "bondmech-vary-1";
 
@@ -163,6 +165,14 @@ pub enum VaryError {
         given: usize,
         /// How many there should be.
         count: usize,
+    },
+    /// The cartesian product is larger than [`MAX_POINTS`].
+    #[error(
+        "--vary: {sizes} values make more than {MAX_POINTS} points; split the sweep into several"
+    )]
+    TooManyPoints {
+        /// The number of values of each `--vary`.
+        sizes: String,
     },
     /// Two `--vary` of the same field.
     #[error("--vary {first} and --vary {second} both vary {field}")]
@@ -465,6 +475,20 @@ impl VarySweep {
             .iter()
             .map(|v| Variation::parse(v))
             .collect::<Result<_>>()?;
+        let total = variations
+            .iter()
+            .try_fold(1usize, |n, v| n.checked_mul(v.values.len()))
+            .filter(|n| *n <= MAX_POINTS);
+        if total.is_none() {
+            let sizes: Vec<String> = variations
+                .iter()
+                .map(|v| v.values.len().to_string())
+                .collect();
+            return Err(VaryError::TooManyPoints {
+                sizes: sizes.join(" × "),
+            }
+            .into());
+        }
         let paths: Vec<ScenePath> = variations
             .iter()
             .map(|v| ScenePath::parse(&v.path).expect("parsed once already"))
@@ -1240,4 +1264,86 @@ pub fn vary_svg(report: &VaryReport, path: &Path) -> Result<()> {
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_points() {
+        for n in 1..=7 {
+            for total in [0usize, 1, 5, 12] {
+                let mut seen = vec![0; total];
+                for i in 1..=n {
+                    let s = Shard::parse(&format!("{i}/{n}")).unwrap();
+                    for (k, c) in seen.iter_mut().enumerate() {
+                        if s.owns(k) {
+                            *c += 1;
+                        }
+                    }
+                }
+                assert!(seen.iter().all(|&c| c == 1), "n = {n}, total = {total}");
+            }
+        }
+        for bad in ["0/3", "4/3", "1/0", "3", "a/3", "1/b", "-1/3", ""] {
+            let e = Shard::parse(bad).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("--shard '{bad}'")), "{e}");
+        }
+        assert_eq!(
+            Shard::parse(" 2 / 5 ").unwrap(),
+            Shard { index: 2, count: 5 }
+        );
+    }
+
+    #[test]
+    fn points_are_the_cartesian_product_first_slowest() {
+        let spec = VarySpec {
+            scene: "s".into(),
+            scene_hash: String::new(),
+            sets: vec![],
+            vary: vec![
+                Variation::parse("a=[1,2]").unwrap(),
+                Variation::parse("b=[\"x\",\"y\",\"z\"]").unwrap(),
+            ],
+            t_end: None,
+            columns: None,
+            reference: None,
+            reference_hash: None,
+        };
+        assert_eq!(spec.total_points(), 6);
+        let all: Vec<String> = (0..6)
+            .map(|k| {
+                let v = spec.point_values(k);
+                format!("{}{}", v[0], v[1].as_str().unwrap())
+            })
+            .collect();
+        assert_eq!(all, ["1.0x", "1.0y", "1.0z", "2.0x", "2.0y", "2.0z"]);
+        // the fingerprint follows the spec, not where the reference was read from
+        let mut other = spec.clone();
+        other.reference = Some("elsewhere/ref.csv".into());
+        assert_eq!(spec.fingerprint(), other.fingerprint());
+        other.vary[1].values.pop();
+        assert_ne!(spec.fingerprint(), other.fingerprint());
+    }
+
+    #[test]
+    fn too_many_points_are_refused_before_anything_runs() {
+        let big = format!(
+            "bodies[0].mass=[{}]",
+            (1..=4000)
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        );
+        let text = r#"{"bodies": [{"name": "b", "mass": 1, "inertia": 1}], "solve": {"t_end": 1}}"#;
+        let vary = [big.clone(), big.replace("mass", "inertia")];
+        let Err(e) = VarySweep::new(text, "s", &[], &vary, None, None, None) else {
+            panic!("refused")
+        };
+        assert!(
+            e.to_string().contains("4000 × 4000 values make more than"),
+            "{e}"
+        );
+    }
 }
