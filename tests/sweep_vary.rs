@@ -119,12 +119,12 @@ fn parallel_sweep_equals_serial_sweep_except_cpu_times() {
     assert_eq!(
         values,
         [
-            "0.5,[0.0,-9.81]",
-            "0.5,[0.0,-1.62]",
-            "1.0,[0.0,-9.81]",
-            "1.0,[0.0,-1.62]",
-            "2.0,[0.0,-9.81]",
-            "2.0,[0.0,-1.62]"
+            "0.5,[0,-9.81]",
+            "0.5,[0,-1.62]",
+            "1,[0,-9.81]",
+            "1,[0,-1.62]",
+            "2,[0,-9.81]",
+            "2,[0,-1.62]"
         ]
     );
     assert!(serial.points.iter().all(|p| p.failure.is_none()));
@@ -184,7 +184,7 @@ fn sweep_point_equals_run_of_a_scene_edited_with_serde_json() {
     // and the sweep's point (mass 2, moon gravity) has the hand-edited run's last row
     let r = sweep(&TWO_PARAMETERS, None).run(None, &|| {}).unwrap();
     let p = &r.points[5];
-    assert_eq!(p.values[0], serde_json::json!(2.0));
+    assert_eq!(p.values[0], serde_json::json!(2));
     let header: Vec<&str> = hand.lines().next().unwrap().split(',').collect();
     let last: Vec<f64> = hand
         .lines()
@@ -466,7 +466,7 @@ fn bad_paths_values_and_flags_are_refused_with_one_line() {
             "--out",
             o,
         ],
-        "sweep point 1 (bodies[1].mass=-1.0): bodies[1].mass: must be > 0",
+        "sweep point 1 (bodies[1].mass=-1): bodies[1].mass: must be > 0",
     );
     refused(
         &["sweep", SCENE, "--vary", "bodies[1].mass=2", "--out", o],

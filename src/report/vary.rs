@@ -35,7 +35,8 @@ use serde::{Deserialize, Serialize};
 use super::compare::{column_kind, ColumnKind};
 use super::sweep::{solution_error, ExternalReference};
 use crate::scene::path::{
-    apply_tree, parse_assignment, parse_variation, scene_from_tree_with, Assignment, ScenePath,
+    apply_tree, parse_assignment, parse_variation, parse_variation_tree, scene_from_tree_with,
+    Assignment, ScenePath,
 };
 use crate::scene::{parse, tree::Json, Scene, SceneError};
 use crate::solve::Solution;
@@ -439,6 +440,8 @@ pub struct VarySweep {
     default_name: String,
     sets: Vec<Assignment>,
     paths: Vec<ScenePath>,
+    /// The values of each variation as order-preserving trees.
+    trees: Vec<Vec<Json>>,
     spec: VarySpec,
     reference: Option<Solution>,
 }
@@ -489,10 +492,13 @@ impl VarySweep {
             }
             .into());
         }
-        let paths: Vec<ScenePath> = variations
-            .iter()
-            .map(|v| ScenePath::parse(&v.path).expect("parsed once already"))
-            .collect();
+        let mut paths: Vec<ScenePath> = Vec::with_capacity(vary.len());
+        let mut trees: Vec<Vec<Json>> = Vec::with_capacity(vary.len());
+        for v in vary {
+            let (p, t) = parse_variation_tree(v).map_err(SceneError::from)?;
+            paths.push(p);
+            trees.push(t);
+        }
         let base = parse::parse_tree(text).map_err(|problems| SceneError::Invalid { problems })?;
         let scene = scene_from_tree_with(base.clone(), default_name, &sets)?;
         // two --vary of one field (by index and by name, say) would make equal points
@@ -534,6 +540,7 @@ impl VarySweep {
             default_name: default_name.to_string(),
             sets,
             paths,
+            trees,
             spec,
             reference: reference.map(|(_, sol)| sol),
         };
@@ -573,8 +580,20 @@ impl VarySweep {
     pub fn scene(&self, k: usize) -> Result<Scene> {
         let values = self.spec.point_values(k);
         let mut sets = self.sets.clone();
-        for (p, v) in self.paths.iter().zip(&values) {
-            sets.push(Assignment::new(p.clone(), v.clone()).labelled("--vary"));
+        let mut rest = k;
+        let mut picked = vec![0; self.trees.len()];
+        for (slot, t) in picked.iter_mut().zip(&self.trees).rev() {
+            *slot = rest % t.len();
+            rest /= t.len();
+        }
+        for ((p, t), (i, v)) in self
+            .paths
+            .iter()
+            .zip(&self.trees)
+            .zip(picked.into_iter().zip(&values))
+        {
+            let text = format!("{p}={v}");
+            sets.push(Assignment::from_tree(p.clone(), t[i].clone(), text).labelled("--vary"));
         }
         scene_from_tree_with(self.base.clone(), &self.default_name, &sets).map_err(|e| {
             let what: Vec<String> = self
@@ -1318,7 +1337,7 @@ mod tests {
                 format!("{}{}", v[0], v[1].as_str().unwrap())
             })
             .collect();
-        assert_eq!(all, ["1.0x", "1.0y", "1.0z", "2.0x", "2.0y", "2.0z"]);
+        assert_eq!(all, ["1x", "1y", "1z", "2x", "2y", "2z"]);
         // the fingerprint follows the spec, not where the reference was read from
         let mut other = spec.clone();
         other.reference = Some("elsewhere/ref.csv".into());

@@ -373,11 +373,20 @@ pub fn parse_assignment(text: &str) -> Result<Assignment, PathError> {
 
 /// Parses `PATH=[v1, v2, …]` (a `sweep --vary`): the path and the list of values.
 pub fn parse_variation(text: &str) -> Result<(ScenePath, Vec<serde_json::Value>), PathError> {
+    let (path, items) = parse_variation_tree(text)?;
+    // as written (integers stay integers), for reports
+    let values = match serde_json::from_str(text.split_once('=').map_or("", |(_, v)| v)) {
+        Ok(serde_json::Value::Array(v)) => v,
+        _ => items.iter().map(Json::to_value).collect(),
+    };
+    Ok((path, values))
+}
+
+/// [`parse_variation`] with the values as order-preserving trees (what is applied to a scene).
+pub(crate) fn parse_variation_tree(text: &str) -> Result<(ScenePath, Vec<Json>), PathError> {
     let a = parse_assignment(text)?;
     match a.tree_value() {
-        Json::Array(items) if !items.is_empty() => {
-            Ok((a.path.clone(), items.iter().map(Json::to_value).collect()))
-        }
+        Json::Array(items) if !items.is_empty() => Ok((a.path.clone(), items.clone())),
         Json::Array(_) => Err(PathError::Assignment {
             assignment: text.into(),
             message: "the list of values is empty".into(),
@@ -715,7 +724,7 @@ mod tests {
         assert!(parse_assignment("gravity=").is_err());
         let (p, vals) = parse_variation("gravity=[[0,-9.81],[0,-1.62]]").unwrap();
         assert_eq!(p.as_str(), "gravity");
-        assert_eq!(vals, vec![json!([0.0, -9.81]), json!([0.0, -1.62])]);
+        assert_eq!(vals, vec![json!([0, -9.81]), json!([0, -1.62])]);
         assert!(parse_variation("bodies[0].mass=2").is_err());
         assert!(parse_variation("bodies[0].mass=[]").is_err());
     }
