@@ -474,6 +474,7 @@ impl<'a> Assembler<'a> {
             kinetic,
             outputs,
             warnings: self.warnings,
+            energy_exchange: energy_exchange(self.scene),
         };
         let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
         for v in sys.initial_violation(&names) {
@@ -1286,4 +1287,18 @@ fn planar_inertia(i: &Inertia) -> f64 {
         Inertia::Planar(j) => *j,
         Inertia::Principal(j) => j[2],
     }
+}
+
+/// The first damper or load of `scene` that exchanges energy with the mechanism, named by its
+/// JSON path: the energy column (kinetic + gravity + springs) is conserved only without them.
+fn energy_exchange(scene: &Scene) -> Option<String> {
+    if let Some((i, l)) = scene.loads.iter().enumerate().next() {
+        return Some(format!("loads[{i}] ('{}') does work", l.name));
+    }
+    scene
+        .springs
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.damping != 0.0)
+        .map(|(i, s)| format!("springs[{i}] ('{}') has damping {}", s.name, s.damping))
 }

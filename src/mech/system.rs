@@ -89,6 +89,9 @@ pub struct MultibodySystem {
     pub outputs: Vec<OutputColumn>,
     /// Non-fatal remarks found while building (unconnected bodies, unmodelled rotations, …).
     pub warnings: Vec<String>,
+    /// Why the mechanical energy is not conserved (the first damper or load that exchanges
+    /// energy with the mechanism, e.g. `loads[0] ('gas') does work`); `None` when it is.
+    pub energy_exchange: Option<String>,
 }
 
 impl MultibodySystem {

@@ -226,8 +226,8 @@ impl Comparison {
             ),
             (
                 "energy drift (rel.)",
-                format!("{:.3e}", a.energy_drift),
-                format!("{:.3e}", b.energy_drift),
+                drift_cell(a.energy_drift),
+                drift_cell(b.energy_drift),
             ),
             ("compliance ε", format!("{:.1e}", a.compliance), "-".into()),
             (
@@ -259,6 +259,11 @@ impl Comparison {
         }
         s
     }
+}
+
+/// `1.234e-7`, or `- (not conserved)` where the scene exchanges energy.
+fn drift_cell(d: Option<f64>) -> String {
+    d.map_or_else(|| "- (not conserved)".into(), |d| format!("{d:.3e}"))
 }
 
 #[cfg(test)]

@@ -404,7 +404,8 @@ pub struct VaryPoint {
     /// Largest |g(q)| at the output times.
     #[serde(with = "nan_null")]
     pub max_constraint_error: f64,
-    /// Relative energy drift (see [`crate::Summary::energy_drift`]).
+    /// Relative energy drift (see [`crate::Summary::energy_drift`]); `NaN`/`null` when the
+    /// scene does not conserve energy.
     #[serde(with = "nan_null")]
     pub energy_drift: f64,
     /// Error against the reference (with a reference only).
@@ -544,6 +545,12 @@ impl VarySweep {
             spec,
             reference: reference.map(|(_, sol)| sol),
         };
+        if let Some(t) = t_end {
+            // a bad --t-end is refused once, not as a failed run at every point
+            Model::new(&scene)?
+                .output_times_until(t)
+                .map_err(|e| Error::Options(format!("--t-end {t}: {e}")))?;
+        }
         if let Some(r) = &sweep.reference {
             let t0 = Model::new(&scene)?
                 .default_options()
@@ -704,7 +711,7 @@ impl VarySweep {
         point.error_test_failures = s.error_test_failures;
         point.cpu_seconds = finite_or_nan(s.cpu_seconds);
         point.max_constraint_error = finite_or_nan(s.max_constraint_error);
-        point.energy_drift = finite_or_nan(s.energy_drift);
+        point.energy_drift = finite_or_nan(s.energy_drift.unwrap_or(f64::NAN));
         if let Some(r) = &self.reference {
             point.error = finite_or_nan(solution_error(&sol, r));
         }

@@ -298,11 +298,14 @@ impl Formulation {
 pub struct SolveSettings {
     /// Formulation (default `dae`).
     pub formulation: Formulation,
-    /// End time in s (> 0, required).
+    /// Time of the initial state given by the bodies, in s (default 0).
+    pub t_start: f64,
+    /// End time in s (> `t_start`, required).
     pub t_end: f64,
     /// Output interval (default `t_end / 100` when neither this nor `output_times` is given).
     pub output_step: Option<f64>,
-    /// Explicit output times, strictly increasing in `[0, t_end]`.
+    /// Explicit output times, strictly increasing in `[t_start, t_end]`: when rows are written
+    /// (the motion always starts at `t_start`; the list need not contain it).
     pub output_times: Option<Vec<f64>>,
     /// Relative tolerance (default 1e-6).
     pub rtol: f64,
@@ -312,7 +315,7 @@ pub struct SolveSettings {
     pub joint_stiffness: f64,
     /// Damping of the decoupling springs in N·s/m (default 0).
     pub joint_damping: f64,
-    /// Step budget (none by default).
+    /// Step budget over the whole run (none by default).
     pub max_steps: Option<u64>,
     /// Wall-clock budget in s (none by default).
     pub max_wall_seconds: Option<f64>,
@@ -332,6 +335,7 @@ impl SolveSettings {
     pub fn with_t_end(t_end: f64) -> Self {
         SolveSettings {
             formulation: Formulation::Dae,
+            t_start: 0.0,
             t_end,
             output_step: None,
             output_times: None,
@@ -351,30 +355,40 @@ impl Scene {
         self.bodies.iter().position(|b| b.name == name)
     }
 
-    /// The output times: `output_times` if given, else `0, h, 2h, ...` up to and
-    /// including `t_end` (the last interval may be shorter), with `h = output_step`
-    /// or `t_end / 100`.
+    /// The output times: `output_times` if given, else `t_start, t_start + h, …` up to and
+    /// including `t_end` (the last interval may be shorter), with `h = output_step` or
+    /// `(t_end − t_start) / 100`. The motion starts at `t_start` whether or not it is listed.
     pub fn output_times(&self) -> Vec<f64> {
         let s = &self.solve;
         if let Some(times) = &s.output_times {
             return times.clone();
         }
-        let t_end = s.t_end;
-        if !(t_end > 0.0 && t_end.is_finite()) {
-            return vec![0.0];
-        }
-        let h = match s.output_step {
-            Some(h) if h > 0.0 && h.is_finite() => h,
-            _ => t_end / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
-        };
-        let tol = 1e-9 * t_end;
-        // At most 10^7 intervals (validation refuses more), so this never hangs.
-        let n = ((t_end + tol) / h).floor().min(1e7) as usize;
-        let mut times: Vec<f64> = (0..=n).map(|k| k as f64 * h).collect();
-        match times.last_mut() {
-            Some(last) if (t_end - *last).abs() <= tol => *last = t_end,
-            _ => times.push(t_end),
-        }
-        times
+        output_grid(s.t_start, s.t_end, s.output_step)
     }
+}
+
+/// `t_start, t_start + h, …, t_end` (the last one exactly `t_end`, the last interval possibly
+/// shorter), with `h = step` or `(t_end − t_start) / 100` when `step` is `None`; at most 10⁷
+/// intervals (validation refuses more), so it never hangs. `[t_start]` when the span is empty.
+///
+/// ```
+/// assert_eq!(bondmech::scene::output_grid(0.5, 1.5, Some(0.5)), vec![0.5, 1.0, 1.5]);
+/// ```
+pub fn output_grid(t_start: f64, t_end: f64, step: Option<f64>) -> Vec<f64> {
+    let span = t_end - t_start;
+    if !(span > 0.0 && span.is_finite() && t_start.is_finite()) {
+        return vec![t_start];
+    }
+    let h = match step {
+        Some(h) if h > 0.0 && h.is_finite() => h.min(span),
+        _ => span / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
+    };
+    let tol = 1e-9 * span;
+    let n = ((span + tol) / h).floor().min(1e7) as usize;
+    let mut times: Vec<f64> = (0..=n).map(|k| t_start + k as f64 * h).collect();
+    match times.last_mut() {
+        Some(last) if (t_end - *last).abs() <= tol => *last = t_end,
+        _ => times.push(t_end),
+    }
+    times
 }

@@ -659,6 +659,7 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
 
 const SOLVE_KEYS: &[&str] = &[
     "formulation",
+    "t_start",
     "t_end",
     "output_step",
     "output_times",
@@ -682,6 +683,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             Formulation::Dae
         }),
     };
+    let t_start = f.number(p, "t_start").unwrap_or(0.0);
     let t_end = f.required_number(p, "t_end");
     let output_step = f.number(p, "output_step");
     let output_times = f.vector(p, "output_times");
@@ -705,6 +707,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
     let max_wall_seconds = f.number(p, "max_wall_seconds");
     Some(SolveSettings {
         formulation,
+        t_start,
         t_end: t_end?,
         output_step,
         output_times,

@@ -576,6 +576,19 @@ pub fn scene_from_json_with(
     scene_from_tree_with(tree, default_name, sets)
 }
 
+/// [`scene_from_json_with`] for assignments as written (`PATH=JSON` text, e.g. from `--set`).
+pub fn scene_from_json_with_sets(
+    text: &str,
+    default_name: &str,
+    sets: &[String],
+) -> Result<Scene, SceneError> {
+    let sets = sets
+        .iter()
+        .map(|s| parse_assignment(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    scene_from_json_with(text, default_name, &sets)
+}
+
 /// Reads a scene file with `PATH=JSON` assignments applied (`run --set`, `compare --set`);
 /// with no assignments it is exactly [`Scene::from_path`].
 pub fn scene_from_path_with(p: impl AsRef<Path>, sets: &[String]) -> Result<Scene, SceneError> {

@@ -384,18 +384,28 @@ fn expression(p: &mut Problems, path: &str, s: &str) {
 
 fn solve(p: &mut Problems, s: &SolveSettings) {
     positive(p, "solve.t_end", s.t_end);
+    let t0 = s.t_start;
+    if !t0.is_finite() {
+        p.push("solve.t_start", format!("must be finite (got {t0})"));
+    } else if s.t_end.is_finite() && s.t_end <= t0 {
+        p.push(
+            "solve.t_end",
+            format!("must be > t_start = {t0} (got {})", s.t_end),
+        );
+    }
+    let span = s.t_end - if t0.is_finite() { t0 } else { 0.0 };
     if let Some(h) = s.output_step {
         if !(h > 0.0 && h.is_finite()) {
             p.push(
                 "solve.output_step",
                 format!("must be > 0 and finite (got {h})"),
             );
-        } else if s.t_end.is_finite() && h > s.t_end {
+        } else if span.is_finite() && span > 0.0 && h > span {
             p.push(
                 "solve.output_step",
-                format!("must be <= t_end = {} (got {h})", s.t_end),
+                format!("must be <= t_end - t_start = {span} (got {h})"),
             );
-        } else if s.t_end / h > MAX_OUTPUT_TIMES {
+        } else if span / h > MAX_OUTPUT_TIMES {
             p.push(
                 "solve.output_step",
                 format!("gives more than {MAX_OUTPUT_TIMES:e} output times"),
@@ -413,10 +423,10 @@ fn solve(p: &mut Problems, s: &SolveSettings) {
             p.push("solve.output_times", "needs at least one time");
         }
         for (k, t) in times.iter().enumerate() {
-            if !(t.is_finite() && *t >= 0.0 && *t <= s.t_end) {
+            if !(t.is_finite() && *t >= t0 && *t <= s.t_end) {
                 p.push(
                     index("solve.output_times", k),
-                    format!("must lie in [0, t_end = {}] (got {t})", s.t_end),
+                    format!("must lie in [{t0}, t_end = {}] (got {t})", s.t_end),
                 );
             }
         }

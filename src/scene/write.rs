@@ -165,6 +165,9 @@ fn solve(s: &SolveSettings) -> Json {
         ("formulation", text(s.formulation.as_str())),
         ("t_end", num(s.t_end)),
     ];
+    if s.t_start != 0.0 {
+        e.insert(1, ("t_start", num(s.t_start)));
+    }
     if let Some(h) = s.output_step {
         e.push(("output_step", num(h)));
     }

@@ -59,8 +59,21 @@ pub struct Summary {
     pub build_cpu_seconds: f64,
     /// Largest |g(q)| at the output times (for the decoupled twin: the largest spring stretch).
     pub max_constraint_error: f64,
-    /// `max |E(t) − E(0)| / max(|E(0)|, max T)`.
-    pub energy_drift: f64,
+    /// `max |E(t) − E(0)| / max(|E(0)|, max T)` over the rows, reported only when the scene
+    /// conserves energy (`energy_check` = `conserved`); `None` (JSON `null`) otherwise.
+    pub energy_drift: Option<f64>,
+    /// `conserved` (no dampers, no loads, no resistors or sources: `energy_drift` measures
+    /// the integration's drift) or `not_conserved` (see `energy_note`).
+    pub energy_check: String,
+    /// Why energy is not conserved (the first damper, load, resistor or source that
+    /// exchanges it), or empty.
+    pub energy_note: String,
+    /// Whether the solve reached its last output time.
+    pub completed: bool,
+    /// The time the integration reached (the last output time when `completed`).
+    pub t_reached: f64,
+    /// What stopped an incomplete solve: `max_steps`, `max_wall_seconds` or `solver_error`.
+    pub stopped_by: Option<String>,
     /// ‖q − q₀‖ of the initial projection onto the joints.
     pub initial_position_correction: f64,
     /// ‖v − v₀‖ of the initial projection.
@@ -161,6 +174,8 @@ struct OutputEval {
     kinetic_max: f64,
     max_g: f64,
     prev: Option<Vec<f64>>,
+    /// Why energy is not conserved (from the system), if it is not.
+    energy_exchange: Option<String>,
 }
 
 impl OutputEval {
@@ -200,6 +215,7 @@ impl OutputEval {
             kinetic_max: 0.0,
             max_g: 0.0,
             prev: None,
+            energy_exchange: sys.energy_exchange.clone(),
         }
     }
 
@@ -265,7 +281,21 @@ impl OutputEval {
 
 /// Solves a multibody system with the chosen formulation, streaming rows to `observer`
 /// (return `ControlFlow::Break(())` to stop early; the rows so far are returned).
+///
+/// The motion starts at `opts.t_start`; rows are written at `opts.output_times`.
 pub fn solve_system(
+    sys: MultibodySystem,
+    opts: &SolveOptions,
+    build_cpu_seconds: f64,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    from_t_start(opts, observer, |opts, observer| {
+        solve_from_first_output(sys, opts, build_cpu_seconds, observer)
+    })
+}
+
+/// [`solve_system`] with the first output time as the start time.
+fn solve_from_first_output(
     mut sys: MultibodySystem,
     opts: &SolveOptions,
     build_cpu_seconds: f64,
@@ -306,6 +336,12 @@ pub fn solve_system(
             let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
             build += t.elapsed().as_secs_f64();
             summary.joint_stiffness = opts.joint_stiffness;
+            if opts.joint_damping != 0.0 && sys.energy_exchange.is_none() {
+                sys.energy_exchange = Some(format!(
+                    "the twin's joint springs have damping {} (solve.joint_damping)",
+                    opts.joint_damping
+                ));
+            }
             run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
         }
         FormulationKind::Index1 => {
@@ -338,9 +374,112 @@ pub fn solve_system(
             )
         }
     };
-    let mut sol = result?;
+    let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds = build))?;
     sol.summary.build_cpu_seconds = build;
     Ok(sol)
+}
+
+/// What stopped a solve part-way, as `Summary::stopped_by` names it.
+pub(crate) fn stop_reason(e: &SolverError) -> &'static str {
+    match e {
+        SolverError::StepBudget { .. } | SolverError::TooMuchWork { .. } => "max_steps",
+        SolverError::WallClock { .. } => "max_wall_seconds",
+        _ => "solver_error",
+    }
+}
+
+/// Whether `e` is a budget running out (the state at the time reached is sound).
+pub(crate) fn is_budget(e: &SolverError) -> bool {
+    stop_reason(e) != "solver_error"
+}
+
+/// The [`Error::Incomplete`] of a solve stopped by `e`: the rows so far, plus `last_row` (the
+/// state at the time reached, after a budget stop) when it lies beyond them.
+pub(crate) fn stopped(
+    e: SolverError,
+    mut sol: Solution,
+    mut summary: Summary,
+    last_row: Option<(f64, Vec<f64>)>,
+) -> Error {
+    let t_last = sol.times.last().copied().unwrap_or(f64::NEG_INFINITY);
+    summary.completed = false;
+    summary.t_reached = e.time().unwrap_or(t_last).max(t_last);
+    summary.stopped_by = Some(stop_reason(&e).into());
+    if let Some((t, row)) = last_row {
+        if t > t_last {
+            sol.times.push(t);
+            sol.rows.push(row);
+            summary.t_reached = t;
+        }
+    }
+    sol.summary = summary;
+    Error::Incomplete {
+        cause: Box::new(Error::Solver(e)),
+        partial: Box::new(sol),
+    }
+}
+
+/// Records the energy figures: the drift where energy is conserved (`exchange` is `None`),
+/// else `not_conserved` with the reason.
+pub(crate) fn set_energy(summary: &mut Summary, drift: f64, exchange: Option<&str>) {
+    match exchange {
+        None => {
+            summary.energy_check = "conserved".into();
+            summary.energy_drift = Some(drift);
+            summary.energy_note.clear();
+        }
+        Some(why) => {
+            summary.energy_check = "not_conserved".into();
+            summary.energy_drift = None;
+            summary.energy_note = why.into();
+        }
+    }
+}
+
+/// Marks a solve that reached its last row.
+pub(crate) fn set_completed(summary: &mut Summary, sol: &Solution) {
+    summary.completed = true;
+    summary.t_reached = sol.times.last().copied().unwrap_or(0.0);
+    summary.stopped_by = None;
+}
+
+/// Runs `solve` over the integration times of `opts` (`t_start`, then the output times after
+/// it), and removes the row at `t_start` from the solution (and from the stream) unless the
+/// caller listed it among the output times.
+pub(crate) fn from_t_start(
+    opts: &SolveOptions,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    solve: impl FnOnce(
+        &SolveOptions,
+        &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    ) -> Result<Solution, Error>,
+) -> Result<Solution, Error> {
+    let (times, listed) = opts.integration_times()?;
+    let inner = SolveOptions {
+        output_times: times,
+        ..opts.clone()
+    };
+    let mut skip = !listed;
+    let mut filtered = |row: Row<'_>| {
+        if std::mem::take(&mut skip) {
+            ControlFlow::Continue(())
+        } else {
+            observer(row)
+        }
+    };
+    let drop_first = |sol: &mut Solution| {
+        if !listed && !sol.times.is_empty() {
+            sol.times.remove(0);
+            sol.rows.remove(0);
+        }
+    };
+    match solve(&inner, &mut filtered) {
+        Ok(mut sol) => {
+            drop_first(&mut sol);
+            Ok(sol)
+        }
+        Err(e) => Err(e.map_partial(drop_first)),
+    }
 }
 
 fn fill_stats(summary: &mut Summary, s: &SolverStats) {
@@ -391,7 +530,8 @@ fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions 
     IdaOptions {
         rtol: opts.rtol,
         atol,
-        max_steps: opts.max_steps,
+        max_steps: Some(u64::MAX),
+        max_total_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
         id: Some(id),
         suppress_alg: true,
@@ -661,12 +801,17 @@ fn run_ggl(
                     let Some((tf, name, c)) = passage else {
                         total.accumulate(&solver.ida.stats());
                         fill_stats(summary, &total);
-                        return Err(Error::Solver(e));
+                        let last = budget_row_ida(&e, &mut solver.ida, &mut out);
+                        summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                        finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+                        return Err(stopped(e, sol, summary.clone(), last));
                     };
                     if summary.singular_passages.len() >= MAX_SINGULAR_PASSAGES {
                         total.accumulate(&solver.ida.stats());
                         fill_stats(summary, &total);
-                        return Err(Error::Solver(e));
+                        summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                        finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+                        return Err(stopped(e, sol, summary.clone(), None));
                     }
                     // restart from the last output: the steps plain GGL accepted just before
                     // failing are already degraded by the ill-conditioned Newton matrix (measured
@@ -748,6 +893,20 @@ fn run_ggl(
     total.accumulate(&solver.ida.stats());
     fill_stats(summary, &total);
     summary.recovered_failures = solver.ida.recovered_failures().to_vec();
+    finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+    set_completed(summary, &sol);
+    sol.summary = summary.clone();
+    Ok(sol)
+}
+
+/// The GGL's compliance figures, constraint error and energy in the summary.
+fn finish_ggl_summary(
+    summary: &mut Summary,
+    out: &OutputEval,
+    eps_start: f64,
+    eps_switch: f64,
+    compliant_time: f64,
+) {
     summary.compliance_used = eps_start > 0.0 || !summary.singular_passages.is_empty();
     summary.compliance = if summary.compliance_used {
         eps_start.max(eps_switch)
@@ -756,9 +915,15 @@ fn run_ggl(
     };
     summary.compliant_time = compliant_time;
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
-    sol.summary = summary.clone();
-    Ok(sol)
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+}
+
+/// After a budget stop on IDA: the output row at the time reached (IDA's current state).
+fn budget_row_ida(e: &SolverError, ida: &mut Ida, out: &mut OutputEval) -> Option<(f64, Vec<f64>)> {
+    let t = e.time().filter(|_| is_budget(e))?;
+    let mut y = vec![0.0; ida.y().len()];
+    ida.dky(t, 0, &mut y).ok()?;
+    Some((t, out.row(t, &y)))
 }
 
 /// `κ(G_v M⁺ G_vᵀ)` at an output time above which a local maximum of κ, met while the
@@ -862,6 +1027,8 @@ fn run_index1(
     };
     let first = out.row(t0, &x);
     if emit(&mut sol, observer, t0, first) {
+        set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+        set_completed(summary, &sol);
         sol.summary = summary.clone();
         return Ok(sol);
     }
@@ -900,8 +1067,9 @@ fn run_index1(
             atol,
         };
         let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
-        // The wall-clock budget covers the whole solve, earlier segments included.
+        // The wall-clock and step budgets cover the whole solve, earlier segments included.
         ida.charge_wall_clock(wall_start.elapsed());
+        ida.charge_steps(total.steps);
         while k_next < opts.output_times.len() {
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {
@@ -909,7 +1077,12 @@ fn run_index1(
                 Err(e) => {
                     total.accumulate(&ida.stats());
                     fill_stats(summary, &total);
-                    return Err(Error::Solver(e));
+                    summary.index1_reselections = reselections;
+                    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                    summary.max_constraint_error = out.max_g;
+                    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+                    let last = budget_row_ida(&e, &mut ida, &mut out);
+                    return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
             k_next += 1;
@@ -945,7 +1118,8 @@ fn run_index1(
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+    set_completed(summary, &sol);
     sol.summary = summary.clone();
     Ok(sol)
 }
@@ -972,7 +1146,8 @@ fn run_decoupled(
     let cv_opts = CvodeOptions {
         rtol: opts.rtol,
         atol: vec![opts.atol],
-        max_steps: opts.max_steps,
+        max_steps: Some(u64::MAX),
+        max_total_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
         stop_time: opts.output_times.last().copied(),
         max_order: opts.twin_max_order,
@@ -1013,7 +1188,15 @@ fn run_decoupled(
                 Ok(s) => s,
                 Err(e) => {
                     fill_stats(summary, &cv.stats());
-                    return Err(Error::Solver(e));
+                    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                    summary.max_constraint_error = out.max_g;
+                    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+                    let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
+                        let mut y = vec![0.0; cv.y().len()];
+                        cv.dky(tr, 0, &mut y).ok()?;
+                        Some((tr, out.row(tr, &y)))
+                    });
+                    return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
             let row = out.row(step.t, cv.y());
@@ -1025,7 +1208,8 @@ fn run_decoupled(
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &cv.stats());
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+    set_completed(summary, &sol);
     sol.summary = summary.clone();
     Ok(sol)
 }
