@@ -549,7 +549,10 @@ impl VarySweep {
             // a bad --t-end is refused once, not as a failed run at every point
             Model::new(&scene)?
                 .output_times_until(t)
-                .map_err(|e| Error::Options(format!("--t-end {t}: {e}")))?;
+                .map_err(|e| match e {
+                    Error::Options(m) => Error::Options(format!("--t-end: {m}")),
+                    other => other,
+                })?;
         }
         if let Some(r) = &sweep.reference {
             let t0 = Model::new(&scene)?
