@@ -49,7 +49,7 @@ pub enum Error {
     /// A parameter sweep, one of its shards or their merge was refused (what and where in the
     /// message).
     #[error("{0}")]
-    Sweep(#[from] crate::report::vary::VaryError),
+    Sweep(Box<crate::report::vary::VaryError>),
     /// A raw bond graph is invalid or cannot be turned into equations.
     #[error("bond graph: {0}")]
     BondGraph(String),

@@ -198,6 +198,12 @@ pub enum VaryError {
     },
 }
 
+impl From<VaryError> for Error {
+    fn from(e: VaryError) -> Error {
+        Error::Sweep(Box::new(e))
+    }
+}
+
 /// One `--vary`: a scene path and its values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Variation {

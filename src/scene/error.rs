@@ -48,7 +48,7 @@ pub enum SceneError {
     },
     /// A `PATH=JSON` assignment (`--set`, `sweep --vary`) could not be parsed or applied.
     #[error("{0}")]
-    Path(#[from] super::path::PathError),
+    Path(Box<super::path::PathError>),
     /// The scene file could not be read.
     #[error("cannot read scene file '{}': {source}", path.display())]
     Io {
@@ -102,4 +102,10 @@ pub(crate) fn field(parent: &str, key: &str) -> String {
 /// `parent[i]`.
 pub(crate) fn index(parent: &str, i: usize) -> String {
     format!("{parent}[{i}]")
+}
+
+impl From<super::path::PathError> for SceneError {
+    fn from(e: super::path::PathError) -> SceneError {
+        SceneError::Path(Box::new(e))
+    }
 }
