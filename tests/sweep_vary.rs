@@ -571,3 +571,40 @@ fn bad_paths_values_and_flags_are_refused_with_one_line() {
     }
     let _ = std::fs::remove_file(&file);
 }
+
+#[test]
+fn set_applies_to_a_scene_read_from_standard_input() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let args = [
+        "--set",
+        "solve.rtol=1e-9",
+        "--set",
+        "bodies[0].angle=0.3",
+        "--t-end",
+        "0.3",
+    ];
+    let from_file = bondmech(&[&["run", SCENE][..], &args[..]].concat());
+    assert!(from_file.status.success(), "{}", stderr(&from_file));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args(["run", "-"])
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(std::fs::read_to_string(SCENE).unwrap().as_bytes())
+        .unwrap();
+    let from_stdin = child.wait_with_output().unwrap();
+    assert!(from_stdin.status.success(), "{}", stderr(&from_stdin));
+    assert_eq!(from_file.stdout, from_stdin.stdout);
+    // and the assignments took effect
+    let plain = bondmech(&["run", SCENE, "--t-end", "0.3"]);
+    assert!(plain.status.success());
+    assert_ne!(plain.stdout, from_file.stdout);
+}
