@@ -85,6 +85,24 @@ struct SolveArgs {
     /// 'gravity=[0,-1.62]', 'solve.formulation="index1"' (repeatable, applied in order).
     #[arg(long = "set", value_name = "PATH=JSON")]
     set: Vec<String>,
+    /// Add every joint's reaction columns (`J.Fx, J.Fy[, J.Fz]`, and `J.Mz` or `J.Mx, J.My,
+    /// J.Mz` for prismatic, weld and hinge joints): force and moment on the joint's second
+    /// body, global frame, N and N·m; as `"outputs": ["reactions"]` in the scene.
+    #[arg(long)]
+    reactions: bool,
+}
+
+/// The orthographic views of `animate --view`.
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum ViewArg {
+    /// x right, y up (planar scenes).
+    Xy,
+    /// x right, z up.
+    Xz,
+    /// y right, z up.
+    Yz,
+    /// Isometric: x to the lower left, y to the lower right, z up.
+    Iso,
 }
 
 #[derive(Subcommand)]
@@ -102,6 +120,9 @@ enum Command {
         /// Print a short table instead of the CSV on standard output.
         #[arg(long)]
         table: bool,
+        /// Also write SVG plots against time of the columns into this directory.
+        #[arg(long)]
+        plot: Option<PathBuf>,
     },
     /// The bond graph of a scene: DOT (or SVG through Graphviz), or its causality report.
     Graph {
@@ -125,6 +146,35 @@ enum Command {
         /// Write the comparison as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+    },
+    /// Animate the solved motion: one self-contained SVG (SMIL) or HTML file.
+    Animate {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// Output file: `.svg` (animated with SMIL) or `.html` (with play/pause and a slider).
+        #[arg(long, default_value = "motion.svg")]
+        out: PathBuf,
+        /// Frames per second of playback.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Seconds of motion per second of playback (0.5: slow motion).
+        #[arg(long, default_value_t = 1.0)]
+        speed: f64,
+        /// Orthographic view (default: xy for a planar scene, iso for a spatial one).
+        #[arg(long, value_enum)]
+        view: Option<ViewArg>,
+        /// Animate the motion in this CSV (as `bondmech run` writes it, or another tool's with
+        /// the same column names) instead of solving the scene.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+    },
+    /// SVG plots against time of a run's CSV: coordinates, velocities, energy, constraint error.
+    Plot {
+        /// The CSV that `bondmech run` wrote (or another tool's, `t` or `time` first).
+        csv: PathBuf,
+        /// Output directory (one SVG per group of columns).
+        #[arg(long, default_value = "plots")]
+        out: PathBuf,
     },
     /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
     Sweep {
@@ -341,6 +391,9 @@ fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
 /// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
 fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
     let mut scene = read_scene_with(&args.scene, &args.set)?;
+    if args.reactions && !scene.outputs.iter().any(|o| o == "reactions") {
+        scene.outputs.push("reactions".into());
+    }
     apply_flags(&mut scene, args)?;
     let model = Model::new(&scene)?;
     let opts = model.default_options();
@@ -478,6 +531,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             out,
             summary,
             table,
+            plot,
         } => {
             check_outputs(
                 &[&args.scene],
@@ -497,6 +551,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     return Err(CliError { error: e, note });
                 }
             };
+            if let Some(dir) = &plot {
+                let source = out.as_ref().unwrap_or(&args.scene).display().to_string();
+                bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
+            }
             // the model's own warnings, redundant joints, singular passages, re-selections
             print_warnings(&sol.summary.warnings);
             write_solution(&sol, out.as_deref(), summary.as_deref(), table)?;
@@ -512,6 +570,9 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
                     s.max_constraint_error
                 ));
+                for e in &s.events {
+                    text.push_str(&format!("event {} at t = {}\n", e.name, e.t));
+                }
                 stdout_write(&text)?;
             }
             Ok(())
@@ -555,6 +616,23 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 Some(p) => Ok(write(&p, &text)?),
                 None => Ok(stdout_write(&text)?),
             }
+        }
+        Command::Animate {
+            args,
+            out,
+            fps,
+            speed,
+            view,
+            csv,
+        } => Ok(animate(&args, &out, fps, speed, view, csv.as_deref())?),
+        Command::Plot { csv, out } => {
+            let sol = bondmech::report::reference::reference_from_csv(&csv)?;
+            let files =
+                bondmech::report::timeplot::plot_solution(&sol, &csv.display().to_string(), &out)?;
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            Ok(())
         }
         Command::Compare { args, json } => {
             if args.formulation == Some(FormulationArg::Decoupled) {
@@ -650,9 +728,13 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     max_steps: None,
                     max_wall_seconds: None,
                     set: Vec::new(),
+                    reactions: false,
                 };
                 apply_flags(&mut scene_data, &flags)?;
             }
+            // a sweep measures errors row by row at the output times: event rows (and stops)
+            // would misalign its runs, so the scene's events are left out
+            scene_data.events.clear();
             let model = Model::new(&scene_data)?;
             if model.is_raw_bond_graph() {
                 return Err(options_error(
@@ -721,6 +803,83 @@ fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
     inputs.extend(a.reference.as_deref());
     let report = vary_command(&sweep, shard, out, &inputs)?;
     stdout_write(&format!("{}wrote {}\n", report.table(), out.display()))
+}
+
+/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
+fn animate(
+    args: &SolveArgs,
+    out: &Path,
+    fps: f64,
+    speed: f64,
+    view: Option<ViewArg>,
+    csv: Option<&Path>,
+) -> Result<(), Error> {
+    use bondmech::report::animate::{animation, AnimationFormat, AnimationOptions, View};
+    let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(csv).collect();
+    check_outputs(&inputs, &[("--out", Some(out))])?;
+    let format = match out.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("svg") => AnimationFormat::Svg,
+        Some(e) if e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm") => {
+            AnimationFormat::Html
+        }
+        _ => {
+            return Err(Error::Options(format!(
+                "--out {}: give a .svg or .html file",
+                out.display()
+            )))
+        }
+    };
+    let mut scene = read_scene_with(&args.scene, &args.set)?;
+    if scene.bodies.is_empty() {
+        return Err(Error::Options(format!(
+            "{}: animate needs a scene with bodies (a raw bond graph has no geometry to draw)",
+            args.scene.display()
+        )));
+    }
+    let (sol, source) = match csv {
+        Some(path) => {
+            let solve_flags = args.formulation.is_some()
+                || args.rtol.is_some()
+                || args.atol.is_some()
+                || args.t_end.is_some()
+                || args.joint_stiffness.is_some()
+                || args.max_steps.is_some()
+                || args.max_wall_seconds.is_some();
+            if solve_flags {
+                return Err(Error::Options(format!(
+                    "--csv {}: the motion comes from the CSV; the solve flags (--formulation, --rtol, --atol, --t-end, --joint-stiffness, --max-steps, --max-wall-seconds) apply only when animate solves the scene",
+                    path.display()
+                )));
+            }
+            (
+                bondmech::report::reference::reference_from_csv(path)?,
+                path.display().to_string(),
+            )
+        }
+        None => {
+            apply_flags(&mut scene, args)?;
+            let model = Model::new(&scene)?;
+            let sol = model.solve(&model.default_options())?;
+            print_warnings(&sol.summary.warnings);
+            (sol, format!("the solution of {}", args.scene.display()))
+        }
+    };
+    let opts = AnimationOptions {
+        fps,
+        speed,
+        view: view.map(|v| match v {
+            ViewArg::Xy => View::Xy,
+            ViewArg::Xz => View::Xz,
+            ViewArg::Yz => View::Yz,
+            ViewArg::Iso => View::Iso,
+        }),
+        source,
+        ..AnimationOptions::default()
+    };
+    let text = animation(&scene, &sol, &opts, format)?;
+    write(out, &text)?;
+    println!("wrote {}", out.display());
+    Ok(())
 }
 
 /// Renders DOT to SVG with Graphviz.

@@ -87,6 +87,9 @@ fn empty_system() -> MultibodySystem {
         kinetic: zero,
         outputs: Vec::new(),
         warnings: Vec::new(),
+        reactions: Vec::new(),
+        reaction_outputs: false,
+        events: Vec::new(),
         energy_exchange: None,
     }
 }
@@ -237,6 +240,13 @@ impl Model {
             }
         }
         Ok(crate::scene::output_grid(t0, t_end, s.output_step))
+    }
+
+    /// The names of the columns of every row a solve produces (without `t`), in order — what
+    /// a [`Model::solve_streaming`] observer needs to read its rows. `None` for a raw bond
+    /// graph scene, whose columns come from its causal equations (see [`Solution::columns`]).
+    pub fn columns(&self) -> Option<Vec<String>> {
+        self.mechanism().map(crate::solve::run::output_columns)
     }
 
     /// Solves with `opts`.

@@ -2,11 +2,13 @@
 //! SVG plots, parameter sweeps over scene fields (sharded and merged), and generated benchmark
 //! scenes.
 
+pub mod animate;
 pub mod compare;
 pub mod generate;
 pub mod plot;
 pub mod reference;
 pub mod sweep;
+pub mod timeplot;
 pub mod vary;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};

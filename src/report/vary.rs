@@ -694,7 +694,13 @@ impl VarySweep {
             t_final: f64::NAN,
             final_values: Vec::new(),
         };
-        let scene = self.scene(k)?;
+        let mut scene = self.scene(k)?;
+        if self.reference.is_some() {
+            // errors are measured row by row at the reference's times: event rows would
+            // misalign them (as in the tolerance sweep); without a reference a `stop` event
+            // ends the run and its row is the final state
+            scene.events.clear();
+        }
         let solved = Model::new(&scene).and_then(|model| {
             let mut opts = model.default_options();
             point.formulation = opts.formulation.name().to_string();

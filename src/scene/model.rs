@@ -15,12 +15,13 @@ pub const SCALAR_OUTPUTS: &[&str] = &[
     "kinetic_energy",
     "potential_energy",
     "constraint_error",
+    "reactions",
 ];
 
 /// Standard per-body columns a `b.<column>` output or expression may name.
 pub const BODY_COLUMNS: &[&str] = &[
     "x", "y", "z", "angle", "vx", "vy", "vz", "omega", "wx", "wy", "wz", "wX", "wY", "wZ", "psi",
-    "theta", "phi",
+    "theta", "phi", "qw", "qx", "qy", "qz",
 ];
 
 /// A mechanism scene (scene format v1).
@@ -42,8 +43,10 @@ pub struct Scene {
     pub loads: Vec<Load>,
     /// Solver settings.
     pub solve: SolveSettings,
-    /// Extra output columns (`"bar2.A"`, `"energy"`, `"constraint_error"`).
+    /// Extra output columns (`"bar2.A"`, `"energy"`, `"constraint_error"`, `"reactions"`).
     pub outputs: Vec<String>,
+    /// Events found by root finding while solving (`"events"`).
+    pub events: Vec<Event>,
     /// A raw bond graph given instead of bodies and joints (validated by `bond`).
     pub bond_graph: Option<serde_json::Value>,
     /// Free text, e.g. the seed figure the scene follows.
@@ -249,6 +252,74 @@ impl Load {
             LoadKind::Torque => dimension.rotations(),
         }
     }
+}
+
+/// Which zero crossings of an event's `when` expression count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EventDirection {
+    /// `"rising"`: `when` passes zero from below.
+    Rising,
+    /// `"falling"`: `when` passes zero from above.
+    Falling,
+    /// `"both"` (the default): either way.
+    #[default]
+    Both,
+}
+
+impl EventDirection {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventDirection::Rising => "rising",
+            EventDirection::Falling => "falling",
+            EventDirection::Both => "both",
+        }
+    }
+
+    /// Whether a crossing in direction `sign` (+1 rising, −1 falling, as SUNDIALS reports it)
+    /// counts.
+    pub fn accepts(self, sign: i32) -> bool {
+        match self {
+            EventDirection::Rising => sign > 0,
+            EventDirection::Falling => sign < 0,
+            EventDirection::Both => sign != 0,
+        }
+    }
+}
+
+/// What happens when an event fires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EventAction {
+    /// `"stop"`: the run ends there, successfully; the event row is the last row.
+    Stop,
+    /// `"record"` (the default): a row is written at the event time and the run goes on.
+    #[default]
+    Record,
+}
+
+impl EventAction {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventAction::Stop => "stop",
+            EventAction::Record => "record",
+        }
+    }
+}
+
+/// An event: a zero crossing of `when`, located by the integrator's root finding.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    /// Name (default `"event<i>"`), reported in the summary's `events`.
+    pub name: String,
+    /// Expression in `t` and the output columns (standard body columns, point coordinates
+    /// and velocities `b.P.x`, `energy`, reaction columns `J.Fx`, …); the event fires where
+    /// it crosses zero.
+    pub when: String,
+    /// Which crossings count.
+    pub direction: EventDirection,
+    /// Stop the run or record a row.
+    pub action: EventAction,
 }
 
 /// How the mechanism is turned into equations.

@@ -224,6 +224,7 @@ const SCENE_KEYS: &[&str] = &[
     "loads",
     "solve",
     "outputs",
+    "events",
     "bond_graph",
 ];
 
@@ -293,6 +294,12 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .enumerate()
         .filter_map(|(i, o)| string(p, &index("outputs", i), o))
         .collect();
+    let events = f
+        .array(p, "events")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| event(p, i, e))
+        .collect();
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
         name,
@@ -304,8 +311,51 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         loads,
         solve,
         outputs,
+        events,
         bond_graph,
         description,
+    })
+}
+
+const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
+
+fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
+    let path = index("events", i);
+    let f = Fields::new(p, &path, j, EVENT_KEYS)?;
+    let name = f.string(p, "name").unwrap_or_else(|| format!("event{i}"));
+    let when = f
+        .required(p, "when")
+        .and_then(|j| string(p, &f.path("when"), j));
+    let direction = match f.string(p, "direction").as_deref() {
+        None => Some(EventDirection::Both),
+        Some("rising") => Some(EventDirection::Rising),
+        Some("falling") => Some(EventDirection::Falling),
+        Some("both") => Some(EventDirection::Both),
+        Some(other) => {
+            p.push(
+                f.path("direction"),
+                format!("must be \"rising\", \"falling\" or \"both\" (got \"{other}\")"),
+            );
+            None
+        }
+    };
+    let action = match f.string(p, "action").as_deref() {
+        None => Some(EventAction::Record),
+        Some("stop") => Some(EventAction::Stop),
+        Some("record") => Some(EventAction::Record),
+        Some(other) => {
+            p.push(
+                f.path("action"),
+                format!("must be \"stop\" or \"record\" (got \"{other}\")"),
+            );
+            None
+        }
+    };
+    Some(Event {
+        name,
+        when: when?,
+        direction: direction?,
+        action: action?,
     })
 }
 

@@ -9,7 +9,8 @@
 //! plane, a spatial revolute (hinge) with an axis and a planar one without, t_end > 0, output_step in (0, t_end],
 //! output_times strictly increasing in [0, t_end], positive rtol, atol and
 //! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
-//! naming known bodies/points, and bodies or a bond graph present.
+//! naming known bodies/points, events with unique names and non-empty `when` (their
+//! expressions are parsed when the model is built), and bodies or a bond graph present.
 //!
 //! Warnings (not refusals): bodies that no joint, spring or load touches.
 
@@ -66,6 +67,36 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
     solve(&mut p, &scene.solve);
     for (i, o) in scene.outputs.iter().enumerate() {
         output(&mut p, scene, &index("outputs", i), o);
+    }
+    let mut event_names: Vec<&str> = Vec::new();
+    for (i, e) in scene.events.iter().enumerate() {
+        let path = index("events", i);
+        if e.name.is_empty() {
+            p.push(field(&path, "name"), "must not be empty");
+        } else if event_names.contains(&e.name.as_str()) {
+            p.push(
+                field(&path, "name"),
+                format!("duplicate event name '{}'", e.name),
+            );
+        }
+        event_names.push(&e.name);
+        if e.when.trim().is_empty() {
+            p.push(field(&path, "when"), "must be a non-empty expression");
+        }
+        if scene.bond_graph.is_some() {
+            p.push(
+                path,
+                "events need bodies and joints (a raw bond graph has no event support)",
+            );
+        }
+    }
+    if scene.bond_graph.is_some() && scene.outputs.iter().any(|o| o == "reactions") {
+        if let Some(i) = scene.outputs.iter().position(|o| o == "reactions") {
+            p.push(
+                index("outputs", i),
+                "reactions need joints (a raw bond graph has none)",
+            );
+        }
     }
     p.list
 }

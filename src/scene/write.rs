@@ -211,6 +211,24 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
         "outputs",
         Json::Array(s.outputs.iter().map(|o| text(o)).collect()),
     ));
+    if !s.events.is_empty() {
+        e.push((
+            "events",
+            Json::Array(
+                s.events
+                    .iter()
+                    .map(|ev| {
+                        obj(vec![
+                            ("name", text(&ev.name)),
+                            ("when", text(&ev.when)),
+                            ("direction", text(ev.direction.as_str())),
+                            ("action", text(ev.action.as_str())),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ));
+    }
     if let Some(g) = &s.bond_graph {
         e.push(("bond_graph", Json::from_value(g)));
     }

@@ -17,14 +17,17 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
+use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_conditioning,
     select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
     ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
 };
-use crate::mech::MultibodySystem;
+use crate::mech::{EventFunction, MultibodySystem};
+use crate::scene::EventAction;
 use crate::sundials::{
     Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverError, SolverStats,
+    StepEvent,
 };
 use crate::Error;
 
@@ -96,10 +99,22 @@ pub struct Summary {
     pub joint_stiffness: f64,
     /// Non-fatal remarks about the model.
     pub warnings: Vec<String>,
+    /// Events met, in time order (`"events"` of the scene): name and time of each zero
+    /// crossing that counted; a `stop` event is the last one.
+    pub events: Vec<EventRecord>,
     /// GGL on IDA: the steps accepted after recovered Newton convergence or error test failures
     /// (time and counts), at most [`crate::sundials::MAX_LOGGED_FAILURES`]; empty for the
     /// other formulations.
     pub recovered_failures: Vec<crate::sundials::RecoveredFailure>,
+}
+
+/// One event met during a solve.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// The event's name.
+    pub name: String,
+    /// Time of the zero crossing (located by the integrator's root finding).
+    pub t: f64,
 }
 
 /// A solved trajectory: one row per output time.
@@ -156,6 +171,18 @@ pub struct Row<'a> {
     pub values: &'a [f64],
 }
 
+/// The columns of a mechanism's rows (without `t`): the standard and requested outputs, every
+/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), then
+/// `constraint_error` (always written: cheap and always meaningful).
+pub fn output_columns(sys: &MultibodySystem) -> Vec<String> {
+    let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+    if sys.reaction_outputs {
+        columns.extend(sys.reaction_columns());
+    }
+    columns.push("constraint_error".into());
+    columns
+}
+
 /// Evaluates output rows from states `[q, v]`.
 struct OutputEval {
     tapes: MechanicsTapes,
@@ -164,6 +191,8 @@ struct OutputEval {
     /// Output indices of each spatial body's `(ψ, θ, φ)`.
     cardan: Vec<[usize; 3]>,
     want_constraint_error: bool,
+    /// Joint reaction columns (`"outputs": ["reactions"]`), written before `constraint_error`.
+    reactions: Option<ReactionEval>,
     vars: Vec<f64>,
     work: Vec<f64>,
     work_g: Vec<f64>,
@@ -179,9 +208,15 @@ struct OutputEval {
 }
 
 impl OutputEval {
-    fn new(sys: impl std::borrow::Borrow<MultibodySystem>, tapes: MechanicsTapes) -> Self {
+    /// The evaluator of [`output_columns`]; the reactions (when asked for) read their
+    /// constraint forces from `multipliers`.
+    fn new(
+        sys: impl std::borrow::Borrow<MultibodySystem>,
+        tapes: MechanicsTapes,
+        multipliers: &Multipliers,
+    ) -> Self {
         let sys = sys.borrow();
-        let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+        let columns = output_columns(sys);
         let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
         let at = |n: String| columns.iter().position(|c| *c == n);
         let cardan = columns
@@ -195,8 +230,9 @@ impl OutputEval {
                 ])
             })
             .collect();
-        // constraint_error is always written (it is cheap and always meaningful)
-        columns.push("constraint_error".into());
+        let reactions = sys
+            .reaction_outputs
+            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone()));
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
         OutputEval {
@@ -210,6 +246,7 @@ impl OutputEval {
             unwrap,
             cardan,
             want_constraint_error: true,
+            reactions,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
@@ -219,6 +256,8 @@ impl OutputEval {
         }
     }
 
+    /// The row at `(t, x)`; `x` is the solver's state vector, `[q, v]` followed by the
+    /// formulation's own unknowns (where the reactions read their multipliers).
     fn row(&mut self, t: f64, x: &[f64]) -> Vec<f64> {
         self.vars[0] = t;
         let n = self.vars.len() - 1;
@@ -263,6 +302,11 @@ impl OutputEval {
             }
         }
         self.prev = Some(row.clone());
+        if let Some(r) = &mut self.reactions {
+            let at = row.len();
+            row.resize(at + r.n_columns, 0.0);
+            r.eval(t, x, &mut row[at..]);
+        }
         if self.want_constraint_error {
             row.push(ge);
         }
@@ -761,7 +805,10 @@ fn run_ggl(
     let clock = ThreadTime::now();
     let mut solver = make_ggl_ida(&ggl, atol, eps_start, t0, &y0, &yp0, opts)?;
     let mut total = SolverStats::default();
-    let mut out = OutputEval::new(sys, tapes.clone());
+    let multipliers = Multipliers::Unknowns(nq + nv);
+    let mut out = OutputEval::new(sys, tapes.clone(), &multipliers);
+    let events = event_eval(sys, &tapes, &multipliers);
+    set_ida_events(&mut solver.ida, &events)?;
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -838,6 +885,18 @@ fn run_ggl(
                     continue;
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                // an event row between output times; the next output time is still ahead
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                last_output = (step.t, solver.ida.y().to_vec());
+                let row = out.row(step.t, solver.ida.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    break;
+                }
+                continue;
+            }
             k += 1;
             last_output = (step.t, solver.ida.y().to_vec());
             let row = out.row(step.t, solver.ida.y());
@@ -1018,14 +1077,20 @@ fn run_index1(
     summary.solver = "IDA".into();
     let clock = ThreadTime::now();
     let mut total = SolverStats::default();
-    let mut out = OutputEval::new(sys.clone(), tapes.clone());
+    // y = [q, v, a_D, λ]
+    let multipliers = Multipliers::Unknowns(nq + nv + nc);
+    let mut out = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
+    let events = event_eval(&sys, &tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
         rows: Vec::new(),
         summary: Summary::default(),
     };
-    let first = out.row(t0, &x);
+    let mut y_first = x.clone();
+    y_first.extend(std::iter::repeat_n(0.0, nc));
+    y_first.extend(&init.lambda);
+    let first = out.row(t0, &y_first);
     if emit(&mut sol, observer, t0, first) {
         set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
         set_completed(summary, &sol);
@@ -1067,6 +1132,7 @@ fn run_index1(
             atol,
         };
         let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        set_ida_events(&mut ida, &events)?;
         // The wall-clock and step budgets cover the whole solve, earlier segments included.
         ida.charge_wall_clock(wall_start.elapsed());
         ida.charge_steps(total.steps);
@@ -1085,9 +1151,20 @@ fn run_index1(
                     return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                let row = out.row(step.t, ida.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    total.accumulate(&ida.stats());
+                    break 'restart;
+                }
+                continue;
+            }
             k_next += 1;
             x.copy_from_slice(&ida.y()[..nq + nv]);
-            let row = out.row(step.t, &x);
+            let row = out.row(step.t, ida.y());
             if emit(&mut sol, observer, step.t, row) {
                 total.accumulate(&ida.stats());
                 break 'restart;
@@ -1143,6 +1220,13 @@ fn run_decoupled(
         opts.joint_stiffness,
     );
     y0.extend(&init.v);
+    // the joint springs' forces, compiled only when reactions are read
+    let row_force = if needs_reactions(sys) {
+        &dec.row_force[..]
+    } else {
+        &[]
+    };
+    let multipliers = Multipliers::Springs(sys.graph.compile(row_force));
     let cv_opts = CvodeOptions {
         rtol: opts.rtol,
         atol: vec![opts.atol],
@@ -1173,7 +1257,12 @@ fn run_decoupled(
     summary.unknowns = ode.n;
     let clock = ThreadTime::now();
     let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
-    let mut out = OutputEval::new(sys, tapes);
+    let events = event_eval(sys, &tapes, &multipliers);
+    if events.len() > 0 {
+        let mut ev = events.clone();
+        cv.set_roots(ev.len(), Box::new(move |t, y, g| ev.roots(t, y, g)))?;
+    }
+    let mut out = OutputEval::new(sys, tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -1183,8 +1272,9 @@ fn run_decoupled(
     let first = out.row(t0, &y0);
     let stop = emit(&mut sol, observer, t0, first);
     if !stop {
-        for &t in &opts.output_times[1..] {
-            let step = match cv.solve_to(t) {
+        let mut k = 1;
+        while k < opts.output_times.len() {
+            let step = match cv.solve_to(opts.output_times[k]) {
                 Ok(s) => s,
                 Err(e) => {
                     fill_stats(summary, &cv.stats());
@@ -1199,6 +1289,17 @@ fn run_decoupled(
                     return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                let row = out.row(step.t, cv.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    break;
+                }
+                continue;
+            }
+            k += 1;
             let row = out.row(step.t, cv.y());
             if emit(&mut sol, observer, step.t, row) {
                 break;
@@ -1224,4 +1325,52 @@ fn emit(
     sol.times.push(t);
     sol.rows.push(row);
     brk
+}
+
+/// The scene's event functions with the reactions read from `multipliers`.
+fn event_eval(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    multipliers: &Multipliers,
+) -> EventEval {
+    EventEval::new(sys, || {
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone())
+    })
+}
+
+/// Whether a solve computes reactions at all (as output columns or inside an event).
+fn needs_reactions(sys: &MultibodySystem) -> bool {
+    sys.reaction_outputs || sys.events.iter().any(|e| e.uses_reactions)
+}
+
+/// Registers the event functions as IDA root functions (nothing when there are none).
+fn set_ida_events(ida: &mut Ida, events: &EventEval) -> Result<(), Error> {
+    if events.len() == 0 {
+        return Ok(());
+    }
+    let mut ev = events.clone();
+    ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;
+    Ok(())
+}
+
+/// The events that count at a root return at `t` (`info[i]`: +1 rising, −1 falling, 0 not
+/// crossing), recorded in the summary; `None` when none counts (a crossing in a direction the
+/// event ignores), else whether one of them stops the run.
+fn events_fired(
+    events: &[EventFunction],
+    info: &[i32],
+    t: f64,
+    summary: &mut Summary,
+) -> Option<bool> {
+    let mut stop = None;
+    for (e, &sign) in events.iter().zip(info) {
+        if e.direction.accepts(sign) {
+            summary.events.push(EventRecord {
+                name: e.name.clone(),
+                t,
+            });
+            stop = Some(stop.unwrap_or(false) || e.action == EventAction::Stop);
+        }
+    }
+    stop
 }
