@@ -61,6 +61,10 @@ pub enum Error {
     /// Invalid solve options.
     #[error("invalid options: {0}")]
     Options(String),
+    /// A parameter sweep, one of its shards or their merge was refused (what and where in the
+    /// message).
+    #[error("{0}")]
+    Sweep(Box<crate::report::vary::VaryError>),
     /// A raw bond graph is invalid or cannot be turned into equations.
     #[error("bond graph: {0}")]
     BondGraph(String),

@@ -55,11 +55,11 @@
 //! | [`expr`] | expression DAG, symbolic derivatives, evaluation tapes |
 //! | [`bond`] | bond graphs: data model, validation, causality (matching + numeric rank), DOT drawings |
 //! | [`graph`] | a scene's bond graph, causality report and drawing |
-//! | [`scene`] | the JSON scene format, validated with paths to the bad field |
+//! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
 //! | [`mech`] | bodies, joints, springs, loads → the multibody system |
 //! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
 //! | [`solve`] | running a formulation: outputs, statistics |
-//! | [`report`] | DAE vs decoupled comparisons |
+//! | [`report`] | DAE vs decoupled comparisons, tolerance and stiffness sweeps, parameter sweeps and their shards ([`report::vary`]) |
 //! | [`trajectory`] | typed views of a [`Solution`]: bodies, points, energy, constraint error |
 #![deny(unsafe_code)]
 #![deny(missing_docs)]

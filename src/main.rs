@@ -81,6 +81,10 @@ struct SolveArgs {
     /// Wall-clock budget of the whole run in s (solve.max_wall_seconds; none by default).
     #[arg(long = "max-wall-seconds")]
     max_wall_seconds: Option<f64>,
+    /// Change one scene field before solving: PATH=JSON, e.g. 'bodies[0].mass=2',
+    /// 'gravity=[0,-1.62]', 'solve.formulation="index1"' (repeatable, applied in order).
+    #[arg(long = "set", value_name = "PATH=JSON")]
+    set: Vec<String>,
     /// Add every joint's reaction columns (`J.Fx, J.Fy[, J.Fz]`, and `J.Mz` or `J.Mx, J.My,
     /// J.Mz` for prismatic, weld and hinge joints): force and moment on the joint's second
     /// body, global frame, N and N·m; as `"outputs": ["reactions"]` in the scene.
@@ -195,6 +199,29 @@ enum Command {
         /// measured against it, at its times, instead of against GGL at a tight tolerance.
         #[arg(long)]
         reference: Option<PathBuf>,
+        /// Sweep a scene parameter instead: PATH=[v1, v2, ...], e.g. 'bodies[1].mass=[1,2,4]' or
+        /// 'gravity=[[0,-9.81],[0,-1.62]]'; several give the cartesian product (first slowest).
+        #[arg(long = "vary", value_name = "PATH=[JSON,...]")]
+        vary: Vec<String>,
+        /// Change one scene field before sweeping: PATH=JSON (repeatable).
+        #[arg(long = "set", value_name = "PATH=JSON")]
+        set: Vec<String>,
+        /// With --vary: run only the i-th of n slices (points k with k mod n = i-1) and write a
+        /// partial result for `sweep-merge`.
+        #[arg(long, value_name = "i/n")]
+        shard: Option<String>,
+        /// With --vary: the final-state columns to report (comma-separated; default all).
+        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+    },
+    /// Combine the shards of a `sweep --vary ... --shard i/n` into the whole sweep's CSV/JSON/SVG.
+    SweepMerge {
+        /// The shards' output directories (all n of them, any order).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory for the merged result (not one of the shards').
+        #[arg(long)]
+        out: PathBuf,
     },
 }
 
@@ -255,6 +282,32 @@ fn read_scene(path: &Path) -> Result<Scene, Error> {
         return Ok(Scene::from_json_str(&text)?);
     }
     Ok(Scene::from_path(path)?)
+}
+
+/// Reads the text of a scene file, or of standard input for `-`, and its default name.
+fn read_scene_text(path: &Path) -> Result<(String, String), Error> {
+    if path == Path::new("-") {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|source| Error::Io {
+                path: "standard input".into(),
+                source,
+            })?;
+        return Ok((text, "scene".into()));
+    }
+    Ok(bondmech::scene::path::read_scene_text(path)?)
+}
+
+/// [`read_scene`] with `--set PATH=JSON` assignments applied (in order) before validation.
+fn read_scene_with(path: &Path, sets: &[String]) -> Result<Scene, Error> {
+    if sets.is_empty() {
+        return read_scene(path);
+    }
+    let (text, name) = read_scene_text(path)?;
+    Ok(bondmech::scene::path::scene_from_json_with_sets(
+        &text, &name, sets,
+    )?)
 }
 
 /// The scene's `solve` field a flag sets, for naming the flag in refusals.
@@ -337,7 +390,7 @@ fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
 
 /// Loads a scene (a mechanism or a raw bond graph) and its options, with the flags applied.
 fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
-    let mut scene = read_scene(&args.scene)?;
+    let mut scene = read_scene_with(&args.scene, &args.set)?;
     if args.reactions && !scene.outputs.iter().any(|o| o == "reactions") {
         scene.outputs.push("reactions".into());
     }
@@ -616,6 +669,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
             repeats,
             t_end,
             reference,
+            vary,
+            set,
+            shard,
+            columns,
         } => {
             use bondmech::report::SweepConfig;
             if out.exists() && !out.is_dir() {
@@ -633,7 +690,37 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     )));
                 }
             }
-            let mut scene_data = read_scene(&scene)?;
+            if !vary.is_empty() {
+                let flags = [
+                    ("--quick", quick),
+                    ("--accuracy", accuracy.is_some()),
+                    ("--repeats", repeats.is_some()),
+                ];
+                if let Some((f, _)) = flags.iter().find(|(_, given)| *given) {
+                    return Err(options_error(format!(
+                        "{f} belongs to the tolerance/stiffness sweep, not to a --vary sweep"
+                    )));
+                }
+                let spec = VaryArgs {
+                    set,
+                    vary,
+                    shard,
+                    t_end,
+                    columns,
+                    reference,
+                };
+                return Ok(vary_sweep(&scene, &out, spec)?);
+            }
+            if shard.is_some() || columns.is_some() {
+                return Err(options_error(
+                    "--shard and --columns need --vary (the tolerance/stiffness sweep is not sharded)"
+                        .into(),
+                ));
+            }
+            let mut inputs = vec![scene.as_path()];
+            inputs.extend(reference.as_deref());
+            bondmech::report::vary::check_out_dir(&out, &inputs)?;
+            let mut scene_data = read_scene_with(&scene, &set)?;
             if let Some(t) = t_end {
                 let flags = SolveArgs {
                     scene: scene.clone(),
@@ -644,6 +731,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     joint_stiffness: None,
                     max_steps: None,
                     max_wall_seconds: None,
+                    set: Vec::new(),
                     reactions: false,
                 };
                 apply_flags(&mut scene_data, &flags)?;
@@ -680,7 +768,45 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 out.display()
             ))?)
         }
+        Command::SweepMerge { dirs, out } => {
+            let merged = bondmech::report::vary::merge_command(&dirs, &out)?;
+            Ok(stdout_write(&format!(
+                "{}merged {} shards into {}\n",
+                merged.table(),
+                dirs.len(),
+                out.display()
+            ))?)
+        }
     }
+}
+
+/// The flags of a `sweep --vary`.
+struct VaryArgs {
+    set: Vec<String>,
+    vary: Vec<String>,
+    shard: Option<String>,
+    t_end: Option<f64>,
+    columns: Option<Vec<String>>,
+    reference: Option<PathBuf>,
+}
+
+/// `sweep --vary`: a parameter sweep (whole, or one shard of it).
+fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
+    use bondmech::report::vary::{vary_command, Shard, VarySweep};
+    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    let (text, name) = read_scene_text(scene)?;
+    let reference = match &a.reference {
+        Some(path) => Some(bondmech::report::ExternalReference {
+            source: path.display().to_string(),
+            solution: bondmech::report::reference::reference_from_csv(path)?,
+        }),
+        None => None,
+    };
+    let sweep = VarySweep::new(&text, &name, &a.set, &a.vary, a.t_end, a.columns, reference)?;
+    let mut inputs = vec![scene];
+    inputs.extend(a.reference.as_deref());
+    let report = vary_command(&sweep, shard, out, &inputs)?;
+    stdout_write(&format!("{}wrote {}\n", report.table(), out.display()))
 }
 
 /// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
@@ -707,7 +833,7 @@ fn animate(
             )))
         }
     };
-    let mut scene = read_scene(&args.scene)?;
+    let mut scene = read_scene_with(&args.scene, &args.set)?;
     if scene.bodies.is_empty() {
         return Err(Error::Options(format!(
             "{}: animate needs a scene with bodies (a raw bond graph has no geometry to draw)",

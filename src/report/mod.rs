@@ -1,5 +1,6 @@
 //! Reports: comparisons of the DAE with its decoupled twin, speed-against-error sweeps, their
-//! SVG plots, and generated benchmark scenes.
+//! SVG plots, parameter sweeps over scene fields (sharded and merged), and generated benchmark
+//! scenes.
 
 pub mod animate;
 pub mod compare;
@@ -8,6 +9,7 @@ pub mod plot;
 pub mod reference;
 pub mod sweep;
 pub mod timeplot;
+pub mod vary;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
 pub use sweep::{run_sweep, ExternalReference, SweepConfig, SweepReport};

@@ -46,6 +46,9 @@ pub enum SceneError {
         /// All problems found, in document order (structural problems first).
         problems: Vec<Problem>,
     },
+    /// A `PATH=JSON` assignment (`--set`, `sweep --vary`) could not be parsed or applied.
+    #[error("{0}")]
+    Path(Box<super::path::PathError>),
     /// The scene file could not be read.
     #[error("cannot read scene file '{}': {source}", path.display())]
     Io {
@@ -61,7 +64,7 @@ impl SceneError {
     pub fn problems(&self) -> &[Problem] {
         match self {
             SceneError::Invalid { problems } => problems,
-            SceneError::Io { .. } => &[],
+            SceneError::Io { .. } | SceneError::Path(_) => &[],
         }
     }
 }
@@ -99,4 +102,10 @@ pub(crate) fn field(parent: &str, key: &str) -> String {
 /// `parent[i]`.
 pub(crate) fn index(parent: &str, i: usize) -> String {
     format!("{parent}[{i}]")
+}
+
+impl From<super::path::PathError> for SceneError {
+    fn from(e: super::path::PathError) -> SceneError {
+        SceneError::Path(Box::new(e))
+    }
 }

@@ -42,7 +42,8 @@
 mod error;
 pub mod model;
 pub mod parse;
-mod tree;
+pub mod path;
+pub(crate) mod tree;
 pub mod validate;
 mod write;
 

@@ -176,12 +176,22 @@ fn point_ref(p: &mut Problems, path: &str, j: &Json) -> Option<PointRef> {
 /// Parses scene text into a [`Scene`], collecting every shape problem.
 /// `default_name` is used when the scene has no `"name"`.
 pub(crate) fn parse_scene(text: &str, default_name: &str) -> Result<Scene, Vec<super::Problem>> {
-    let tree: Json = match serde_json::from_str(text) {
-        Ok(t) => t,
-        Err(e) => return Err(vec![syntax_problem(&e)]),
-    };
+    let tree = parse_tree(text)?;
+    scene_from_tree(&tree, default_name)
+}
+
+/// Reads scene text into the order-preserving tree (JSON syntax problems only).
+pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
+    serde_json::from_str(text).map_err(|e| vec![syntax_problem(&e)])
+}
+
+/// Reads an already parsed tree into a [`Scene`], collecting every shape problem.
+pub(crate) fn scene_from_tree(
+    tree: &Json,
+    default_name: &str,
+) -> Result<Scene, Vec<super::Problem>> {
     let mut p = Problems::default();
-    let scene = scene(&mut p, &tree, default_name);
+    let scene = scene(&mut p, tree, default_name);
     match scene {
         Some(s) if p.list.is_empty() => Ok(s),
         _ => Err(p.list),
