@@ -101,6 +101,8 @@ enum Command {
         #[arg(long)]
         reference: Option<PathBuf>,
     },
+    /// Serve the HTTP/JSON API until SIGTERM or Ctrl-C (routes: docs/service.md).
+    Serve(bondmech::service::ServeArgs),
 }
 
 fn main() -> ExitCode {
@@ -289,6 +291,11 @@ fn run(cli: Cli) -> Result<(), Error> {
             print!("{}", report.table());
             println!("wrote {}", out.display());
             Ok(())
+        }
+        Command::Serve(args) => {
+            let config = args.config().map_err(Error::Options)?;
+            let addr = config.addr.to_string();
+            bondmech::service::run(config).map_err(|source| Error::Io { path: addr, source })
         }
     }
 }

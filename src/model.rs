@@ -18,7 +18,9 @@ use crate::graph::SceneGraph;
 use crate::mech::{assemble, MultibodySystem, Variant};
 use crate::report::Comparison;
 use crate::scene::{Formulation, Scene};
-use crate::solve::bond_run::{raw_bond_graph_options, scene_bond_graph, solve_bond_graph};
+use crate::solve::bond_run::{
+    bond_graph_columns, raw_bond_graph_options, scene_bond_graph, solve_bond_graph,
+};
 use crate::solve::{solve_system, FormulationKind, Row, Solution, SolveOptions};
 use crate::{Error, Result};
 
@@ -164,6 +166,34 @@ impl Model {
     /// ```
     pub fn causality(&self) -> Result<CausalityReport> {
         Ok(self.scene_graph(Variant::Pinned)?.report())
+    }
+
+    /// The column names of this model's solutions, without `t` (the columns of
+    /// [`Solution::columns`], known before solving: a streaming client or a run stopped by its
+    /// budget gets them without a finished [`Solution`]).
+    ///
+    /// For a mechanism: the standard and requested output columns, then `constraint_error`
+    /// (the same for every formulation); for a raw bond graph: the non-loop unknowns, the
+    /// flows `f_<I>`, efforts `e_<C>` and `energy` (see [`crate::solve::bond_run`]).
+    ///
+    /// ```
+    /// # fn main() -> bondmech::Result<()> {
+    /// let model = bondmech::Model::new(&bondmech::Scene::from_path("scenes/pendulum.json")?)?;
+    /// let columns = model.columns()?;
+    /// assert_eq!(columns[0], "bar.x");
+    /// assert_eq!(columns.last().map(String::as_str), Some("constraint_error"));
+    /// # Ok(()) }
+    /// ```
+    pub fn columns(&self) -> Result<Vec<String>> {
+        match &self.kind {
+            Kind::Mechanism(sys) => Ok(sys
+                .outputs
+                .iter()
+                .map(|o| o.name.clone())
+                .chain(std::iter::once("constraint_error".to_string()))
+                .collect()),
+            Kind::BondGraph(g, _) => bond_graph_columns(g),
+        }
     }
 
     /// Non-fatal remarks found while building the model.
