@@ -20,7 +20,8 @@ pub struct Limits {
     /// Largest number of bodies + joints + springs + loads + outputs + bond graph elements and
     /// bonds in one scene.
     pub max_elements: usize,
-    /// Longest string in a scene, in bytes (expressions are strings).
+    /// Longest string in a scene, in bytes (expressions and names; `description` and `comment`
+    /// are free text, bounded by `max_body` only).
     pub max_expression_length: usize,
     /// Most output rows (output times) one run may produce.
     pub max_rows: usize,
@@ -47,14 +48,18 @@ pub async fn read_body(headers: &HeaderMap, body: Body, limits: &Limits) -> Resu
         }
     }
     if let Some(cl) = headers.get(header::CONTENT_LENGTH) {
-        let n: u64 = cl.to_str().ok().and_then(|s| s.trim().parse().ok()).ok_or_else(|| {
-            Problem::new(
-                StatusCode::BAD_REQUEST,
-                "invalid-header",
-                "Invalid header",
-                "Content-Length is not a number",
-            )
-        })?;
+        let n: u64 = cl
+            .to_str()
+            .ok()
+            .and_then(|s| s.trim().parse().ok())
+            .ok_or_else(|| {
+                Problem::new(
+                    StatusCode::BAD_REQUEST,
+                    "invalid-header",
+                    "Invalid header",
+                    "Content-Length is not a number",
+                )
+            })?;
         if n > limits.max_body {
             return Err(too_large(Some(n), limits.max_body));
         }
@@ -158,7 +163,10 @@ pub fn check_document(doc: &Value, limits: &Limits) -> Result<(), Problem> {
     Ok(())
 }
 
-/// The path and length of the first string (or key) longer than `max`.
+/// Keys whose strings are free text, not expressions or names: bounded by `max_body` only.
+const FREE_TEXT: [&str; 2] = ["description", "comment"];
+
+/// The path and length of the first string (or key) longer than `max`, free text aside.
 fn longest_string(v: &Value, path: String, max: usize) -> Option<(String, usize)> {
     match v {
         Value::String(s) if s.len() > max => Some((path, s.len())),
@@ -166,18 +174,21 @@ fn longest_string(v: &Value, path: String, max: usize) -> Option<(String, usize)
             .iter()
             .enumerate()
             .find_map(|(i, x)| longest_string(x, format!("{path}[{i}]"), max)),
-        Value::Object(m) => m.iter().find_map(|(k, x)| {
-            let p = if path.is_empty() {
-                k.clone()
-            } else {
-                format!("{path}.{k}")
-            };
-            if k.len() > max {
-                Some((p, k.len()))
-            } else {
-                longest_string(x, p, max)
-            }
-        }),
+        Value::Object(m) => m
+            .iter()
+            .filter(|(k, _)| !FREE_TEXT.contains(&k.as_str()))
+            .find_map(|(k, x)| {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                if k.len() > max {
+                    Some((p, k.len()))
+                } else {
+                    longest_string(x, p, max)
+                }
+            }),
         _ => None,
     }
 }

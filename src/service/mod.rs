@@ -341,15 +341,21 @@ impl Server {
         self.addr
     }
 
+    /// Starts the shutdown, as SIGTERM does, without waiting: the listener closes, new work
+    /// is refused, in-flight work goes on for the grace period.
+    pub fn begin_shutdown(&mut self) {
+        if let Some(tx) = self.stop.take() {
+            let _ = tx.send(());
+        }
+    }
+
     /// Shuts down as on SIGTERM and waits until the server has stopped.
     pub fn shutdown(mut self) -> std::io::Result<()> {
         self.stop_and_join()
     }
 
     fn stop_and_join(&mut self) -> std::io::Result<()> {
-        if let Some(tx) = self.stop.take() {
-            let _ = tx.send(());
-        }
+        self.begin_shutdown();
         match self.thread.take() {
             Some(t) => t
                 .join()

@@ -23,11 +23,31 @@ fn query(name: &str, description: &str, schema: Value) -> Value {
 
 fn solve_params() -> Vec<Value> {
     vec![
-        query("rtol", "Relative tolerance (the scene's solve.rtol by default).", json!({"type": "number", "exclusiveMinimum": 0})),
-        query("atol", "Absolute tolerance (the scene's solve.atol by default).", json!({"type": "number", "exclusiveMinimum": 0})),
-        query("t_end", "End time (s); output times keep the scene's output_step.", json!({"type": "number", "exclusiveMinimum": 0})),
-        query("formulation", "dae (ggl), compliant_ggl, index1 or decoupled.", json!({"type": "string", "enum": ["dae", "ggl", "compliant_ggl", "index1", "decoupled"]})),
-        query("joint_stiffness", "Joint stiffness of the decoupled twin (N/m).", json!({"type": "number", "exclusiveMinimum": 0})),
+        query(
+            "rtol",
+            "Relative tolerance (the scene's solve.rtol by default).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "atol",
+            "Absolute tolerance (the scene's solve.atol by default).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "t_end",
+            "End time (s); output times keep the scene's output_step.",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "formulation",
+            "dae (ggl), compliant_ggl, index1 or decoupled.",
+            json!({"type": "string", "enum": ["dae", "ggl", "compliant_ggl", "index1", "decoupled"]}),
+        ),
+        query(
+            "joint_stiffness",
+            "Joint stiffness of the decoupled twin (N/m).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
     ]
 }
 

@@ -137,7 +137,10 @@ pub async fn healthz(State(app): State<Arc<App>>) -> Response {
 
 /// `GET /metrics`: Prometheus text format.
 pub async fn metrics(State(app): State<Arc<App>>) -> Response {
-    with_type(app.metrics.render(), "text/plain; version=0.0.4; charset=utf-8")
+    with_type(
+        app.metrics.render(),
+        "text/plain; version=0.0.4; charset=utf-8",
+    )
 }
 
 /// `GET /openapi.json`.
@@ -254,7 +257,10 @@ async fn stream_response(
     rx: mpsc::Receiver<Bytes>,
 ) -> Result<Response, Problem> {
     match started.await {
-        Ok(Ok(())) => Ok(with_type(Body::new(ChannelBody::new(Vec::new(), rx)), NDJSON)),
+        Ok(Ok(())) => Ok(with_type(
+            Body::new(ChannelBody::new(Vec::new(), rx)),
+            NDJSON,
+        )),
         Ok(Err(p)) => Err(p),
         Err(_) => Err(Problem::internal("the solve job ended without an answer")),
     }
@@ -392,7 +398,10 @@ async fn graph_inner(
                 let text = serde_json::to_string_pretty(&g.report()).unwrap_or_default() + "\n";
                 with_type(text, JSON)
             }
-            "svg" => with_type(super::svg::render(&g.dot(), budget.duration())?, "image/svg+xml"),
+            "svg" => with_type(
+                super::svg::render(&g.dot(), budget.duration())?,
+                "image/svg+xml",
+            ),
             _ => with_type(g.dot(), "text/vnd.graphviz; charset=utf-8"),
         })
     });
@@ -429,7 +438,10 @@ async fn sweep_inner(
     };
     if let Some(t) = params.number("t_end")? {
         if !(t > 0.0 && t.is_finite()) {
-            return Err(invalid_value("t_end", format!("t_end: must be > 0 (got {t})")));
+            return Err(invalid_value(
+                "t_end",
+                format!("t_end: must be > 0 (got {t})"),
+            ));
         }
         cfg.t_end = Some(t);
     }

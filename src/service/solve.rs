@@ -192,7 +192,11 @@ pub fn options(
     for (name, v, slot) in [
         ("rtol", p.rtol, &mut opts.rtol),
         ("atol", p.atol, &mut opts.atol),
-        ("joint_stiffness", p.joint_stiffness, &mut opts.joint_stiffness),
+        (
+            "joint_stiffness",
+            p.joint_stiffness,
+            &mut opts.joint_stiffness,
+        ),
     ] {
         if let Some(v) = v {
             if !(v > 0.0 && v.is_finite()) {
