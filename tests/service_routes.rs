@@ -677,3 +677,41 @@ fn healthz_metrics_openapi_and_unknown_routes() {
     assert_eq!(r.header("allow"), Some("POST"));
     server.shutdown().unwrap();
 }
+
+/// The service announces columns before solving (NDJSON header, budget stops) through
+/// `Model::columns`: they must be the columns every solve writes.
+#[test]
+fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
+    use bondmech::{FormulationKind, Model, Scene};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut scenes: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    scenes.sort();
+    assert!(scenes.len() >= 14);
+    for path in scenes {
+        let model = Model::new(&Scene::from_path(&path).unwrap()).unwrap();
+        let forms: &[FormulationKind] = if model.is_raw_bond_graph() {
+            &[FormulationKind::Ggl]
+        } else {
+            &[FormulationKind::Ggl, FormulationKind::Index1, FormulationKind::Decoupled]
+        };
+        for &f in forms {
+            let mut opts = model.default_options();
+            opts.formulation = f;
+            opts.joint_stiffness = 1e4;
+            opts.output_times.truncate(2);
+            // index 1 refuses redundant joints (Bricard): only GGL must solve every scene
+            let sol = match model.solve(&opts) {
+                Ok(sol) => sol,
+                Err(e) if f != FormulationKind::Ggl => {
+                    eprintln!("{} {f:?}: {e}", path.display());
+                    continue;
+                }
+                Err(e) => panic!("{}: {e}", path.display()),
+            };
+            assert_eq!(model.columns().unwrap(), sol.columns, "{} {f:?}", path.display());
+        }
+    }
+}

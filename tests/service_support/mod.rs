@@ -132,7 +132,8 @@ pub fn request(
     content_type: Option<&str>,
     body: &[u8],
 ) -> std::io::Result<Resp> {
-    let mut s = connect(addr);
+    let mut s = TcpStream::connect(addr)?;
+    s.set_read_timeout(Some(Duration::from_secs(120)))?;
     let len = body.len().to_string();
     let mut extra = vec![("Content-Length", len.as_str())];
     if let Some(ct) = content_type {
