@@ -126,7 +126,11 @@ fn graceful_shutdown_finishes_in_flight_work_and_refuses_new_work() {
     let r = client.join().unwrap();
     assert_eq!(r.status, 200, "{}", r.text());
     let j = r.json();
-    assert_eq!(j["rows"].as_array().unwrap().len(), 101, "the whole run: 5 s every 0.05 s");
+    assert_eq!(
+        j["rows"].as_array().unwrap().len(),
+        101,
+        "the whole run: 5 s every 0.05 s"
+    );
     server.shutdown().unwrap();
     assert!(
         std::net::TcpStream::connect(addr).is_err(),
@@ -141,9 +145,8 @@ fn solves_still_running_when_the_grace_runs_out_stop_with_their_rows() {
         ..long_budget()
     });
     let addr = server.addr();
-    let client = std::thread::spawn(move || {
-        post(addr, LONG, scene_text("double_pendulum.json").as_bytes())
-    });
+    let client =
+        std::thread::spawn(move || post(addr, LONG, scene_text("double_pendulum.json").as_bytes()));
     wait_for(addr, "the solve running", |m| in_flight(m) == 1.0);
     server.begin_shutdown();
     let r = client.join().unwrap();

@@ -695,7 +695,11 @@ fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
         let forms: &[FormulationKind] = if model.is_raw_bond_graph() {
             &[FormulationKind::Ggl]
         } else {
-            &[FormulationKind::Ggl, FormulationKind::Index1, FormulationKind::Decoupled]
+            &[
+                FormulationKind::Ggl,
+                FormulationKind::Index1,
+                FormulationKind::Decoupled,
+            ]
         };
         for &f in forms {
             let mut opts = model.default_options();
@@ -711,7 +715,12 @@ fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
                 }
                 Err(e) => panic!("{}: {e}", path.display()),
             };
-            assert_eq!(model.columns().unwrap(), sol.columns, "{} {f:?}", path.display());
+            assert_eq!(
+                model.columns().unwrap(),
+                sol.columns,
+                "{} {f:?}",
+                path.display()
+            );
         }
     }
 }

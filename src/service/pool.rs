@@ -1,6 +1,6 @@
 //! The bounded pool: at most `max_concurrent` solve jobs on blocking threads, at most `queue`
 //! requests waiting for one (for at most the solve budget), everything beyond refused with 503
-//! and `Retry-After`. A job's slot is held until the job itself ends, even when its client has
+//! and `Retry-After` (counted as rejections where the answer is made). A job's slot is held until the job itself ends, even when its client has
 //! gone, so the bound holds for the work actually running.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 use tokio::task::JoinHandle;
 
-use super::metrics::{Metrics, Rejection};
+use super::metrics::Metrics;
 use super::problem::Problem;
 
 /// Solve slots and the queue in front of them.
@@ -68,7 +68,6 @@ impl Pool {
         let waiting = Gauge::up(&self.metrics.queued);
         if self.metrics.queued.load(Ordering::SeqCst) > self.queue {
             drop(waiting);
-            self.metrics.reject(Rejection::Saturated);
             return Err(Problem::unavailable(
                 format!(
                     "all solve slots are busy and the queue is full ({} waiting): retry later",
@@ -82,22 +81,17 @@ impl Pool {
         match r {
             Ok(Ok(p)) => Ok(p),
             Ok(Err(_)) => {
-                self.metrics.reject(Rejection::ShuttingDown);
-                Err(Problem::unavailable(
-                    "the server is shutting down",
-                    self.retry_after,
-                ))
+                let mut p = Problem::unavailable("the server is shutting down", self.retry_after);
+                p.kind = "shutting-down";
+                Err(p)
             }
-            Err(_) => {
-                self.metrics.reject(Rejection::Saturated);
-                Err(Problem::unavailable(
-                    format!(
-                        "no solve slot became free within {} s: retry later",
-                        self.queue_wait.as_secs_f64()
-                    ),
-                    self.retry_after,
-                ))
-            }
+            Err(_) => Err(Problem::unavailable(
+                format!(
+                    "no solve slot became free within {} s: retry later",
+                    self.queue_wait.as_secs_f64()
+                ),
+                self.retry_after,
+            )),
         }
     }
 
