@@ -204,8 +204,9 @@ fn config(queue: usize) -> Config {
     }
 }
 
-/// After a run: alive, idle, and every request counted once.
-fn check_after(addr: std::net::SocketAddr, tally: &Tally) {
+/// After a run: alive, idle, and every request counted once (metrics against `before`, the
+/// metrics text before the run).
+fn check_after(addr: std::net::SocketAddr, before: &str, tally: &Tally) {
     let h = get(addr, "/healthz");
     assert_eq!(h.status, 200);
     let mut m = String::new();
@@ -222,17 +223,15 @@ fn check_after(addr: std::net::SocketAddr, tally: &Tally) {
     assert_eq!(metric(&m, "bondmech_queue_length"), Some(0.0), "{m}");
     for status in [200u16, 400, 422, 503] {
         let sent = tally.statuses.iter().filter(|(_, s)| *s == status).count() as f64;
-        let counted = metric(
-            &m,
-            &format!("bondmech_requests_total{{route=\"/v1/run\",status=\"{status}\"}}"),
-        )
-        .unwrap_or(0.0);
+        let name = format!("bondmech_requests_total{{route=\"/v1/run\",status=\"{status}\"}}");
+        let counted = metric(&m, &name).unwrap_or(0.0) - metric(before, &name).unwrap_or(0.0);
         assert_eq!(counted, sent, "status {status}: {m}");
     }
     let saturated = tally.statuses.iter().filter(|(_, s)| *s == 503).count() as f64;
+    let name = "bondmech_rejections_total{reason=\"saturated\"}";
     assert_eq!(
-        metric(&m, "bondmech_rejections_total{reason=\"saturated\"}"),
-        Some(saturated)
+        metric(&m, name).unwrap() - metric(before, name).unwrap(),
+        saturated
     );
     assert!(!m.contains("status=\"500\""), "{m}");
 }
@@ -241,6 +240,7 @@ fn check_after(addr: std::net::SocketAddr, tally: &Tally) {
 fn thirty_two_clients_mixed_requests_two_slots_small_queue() {
     let req = Arc::new(Requests::new());
     let server = start(config(4));
+    let before = get(server.addr(), "/metrics").text();
     let (tally, _) = hammer(server.addr(), &req, 32, 96, false);
     let count = |s: u16| tally.statuses.iter().filter(|(_, x)| *x == s).count();
     eprintln!(
@@ -251,7 +251,7 @@ fn thirty_two_clients_mixed_requests_two_slots_small_queue() {
         count(503)
     );
     assert!(count(200) > 0, "some valid requests were solved");
-    check_after(server.addr(), &tally);
+    check_after(server.addr(), &before, &tally);
     // and it still solves
     assert_eq!(req.send(server.addr(), Kind::Valid), 200);
     server.shutdown().unwrap();
@@ -277,21 +277,22 @@ fn load_report_memory_throughput_latency() {
     let req = Arc::new(Requests::new());
     let server = start(config(16));
     let addr = server.addr();
-    // warm-up (allocator pools, thread stacks), then three measured rounds of the mix
+    // warm-up (allocator pools, thread stacks), then five measured rounds of the mix
     hammer(addr, &req, 32, 100, false);
     let rss0 = rss_kib();
     let mut rss = Vec::new();
     let mut all = Tally::default();
-    for _ in 0..3 {
+    for _ in 0..5 {
+        let before = get(addr, "/metrics").text();
         let (t, _) = hammer(addr, &req, 32, 200, false);
-        check_after(addr, &t);
+        check_after(addr, &before, &t);
         rss.push(rss_kib());
         all.statuses.extend(t.statuses);
         all.valid_latency.extend(t.valid_latency);
     }
     let count = |s: u16| all.statuses.iter().filter(|(_, x)| *x == s).count();
     eprintln!(
-        "mixed load, 600 requests, 32 clients, 2 slots, queue 16: {} × 200, {} × 400, {} × 422, {} × 503, 0 other",
+        "mixed load, 1000 requests, 32 clients, 2 slots, queue 16: {} × 200, {} × 400, {} × 422, {} × 503, 0 other",
         count(200),
         count(400),
         count(422),
@@ -312,9 +313,10 @@ fn load_report_memory_throughput_latency() {
     // throughput: valid solves only, the server (2 slots, 32 clients) against one CLI process
     // per solve, 2 at a time
     let n = 200;
+    // the default budget here: the queue wait is bounded by it, and no request is over it
     let server2 = start(Config {
-        queue: 64,
-        ..config(64)
+        max_concurrent: 2,
+        ..Config::default()
     });
     let (t, wall) = hammer(server2.addr(), &req, 32, n, true);
     let ok = t.statuses.iter().filter(|(_, s)| *s == 200).count();
@@ -322,6 +324,14 @@ fn load_report_memory_throughput_latency() {
     let service_rate = ok as f64 / wall;
     eprintln!(
         "service: {ok} of {n} valid solves in {wall:.2} s = {service_rate:.1} solves/s; p50 {:.1} ms, p99 {:.1} ms",
+        percentile(&mut lat, 0.5) * 1e3,
+        percentile(&mut lat, 0.99) * 1e3
+    );
+    // unloaded: 2 clients for 2 slots, no queueing
+    let (t, _) = hammer(server2.addr(), &req, 2, 50, true);
+    let mut lat = t.valid_latency.clone();
+    eprintln!(
+        "service, 2 clients: p50 {:.1} ms, p99 {:.1} ms",
         percentile(&mut lat, 0.5) * 1e3,
         percentile(&mut lat, 0.99) * 1e3
     );
@@ -352,7 +362,7 @@ fn load_report_memory_throughput_latency() {
     server2.shutdown().unwrap();
     // memory is flat: the last round grows RSS by less than 5 % over the first
     assert!(
-        (rss[2] as f64) < 1.05 * rss[0] as f64 + 2048.0,
+        (rss[4] as f64) < 1.05 * rss[0] as f64 + 2048.0,
         "RSS grew: {rss0} → {rss:?} KiB"
     );
 }
