@@ -215,7 +215,7 @@ pub fn row_count(scene: &Scene, t_end: Option<f64>) -> f64 {
 /// 422 naming `max_rows` when a run of `scene` would write more rows than allowed.
 pub fn check_rows(scene: &Scene, t_end: Option<f64>, limits: &Limits) -> Result<(), Problem> {
     let n = row_count(scene, t_end);
-    if !(n <= limits.max_rows as f64) {
+    if n.is_nan() || n > limits.max_rows as f64 {
         return Err(Problem::limit(
             "max_rows",
             limits.max_rows,

@@ -234,7 +234,7 @@ async fn run_inner(
             Ok(sol) => Ok(with_type(solution_json(&sol), JSON)),
             Err(f) => Err(match f.columns {
                 Some(c) => f.problem.with("columns", c).with("rows", partial),
-                None => f.problem,
+                None => *f.problem,
             }),
         }
     });
@@ -303,7 +303,7 @@ async fn run_ndjson(
             Err(f) if f.cancelled => {}
             Err(f) => match started.take() {
                 Some(s) => {
-                    let _ = s.send(Err(f.problem));
+                    let _ = s.send(Err(*f.problem));
                 }
                 None => {
                     send_line(&tx, &serde_json::json!({"error": f.problem.to_json()}));

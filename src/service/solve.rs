@@ -331,7 +331,7 @@ pub fn budget_problem(detail: String, limit: &str, value: Value, t: Option<f64>)
 #[derive(Debug)]
 pub struct Failure {
     /// The answer.
-    pub problem: Problem,
+    pub problem: Box<Problem>,
     /// The columns (with `t` first) when the solve had started: the partial rows go with them.
     pub columns: Option<Vec<String>>,
     /// The client went away: nobody reads the answer.
@@ -341,7 +341,7 @@ pub struct Failure {
 impl Failure {
     fn before(problem: Problem) -> Failure {
         Failure {
-            problem,
+            problem: Box::new(problem),
             columns: None,
             cancelled: false,
         }
@@ -404,7 +404,7 @@ pub fn solve_rows(
         }
     });
     let started = |problem: Problem| Failure {
-        problem,
+        problem: Box::new(problem),
         columns: Some(columns.clone()),
         cancelled: false,
     };
@@ -413,12 +413,12 @@ pub fn solve_rows(
         (Ok(_), Some(Why::ClientGone)) => {
             metrics.cancelled();
             Err(Failure {
-                problem: Problem::new(
+                problem: Box::new(Problem::new(
                     StatusCode::from_u16(499).unwrap_or(StatusCode::BAD_REQUEST),
                     "cancelled",
                     "Client closed the request",
                     "the client disconnected; the solve was stopped",
-                ),
+                )),
                 columns: None,
                 cancelled: true,
             })
