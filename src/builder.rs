@@ -370,6 +370,7 @@ impl Mechanism {
                 loads: Vec::new(),
                 solve: SolveSettings::with_t_end(1.0),
                 outputs: Vec::new(),
+                events: Vec::new(),
                 bond_graph: None,
                 description: None,
             },
@@ -536,9 +537,28 @@ impl Mechanism {
         self
     }
 
-    /// Requests an extra output column: `"bar2.A"` (a point), `"energy"`, `"constraint_error"`.
+    /// Requests an extra output column: `"bar2.A"` (a point), `"energy"`, `"constraint_error"`,
+    /// or `"reactions"` (every joint's force and moment on its second body).
     pub fn output(mut self, output: &str) -> Self {
         self.scene.outputs.push(output.to_string());
+        self
+    }
+
+    /// Adds an event: a zero crossing of `when` (an expression in `t` and the output columns)
+    /// in `direction`, which records a row or stops the run (`action`).
+    pub fn event(
+        mut self,
+        name: &str,
+        when: &str,
+        direction: crate::scene::EventDirection,
+        action: crate::scene::EventAction,
+    ) -> Self {
+        self.scene.events.push(crate::scene::Event {
+            name: name.to_string(),
+            when: when.to_string(),
+            direction,
+            action,
+        });
         self
     }
 

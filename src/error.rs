@@ -49,6 +49,17 @@ pub enum Error {
     /// A raw bond graph is invalid or cannot be turned into equations.
     #[error("bond graph: {0}")]
     BondGraph(String),
+    /// The solve stopped before its last output time — a budget (`max_steps`,
+    /// `max_wall_seconds`) ran out or the solver failed — and kept what it had computed:
+    /// `partial` holds the rows up to the time reached (its summary has `completed: false`,
+    /// `t_reached` and `stopped_by`).
+    #[error("{cause}; {}", kept(partial))]
+    Incomplete {
+        /// Why the solve stopped.
+        cause: Box<Error>,
+        /// The rows computed up to the time reached, and the statistics so far.
+        partial: Box<crate::Solution>,
+    },
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -57,6 +68,47 @@ pub enum Error {
         /// The cause.
         source: std::io::Error,
     },
+}
+
+/// "stopped at t = …: the rows up to t = … are kept".
+fn kept(partial: &crate::Solution) -> String {
+    let s = &partial.summary;
+    let hint = match s.stopped_by.as_deref() {
+        Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
+        Some("max_wall_seconds") => {
+            " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
+        }
+        _ => "",
+    };
+    match partial.times.last() {
+        Some(t) => format!(
+            "stopped at t = {}{hint}; the {} rows up to t = {t} are kept",
+            s.t_reached,
+            partial.times.len()
+        ),
+        None => format!(
+            "stopped at t = {}{hint}; no rows were computed",
+            s.t_reached
+        ),
+    }
+}
+
+impl Error {
+    /// The rows computed before the solve stopped, when it stopped part-way.
+    pub fn partial_solution(&self) -> Option<&crate::Solution> {
+        match self {
+            Error::Incomplete { partial, .. } => Some(partial),
+            _ => None,
+        }
+    }
+
+    /// Applies `f` to the partial solution of an [`Error::Incomplete`]; other errors pass.
+    pub fn map_partial(mut self, f: impl FnOnce(&mut crate::Solution)) -> Self {
+        if let Error::Incomplete { partial, .. } = &mut self {
+            f(partial);
+        }
+        self
+    }
 }
 
 /// `Result` with bondmech's [`Error`].

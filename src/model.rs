@@ -19,7 +19,7 @@ use crate::mech::{assemble, MultibodySystem, Variant};
 use crate::report::Comparison;
 use crate::scene::{Formulation, Scene};
 use crate::solve::bond_run::{
-    bond_graph_columns, raw_bond_graph_options, scene_bond_graph, solve_bond_graph,
+    raw_bond_graph_options, scene_bond_graph, solve_bond_graph_streaming,
 };
 use crate::solve::{solve_system, FormulationKind, Row, Solution, SolveOptions};
 use crate::{Error, Result};
@@ -87,6 +87,10 @@ fn empty_system() -> MultibodySystem {
         kinetic: zero,
         outputs: Vec::new(),
         warnings: Vec::new(),
+        reactions: Vec::new(),
+        reaction_outputs: false,
+        events: Vec::new(),
+        energy_exchange: None,
     }
 }
 
@@ -168,34 +172,6 @@ impl Model {
         Ok(self.scene_graph(Variant::Pinned)?.report())
     }
 
-    /// The column names of this model's solutions, without `t` (the columns of
-    /// [`Solution::columns`], known before solving: a streaming client or a run stopped by its
-    /// budget gets them without a finished [`Solution`]).
-    ///
-    /// For a mechanism: the standard and requested output columns, then `constraint_error`
-    /// (the same for every formulation); for a raw bond graph: the non-loop unknowns, the
-    /// flows `f_<I>`, efforts `e_<C>` and `energy` (see [`crate::solve::bond_run`]).
-    ///
-    /// ```
-    /// # fn main() -> bondmech::Result<()> {
-    /// let model = bondmech::Model::new(&bondmech::Scene::from_path("scenes/pendulum.json")?)?;
-    /// let columns = model.columns()?;
-    /// assert_eq!(columns[0], "bar.x");
-    /// assert_eq!(columns.last().map(String::as_str), Some("constraint_error"));
-    /// # Ok(()) }
-    /// ```
-    pub fn columns(&self) -> Result<Vec<String>> {
-        match &self.kind {
-            Kind::Mechanism(sys) => Ok(sys
-                .outputs
-                .iter()
-                .map(|o| o.name.clone())
-                .chain(std::iter::once("constraint_error".to_string()))
-                .collect()),
-            Kind::BondGraph(g, _) => bond_graph_columns(g),
-        }
-    }
-
     /// Non-fatal remarks found while building the model.
     pub fn warnings(&self) -> &[String] {
         &self.system().warnings
@@ -219,8 +195,9 @@ impl Model {
             formulation,
             rtol: s.rtol,
             atol: s.atol,
+            t_start: s.t_start,
             output_times: self.scene.output_times(),
-            max_steps: s.max_steps.or(Some(100_000)),
+            max_steps: s.max_steps,
             max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
@@ -228,21 +205,48 @@ impl Model {
         }
     }
 
-    /// Output times from the scene's start to `t_end`, spaced by the scene's `output_step`
-    /// (default `t_end / 100`, at most `t_end`): the rule of the command line's `--t-end`.
+    /// The scene's output times with the end time moved to `t_end` (the rule of the command
+    /// line's `--t-end`): explicit `output_times` after `t_end` are dropped; otherwise the grid
+    /// from `t_start` to `t_end` spaced by the scene's `output_step` (default
+    /// `(t_end − t_start) / 100`).
     ///
-    /// Fails unless `t_end > 0` and finite.
+    /// Fails unless `t_end > t_start` and finite, when no explicit output time is left, or when
+    /// the grid would exceed [`crate::scene::validate::MAX_OUTPUT_TIMES`] rows.
     pub fn output_times_until(&self, t_end: f64) -> Result<Vec<f64>> {
-        if !(t_end > 0.0 && t_end.is_finite()) {
-            return Err(Error::Options(format!("t_end: must be > 0 (got {t_end})")));
+        let s = &self.scene.solve;
+        let t0 = s.t_start;
+        if !(t_end.is_finite() && t_end > t0) {
+            return Err(Error::Options(format!(
+                "t_end: must be finite and > t_start = {t0} (got {t_end})"
+            )));
         }
-        let step = self
-            .scene
-            .solve
-            .output_step
-            .unwrap_or(t_end / 100.0)
-            .min(t_end);
-        Ok(SolveOptions::times(t_end, step))
+        if let Some(times) = &s.output_times {
+            let kept: Vec<f64> = times.iter().copied().filter(|&t| t <= t_end).collect();
+            if kept.is_empty() {
+                return Err(Error::Options(format!(
+                    "t_end = {t_end}: the scene's solve.output_times all lie after it (first {})",
+                    times[0]
+                )));
+            }
+            return Ok(kept);
+        }
+        let limit = crate::scene::validate::MAX_OUTPUT_TIMES;
+        if let Some(h) = s.output_step {
+            if (t_end - t0) / h > limit {
+                return Err(Error::Options(format!(
+                    "t_end = {t_end} with solve.output_step = {h} gives {:.1e} output rows, more than the limit {limit:e}; raise solve.output_step or lower t_end",
+                    (t_end - t0) / h
+                )));
+            }
+        }
+        Ok(crate::scene::output_grid(t0, t_end, s.output_step))
+    }
+
+    /// The names of the columns of every row a solve produces (without `t`), in order — what
+    /// a [`Model::solve_streaming`] observer needs to read its rows. `None` for a raw bond
+    /// graph scene, whose columns come from its causal equations (see [`Solution::columns`]).
+    pub fn columns(&self) -> Option<Vec<String>> {
+        self.mechanism().map(crate::solve::run::output_columns)
     }
 
     /// Solves with `opts`.
@@ -261,36 +265,27 @@ impl Model {
         opts: &SolveOptions,
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     ) -> Result<Solution> {
-        if opts.output_times.is_empty() {
-            return Err(Error::Options("output_times is empty".into()));
-        }
-        if !(opts.rtol > 0.0 && opts.rtol.is_finite() && opts.atol > 0.0 && opts.atol.is_finite()) {
-            return Err(Error::Options(format!(
-                "rtol and atol must be positive and finite (got {}, {})",
-                opts.rtol, opts.atol
-            )));
-        }
-        if opts.output_times.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(Error::Options(
-                "output_times must be strictly increasing".into(),
-            ));
-        }
+        check_tolerances(opts)?;
+        opts.integration_times()?;
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
             }
             Kind::BondGraph(g, _) => {
-                let mut sol = solve_bond_graph(g, opts)?;
-                sol.summary.build_cpu_seconds += self.build_cpu_seconds;
-                let mut keep = sol.rows.len();
-                for (k, (&t, r)) in sol.times.iter().zip(&sol.rows).enumerate() {
-                    if observer(Row { t, values: r }).is_break() {
-                        keep = k + 1;
-                        break;
-                    }
+                if opts.formulation == FormulationKind::Decoupled {
+                    return Err(Error::Options(
+                        "formulation 'decoupled' does not apply to a raw bond graph (it has no joints to open); use dae or index1".into(),
+                    ));
                 }
-                sol.times.truncate(keep);
-                sol.rows.truncate(keep);
+                if opts.formulation == FormulationKind::CompliantGgl {
+                    return Err(Error::Options(
+                        "formulation 'compliant_ggl' does not apply to a raw bond graph (its constraints are velocity rows, without closures); use dae or index1".into(),
+                    ));
+                }
+                let mut sol = solve_bond_graph_streaming(g, opts, observer).map_err(|e| {
+                    e.map_partial(|p| p.summary.build_cpu_seconds += self.build_cpu_seconds)
+                })?;
+                sol.summary.build_cpu_seconds += self.build_cpu_seconds;
                 Ok(sol)
             }
         }
@@ -315,4 +310,16 @@ impl Model {
         let dec = self.solve(&b)?;
         Ok((Comparison::new(&dae, &dec), dae, dec))
     }
+}
+
+/// Tolerances a solver can honour: positive, finite, `rtol` not below what double precision
+/// can deliver.
+fn check_tolerances(opts: &SolveOptions) -> Result<()> {
+    if !(opts.rtol > 0.0 && opts.rtol.is_finite() && opts.atol > 0.0 && opts.atol.is_finite()) {
+        return Err(Error::Options(format!(
+            "rtol and atol must be positive and finite (got {}, {})",
+            opts.rtol, opts.atol
+        )));
+    }
+    Ok(())
 }

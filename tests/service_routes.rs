@@ -694,7 +694,8 @@ fn healthz_metrics_openapi_and_unknown_routes() {
 }
 
 /// The service announces columns before solving (NDJSON header, budget stops) through
-/// `Model::columns`: they must be the columns every solve writes.
+/// `Model::columns` (or the raw bond graph's equations): they must be the columns every solve
+/// writes.
 #[test]
 fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
     use bondmech::{FormulationKind, Model, Scene};
@@ -731,7 +732,7 @@ fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
                 Err(e) => panic!("{}: {e}", path.display()),
             };
             assert_eq!(
-                model.columns().unwrap(),
+                bondmech::service::solve::model_columns(&model).unwrap(),
                 sol.columns,
                 "{} {f:?}",
                 path.display()

@@ -116,7 +116,7 @@ fn check_chain(n: usize, rtol: f64, atol: f64, bound: f64) {
         sm.cpu_seconds,
         sm.compliance,
         sm.singular_passages.len(),
-        sm.energy_drift
+        sm.energy_drift.unwrap_or(f64::NAN)
     );
     assert!(
         err < bound,

@@ -122,6 +122,10 @@ fn isosceles_slider_crank_keeps_mirror_branch_through_bifurcations() {
     assert!(joints.contains(&"cylinder".to_string()), "{joints:?}");
     eprintln!(
         "isosceles: steps {} cpu {:.3} s, passages {:?}, compliance {:e}, drift {:e}",
-        sm.steps, sm.cpu_seconds, sm.singular_passages, sm.compliance, sm.energy_drift
+        sm.steps,
+        sm.cpu_seconds,
+        sm.singular_passages,
+        sm.compliance,
+        sm.energy_drift.unwrap_or(f64::NAN)
     );
 }

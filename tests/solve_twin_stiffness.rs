@@ -60,7 +60,7 @@ fn report_twin_cost_against_stiffness_and_bdf_order() {
                         .fold(0.0f64, f64::max);
                     eprintln!(
                         "{label:<28} k = {k:.0e}: {:>8} steps {:>7.3} s cpu, err {err:.1e}, drift {:.1e}",
-                        s.summary.steps, s.summary.cpu_seconds, s.summary.energy_drift
+                        s.summary.steps, s.summary.cpu_seconds, s.summary.energy_drift.unwrap_or(f64::NAN)
                     );
                 }
                 Err(e) => eprintln!("{label:<28} k = {k:.0e}: failed: {e}"),

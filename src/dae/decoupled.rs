@@ -28,6 +28,9 @@ pub struct DecoupledFormulation {
     pub damping: f64,
     /// Spring energy `½ k Σ g_i²`, to add to the mechanical energy.
     pub spring_energy: Expr,
+    /// Force of each row's spring-damper, `k g_i + c (G_v v)_i`: the twin's counterpart of the
+    /// multipliers λ (the joint reactions are read from it).
+    pub row_force: Vec<Expr>,
 }
 
 impl DecoupledFormulation {
@@ -78,6 +81,7 @@ impl DecoupledFormulation {
             stiffness,
             damping,
             spring_energy,
+            row_force,
         })
     }
 }

@@ -9,7 +9,8 @@
 use std::collections::HashMap;
 
 use super::body::{cross3, quaternion_from_cardan, AngleSlot, BodyKinematics, PointKinematics};
-use super::system::{ConstraintRow, Coordinate, MultibodySystem, OutputColumn};
+use super::reactions::{transmits_moment, JointReaction};
+use super::system::{ConstraintRow, Coordinate, EventFunction, MultibodySystem, OutputColumn};
 use super::MechError;
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{
@@ -454,11 +455,12 @@ impl<'a> Assembler<'a> {
         let names = self.name_table()?;
         self.springs(&mut forces, &mut potential)?;
         self.loads(&mut forces, &names)?;
-        let (constraints, rows) = self.joints()?;
+        let (constraints, rows, reactions) = self.joints()?;
         let kinetic = self.kinetic_energy();
         let pot = self.g.sum(&potential);
         let energy = self.g.add(kinetic, pot);
         let outputs = self.outputs(&names, energy)?;
+        let events = self.events(&names, energy, &reactions)?;
         self.connectivity();
 
         let mut sys = MultibodySystem {
@@ -474,6 +476,10 @@ impl<'a> Assembler<'a> {
             kinetic,
             outputs,
             warnings: self.warnings,
+            reaction_outputs: self.scene.outputs.iter().any(|o| o == "reactions"),
+            reactions,
+            events,
+            energy_exchange: energy_exchange(self.scene),
         };
         let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
         for v in sys.initial_violation(&names) {
@@ -923,11 +929,118 @@ impl<'a> Assembler<'a> {
         Ok(())
     }
 
-    fn joints(&mut self) -> Result<(Vec<Expr>, Vec<ConstraintRow>), MechError> {
+    /// The scene's events as functions over the event layout `[t, q, v, reactions]`: `when`
+    /// may name `t`, any standard column or point coordinate/velocity, `energy`, and any
+    /// joint's reaction column.
+    fn events(
+        &mut self,
+        names: &HashMap<String, Expr>,
+        energy: Expr,
+        reactions: &[JointReaction],
+    ) -> Result<Vec<EventFunction>, MechError> {
+        let base = 1 + self.coords.len() + self.vels.len();
+        let reaction_columns: Vec<String> = reactions.iter().flat_map(|r| r.columns()).collect();
+        let mut out = Vec::with_capacity(self.scene.events.len());
+        let placeholders: Vec<Expr> = (0..reaction_columns.len())
+            .map(|k| self.g.var((base + k) as u32))
+            .collect();
+        for (ei, ev) in self.scene.events.iter().enumerate() {
+            let mut resolve = |name: &str| {
+                if name == "energy" {
+                    return Some(energy);
+                }
+                if let Some(e) = names.get(name) {
+                    return Some(*e);
+                }
+                let k = reaction_columns.iter().position(|c| c == name)?;
+                Some(placeholders[k])
+            };
+            let expr = self.g.parse(&ev.when, &mut resolve).map_err(|e| {
+                MechError::at(
+                    &format!("events[{ei}].when"),
+                    format!(
+                        "{e} in \"{}\" (an event may use t, body columns such as bar.angle, points such as bar.A.x or bar.A.vy, energy, and reaction columns such as pivot.Fy)",
+                        ev.when
+                    ),
+                )
+            })?;
+            let uses_reactions = self.g.vars(expr).iter().any(|&s| s as usize >= base);
+            out.push(EventFunction {
+                name: ev.name.clone(),
+                when: ev.when.clone(),
+                expr,
+                direction: ev.direction,
+                action: ev.action,
+                uses_reactions,
+            });
+        }
+        Ok(out)
+    }
+
+    /// How joint `j`'s reaction is read: the carrier body (second, or first when the second
+    /// is ground), its velocities, `B = ∂(V_P, ω)/∂v_b` and the lever `P_1 − P_2`.
+    #[allow(clippy::too_many_arguments)]
+    fn joint_reaction(
+        &mut self,
+        name: &str,
+        kind: &JointKind,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        pa: &PointKinematics,
+        pb: &PointKinematics,
+        rows: std::ops::Range<usize>,
+    ) -> JointReaction {
+        let flip = matches!(kb, BodyKinematics::Ground);
+        let (k, p) = if flip { (ka, pa) } else { (kb, pb) };
+        let nq = self.coords.len() as u32;
+        let g = &mut self.g;
+        let (slots, omega): (Vec<u32>, Vec<Expr>) = match k {
+            BodyKinematics::Ground => (vec![], vec![]),
+            BodyKinematics::PlanarInertial { vx, vy, omega, .. } => match omega {
+                Some(w) => (vec![*vx, *vy, *w], vec![g.var(*w)]),
+                None => (vec![*vx, *vy], vec![]),
+            },
+            BodyKinematics::PlanarBodyFixed { u, w, omega, .. } => {
+                (vec![*u, *w, *omega], vec![g.var(*omega)])
+            }
+            BodyKinematics::Particle { v, .. } => (v.to_vec(), vec![]),
+            BodyKinematics::Spatial { v, w, .. } => {
+                let rot = k.rotation3(g);
+                let we: Vec<Expr> = w.iter().map(|&s| g.var(s)).collect();
+                let om = (0..3).map(|i| g.dot(&rot[i], &we)).collect();
+                (v.iter().chain(w).copied().collect(), om)
+            }
+        };
+        let mut basis = Vec::new();
+        for &e in p.velocity.iter().chain(&omega) {
+            for &s in &slots {
+                basis.push(g.diff(e, s));
+            }
+        }
+        let lever = (0..pa.position.len())
+            .map(|i| g.sub(pa.position[i], pb.position[i]))
+            .collect();
+        JointReaction {
+            joint: name.to_string(),
+            rows: rows.collect(),
+            velocities: slots.iter().map(|&s| (s - 1 - nq) as usize).collect(),
+            dim: pa.position.len(),
+            rotations: omega.len(),
+            flip,
+            moment: transmits_moment(kind),
+            basis,
+            lever,
+        }
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn joints(&mut self) -> Result<(Vec<Expr>, Vec<ConstraintRow>, Vec<JointReaction>), MechError> {
         let mut g_rows = Vec::new();
         let mut meta = Vec::new();
+        let mut reactions = Vec::new();
         let axes = ["x", "y", "z"];
         for (ji, j) in self.scene.joints.iter().enumerate() {
+            let first_row = g_rows.len();
             let path = format!("joints[{ji}]");
             let pa = self.point(&j.bodies[0], &j.points[0], &format!("{path}.points[0]"))?;
             let pb = self.point(&j.bodies[1], &j.points[1], &format!("{path}.points[1]"))?;
@@ -1014,8 +1127,10 @@ impl<'a> Assembler<'a> {
                     }
                 }
             }
+            let rows = first_row..g_rows.len();
+            reactions.push(self.joint_reaction(&j.name, &j.kind, &ka, &kb, &pa, &pb, rows));
         }
-        Ok((g_rows, meta))
+        Ok((g_rows, meta, reactions))
     }
 
     /// `α_b − α_a − (α_b0 − α_a0)`, when both angles are modelled (or ground).
@@ -1184,7 +1299,7 @@ impl<'a> Assembler<'a> {
                     expr: energy,
                     unwrap: false,
                 }),
-                "constraint_error" => {}
+                "constraint_error" | "reactions" => {}
                 _ => {
                     if cols.iter().any(|c| &c.name == o) {
                         continue;
@@ -1286,4 +1401,18 @@ fn planar_inertia(i: &Inertia) -> f64 {
         Inertia::Planar(j) => *j,
         Inertia::Principal(j) => j[2],
     }
+}
+
+/// The first damper or load of `scene` that exchanges energy with the mechanism, named by its
+/// JSON path: the energy column (kinetic + gravity + springs) is conserved only without them.
+fn energy_exchange(scene: &Scene) -> Option<String> {
+    if let Some((i, l)) = scene.loads.iter().enumerate().next() {
+        return Some(format!("loads[{i}] ('{}') does work", l.name));
+    }
+    scene
+        .springs
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.damping != 0.0)
+        .map(|(i, s)| format!("springs[{i}] ('{}') has damping {}", s.name, s.damping))
 }

@@ -4,15 +4,20 @@
 //! * [`body`]: the kinematics of planar (16.3, 16.8) and spatial (16.1–16.2) bodies.
 //! * [`assemble`](mod@assemble): scene → [`MultibodySystem`].
 //! * [`system`]: the system `q' = K(q) v`, `M v' = Q − G_vᵀ λ`, `g(q) = 0`.
+//! * [`reactions`]: joint forces and moments from the constraint forces.
 
 pub mod assemble;
 pub mod body;
 pub mod bondgraph;
+pub mod reactions;
 pub mod system;
 
 pub use assemble::assemble;
 pub use bondgraph::{scene_bond_graph, Variant};
-pub use system::{ConstraintRow, Coordinate, JointViolation, MultibodySystem, OutputColumn};
+pub use reactions::JointReaction;
+pub use system::{
+    ConstraintRow, Coordinate, EventFunction, JointViolation, MultibodySystem, OutputColumn,
+};
 
 /// A mechanism that cannot be built, with the JSON path of the culprit.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -15,7 +15,9 @@
 //! Expressions live in one [`ExprGraph`] whose variable slots follow the *state layout*
 //! `[t, q_0 … q_{nq−1}, v_0 … v_{nv−1}]`; formulations append their own unknowns after it.
 
+use super::reactions::JointReaction;
 use crate::expr::{Expr, ExprGraph};
+use crate::scene::{EventAction, EventDirection};
 
 /// What a generalized coordinate stands for (used for names, diagnostics and outputs).
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +47,25 @@ pub struct OutputColumn {
     /// Angles whose continuous (unwrapped) value must be restored after evaluation
     /// (Cardan angles computed with `atan2`).
     pub unwrap: bool,
+}
+
+/// A scene event ready for root finding: its `when` as an expression over the *event layout*
+/// `[t, q, v, r]`, where `r` are the reaction columns of every joint in order
+/// ([`MultibodySystem::reactions`]), so an event may watch a joint force.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventFunction {
+    /// Event name (as in the scene).
+    pub name: String,
+    /// The `when` expression as written (for messages).
+    pub when: String,
+    /// The function whose zero crossings are the event.
+    pub expr: Expr,
+    /// Which crossings count.
+    pub direction: EventDirection,
+    /// Stop the run, or record a row.
+    pub action: EventAction,
+    /// Whether `expr` depends on reaction columns (then the runner computes them).
+    pub uses_reactions: bool,
 }
 
 /// How far the user's initial configuration is from satisfying one joint.
@@ -89,6 +110,15 @@ pub struct MultibodySystem {
     pub outputs: Vec<OutputColumn>,
     /// Non-fatal remarks found while building (unconnected bodies, unmodelled rotations, …).
     pub warnings: Vec<String>,
+    /// How each joint's reaction is read from its constraint forces, in the scene's order.
+    pub reactions: Vec<JointReaction>,
+    /// Whether the reaction columns are written (`"outputs": ["reactions"]`).
+    pub reaction_outputs: bool,
+    /// The scene's events.
+    pub events: Vec<EventFunction>,
+    /// Why the mechanical energy is not conserved (the first damper or load that exchanges
+    /// energy with the mechanism, e.g. `loads[0] ('gas') does work`); `None` when it is.
+    pub energy_exchange: Option<String>,
 }
 
 impl MultibodySystem {
@@ -184,6 +214,11 @@ impl MultibodySystem {
             v.norm = v.rows.iter().map(|(_, r)| r * r).sum::<f64>().sqrt();
         }
         out
+    }
+
+    /// Names of every joint's reaction columns, in order (the `r` part of the event layout).
+    pub fn reaction_columns(&self) -> Vec<String> {
+        self.reactions.iter().flat_map(|r| r.columns()).collect()
     }
 
     /// Index of the output column called `name`.

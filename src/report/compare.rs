@@ -15,6 +15,10 @@ pub enum ColumnKind {
     Velocity,
     /// An angular velocity (rad/s).
     AngularVelocity,
+    /// A joint reaction force component `J.Fx`, `J.Fy`, `J.Fz` (N).
+    Force,
+    /// A joint reaction moment component `J.Mx`, `J.My`, `J.Mz` (N·m).
+    Moment,
     /// Energy, constraint error and anything else.
     Other,
 }
@@ -27,6 +31,8 @@ pub fn column_kind(name: &str) -> ColumnKind {
         "angle" | "psi" | "theta" | "phi" => ColumnKind::Angle,
         "vx" | "vy" | "vz" => ColumnKind::Velocity,
         "omega" | "wx" | "wy" | "wz" | "wX" | "wY" | "wZ" => ColumnKind::AngularVelocity,
+        "Fx" | "Fy" | "Fz" => ColumnKind::Force,
+        "Mx" | "My" | "Mz" => ColumnKind::Moment,
         _ => ColumnKind::Other,
     }
 }
@@ -77,7 +83,8 @@ fn attitude_difference(body: &str, dae: &Solution, dec: &Solution, best: &mut La
     let (Some(x), Some(y), Some(z)) = (col(dec, "psi"), col(dec, "theta"), col(dec, "phi")) else {
         return;
     };
-    for (k, (ra, rb)) in dae.rows.iter().zip(&dec.rows).enumerate() {
+    for (k, kb) in paired_rows(dae, dec) {
+        let (ra, rb) = (&dae.rows[k], &dec.rows[kb]);
         let ma = cardan_matrix(ra[a], ra[b], ra[c]);
         let mb = cardan_matrix(rb[x], rb[y], rb[z]);
         let trace: f64 = (0..3)
@@ -102,6 +109,23 @@ fn attitude_difference(body: &str, dae: &Solution, dec: &Solution, best: &mut La
     }
 }
 
+/// Row pairs `(k_dae, k_dec)` at the same time: the output times both runs share (event rows,
+/// at times only one run has, are left out).
+fn paired_rows(dae: &Solution, dec: &Solution) -> Vec<(usize, usize)> {
+    let mut out = Vec::with_capacity(dae.times.len());
+    let mut j = 0;
+    for (k, &t) in dae.times.iter().enumerate() {
+        while j < dec.times.len() && dec.times[j] < t {
+            j += 1;
+        }
+        if j < dec.times.len() && dec.times[j] == t {
+            out.push((k, j));
+            j += 1;
+        }
+    }
+    out
+}
+
 /// The result of `bondmech compare`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Comparison {
@@ -114,6 +138,10 @@ pub struct Comparison {
     pub velocity: LargestDifference,
     /// Largest angular velocity difference (rad/s).
     pub angular_velocity: LargestDifference,
+    /// Largest joint reaction force difference (N; reaction columns present in both runs).
+    pub force: LargestDifference,
+    /// Largest joint reaction moment difference (N·m).
+    pub moment: LargestDifference,
     /// DAE run.
     pub dae: Summary,
     /// Decoupled run.
@@ -124,6 +152,8 @@ impl Comparison {
     /// Compares two solutions at the same output times.
     pub fn new(dae: &Solution, dec: &Solution) -> Comparison {
         let mut best = [
+            LargestDifference::default(),
+            LargestDifference::default(),
             LargestDifference::default(),
             LargestDifference::default(),
             LargestDifference::default(),
@@ -142,13 +172,15 @@ impl Comparison {
                 ColumnKind::Angle => 1,
                 ColumnKind::Velocity => 2,
                 ColumnKind::AngularVelocity => 3,
+                ColumnKind::Force => 4,
+                ColumnKind::Moment => 5,
                 ColumnKind::Other => continue,
             };
             let Some(cj) = dec.columns.iter().position(|n| n == name) else {
                 continue;
             };
-            for (k, (ra, rb)) in dae.rows.iter().zip(&dec.rows).enumerate() {
-                let d = (ra[ci] - rb[cj]).abs();
+            for (k, kb) in paired_rows(dae, dec) {
+                let d = (dae.rows[k][ci] - dec.rows[kb][cj]).abs();
                 if d > best[slot].value || (d.is_nan() && !best[slot].value.is_nan()) {
                     best[slot] = LargestDifference {
                         value: d,
@@ -158,12 +190,14 @@ impl Comparison {
                 }
             }
         }
-        let [position, angle, velocity, angular_velocity] = best;
+        let [position, angle, velocity, angular_velocity, force, moment] = best;
         Comparison {
             position,
             angle,
             velocity,
             angular_velocity,
+            force,
+            moment,
             dae: dae.summary.clone(),
             decoupled: dec.summary.clone(),
         }
@@ -178,6 +212,8 @@ impl Comparison {
             ("angle (rad)", &self.angle),
             ("velocity (m/s)", &self.velocity),
             ("angular velocity (rad/s)", &self.angular_velocity),
+            ("reaction force (N)", &self.force),
+            ("reaction moment (N·m)", &self.moment),
         ] {
             if d.column.is_empty() {
                 continue;
@@ -226,8 +262,8 @@ impl Comparison {
             ),
             (
                 "energy drift (rel.)",
-                format!("{:.3e}", a.energy_drift),
-                format!("{:.3e}", b.energy_drift),
+                drift_cell(a.energy_drift),
+                drift_cell(b.energy_drift),
             ),
             ("compliance ε", format!("{:.1e}", a.compliance), "-".into()),
             (
@@ -259,6 +295,11 @@ impl Comparison {
         }
         s
     }
+}
+
+/// `1.234e-7`, or `- (not conserved)` where the scene exchanges energy.
+fn drift_cell(d: Option<f64>) -> String {
+    d.map_or_else(|| "- (not conserved)".into(), |d| format!("{d:.3e}"))
 }
 
 #[cfg(test)]

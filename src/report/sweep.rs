@@ -419,7 +419,7 @@ pub fn run_sweep(
         )));
     }
     let mut base = model.default_options();
-    base.max_steps = Some(base.max_steps.unwrap_or(100_000).max(1_000_000));
+    // no step cap unless the scene sets one: a sweep point runs to its end (issue 12)
     if let Some(t) = cfg.t_end {
         if !(t > 0.0 && t.is_finite()) {
             return Err(Error::Options(format!(

@@ -15,6 +15,7 @@ pub const SCALAR_OUTPUTS: &[&str] = &[
     "kinetic_energy",
     "potential_energy",
     "constraint_error",
+    "reactions",
 ];
 
 /// Standard per-body columns a `b.<column>` output or expression may name.
@@ -42,8 +43,10 @@ pub struct Scene {
     pub loads: Vec<Load>,
     /// Solver settings.
     pub solve: SolveSettings,
-    /// Extra output columns (`"bar2.A"`, `"energy"`, `"constraint_error"`).
+    /// Extra output columns (`"bar2.A"`, `"energy"`, `"constraint_error"`, `"reactions"`).
     pub outputs: Vec<String>,
+    /// Events found by root finding while solving (`"events"`).
+    pub events: Vec<Event>,
     /// A raw bond graph given instead of bodies and joints (validated by `bond`).
     pub bond_graph: Option<serde_json::Value>,
     /// Free text, e.g. the seed figure the scene follows.
@@ -251,6 +254,74 @@ impl Load {
     }
 }
 
+/// Which zero crossings of an event's `when` expression count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EventDirection {
+    /// `"rising"`: `when` passes zero from below.
+    Rising,
+    /// `"falling"`: `when` passes zero from above.
+    Falling,
+    /// `"both"` (the default): either way.
+    #[default]
+    Both,
+}
+
+impl EventDirection {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventDirection::Rising => "rising",
+            EventDirection::Falling => "falling",
+            EventDirection::Both => "both",
+        }
+    }
+
+    /// Whether a crossing in direction `sign` (+1 rising, −1 falling, as SUNDIALS reports it)
+    /// counts.
+    pub fn accepts(self, sign: i32) -> bool {
+        match self {
+            EventDirection::Rising => sign > 0,
+            EventDirection::Falling => sign < 0,
+            EventDirection::Both => sign != 0,
+        }
+    }
+}
+
+/// What happens when an event fires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EventAction {
+    /// `"stop"`: the run ends there, successfully; the event row is the last row.
+    Stop,
+    /// `"record"` (the default): a row is written at the event time and the run goes on.
+    #[default]
+    Record,
+}
+
+impl EventAction {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventAction::Stop => "stop",
+            EventAction::Record => "record",
+        }
+    }
+}
+
+/// An event: a zero crossing of `when`, located by the integrator's root finding.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    /// Name (default `"event<i>"`), reported in the summary's `events`.
+    pub name: String,
+    /// Expression in `t` and the output columns (standard body columns, point coordinates
+    /// and velocities `b.P.x`, `energy`, reaction columns `J.Fx`, …); the event fires where
+    /// it crosses zero.
+    pub when: String,
+    /// Which crossings count.
+    pub direction: EventDirection,
+    /// Stop the run or record a row.
+    pub action: EventAction,
+}
+
 /// How the mechanism is turned into equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Formulation {
@@ -298,11 +369,14 @@ impl Formulation {
 pub struct SolveSettings {
     /// Formulation (default `dae`).
     pub formulation: Formulation,
-    /// End time in s (> 0, required).
+    /// Time of the initial state given by the bodies, in s (default 0).
+    pub t_start: f64,
+    /// End time in s (> `t_start`, required).
     pub t_end: f64,
     /// Output interval (default `t_end / 100` when neither this nor `output_times` is given).
     pub output_step: Option<f64>,
-    /// Explicit output times, strictly increasing in `[0, t_end]`.
+    /// Explicit output times, strictly increasing in `[t_start, t_end]`: when rows are written
+    /// (the motion always starts at `t_start`; the list need not contain it).
     pub output_times: Option<Vec<f64>>,
     /// Relative tolerance (default 1e-6).
     pub rtol: f64,
@@ -312,7 +386,7 @@ pub struct SolveSettings {
     pub joint_stiffness: f64,
     /// Damping of the decoupling springs in N·s/m (default 0).
     pub joint_damping: f64,
-    /// Step budget (none by default).
+    /// Step budget over the whole run (none by default).
     pub max_steps: Option<u64>,
     /// Wall-clock budget in s (none by default).
     pub max_wall_seconds: Option<f64>,
@@ -332,6 +406,7 @@ impl SolveSettings {
     pub fn with_t_end(t_end: f64) -> Self {
         SolveSettings {
             formulation: Formulation::Dae,
+            t_start: 0.0,
             t_end,
             output_step: None,
             output_times: None,
@@ -351,30 +426,40 @@ impl Scene {
         self.bodies.iter().position(|b| b.name == name)
     }
 
-    /// The output times: `output_times` if given, else `0, h, 2h, ...` up to and
-    /// including `t_end` (the last interval may be shorter), with `h = output_step`
-    /// or `t_end / 100`.
+    /// The output times: `output_times` if given, else `t_start, t_start + h, …` up to and
+    /// including `t_end` (the last interval may be shorter), with `h = output_step` or
+    /// `(t_end − t_start) / 100`. The motion starts at `t_start` whether or not it is listed.
     pub fn output_times(&self) -> Vec<f64> {
         let s = &self.solve;
         if let Some(times) = &s.output_times {
             return times.clone();
         }
-        let t_end = s.t_end;
-        if !(t_end > 0.0 && t_end.is_finite()) {
-            return vec![0.0];
-        }
-        let h = match s.output_step {
-            Some(h) if h > 0.0 && h.is_finite() => h,
-            _ => t_end / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
-        };
-        let tol = 1e-9 * t_end;
-        // At most 10^7 intervals (validation refuses more), so this never hangs.
-        let n = ((t_end + tol) / h).floor().min(1e7) as usize;
-        let mut times: Vec<f64> = (0..=n).map(|k| k as f64 * h).collect();
-        match times.last_mut() {
-            Some(last) if (t_end - *last).abs() <= tol => *last = t_end,
-            _ => times.push(t_end),
-        }
-        times
+        output_grid(s.t_start, s.t_end, s.output_step)
     }
+}
+
+/// `t_start, t_start + h, …, t_end` (the last one exactly `t_end`, the last interval possibly
+/// shorter), with `h = step` or `(t_end − t_start) / 100` when `step` is `None`; at most 10⁷
+/// intervals (validation refuses more), so it never hangs. `[t_start]` when the span is empty.
+///
+/// ```
+/// assert_eq!(bondmech::scene::output_grid(0.5, 1.5, Some(0.5)), vec![0.5, 1.0, 1.5]);
+/// ```
+pub fn output_grid(t_start: f64, t_end: f64, step: Option<f64>) -> Vec<f64> {
+    let span = t_end - t_start;
+    if !(span > 0.0 && span.is_finite() && t_start.is_finite()) {
+        return vec![t_start];
+    }
+    let h = match step {
+        Some(h) if h > 0.0 && h.is_finite() => h.min(span),
+        _ => span / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
+    };
+    let tol = 1e-9 * span;
+    let n = ((span + tol) / h).floor().min(1e7) as usize;
+    let mut times: Vec<f64> = (0..=n).map(|k| t_start + k as f64 * h).collect();
+    match times.last_mut() {
+        Some(last) if (t_end - *last).abs() <= tol => *last = t_end,
+        _ => times.push(t_end),
+    }
+    times
 }

@@ -214,6 +214,7 @@ const SCENE_KEYS: &[&str] = &[
     "loads",
     "solve",
     "outputs",
+    "events",
     "bond_graph",
 ];
 
@@ -283,6 +284,12 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .enumerate()
         .filter_map(|(i, o)| string(p, &index("outputs", i), o))
         .collect();
+    let events = f
+        .array(p, "events")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| event(p, i, e))
+        .collect();
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
         name,
@@ -294,8 +301,51 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         loads,
         solve,
         outputs,
+        events,
         bond_graph,
         description,
+    })
+}
+
+const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
+
+fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
+    let path = index("events", i);
+    let f = Fields::new(p, &path, j, EVENT_KEYS)?;
+    let name = f.string(p, "name").unwrap_or_else(|| format!("event{i}"));
+    let when = f
+        .required(p, "when")
+        .and_then(|j| string(p, &f.path("when"), j));
+    let direction = match f.string(p, "direction").as_deref() {
+        None => Some(EventDirection::Both),
+        Some("rising") => Some(EventDirection::Rising),
+        Some("falling") => Some(EventDirection::Falling),
+        Some("both") => Some(EventDirection::Both),
+        Some(other) => {
+            p.push(
+                f.path("direction"),
+                format!("must be \"rising\", \"falling\" or \"both\" (got \"{other}\")"),
+            );
+            None
+        }
+    };
+    let action = match f.string(p, "action").as_deref() {
+        None => Some(EventAction::Record),
+        Some("stop") => Some(EventAction::Stop),
+        Some("record") => Some(EventAction::Record),
+        Some(other) => {
+            p.push(
+                f.path("action"),
+                format!("must be \"stop\" or \"record\" (got \"{other}\")"),
+            );
+            None
+        }
+    };
+    Some(Event {
+        name,
+        when: when?,
+        direction: direction?,
+        action: action?,
     })
 }
 
@@ -649,6 +699,7 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
 
 const SOLVE_KEYS: &[&str] = &[
     "formulation",
+    "t_start",
     "t_end",
     "output_step",
     "output_times",
@@ -672,6 +723,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             Formulation::Dae
         }),
     };
+    let t_start = f.number(p, "t_start").unwrap_or(0.0);
     let t_end = f.required_number(p, "t_end");
     let output_step = f.number(p, "output_step");
     let output_times = f.vector(p, "output_times");
@@ -695,6 +747,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
     let max_wall_seconds = f.number(p, "max_wall_seconds");
     Some(SolveSettings {
         formulation,
+        t_start,
         t_end: t_end?,
         output_step,
         output_times,

@@ -9,7 +9,8 @@
 //! plane, a spatial revolute (hinge) with an axis and a planar one without, t_end > 0, output_step in (0, t_end],
 //! output_times strictly increasing in [0, t_end], positive rtol, atol and
 //! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
-//! naming known bodies/points, and bodies or a bond graph present.
+//! naming known bodies/points, events with unique names and non-empty `when` (their
+//! expressions are parsed when the model is built), and bodies or a bond graph present.
 //!
 //! Warnings (not refusals): bodies that no joint, spring or load touches.
 
@@ -66,6 +67,36 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
     solve(&mut p, &scene.solve);
     for (i, o) in scene.outputs.iter().enumerate() {
         output(&mut p, scene, &index("outputs", i), o);
+    }
+    let mut event_names: Vec<&str> = Vec::new();
+    for (i, e) in scene.events.iter().enumerate() {
+        let path = index("events", i);
+        if e.name.is_empty() {
+            p.push(field(&path, "name"), "must not be empty");
+        } else if event_names.contains(&e.name.as_str()) {
+            p.push(
+                field(&path, "name"),
+                format!("duplicate event name '{}'", e.name),
+            );
+        }
+        event_names.push(&e.name);
+        if e.when.trim().is_empty() {
+            p.push(field(&path, "when"), "must be a non-empty expression");
+        }
+        if scene.bond_graph.is_some() {
+            p.push(
+                path,
+                "events need bodies and joints (a raw bond graph has no event support)",
+            );
+        }
+    }
+    if scene.bond_graph.is_some() && scene.outputs.iter().any(|o| o == "reactions") {
+        if let Some(i) = scene.outputs.iter().position(|o| o == "reactions") {
+            p.push(
+                index("outputs", i),
+                "reactions need joints (a raw bond graph has none)",
+            );
+        }
     }
     p.list
 }
@@ -384,18 +415,28 @@ fn expression(p: &mut Problems, path: &str, s: &str) {
 
 fn solve(p: &mut Problems, s: &SolveSettings) {
     positive(p, "solve.t_end", s.t_end);
+    let t0 = s.t_start;
+    if !t0.is_finite() {
+        p.push("solve.t_start", format!("must be finite (got {t0})"));
+    } else if s.t_end.is_finite() && s.t_end <= t0 {
+        p.push(
+            "solve.t_end",
+            format!("must be > t_start = {t0} (got {})", s.t_end),
+        );
+    }
+    let span = s.t_end - if t0.is_finite() { t0 } else { 0.0 };
     if let Some(h) = s.output_step {
         if !(h > 0.0 && h.is_finite()) {
             p.push(
                 "solve.output_step",
                 format!("must be > 0 and finite (got {h})"),
             );
-        } else if s.t_end.is_finite() && h > s.t_end {
+        } else if span.is_finite() && span > 0.0 && h > span {
             p.push(
                 "solve.output_step",
-                format!("must be <= t_end = {} (got {h})", s.t_end),
+                format!("must be <= t_end - t_start = {span} (got {h})"),
             );
-        } else if s.t_end / h > MAX_OUTPUT_TIMES {
+        } else if span / h > MAX_OUTPUT_TIMES {
             p.push(
                 "solve.output_step",
                 format!("gives more than {MAX_OUTPUT_TIMES:e} output times"),
@@ -413,10 +454,10 @@ fn solve(p: &mut Problems, s: &SolveSettings) {
             p.push("solve.output_times", "needs at least one time");
         }
         for (k, t) in times.iter().enumerate() {
-            if !(t.is_finite() && *t >= 0.0 && *t <= s.t_end) {
+            if !(t.is_finite() && *t >= t0 && *t <= s.t_end) {
                 p.push(
                     index("solve.output_times", k),
-                    format!("must lie in [0, t_end = {}] (got {t})", s.t_end),
+                    format!("must lie in [{t0}, t_end = {}] (got {t})", s.t_end),
                 );
             }
         }

@@ -165,6 +165,9 @@ fn solve(s: &SolveSettings) -> Json {
         ("formulation", text(s.formulation.as_str())),
         ("t_end", num(s.t_end)),
     ];
+    if s.t_start != 0.0 {
+        e.insert(1, ("t_start", num(s.t_start)));
+    }
     if let Some(h) = s.output_step {
         e.push(("output_step", num(h)));
     }
@@ -208,6 +211,24 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
         "outputs",
         Json::Array(s.outputs.iter().map(|o| text(o)).collect()),
     ));
+    if !s.events.is_empty() {
+        e.push((
+            "events",
+            Json::Array(
+                s.events
+                    .iter()
+                    .map(|ev| {
+                        obj(vec![
+                            ("name", text(&ev.name)),
+                            ("when", text(&ev.when)),
+                            ("direction", text(ev.direction.as_str())),
+                            ("action", text(ev.action.as_str())),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ));
+    }
     if let Some(g) = &s.bond_graph {
         e.push(("bond_graph", Json::from_value(g)));
     }

@@ -197,18 +197,14 @@ fn longest_string(v: &Value, path: String, max: usize) -> Option<(String, usize)
 /// [`crate::Model::output_times_until`]), computed without building the list of times.
 pub fn row_count(scene: &Scene, t_end: Option<f64>) -> f64 {
     let s = &scene.solve;
-    match t_end {
-        Some(t) => {
-            let step = s.output_step.unwrap_or(t / 100.0).min(t);
-            (t / step - 1e-9).ceil().max(1.0) + 1.0
+    let t0 = s.t_start;
+    let t1 = t_end.unwrap_or(s.t_end);
+    match &s.output_times {
+        Some(times) => times.iter().filter(|&&t| t <= t1).count() as f64,
+        None => {
+            let h = s.output_step.unwrap_or((t1 - t0) / 100.0);
+            ((t1 - t0) / h - 1e-9).ceil().max(1.0) + 1.0
         }
-        None => match &s.output_times {
-            Some(times) => times.len() as f64,
-            None => {
-                let h = s.output_step.unwrap_or(s.t_end / 100.0);
-                (s.t_end / h).floor() + 2.0
-            }
-        },
     }
 }
 

@@ -261,6 +261,11 @@ pub fn library_problem(e: &Error, budget: Budget) -> Problem {
     let unprocessable = |kind, title, detail: String| {
         Problem::new(StatusCode::UNPROCESSABLE_ENTITY, kind, title, detail)
     };
+    // a solve stopped before its end: the cause decides the answer (the service keeps the
+    // rows itself, through the streaming observer)
+    if let Error::Incomplete { cause, .. } = e {
+        return library_problem(cause, budget);
+    }
     if let Error::Scene(se) = e {
         if !se.problems().is_empty() {
             return invalid_scene(
@@ -348,6 +353,15 @@ impl Failure {
     }
 }
 
+/// The columns of the model's rows (without `t`), known before solving: the mechanism's
+/// output columns, or those of a raw bond graph's causal equations.
+pub fn model_columns(model: &Model) -> crate::Result<Vec<String>> {
+    match model.columns() {
+        Some(c) => Ok(c),
+        None => crate::solve::bond_run::bond_graph_columns(&model.bond_graph()?),
+    }
+}
+
 /// What a solve job hands its caller before the first row: the columns (with `t`) and the
 /// number of rows asked for.
 pub type OnStart<'a> = &'a mut dyn FnMut(&[String], usize);
@@ -367,11 +381,8 @@ pub fn solve_rows(
     let budget = Budget::of(scene, limits);
     let model = Model::new(scene).map_err(|e| Failure::before(library_problem(&e, budget)))?;
     let mut columns = vec!["t".to_string()];
-    columns.extend(
-        model
-            .columns()
-            .map_err(|e| Failure::before(library_problem(&e, budget)))?,
-    );
+    columns
+        .extend(model_columns(&model).map_err(|e| Failure::before(library_problem(&e, budget)))?);
     let opts = options(&model, params, budget, limits).map_err(Failure::before)?;
     let n_rows = opts.output_times.len();
     on_start(&columns, n_rows);

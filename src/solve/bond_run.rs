@@ -9,16 +9,19 @@
 //! `summary.max_constraint_error` is the largest `|φ_d − p_d/m_d|` at the output times and
 //! `summary.energy_drift` the largest `|E(t) − E(0)|` relative to `max(|E(0)|, max E)`.
 
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use cpu_time::ThreadTime;
 
 use super::options::{FormulationKind, SolveOptions};
-use super::run::{Solution, Summary};
+use super::run::{
+    from_t_start, is_budget, set_completed, set_energy, stopped, Row, Solution, Summary,
+};
 use crate::bond::assign_causality;
 use crate::bond::equations::{BondEquations, VariableKind};
 use crate::bond::json::RawBondGraph;
-use crate::bond::model::BondGraph;
+use crate::bond::model::{BondGraph, ElementKind, Parameter};
 use crate::dae::ImplicitDae;
 use crate::expr::Tape;
 use crate::scene::{Formulation, Scene};
@@ -47,14 +50,18 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
 pub fn raw_bond_graph_options(scene: &Scene) -> SolveOptions {
     let s = &scene.solve;
     SolveOptions {
+        // decoupled and compliant_ggl are kept, so that solving refuses them by name
         formulation: match s.formulation {
             Formulation::Index1 => FormulationKind::Index1,
+            Formulation::Decoupled => FormulationKind::Decoupled,
+            Formulation::CompliantGgl => FormulationKind::CompliantGgl,
             _ => FormulationKind::Ggl,
         },
         rtol: s.rtol,
         atol: s.atol,
+        t_start: s.t_start,
         output_times: scene.output_times(),
-        max_steps: s.max_steps.or(Some(100_000)),
+        max_steps: s.max_steps,
         max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
         ..SolveOptions::default()
     }
@@ -166,6 +173,43 @@ fn fill_stats(summary: &mut Summary, s: &SolverStats) {
 /// Errors: invalid graph, causal conflicts (redundant constraints), declared signals (a raw
 /// scene has nothing to supply them), no consistent start, solver failure.
 pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, Error> {
+    solve_bond_graph_streaming(g, opts, &mut |_| ControlFlow::Continue(()))
+}
+
+/// [`solve_bond_graph`], handing each output row to `observer` as soon as it is computed
+/// (`ControlFlow::Break(())` stops early; the solution then ends with that row). The motion
+/// starts at `opts.t_start`; rows are written at `opts.output_times`.
+pub fn solve_bond_graph_streaming(
+    g: &BondGraph,
+    opts: &SolveOptions,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    from_t_start(opts, observer, |opts, observer| {
+        solve_from_first_output(g, opts, observer)
+    })
+}
+
+/// Why a bond graph's stored energy `Σ p²/2m + Σ q²/2C` is not conserved: its first resistor
+/// or source that delivers power (a constant zero source does not); `None` when it is.
+fn energy_exchange(g: &BondGraph) -> Option<String> {
+    g.elements
+        .iter()
+        .find_map(|e| match (e.kind, &e.parameter) {
+            (ElementKind::R, _) => Some(format!("resistor '{}' dissipates energy", e.name)),
+            (ElementKind::Se | ElementKind::Sf, Some(Parameter::Const(v))) if *v == 0.0 => None,
+            (ElementKind::Se | ElementKind::Sf, _) => {
+                Some(format!("source '{}' delivers power", e.name))
+            }
+            _ => None,
+        })
+}
+
+/// [`solve_bond_graph_streaming`] with the first output time as the start time.
+fn solve_from_first_output(
+    g: &BondGraph,
+    opts: &SolveOptions,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
     let clock = ThreadTime::now();
     let t0 = *opts
         .output_times
@@ -212,24 +256,33 @@ pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, 
         let cv_opts = CvodeOptions {
             rtol: opts.rtol,
             atol: vec![opts.atol],
-            max_steps: opts.max_steps,
+            max_steps: Some(u64::MAX),
+            max_total_steps: opts.max_steps,
             max_wall_clock: opts.max_wall_clock,
             stop_time: opts.output_times.last().copied(),
             ..CvodeOptions::default()
         };
         let run = ThreadTime::now();
         let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
-        sol.times.push(t0);
-        sol.rows.push(out.row(t0, &y0));
+        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
         for &t in &opts.output_times[1..] {
+            if stop {
+                break;
+            }
             match cv.solve_to(t) {
                 Ok(step) => {
-                    sol.times.push(step.t);
-                    sol.rows.push(out.row(step.t, cv.y()));
+                    stop = emit(&mut sol, observer, step.t, out.row(step.t, cv.y()));
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &cv.stats());
-                    return Err(Error::Solver(e));
+                    summary.cpu_seconds = run.elapsed().as_secs_f64();
+                    finish(&mut summary, &out, g);
+                    let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
+                        let mut y = vec![0.0; cv.y().len()];
+                        cv.dky(tr, 0, &mut y).ok()?;
+                        Some((tr, out.row(tr, &y)))
+                    });
+                    return Err(stopped(e, sol, summary, last));
                 }
             }
         }
@@ -270,7 +323,8 @@ pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, 
         let ida_opts = IdaOptions {
             rtol: opts.rtol,
             atol,
-            max_steps: opts.max_steps,
+            max_steps: Some(u64::MAX),
+            max_total_steps: opts.max_steps,
             max_wall_clock: opts.max_wall_clock,
             id: Some(id),
             suppress_alg: true,
@@ -298,25 +352,52 @@ pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, 
         );
         let run = ThreadTime::now();
         let mut ida = Ida::new(t0, &y0, &yp0, residual, Some(jacobian), &ida_opts)?;
-        sol.times.push(t0);
-        sol.rows.push(out.row(t0, &y0));
+        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
         for &t in &opts.output_times[1..] {
+            if stop {
+                break;
+            }
             match ida.solve_to(t) {
                 Ok(step) => {
-                    sol.times.push(step.t);
-                    sol.rows.push(out.row(step.t, ida.y()));
+                    stop = emit(&mut sol, observer, step.t, out.row(step.t, ida.y()));
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &ida.stats());
-                    return Err(Error::Solver(e));
+                    summary.cpu_seconds = run.elapsed().as_secs_f64();
+                    finish(&mut summary, &out, g);
+                    let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
+                        let mut y = vec![0.0; ida.y().len()];
+                        ida.dky(tr, 0, &mut y).ok()?;
+                        Some((tr, out.row(tr, &y)))
+                    });
+                    return Err(stopped(e, sol, summary, last));
                 }
             }
         }
         summary.cpu_seconds = run.elapsed().as_secs_f64();
         fill_stats(&mut summary, &ida.stats());
     }
-    summary.max_constraint_error = out.max_c;
-    summary.energy_drift = out.drift();
+    finish(&mut summary, &out, g);
+    set_completed(&mut summary, &sol);
     sol.summary = summary;
     Ok(sol)
+}
+
+/// Constraint error and energy figures of the rows so far.
+fn finish(summary: &mut Summary, out: &Outputs, g: &BondGraph) {
+    summary.max_constraint_error = out.max_c;
+    set_energy(summary, out.drift(), energy_exchange(g).as_deref());
+}
+
+/// Appends a row and hands it to the observer; `true` when the observer asks to stop.
+fn emit(
+    sol: &mut Solution,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    t: f64,
+    row: Vec<f64>,
+) -> bool {
+    let brk = observer(Row { t, values: &row }).is_break();
+    sol.times.push(t);
+    sol.rows.push(row);
+    brk
 }

@@ -3,7 +3,8 @@
 
 pub mod bond_run;
 pub mod options;
+mod reactions;
 pub mod run;
 
 pub use options::{FormulationKind, SolveOptions};
-pub use run::{solve_system, Row, SingularPassage, Solution, Summary};
+pub use run::{solve_system, EventRecord, Row, SingularPassage, Solution, Summary};

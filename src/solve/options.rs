@@ -55,9 +55,15 @@ pub struct SolveOptions {
     /// make the first Newton iterations fail at tight tolerances (the index-2 Newton matrix
     /// scales like 1/h²), looser ones change nothing.
     pub multiplier_atol: Option<f64>,
-    /// Output times (the first is the start time).
+    /// Time of the initial state (s). The motion starts here whatever the output times are.
+    pub t_start: f64,
+    /// Times at which rows are written: strictly increasing, none before `t_start`; they need
+    /// not contain `t_start` (a row is written there only if it is listed).
     pub output_times: Vec<f64>,
-    /// Step budget per output interval.
+    /// Step budget of the whole run (all output intervals, restarts and re-selections
+    /// together); `None` (the default): no cap, the run is bounded by `max_wall_clock` if
+    /// given. When it runs out the solve fails with [`crate::Error::Incomplete`], which keeps
+    /// the rows computed so far.
     pub max_steps: Option<u64>,
     /// Wall-clock budget of the whole solve (all output intervals, IDA restarts and index-1
     /// re-selections together), checked between internal steps; when it runs out the solve
@@ -105,8 +111,9 @@ impl Default for SolveOptions {
             rtol: 1e-6,
             atol: 1e-8,
             multiplier_atol: None,
+            t_start: 0.0,
             output_times: (0..=100).map(|i| i as f64 * 0.01).collect(),
-            max_steps: Some(100_000),
+            max_steps: None,
             max_wall_clock: None,
             joint_stiffness: 1e8,
             joint_damping: 0.0,
@@ -119,6 +126,42 @@ impl Default for SolveOptions {
 }
 
 impl SolveOptions {
+    /// The times a runner integrates over: `t_start`, then the output times after it; and
+    /// whether the row at `t_start` is one the caller asked for (`output_times` lists it).
+    ///
+    /// ```
+    /// use bondmech::SolveOptions;
+    /// let o = SolveOptions { output_times: vec![0.5, 1.0], ..SolveOptions::default() };
+    /// assert_eq!(o.integration_times().unwrap(), (vec![0.0, 0.5, 1.0], false));
+    /// ```
+    pub fn integration_times(&self) -> Result<(Vec<f64>, bool), crate::Error> {
+        let t0 = self.t_start;
+        let bad = |m: String| Err(crate::Error::Options(m));
+        if !t0.is_finite() {
+            return bad(format!("t_start must be finite (got {t0})"));
+        }
+        if self.output_times.is_empty() {
+            return bad("output_times is empty".into());
+        }
+        if let Some(t) = self.output_times.iter().find(|t| !t.is_finite()) {
+            return bad(format!("output_times must be finite (got {t})"));
+        }
+        if self.output_times.windows(2).any(|w| w[1] <= w[0]) {
+            return bad("output_times must be strictly increasing".into());
+        }
+        if self.output_times[0] < t0 {
+            return bad(format!(
+                "output time {} is before t_start = {t0} (integration runs forward from the initial state)",
+                self.output_times[0]
+            ));
+        }
+        let listed = self.output_times[0] == t0;
+        let mut times = Vec::with_capacity(self.output_times.len() + 1);
+        times.push(t0);
+        times.extend(self.output_times.iter().copied().filter(|&t| t > t0));
+        Ok((times, listed))
+    }
+
     /// `0, h, 2h, …, t_end` (the last one exactly `t_end`).
     pub fn times(t_end: f64, step: f64) -> Vec<f64> {
         let n = (t_end / step - 1e-9).ceil().max(1.0) as usize;

@@ -17,14 +17,17 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
+use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_conditioning,
     select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
     ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
 };
-use crate::mech::MultibodySystem;
+use crate::mech::{EventFunction, MultibodySystem};
+use crate::scene::EventAction;
 use crate::sundials::{
     Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverError, SolverStats,
+    StepEvent,
 };
 use crate::Error;
 
@@ -59,8 +62,21 @@ pub struct Summary {
     pub build_cpu_seconds: f64,
     /// Largest |g(q)| at the output times (for the decoupled twin: the largest spring stretch).
     pub max_constraint_error: f64,
-    /// `max |E(t) − E(0)| / max(|E(0)|, max T)`.
-    pub energy_drift: f64,
+    /// `max |E(t) − E(0)| / max(|E(0)|, max T)` over the rows, reported only when the scene
+    /// conserves energy (`energy_check` = `conserved`); `None` (JSON `null`) otherwise.
+    pub energy_drift: Option<f64>,
+    /// `conserved` (no dampers, no loads, no resistors or sources: `energy_drift` measures
+    /// the integration's drift) or `not_conserved` (see `energy_note`).
+    pub energy_check: String,
+    /// Why energy is not conserved (the first damper, load, resistor or source that
+    /// exchanges it), or empty.
+    pub energy_note: String,
+    /// Whether the solve reached its last output time.
+    pub completed: bool,
+    /// The time the integration reached (the last output time when `completed`).
+    pub t_reached: f64,
+    /// What stopped an incomplete solve: `max_steps`, `max_wall_seconds` or `solver_error`.
+    pub stopped_by: Option<String>,
     /// ‖q − q₀‖ of the initial projection onto the joints.
     pub initial_position_correction: f64,
     /// ‖v − v₀‖ of the initial projection.
@@ -83,10 +99,22 @@ pub struct Summary {
     pub joint_stiffness: f64,
     /// Non-fatal remarks about the model.
     pub warnings: Vec<String>,
+    /// Events met, in time order (`"events"` of the scene): name and time of each zero
+    /// crossing that counted; a `stop` event is the last one.
+    pub events: Vec<EventRecord>,
     /// GGL on IDA: the steps accepted after recovered Newton convergence or error test failures
     /// (time and counts), at most [`crate::sundials::MAX_LOGGED_FAILURES`]; empty for the
     /// other formulations.
     pub recovered_failures: Vec<crate::sundials::RecoveredFailure>,
+}
+
+/// One event met during a solve.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// The event's name.
+    pub name: String,
+    /// Time of the zero crossing (located by the integrator's root finding).
+    pub t: f64,
 }
 
 /// A solved trajectory: one row per output time.
@@ -143,6 +171,18 @@ pub struct Row<'a> {
     pub values: &'a [f64],
 }
 
+/// The columns of a mechanism's rows (without `t`): the standard and requested outputs, every
+/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), then
+/// `constraint_error` (always written: cheap and always meaningful).
+pub fn output_columns(sys: &MultibodySystem) -> Vec<String> {
+    let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+    if sys.reaction_outputs {
+        columns.extend(sys.reaction_columns());
+    }
+    columns.push("constraint_error".into());
+    columns
+}
+
 /// Evaluates output rows from states `[q, v]`.
 struct OutputEval {
     tapes: MechanicsTapes,
@@ -151,6 +191,8 @@ struct OutputEval {
     /// Output indices of each spatial body's `(ψ, θ, φ)`.
     cardan: Vec<[usize; 3]>,
     want_constraint_error: bool,
+    /// Joint reaction columns (`"outputs": ["reactions"]`), written before `constraint_error`.
+    reactions: Option<ReactionEval>,
     vars: Vec<f64>,
     work: Vec<f64>,
     work_g: Vec<f64>,
@@ -161,12 +203,20 @@ struct OutputEval {
     kinetic_max: f64,
     max_g: f64,
     prev: Option<Vec<f64>>,
+    /// Why energy is not conserved (from the system), if it is not.
+    energy_exchange: Option<String>,
 }
 
 impl OutputEval {
-    fn new(sys: impl std::borrow::Borrow<MultibodySystem>, tapes: MechanicsTapes) -> Self {
+    /// The evaluator of [`output_columns`]; the reactions (when asked for) read their
+    /// constraint forces from `multipliers`.
+    fn new(
+        sys: impl std::borrow::Borrow<MultibodySystem>,
+        tapes: MechanicsTapes,
+        multipliers: &Multipliers,
+    ) -> Self {
         let sys = sys.borrow();
-        let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
+        let columns = output_columns(sys);
         let unwrap = sys.outputs.iter().map(|o| o.unwrap).collect();
         let at = |n: String| columns.iter().position(|c| *c == n);
         let cardan = columns
@@ -180,8 +230,9 @@ impl OutputEval {
                 ])
             })
             .collect();
-        // constraint_error is always written (it is cheap and always meaningful)
-        columns.push("constraint_error".into());
+        let reactions = sys
+            .reaction_outputs
+            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone()));
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
         OutputEval {
@@ -195,14 +246,18 @@ impl OutputEval {
             unwrap,
             cardan,
             want_constraint_error: true,
+            reactions,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
             max_g: 0.0,
             prev: None,
+            energy_exchange: sys.energy_exchange.clone(),
         }
     }
 
+    /// The row at `(t, x)`; `x` is the solver's state vector, `[q, v]` followed by the
+    /// formulation's own unknowns (where the reactions read their multipliers).
     fn row(&mut self, t: f64, x: &[f64]) -> Vec<f64> {
         self.vars[0] = t;
         let n = self.vars.len() - 1;
@@ -247,6 +302,11 @@ impl OutputEval {
             }
         }
         self.prev = Some(row.clone());
+        if let Some(r) = &mut self.reactions {
+            let at = row.len();
+            row.resize(at + r.n_columns, 0.0);
+            r.eval(t, x, &mut row[at..]);
+        }
         if self.want_constraint_error {
             row.push(ge);
         }
@@ -265,7 +325,21 @@ impl OutputEval {
 
 /// Solves a multibody system with the chosen formulation, streaming rows to `observer`
 /// (return `ControlFlow::Break(())` to stop early; the rows so far are returned).
+///
+/// The motion starts at `opts.t_start`; rows are written at `opts.output_times`.
 pub fn solve_system(
+    sys: MultibodySystem,
+    opts: &SolveOptions,
+    build_cpu_seconds: f64,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+) -> Result<Solution, Error> {
+    from_t_start(opts, observer, |opts, observer| {
+        solve_from_first_output(sys, opts, build_cpu_seconds, observer)
+    })
+}
+
+/// [`solve_system`] with the first output time as the start time.
+fn solve_from_first_output(
     mut sys: MultibodySystem,
     opts: &SolveOptions,
     build_cpu_seconds: f64,
@@ -306,6 +380,12 @@ pub fn solve_system(
             let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
             build += t.elapsed().as_secs_f64();
             summary.joint_stiffness = opts.joint_stiffness;
+            if opts.joint_damping != 0.0 && sys.energy_exchange.is_none() {
+                sys.energy_exchange = Some(format!(
+                    "the twin's joint springs have damping {} (solve.joint_damping)",
+                    opts.joint_damping
+                ));
+            }
             run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
         }
         FormulationKind::Index1 => {
@@ -338,9 +418,112 @@ pub fn solve_system(
             )
         }
     };
-    let mut sol = result?;
+    let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds = build))?;
     sol.summary.build_cpu_seconds = build;
     Ok(sol)
+}
+
+/// What stopped a solve part-way, as `Summary::stopped_by` names it.
+pub(crate) fn stop_reason(e: &SolverError) -> &'static str {
+    match e {
+        SolverError::StepBudget { .. } | SolverError::TooMuchWork { .. } => "max_steps",
+        SolverError::WallClock { .. } => "max_wall_seconds",
+        _ => "solver_error",
+    }
+}
+
+/// Whether `e` is a budget running out (the state at the time reached is sound).
+pub(crate) fn is_budget(e: &SolverError) -> bool {
+    stop_reason(e) != "solver_error"
+}
+
+/// The [`Error::Incomplete`] of a solve stopped by `e`: the rows so far, plus `last_row` (the
+/// state at the time reached, after a budget stop) when it lies beyond them.
+pub(crate) fn stopped(
+    e: SolverError,
+    mut sol: Solution,
+    mut summary: Summary,
+    last_row: Option<(f64, Vec<f64>)>,
+) -> Error {
+    let t_last = sol.times.last().copied().unwrap_or(f64::NEG_INFINITY);
+    summary.completed = false;
+    summary.t_reached = e.time().unwrap_or(t_last).max(t_last);
+    summary.stopped_by = Some(stop_reason(&e).into());
+    if let Some((t, row)) = last_row {
+        if t > t_last {
+            sol.times.push(t);
+            sol.rows.push(row);
+            summary.t_reached = t;
+        }
+    }
+    sol.summary = summary;
+    Error::Incomplete {
+        cause: Box::new(Error::Solver(e)),
+        partial: Box::new(sol),
+    }
+}
+
+/// Records the energy figures: the drift where energy is conserved (`exchange` is `None`),
+/// else `not_conserved` with the reason.
+pub(crate) fn set_energy(summary: &mut Summary, drift: f64, exchange: Option<&str>) {
+    match exchange {
+        None => {
+            summary.energy_check = "conserved".into();
+            summary.energy_drift = Some(drift);
+            summary.energy_note.clear();
+        }
+        Some(why) => {
+            summary.energy_check = "not_conserved".into();
+            summary.energy_drift = None;
+            summary.energy_note = why.into();
+        }
+    }
+}
+
+/// Marks a solve that reached its last row.
+pub(crate) fn set_completed(summary: &mut Summary, sol: &Solution) {
+    summary.completed = true;
+    summary.t_reached = sol.times.last().copied().unwrap_or(0.0);
+    summary.stopped_by = None;
+}
+
+/// Runs `solve` over the integration times of `opts` (`t_start`, then the output times after
+/// it), and removes the row at `t_start` from the solution (and from the stream) unless the
+/// caller listed it among the output times.
+pub(crate) fn from_t_start(
+    opts: &SolveOptions,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    solve: impl FnOnce(
+        &SolveOptions,
+        &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    ) -> Result<Solution, Error>,
+) -> Result<Solution, Error> {
+    let (times, listed) = opts.integration_times()?;
+    let inner = SolveOptions {
+        output_times: times,
+        ..opts.clone()
+    };
+    let mut skip = !listed;
+    let mut filtered = |row: Row<'_>| {
+        if std::mem::take(&mut skip) {
+            ControlFlow::Continue(())
+        } else {
+            observer(row)
+        }
+    };
+    let drop_first = |sol: &mut Solution| {
+        if !listed && !sol.times.is_empty() {
+            sol.times.remove(0);
+            sol.rows.remove(0);
+        }
+    };
+    match solve(&inner, &mut filtered) {
+        Ok(mut sol) => {
+            drop_first(&mut sol);
+            Ok(sol)
+        }
+        Err(e) => Err(e.map_partial(drop_first)),
+    }
 }
 
 fn fill_stats(summary: &mut Summary, s: &SolverStats) {
@@ -391,7 +574,8 @@ fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions 
     IdaOptions {
         rtol: opts.rtol,
         atol,
-        max_steps: opts.max_steps,
+        max_steps: Some(u64::MAX),
+        max_total_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
         id: Some(id),
         suppress_alg: true,
@@ -621,7 +805,10 @@ fn run_ggl(
     let clock = ThreadTime::now();
     let mut solver = make_ggl_ida(&ggl, atol, eps_start, t0, &y0, &yp0, opts)?;
     let mut total = SolverStats::default();
-    let mut out = OutputEval::new(sys, tapes.clone());
+    let multipliers = Multipliers::Unknowns(nq + nv);
+    let mut out = OutputEval::new(sys, tapes.clone(), &multipliers);
+    let events = event_eval(sys, &tapes, &multipliers);
+    set_ida_events(&mut solver.ida, &events)?;
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -661,12 +848,17 @@ fn run_ggl(
                     let Some((tf, name, c)) = passage else {
                         total.accumulate(&solver.ida.stats());
                         fill_stats(summary, &total);
-                        return Err(Error::Solver(e));
+                        let last = budget_row_ida(&e, &mut solver.ida, &mut out);
+                        summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                        finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+                        return Err(stopped(e, sol, summary.clone(), last));
                     };
                     if summary.singular_passages.len() >= MAX_SINGULAR_PASSAGES {
                         total.accumulate(&solver.ida.stats());
                         fill_stats(summary, &total);
-                        return Err(Error::Solver(e));
+                        summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                        finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+                        return Err(stopped(e, sol, summary.clone(), None));
                     }
                     // restart from the last output: the steps plain GGL accepted just before
                     // failing are already degraded by the ill-conditioned Newton matrix (measured
@@ -693,6 +885,18 @@ fn run_ggl(
                     continue;
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                // an event row between output times; the next output time is still ahead
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                last_output = (step.t, solver.ida.y().to_vec());
+                let row = out.row(step.t, solver.ida.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    break;
+                }
+                continue;
+            }
             k += 1;
             last_output = (step.t, solver.ida.y().to_vec());
             let row = out.row(step.t, solver.ida.y());
@@ -748,6 +952,20 @@ fn run_ggl(
     total.accumulate(&solver.ida.stats());
     fill_stats(summary, &total);
     summary.recovered_failures = solver.ida.recovered_failures().to_vec();
+    finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
+    set_completed(summary, &sol);
+    sol.summary = summary.clone();
+    Ok(sol)
+}
+
+/// The GGL's compliance figures, constraint error and energy in the summary.
+fn finish_ggl_summary(
+    summary: &mut Summary,
+    out: &OutputEval,
+    eps_start: f64,
+    eps_switch: f64,
+    compliant_time: f64,
+) {
     summary.compliance_used = eps_start > 0.0 || !summary.singular_passages.is_empty();
     summary.compliance = if summary.compliance_used {
         eps_start.max(eps_switch)
@@ -756,9 +974,15 @@ fn run_ggl(
     };
     summary.compliant_time = compliant_time;
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
-    sol.summary = summary.clone();
-    Ok(sol)
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+}
+
+/// After a budget stop on IDA: the output row at the time reached (IDA's current state).
+fn budget_row_ida(e: &SolverError, ida: &mut Ida, out: &mut OutputEval) -> Option<(f64, Vec<f64>)> {
+    let t = e.time().filter(|_| is_budget(e))?;
+    let mut y = vec![0.0; ida.y().len()];
+    ida.dky(t, 0, &mut y).ok()?;
+    Some((t, out.row(t, &y)))
 }
 
 /// `κ(G_v M⁺ G_vᵀ)` at an output time above which a local maximum of κ, met while the
@@ -853,15 +1077,23 @@ fn run_index1(
     summary.solver = "IDA".into();
     let clock = ThreadTime::now();
     let mut total = SolverStats::default();
-    let mut out = OutputEval::new(sys.clone(), tapes.clone());
+    // y = [q, v, a_D, λ]
+    let multipliers = Multipliers::Unknowns(nq + nv + nc);
+    let mut out = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
+    let events = event_eval(&sys, &tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
         rows: Vec::new(),
         summary: Summary::default(),
     };
-    let first = out.row(t0, &x);
+    let mut y_first = x.clone();
+    y_first.extend(std::iter::repeat_n(0.0, nc));
+    y_first.extend(&init.lambda);
+    let first = out.row(t0, &y_first);
     if emit(&mut sol, observer, t0, first) {
+        set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+        set_completed(summary, &sol);
         sol.summary = summary.clone();
         return Ok(sol);
     }
@@ -900,8 +1132,10 @@ fn run_index1(
             atol,
         };
         let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
-        // The wall-clock budget covers the whole solve, earlier segments included.
+        set_ida_events(&mut ida, &events)?;
+        // The wall-clock and step budgets cover the whole solve, earlier segments included.
         ida.charge_wall_clock(wall_start.elapsed());
+        ida.charge_steps(total.steps);
         while k_next < opts.output_times.len() {
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {
@@ -909,12 +1143,28 @@ fn run_index1(
                 Err(e) => {
                     total.accumulate(&ida.stats());
                     fill_stats(summary, &total);
-                    return Err(Error::Solver(e));
+                    summary.index1_reselections = reselections;
+                    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                    summary.max_constraint_error = out.max_g;
+                    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+                    let last = budget_row_ida(&e, &mut ida, &mut out);
+                    return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                let row = out.row(step.t, ida.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    total.accumulate(&ida.stats());
+                    break 'restart;
+                }
+                continue;
+            }
             k_next += 1;
             x.copy_from_slice(&ida.y()[..nq + nv]);
-            let row = out.row(step.t, &x);
+            let row = out.row(step.t, ida.y());
             if emit(&mut sol, observer, step.t, row) {
                 total.accumulate(&ida.stats());
                 break 'restart;
@@ -945,7 +1195,8 @@ fn run_index1(
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+    set_completed(summary, &sol);
     sol.summary = summary.clone();
     Ok(sol)
 }
@@ -969,10 +1220,18 @@ fn run_decoupled(
         opts.joint_stiffness,
     );
     y0.extend(&init.v);
+    // the joint springs' forces, compiled only when reactions are read
+    let row_force = if needs_reactions(sys) {
+        &dec.row_force[..]
+    } else {
+        &[]
+    };
+    let multipliers = Multipliers::Springs(sys.graph.compile(row_force));
     let cv_opts = CvodeOptions {
         rtol: opts.rtol,
         atol: vec![opts.atol],
-        max_steps: opts.max_steps,
+        max_steps: Some(u64::MAX),
+        max_total_steps: opts.max_steps,
         max_wall_clock: opts.max_wall_clock,
         stop_time: opts.output_times.last().copied(),
         max_order: opts.twin_max_order,
@@ -998,7 +1257,12 @@ fn run_decoupled(
     summary.unknowns = ode.n;
     let clock = ThreadTime::now();
     let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
-    let mut out = OutputEval::new(sys, tapes);
+    let events = event_eval(sys, &tapes, &multipliers);
+    if events.len() > 0 {
+        let mut ev = events.clone();
+        cv.set_roots(ev.len(), Box::new(move |t, y, g| ev.roots(t, y, g)))?;
+    }
+    let mut out = OutputEval::new(sys, tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -1008,14 +1272,34 @@ fn run_decoupled(
     let first = out.row(t0, &y0);
     let stop = emit(&mut sol, observer, t0, first);
     if !stop {
-        for &t in &opts.output_times[1..] {
-            let step = match cv.solve_to(t) {
+        let mut k = 1;
+        while k < opts.output_times.len() {
+            let step = match cv.solve_to(opts.output_times[k]) {
                 Ok(s) => s,
                 Err(e) => {
                     fill_stats(summary, &cv.stats());
-                    return Err(Error::Solver(e));
+                    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                    summary.max_constraint_error = out.max_g;
+                    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+                    let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
+                        let mut y = vec![0.0; cv.y().len()];
+                        cv.dky(tr, 0, &mut y).ok()?;
+                        Some((tr, out.row(tr, &y)))
+                    });
+                    return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
+            if let StepEvent::Root(info) = &step.event {
+                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
+                    continue;
+                };
+                let row = out.row(step.t, cv.y());
+                if emit(&mut sol, observer, step.t, row) || stop {
+                    break;
+                }
+                continue;
+            }
+            k += 1;
             let row = out.row(step.t, cv.y());
             if emit(&mut sol, observer, step.t, row) {
                 break;
@@ -1025,7 +1309,8 @@ fn run_decoupled(
     summary.cpu_seconds = clock.elapsed().as_secs_f64();
     fill_stats(summary, &cv.stats());
     summary.max_constraint_error = out.max_g;
-    summary.energy_drift = out.energy_drift();
+    set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+    set_completed(summary, &sol);
     sol.summary = summary.clone();
     Ok(sol)
 }
@@ -1040,4 +1325,52 @@ fn emit(
     sol.times.push(t);
     sol.rows.push(row);
     brk
+}
+
+/// The scene's event functions with the reactions read from `multipliers`.
+fn event_eval(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    multipliers: &Multipliers,
+) -> EventEval {
+    EventEval::new(sys, || {
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone())
+    })
+}
+
+/// Whether a solve computes reactions at all (as output columns or inside an event).
+fn needs_reactions(sys: &MultibodySystem) -> bool {
+    sys.reaction_outputs || sys.events.iter().any(|e| e.uses_reactions)
+}
+
+/// Registers the event functions as IDA root functions (nothing when there are none).
+fn set_ida_events(ida: &mut Ida, events: &EventEval) -> Result<(), Error> {
+    if events.len() == 0 {
+        return Ok(());
+    }
+    let mut ev = events.clone();
+    ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;
+    Ok(())
+}
+
+/// The events that count at a root return at `t` (`info[i]`: +1 rising, −1 falling, 0 not
+/// crossing), recorded in the summary; `None` when none counts (a crossing in a direction the
+/// event ignores), else whether one of them stops the run.
+fn events_fired(
+    events: &[EventFunction],
+    info: &[i32],
+    t: f64,
+    summary: &mut Summary,
+) -> Option<bool> {
+    let mut stop = None;
+    for (e, &sign) in events.iter().zip(info) {
+        if e.direction.accepts(sign) {
+            summary.events.push(EventRecord {
+                name: e.name.clone(),
+                t,
+            });
+            stop = Some(stop.unwrap_or(false) || e.action == EventAction::Stop);
+        }
+    }
+    stop
 }

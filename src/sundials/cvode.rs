@@ -257,7 +257,12 @@ impl Cvode {
             y,
             tmp,
             data,
-            driver: DriverState::new(t0, opts.max_steps, opts.max_wall_clock),
+            driver: DriverState::new(
+                t0,
+                opts.max_steps,
+                opts.max_wall_clock,
+                opts.max_total_steps,
+            ),
             ctx,
         })
     }
@@ -312,6 +317,18 @@ impl Cvode {
     /// (for a solve that continues on a new solver after an earlier one).
     pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
         self.driver.wall_used += spent;
+    }
+
+    /// Internal steps taken by `solve_to`/`step` since the solver was built; the
+    /// `max_total_steps` budget is checked against it.
+    pub fn steps_used(&self) -> u64 {
+        self.driver.steps_used
+    }
+
+    /// Count `steps` against the total step budget as if they had been taken by this solver
+    /// (for a solve that continues on a new solver after an earlier one).
+    pub fn charge_steps(&mut self, steps: u64) {
+        self.driver.steps_used += steps;
     }
 
     /// Time of the state in `y()`.

@@ -46,19 +46,30 @@ pub(crate) struct DriverState {
     pub(crate) pending: Option<(f64, StepEvent)>,
     pub(crate) max_steps: Option<u64>,
     pub(crate) max_wall_clock: Option<Duration>,
+    /// Internal steps allowed over the solver's whole life (all calls, `reinit` included).
+    pub(crate) max_total_steps: Option<u64>,
     /// Wall-clock time spent inside `solve_to`/`step` so far (never reset).
     pub(crate) wall_used: Duration,
+    /// Internal steps taken by `solve_to`/`step` so far (never reset).
+    pub(crate) steps_used: u64,
 }
 
 impl DriverState {
-    pub(crate) fn new(t0: f64, max_steps: Option<u64>, max_wall_clock: Option<Duration>) -> Self {
+    pub(crate) fn new(
+        t0: f64,
+        max_steps: Option<u64>,
+        max_wall_clock: Option<Duration>,
+        max_total_steps: Option<u64>,
+    ) -> Self {
         let max_steps = Some(max_steps.unwrap_or(DEFAULT_MAX_STEPS));
         DriverState {
             t: t0,
             pending: None,
             max_steps,
             max_wall_clock,
+            max_total_steps,
             wall_used: Duration::ZERO,
+            steps_used: 0,
         }
     }
 
@@ -87,6 +98,16 @@ fn check_wall_clock(d: &DriverState, start: Instant, t: f64) -> Result<(), Solve
     match d.max_wall_clock {
         Some(limit) if d.wall_used + start.elapsed() > limit => {
             Err(SolverError::WallClock { t, limit })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// `Err(StepBudget)` when the steps of the solver's whole life have used up its budget.
+fn check_total_steps(d: &DriverState, t: f64) -> Result<(), SolverError> {
+    match d.max_total_steps {
+        Some(max_steps) if d.steps_used >= max_steps => {
+            Err(SolverError::StepBudget { t, max_steps })
         }
         _ => Ok(()),
     }
@@ -136,8 +157,10 @@ fn solve_to_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<St
                 return Err(SolverError::TooMuchWork { t: tn, max_steps });
             }
         }
+        check_total_steps(s.driver(), tn)?;
         let (tret, raw) = s.one_step(tout)?;
         steps += 1;
+        s.driver().steps_used += 1;
         let event = match raw {
             RawEvent::Success => continue,
             RawEvent::Root => StepEvent::Root(s.root_info()),
@@ -176,7 +199,9 @@ fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, 
     }
     let tn = s.current_time();
     check_wall_clock(s.driver(), start, tn)?;
+    check_total_steps(s.driver(), tn)?;
     let (tret, raw) = s.one_step(tout)?;
+    s.driver().steps_used += 1;
     let event = match raw {
         RawEvent::Success => StepEvent::Reached,
         RawEvent::Root => StepEvent::Root(s.root_info()),

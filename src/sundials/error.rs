@@ -60,6 +60,15 @@ pub enum SolverError {
         /// The budget.
         max_steps: u64,
     },
+    /// The step budget of the whole integration (all calls together, see
+    /// `IdaOptions::max_total_steps`) was exhausted.
+    #[error("step budget exhausted: {max_steps} steps taken in all, reached t = {t}")]
+    StepBudget {
+        /// Time reached.
+        t: f64,
+        /// The budget.
+        max_steps: u64,
+    },
     /// The wall-clock budget of the solver (all its solve calls together) was exhausted.
     #[error("wall-clock limit {limit:?} exceeded, reached t = {t}")]
     WallClock {
@@ -81,6 +90,7 @@ impl SolverError {
             | SolverError::CallbackPanic { t, .. }
             | SolverError::CallbackFailed { t, .. }
             | SolverError::TooMuchWork { t, .. }
+            | SolverError::StepBudget { t, .. }
             | SolverError::WallClock { t, .. } => Some(*t),
             SolverError::InvalidInput(_) => None,
         }

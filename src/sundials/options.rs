@@ -15,6 +15,9 @@ pub struct IdaOptions {
     /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),
     /// checked before each internal step.
     pub max_wall_clock: Option<Duration>,
+    /// Internal steps allowed over the whole integration: all `solve_to`/`step` calls since the
+    /// solver was built (`reinit` does not reset it; see also `charge_steps`). `None`: no cap.
+    pub max_total_steps: Option<u64>,
     /// Maximum BDF order (1..=5).
     pub max_order: Option<i32>,
     /// Maximum |step|.
@@ -44,6 +47,7 @@ impl Default for IdaOptions {
             atol: vec![1e-8],
             max_steps: None,
             max_wall_clock: None,
+            max_total_steps: None,
             max_order: None,
             max_step: None,
             init_step: None,
@@ -71,6 +75,9 @@ pub struct CvodeOptions {
     /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),
     /// checked before each internal step.
     pub max_wall_clock: Option<Duration>,
+    /// Internal steps allowed over the whole integration: all `solve_to`/`step` calls since the
+    /// solver was built (`reinit` does not reset it; see also `charge_steps`). `None`: no cap.
+    pub max_total_steps: Option<u64>,
     /// Maximum order (BDF ≤ 5, Adams ≤ 12).
     pub max_order: Option<i32>,
     /// Maximum |step|.
@@ -91,6 +98,7 @@ impl Default for CvodeOptions {
             atol: vec![1e-8],
             max_steps: None,
             max_wall_clock: None,
+            max_total_steps: None,
             max_order: None,
             max_step: None,
             init_step: None,

@@ -1,0 +1,173 @@
+//! Joint reactions and event functions evaluated along a solve.
+//!
+//! [`ReactionEval`] turns a solver state into every joint's reaction columns through the one
+//! mapping of [`crate::mech::reactions`]: the constraint forces come from the DAE's multipliers
+//! λ (GGL, compliant GGL, index 1: unknowns of the residual) or from the twin's joint
+//! spring-dampers `k g + c G_v v` ([`crate::dae::DecoupledFormulation::row_force`]).
+//! [`EventEval`] evaluates the scene's event functions over `[t, q, v, reactions]`.
+
+use crate::expr::{Expr, Tape};
+use crate::mech::{EventFunction, JointReaction, MultibodySystem};
+use crate::sundials::{CallbackError, CallbackResult};
+
+/// Where the constraint forces of a formulation are.
+#[derive(Clone, Debug)]
+pub(crate) enum Multipliers {
+    /// λ are the solver unknowns `y[offset .. offset + nc]`.
+    Unknowns(usize),
+    /// The decoupled twin: the row forces, a tape over `[t, q, v]`.
+    Springs(Tape),
+}
+
+/// Evaluates every joint's reaction columns from a solver state.
+#[derive(Clone, Debug)]
+pub(crate) struct ReactionEval {
+    joints: Vec<JointReaction>,
+    /// `B` then the lever of every joint, concatenated, over `[t, q, v]`.
+    tape: Tape,
+    gv: Tape,
+    source: Multipliers,
+    dims: (usize, usize, usize),
+    vars: Vec<f64>,
+    work: Vec<f64>,
+    vals: Vec<f64>,
+    gv_work: Vec<f64>,
+    gv_vals: Vec<f64>,
+    lambda: Vec<f64>,
+    lambda_work: Vec<f64>,
+    /// Total number of reaction columns.
+    pub n_columns: usize,
+}
+
+impl ReactionEval {
+    /// Compiles the evaluator; `gv` is the tape of `G_v` (row-major `nc × nv`).
+    pub(crate) fn new(sys: &MultibodySystem, gv: &Tape, source: Multipliers) -> Self {
+        let exprs: Vec<Expr> = sys
+            .reactions
+            .iter()
+            .flat_map(|r| r.basis.iter().chain(&r.lever).copied())
+            .collect();
+        let tape = sys.graph.compile(&exprs);
+        let lambda_work = match &source {
+            Multipliers::Springs(t) => t.workspace(),
+            Multipliers::Unknowns(_) => Vec::new(),
+        };
+        ReactionEval {
+            n_columns: sys.reactions.iter().map(|r| r.n_columns()).sum(),
+            joints: sys.reactions.clone(),
+            work: tape.workspace(),
+            vals: vec![0.0; tape.n_outputs()],
+            gv_work: gv.workspace(),
+            gv_vals: vec![0.0; gv.n_outputs()],
+            tape,
+            gv: gv.clone(),
+            source,
+            dims: (sys.nq(), sys.nv(), sys.nc()),
+            vars: vec![0.0; 1 + sys.nq() + sys.nv()],
+            lambda: vec![0.0; sys.nc()],
+            lambda_work,
+        }
+    }
+
+    /// Writes the reaction columns at `(t, y)` to `out` (`y` is the solver's state vector:
+    /// `[q, v, …]`, with the multipliers where [`Multipliers`] says).
+    pub(crate) fn eval(&mut self, t: f64, y: &[f64], out: &mut [f64]) {
+        let (nq, nv, nc) = self.dims;
+        self.vars[0] = t;
+        self.vars[1..].copy_from_slice(&y[..nq + nv]);
+        self.tape.eval(&self.vars, &mut self.work, &mut self.vals);
+        self.gv
+            .eval(&self.vars, &mut self.gv_work, &mut self.gv_vals);
+        match &self.source {
+            Multipliers::Unknowns(off) => self.lambda.copy_from_slice(&y[*off..*off + nc]),
+            Multipliers::Springs(tape) => {
+                tape.eval(&self.vars, &mut self.lambda_work, &mut self.lambda)
+            }
+        }
+        let (mut at, mut col) = (0, 0);
+        for j in &self.joints {
+            let nb = j.basis.len();
+            let nl = j.lever.len();
+            let basis = &self.vals[at..at + nb];
+            let lever = &self.vals[at + nb..at + nb + nl];
+            let n = j.n_columns();
+            j.wrench(
+                basis,
+                lever,
+                &self.gv_vals,
+                nv,
+                &self.lambda,
+                &mut out[col..col + n],
+            );
+            at += nb + nl;
+            col += n;
+        }
+    }
+}
+
+/// Evaluates the scene's event functions `[t, q, v, reactions] → g_i`.
+#[derive(Clone, Debug)]
+pub(crate) struct EventEval {
+    tape: Tape,
+    reactions: Option<ReactionEval>,
+    vars: Vec<f64>,
+    work: Vec<f64>,
+    n_state: usize,
+    /// `(name, when)` of each event, for messages.
+    sources: Vec<(String, String)>,
+}
+
+impl EventEval {
+    /// Compiles the event functions; the reactions are evaluated only when an event uses them.
+    pub(crate) fn new(sys: &MultibodySystem, reactions: impl FnOnce() -> ReactionEval) -> Self {
+        let exprs: Vec<Expr> = sys.events.iter().map(|e| e.expr).collect();
+        let tape = sys.graph.compile(&exprs);
+        let uses = sys.events.iter().any(|e: &EventFunction| e.uses_reactions);
+        let n_state = 1 + sys.nq() + sys.nv();
+        let reactions = uses.then(reactions);
+        let n_reactions = reactions.as_ref().map_or(0, |r| r.n_columns);
+        let n_vars = (n_state + n_reactions).max(tape.n_vars());
+        EventEval {
+            work: tape.workspace(),
+            tape,
+            reactions,
+            vars: vec![0.0; n_vars],
+            n_state,
+            sources: sys
+                .events
+                .iter()
+                .map(|e| (e.name.clone(), e.when.clone()))
+                .collect(),
+        }
+    }
+
+    /// Number of event functions.
+    pub(crate) fn len(&self) -> usize {
+        self.tape.n_outputs()
+    }
+
+    /// The event functions at `(t, y)` into `out`, as a root-function callback: a value that
+    /// is not finite stops the solve with a message naming the event's JSON path.
+    pub(crate) fn roots(&mut self, t: f64, y: &[f64], out: &mut [f64]) -> CallbackResult {
+        self.eval(t, y, out);
+        match out.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(CallbackError::Fatal(format!(
+                "events[{i}].when: event '{}' evaluates to {} (\"{}\")",
+                self.sources[i].0, out[i], self.sources[i].1
+            ))),
+        }
+    }
+
+    /// The event functions at `(t, y)` into `out`.
+    pub(crate) fn eval(&mut self, t: f64, y: &[f64], out: &mut [f64]) {
+        let n = self.n_state;
+        self.vars[0] = t;
+        self.vars[1..n].copy_from_slice(&y[..n - 1]);
+        if let Some(r) = &mut self.reactions {
+            let nr = r.n_columns;
+            r.eval(t, y, &mut self.vars[n..n + nr]);
+        }
+        self.tape.eval(&self.vars, &mut self.work, out);
+    }
+}
