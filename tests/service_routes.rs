@@ -409,15 +409,23 @@ fn solve_past_its_budget_is_422_with_the_rows_computed_so_far() {
     assert!(t_reached > 0.0 && t_reached < 3.0, "{p}");
     let rows = json_rows(&p["rows"]);
     assert!(!rows.is_empty());
-    // the rows are those of the output grid, up to the time reached
-    for (k, r) in rows.iter().enumerate() {
+    // the rows are those of the output grid up to the time reached, then (as the CLI writes
+    // them) the state at the time reached itself
+    let (last, grid) = rows.split_last().unwrap();
+    for (k, r) in grid.iter().enumerate() {
         assert!(
             (r[0] - 0.01 * k as f64).abs() < 1e-12,
             "row {k} at t = {}",
             r[0]
         );
-        assert!(r[0] <= t_reached);
+        assert!(r[0] < t_reached);
     }
+    let k = grid.len() as f64;
+    assert!(
+        (last[0] - 0.01 * k).abs() < 1e-12 || last[0] == t_reached,
+        "last row at t = {}, t_reached = {t_reached}",
+        last[0]
+    );
     // the columns are the run's (the CLI's header for the same flags)
     let (ok, csv, err) = cli(&[
         "run",
@@ -739,4 +747,58 @@ fn model_columns_are_the_solution_columns_on_every_bundled_scene() {
             );
         }
     }
+}
+
+/// A step budget stops a solve at the same step every time: the rows the service returns with
+/// its 422 are the rows the CLI writes when the same budget stops it.
+#[test]
+fn step_budget_rows_so_far_equal_the_clis_partial_rows() {
+    let server = start(Config::default());
+    let q = "formulation=decoupled&joint_stiffness=1e8&max_steps=3000";
+    let p = post(
+        server.addr(),
+        &format!("/v1/run?{q}"),
+        scene_text("double_pendulum.json").as_bytes(),
+    )
+    .problem(422);
+    assert_eq!(p["limit"], "solve.max_steps", "{p}");
+    assert_eq!(p["limit_value"], 3000);
+    let rows = json_rows(&p["rows"]);
+    assert!(rows.len() >= 2, "{p}");
+    let out =
+        std::env::temp_dir().join(format!("bondmech-service-steps-{}.csv", std::process::id()));
+    let (ok, _, err) = cli(&[
+        "run",
+        &scene_path("double_pendulum.json"),
+        "--formulation",
+        "decoupled",
+        "--joint-stiffness",
+        "1e8",
+        "--max-steps",
+        "3000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "the CLI stops on the budget too");
+    assert!(err.contains("3000"), "{err}");
+    let (header, cli_rows) = parse_csv(&std::fs::read_to_string(&out).unwrap());
+    std::fs::remove_file(&out).ok();
+    let cols: Vec<&str> = p["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert_eq!(cols, header);
+    assert_eq!(rows, cli_rows, "the same rows, bit for bit");
+    server.shutdown().unwrap();
+}
+
+#[test]
+fn reactions_query_equals_the_cli_reactions_flag() {
+    assert_run_equals_cli(
+        "double_pendulum.json",
+        "t_end=0.1&reactions=true",
+        &["--t-end", "0.1", "--reactions"],
+    );
 }

@@ -48,6 +48,21 @@ fn solve_params() -> Vec<Value> {
             "Joint stiffness of the decoupled twin (N/m).",
             json!({"type": "number", "exclusiveMinimum": 0}),
         ),
+        query(
+            "max_steps",
+            "Step budget of the whole run (solve.max_steps).",
+            json!({"type": "integer", "minimum": 1}),
+        ),
+        query(
+            "max_wall_seconds",
+            "Wall-clock budget (solve.max_wall_seconds); the server's --max-solve-seconds applies when smaller.",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "reactions",
+            "Add every joint's reaction columns (as \"outputs\": [\"reactions\"]).",
+            json!({"type": "boolean", "default": false}),
+        ),
     ]
 }
 

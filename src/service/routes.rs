@@ -201,7 +201,8 @@ async fn run_inner(
     let params = Params::parse(q.as_deref(), &allowed)?;
     let format = params.choice("format", &["json", "csv", "ndjson"])?;
     let solve = SolveParams::from(&params)?;
-    let scene = scene_from(app, headers, body).await?;
+    let mut scene = scene_from(app, headers, body).await?;
+    solve.apply_to_scene(&mut scene);
     check_rows(&scene, solve.t_end, &app.limits)?;
     let slot = app.pool.acquire().await?;
     let stop = app.stop_flags();
@@ -233,7 +234,10 @@ async fn run_inner(
             Ok(sol) if format == "csv" => Ok(with_type(sol.to_csv(), "text/csv; charset=utf-8")),
             Ok(sol) => Ok(with_type(solution_json(&sol), JSON)),
             Err(f) => Err(match f.columns {
-                Some(c) => f.problem.with("columns", c).with("rows", partial),
+                Some(c) => f
+                    .problem
+                    .with("columns", c)
+                    .with("rows", f.partial.unwrap_or(partial)),
                 None => *f.problem,
             }),
         }
@@ -335,7 +339,8 @@ async fn compare_inner(
     not_shutting_down(app)?;
     let params = Params::parse(q.as_deref(), &SOLVE_PARAMS)?;
     let solve = SolveParams::from(&params)?;
-    let scene = scene_from(app, headers, body).await?;
+    let mut scene = scene_from(app, headers, body).await?;
+    solve.apply_to_scene(&mut scene);
     check_rows(&scene, solve.t_end, &app.limits)?;
     let slot = app.pool.acquire().await?;
     let limits = app.limits.clone();

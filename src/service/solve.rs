@@ -115,10 +115,26 @@ pub struct SolveParams {
     pub t_end: Option<f64>,
     /// `joint_stiffness`.
     pub joint_stiffness: Option<f64>,
+    /// `max_steps`: the scene's `solve.max_steps`.
+    pub max_steps: Option<u64>,
+    /// `max_wall_seconds`: the scene's `solve.max_wall_seconds` (the server's limit still
+    /// applies when it is smaller).
+    pub max_wall_seconds: Option<f64>,
+    /// `reactions=true`: every joint's reaction columns, as `"outputs": ["reactions"]`.
+    pub reactions: bool,
 }
 
-/// Query parameters shared by `/v1/run` and `/v1/compare`.
-pub const SOLVE_PARAMS: [&str; 5] = ["rtol", "atol", "t_end", "formulation", "joint_stiffness"];
+/// Query parameters shared by `/v1/run` and `/v1/compare` (the command line's solve flags).
+pub const SOLVE_PARAMS: [&str; 8] = [
+    "rtol",
+    "atol",
+    "t_end",
+    "formulation",
+    "joint_stiffness",
+    "max_steps",
+    "max_wall_seconds",
+    "reactions",
+];
 
 impl SolveParams {
     /// Reads the solve parameters (400 when one does not parse; 422 when `t_end` is not > 0).
@@ -132,13 +148,49 @@ impl SolveParams {
                 ));
             }
         }
+        let max_steps = match p.number("max_steps")? {
+            Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= u64::MAX as f64 => Some(n as u64),
+            Some(n) => {
+                return Err(invalid_value(
+                    "max_steps",
+                    format!("max_steps: must be a whole number >= 1 (got {n})"),
+                ))
+            }
+            None => None,
+        };
+        let max_wall_seconds = p.number("max_wall_seconds")?;
+        if let Some(w) = max_wall_seconds {
+            if !(w > 0.0 && w.is_finite()) {
+                return Err(invalid_value(
+                    "max_wall_seconds",
+                    format!("max_wall_seconds: must be > 0 (got {w})"),
+                ));
+            }
+        }
         Ok(SolveParams {
             formulation: p.text("formulation").map(str::to_string),
             rtol: p.number("rtol")?,
             atol: p.number("atol")?,
             t_end,
             joint_stiffness: p.number("joint_stiffness")?,
+            max_steps,
+            max_wall_seconds,
+            reactions: p.flag("reactions")?.unwrap_or(false),
         })
+    }
+
+    /// The parameters that are scene fields, written into `scene` (as the command line
+    /// writes its flags): `max_steps`, `max_wall_seconds`, `reactions`.
+    pub fn apply_to_scene(&self, scene: &mut Scene) {
+        if let Some(n) = self.max_steps {
+            scene.solve.max_steps = Some(n);
+        }
+        if let Some(w) = self.max_wall_seconds {
+            scene.solve.max_wall_seconds = Some(w);
+        }
+        if self.reactions && !scene.outputs.iter().any(|o| o == "reactions") {
+            scene.outputs.push("reactions".into());
+        }
     }
 }
 
@@ -289,12 +341,14 @@ pub fn library_problem(e: &Error, budget: Budget) -> Problem {
                 budget.seconds.into(),
                 Some(*t),
             ),
-            SolverError::TooMuchWork { t, max_steps } => budget_problem(
-                format!("{s}; raise solve.max_steps. The rows computed so far are in 'rows'"),
-                "solve.max_steps",
-                (*max_steps).into(),
-                Some(*t),
-            ),
+            SolverError::TooMuchWork { t, max_steps } | SolverError::StepBudget { t, max_steps } => {
+                budget_problem(
+                    format!("{s}; raise solve.max_steps (query max_steps). The rows computed so far are in 'rows'"),
+                    "solve.max_steps",
+                    (*max_steps).into(),
+                    Some(*t),
+                )
+            }
             other => {
                 let p = unprocessable("solver-failed", "The solver failed", other.to_string());
                 match other.time() {
@@ -341,6 +395,10 @@ pub struct Failure {
     pub columns: Option<Vec<String>>,
     /// The client went away: nobody reads the answer.
     pub cancelled: bool,
+    /// The library's own partial solution (`[t, values...]` rows) when it stopped the solve
+    /// part-way ([`Error::Incomplete`]): the rows at the output times so far and, where the
+    /// solver got there, the state at the time reached — what the command line writes.
+    pub partial: Option<Vec<Vec<f64>>>,
 }
 
 impl Failure {
@@ -349,6 +407,7 @@ impl Failure {
             problem: Box::new(problem),
             columns: None,
             cancelled: false,
+            partial: None,
         }
     }
 }
@@ -418,6 +477,7 @@ pub fn solve_rows(
         problem: Box::new(problem),
         columns: Some(columns.clone()),
         cancelled: false,
+        partial: None,
     };
     match (r, why) {
         (Ok(sol), None) => Ok(sol),
@@ -432,6 +492,7 @@ pub fn solve_rows(
                 )),
                 columns: None,
                 cancelled: true,
+                partial: None,
             })
         }
         (Ok(_), Some(Why::Shutdown)) => Err(started(Problem::unavailable(
@@ -461,7 +522,15 @@ pub fn solve_rows(
             if p.kind == "solve-budget-exceeded" {
                 metrics.budget_stop();
             }
-            Err(started(p))
+            let mut f = started(p);
+            f.partial = e.partial_solution().map(|sol| {
+                sol.times
+                    .iter()
+                    .zip(&sol.rows)
+                    .map(|(t, r)| std::iter::once(*t).chain(r.iter().copied()).collect())
+                    .collect()
+            });
+            Err(f)
         }
     }
 }
