@@ -88,6 +88,19 @@ struct SolveArgs {
     reactions: bool,
 }
 
+/// The orthographic views of `animate --view`.
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum ViewArg {
+    /// x right, y up (planar scenes).
+    Xy,
+    /// x right, z up.
+    Xz,
+    /// y right, z up.
+    Yz,
+    /// Isometric: x to the lower left, y to the lower right, z up.
+    Iso,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Solve a scene and write its trajectory as CSV.
@@ -103,6 +116,9 @@ enum Command {
         /// Print a short table instead of the CSV on standard output.
         #[arg(long)]
         table: bool,
+        /// Also write SVG plots against time of the columns into this directory.
+        #[arg(long)]
+        plot: Option<PathBuf>,
     },
     /// The bond graph of a scene: DOT (or SVG through Graphviz), or its causality report.
     Graph {
@@ -126,6 +142,35 @@ enum Command {
         /// Write the comparison as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+    },
+    /// Animate the solved motion: one self-contained SVG (SMIL) or HTML file.
+    Animate {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// Output file: `.svg` (animated with SMIL) or `.html` (with play/pause and a slider).
+        #[arg(long, default_value = "motion.svg")]
+        out: PathBuf,
+        /// Frames per second of playback.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Seconds of motion per second of playback (0.5: slow motion).
+        #[arg(long, default_value_t = 1.0)]
+        speed: f64,
+        /// Orthographic view (default: xy for a planar scene, iso for a spatial one).
+        #[arg(long, value_enum)]
+        view: Option<ViewArg>,
+        /// Animate the motion in this CSV (as `bondmech run` writes it, or another tool's with
+        /// the same column names) instead of solving the scene.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+    },
+    /// SVG plots against time of a run's CSV: coordinates, velocities, energy, constraint error.
+    Plot {
+        /// The CSV that `bondmech run` wrote (or another tool's, `t` or `time` first).
+        csv: PathBuf,
+        /// Output directory (one SVG per group of columns).
+        #[arg(long, default_value = "plots")]
+        out: PathBuf,
     },
     /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
     Sweep {
@@ -435,6 +480,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             out,
             summary,
             table,
+            plot,
         } => {
             check_outputs(
                 &[&args.scene],
@@ -454,6 +500,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     return Err(CliError { error: e, note });
                 }
             };
+            if let Some(dir) = &plot {
+                let source = out.as_ref().unwrap_or(&args.scene).display().to_string();
+                bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
+            }
             // the model's own warnings, redundant joints, singular passages, re-selections
             print_warnings(&sol.summary.warnings);
             write_solution(&sol, out.as_deref(), summary.as_deref(), table)?;
@@ -515,6 +565,23 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 Some(p) => Ok(write(&p, &text)?),
                 None => Ok(stdout_write(&text)?),
             }
+        }
+        Command::Animate {
+            args,
+            out,
+            fps,
+            speed,
+            view,
+            csv,
+        } => Ok(animate(&args, &out, fps, speed, view, csv.as_deref())?),
+        Command::Plot { csv, out } => {
+            let sol = bondmech::report::reference::reference_from_csv(&csv)?;
+            let files =
+                bondmech::report::timeplot::plot_solution(&sol, &csv.display().to_string(), &out)?;
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            Ok(())
         }
         Command::Compare { args, json } => {
             if args.formulation == Some(FormulationArg::Decoupled) {
@@ -620,6 +687,83 @@ fn run(cli: Cli) -> Result<(), CliError> {
             )
         }
     }
+}
+
+/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
+fn animate(
+    args: &SolveArgs,
+    out: &Path,
+    fps: f64,
+    speed: f64,
+    view: Option<ViewArg>,
+    csv: Option<&Path>,
+) -> Result<(), Error> {
+    use bondmech::report::animate::{animation, AnimationFormat, AnimationOptions, View};
+    let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(csv).collect();
+    check_outputs(&inputs, &[("--out", Some(out))])?;
+    let format = match out.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("svg") => AnimationFormat::Svg,
+        Some(e) if e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm") => {
+            AnimationFormat::Html
+        }
+        _ => {
+            return Err(Error::Options(format!(
+                "--out {}: give a .svg or .html file",
+                out.display()
+            )))
+        }
+    };
+    let mut scene = read_scene(&args.scene)?;
+    if scene.bodies.is_empty() {
+        return Err(Error::Options(format!(
+            "{}: animate needs a scene with bodies (a raw bond graph has no geometry to draw)",
+            args.scene.display()
+        )));
+    }
+    let (sol, source) = match csv {
+        Some(path) => {
+            let solve_flags = args.formulation.is_some()
+                || args.rtol.is_some()
+                || args.atol.is_some()
+                || args.t_end.is_some()
+                || args.joint_stiffness.is_some()
+                || args.max_steps.is_some()
+                || args.max_wall_seconds.is_some();
+            if solve_flags {
+                return Err(Error::Options(format!(
+                    "--csv {}: the motion comes from the CSV; the solve flags (--formulation, --rtol, --atol, --t-end, --joint-stiffness, --max-steps, --max-wall-seconds) apply only when animate solves the scene",
+                    path.display()
+                )));
+            }
+            (
+                bondmech::report::reference::reference_from_csv(path)?,
+                path.display().to_string(),
+            )
+        }
+        None => {
+            apply_flags(&mut scene, args)?;
+            let model = Model::new(&scene)?;
+            let sol = model.solve(&model.default_options())?;
+            print_warnings(&sol.summary.warnings);
+            (sol, format!("the solution of {}", args.scene.display()))
+        }
+    };
+    let opts = AnimationOptions {
+        fps,
+        speed,
+        view: view.map(|v| match v {
+            ViewArg::Xy => View::Xy,
+            ViewArg::Xz => View::Xz,
+            ViewArg::Yz => View::Yz,
+            ViewArg::Iso => View::Iso,
+        }),
+        source,
+        ..AnimationOptions::default()
+    };
+    let text = animation(&scene, &sol, &opts, format)?;
+    write(out, &text)?;
+    println!("wrote {}", out.display());
+    Ok(())
 }
 
 /// Renders DOT to SVG with Graphviz.

@@ -85,7 +85,21 @@ fn dot_marks_half_arrows_strokes_and_differential_storages() {
     assert!(dot.starts_with("digraph bond_graph {"));
     assert!(dot.contains("label=\"I:bar1.I_m_x\""));
     assert!(dot.contains("label=\"Sf:hip.x\""));
-    assert!(dot.contains("MTF:-0.5·sin(α)"), "MTF label with the angle");
+    // the MTF label names the angle it depends on: bar1's
+    assert!(
+        dot.contains("MTF:-0.5·sin(α_bar1)"),
+        "MTF label with the angle"
+    );
+    // a legend of the colours and strokes, grouped by body (more than 30 elements)
+    assert!(dot.contains("legend [shape=plaintext"));
+    assert!(dot.contains("inertia in differential causality"));
+    assert!(g.element_ids().count() > bondmech::bond::dot::CLUSTER_ABOVE);
+    for body in ["bar1", "bar2", "hip"] {
+        assert!(
+            dot.contains(&format!("label=\"{body}\"; style=rounded")),
+            "cluster {body}"
+        );
+    }
     // every bond has a stroke at exactly one end
     let edges: Vec<&str> = dot.lines().filter(|l| l.contains("->")).collect();
     assert_eq!(edges.len(), g.bonds.len());
@@ -210,4 +224,19 @@ fn dot_draws_each_causal_stroke_at_the_end_the_causality_rules_require() {
             edge_line(&dot, bond)
         );
     }
+}
+
+#[test]
+fn small_graphs_are_not_clustered_and_have_no_legend_without_causality() {
+    // the conflict example: a handful of elements, drawn flat
+    let g = BondGraph::from_json_str(
+        r#"{"elements": [
+            {"name": "s1", "kind": "Sf", "value": 1}, {"name": "s2", "kind": "Sf", "value": 2},
+            {"name": "j", "kind": "1"}, {"name": "r", "kind": "R", "value": 1}],
+          "bonds": [{"from": "s1", "to": "j"}, {"from": "s2", "to": "j"}, {"from": "j", "to": "r"}]}"#,
+    )
+    .unwrap();
+    let dot = to_dot(&g, None);
+    assert!(!dot.contains("subgraph"), "{dot}");
+    assert!(!dot.contains("legend"), "{dot}");
 }

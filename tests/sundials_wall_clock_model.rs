@@ -25,7 +25,7 @@ fn options(kind: FormulationKind, budget: Option<Duration>) -> SolveOptions {
         rtol: 1e-10,
         atol: 1e-10,
         output_times: (0..=100).map(|k| T_END * k as f64 / 100.0).collect(),
-        max_steps: Some(1_000_000),
+        max_steps: None,
         max_wall_clock: budget,
         ..SolveOptions::default()
     }
@@ -41,9 +41,15 @@ fn check(kind: FormulationKind) {
     let result = model.solve(&options(kind, Some(budget)));
     let elapsed = start.elapsed();
     match result {
-        Err(Error::Solver(SolverError::WallClock { t, limit })) => {
+        Err(Error::Incomplete { cause, partial }) => {
+            let Error::Solver(SolverError::WallClock { t, limit }) = *cause else {
+                panic!("{kind:?}: stopped by {cause}, not the wall clock");
+            };
             assert_eq!(limit, budget);
             assert!(t > 0.0 && t < T_END, "{kind:?}: time reached {t}");
+            // the rows computed so far are kept, up to the time reached
+            assert_eq!(partial.summary.t_reached, t);
+            assert_eq!(partial.times.last().copied(), Some(t));
         }
         other => panic!(
             "{kind:?}: expected WallClock with budget {budget:?} (full solve {full:?}), got {:?}",

@@ -766,7 +766,7 @@ impl<'a> Assembler<'a> {
             cols.push((format!("{b}.{}", axes[i]), (*e, false)));
         }
         match k {
-            BodyKinematics::Spatial { w, .. } => {
+            BodyKinematics::Spatial { w, e, .. } => {
                 for (i, e) in v.iter().enumerate() {
                     cols.push((format!("{b}.v{}", axes[i]), (*e, false)));
                 }
@@ -792,6 +792,16 @@ impl<'a> Assembler<'a> {
                 cols.push((format!("{b}.psi"), (psi, true)));
                 cols.push((format!("{b}.theta"), (theta, false)));
                 cols.push((format!("{b}.phi"), (phi, true)));
+                // the attitude quaternion R = R(q), q = e / |e| (the integrated Euler
+                // parameters, normalised): continuous, no gimbal lock
+                let ev: Vec<Expr> = e.iter().map(|&s| g.var(s)).collect();
+                let sq: Vec<Expr> = ev.iter().map(|&x| g.mul(x, x)).collect();
+                let n2 = g.sum(&sq);
+                let norm = g.sqrt(n2);
+                for (i, n) in ["qw", "qx", "qy", "qz"].iter().enumerate() {
+                    let q = g.div(ev[i], norm);
+                    cols.push((format!("{b}.{n}"), (q, false)));
+                }
             }
             BodyKinematics::Particle { .. } => {
                 for (i, e) in v.iter().enumerate() {

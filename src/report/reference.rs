@@ -1,7 +1,9 @@
 //! Independent reference solutions read from CSV, for `bondmech sweep --reference`.
 //!
 //! A reference is a table in the format `bondmech run` writes: a header `t,<col>,<col>,…` and one
-//! row of numbers per time. Its columns keep the scene contract's names (`bar2.x`,
+//! row of numbers per time (other tools' CSV is accepted too: quoted names, a `time` column,
+//! comment lines; see [`reference_from_csv_str`]). `bondmech animate --csv` reads its run
+//! tables with the same reader. Its columns keep the scene contract's names (`bar2.x`,
 //! `crank.angle`, `rod.B.y`, …), so a published reference solution — or one computed by another
 //! tool — can be compared with every formulation of a sweep without trusting bondmech for the
 //! reference itself. The sweep's output times become the reference's times (no interpolation
@@ -24,58 +26,88 @@ use crate::{Error, Result};
 /// Parses a reference table (`t` first, then named columns) from CSV text; `origin` names the
 /// source in error messages (`ref.csv line 3, column 2: …`).
 ///
-/// Times must be finite and strictly increasing; every row has as many numbers as the header
-/// has names; at least one row.
+/// The text is read with the `csv` crate, so other tools' tables work too: quoted header names
+/// (`"bar1.x"`), spaces around cells, blank lines, `#` comment lines, a UTF-8 byte order mark,
+/// and a first column named `time` (any case) instead of `t`. Times must be finite and strictly
+/// increasing; every row has as many numbers as the header has names; at least one row.
 pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
-    let bad = |line: usize, what: String| Error::Options(format!("{origin} line {line}: {what}"));
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
-        .next()
-        .ok_or_else(|| Error::Options(format!("{origin}: empty reference file")))?;
-    let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
-    if names.first().map(String::as_str) != Some("t") {
+    let bad = |line: u64, what: String| Error::Options(format!("{origin} line {line}: {what}"));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let header = reader
+        .headers()
+        .map_err(|e| Error::Options(format!("{origin}: {e}")))?
+        .clone();
+    // the file's own line numbers (the csv crate's skip comment lines)
+    let line_at = |pos: Option<&csv::Position>| {
+        pos.map_or(0, |p| {
+            let bytes = text.as_bytes();
+            let mut byte = (p.byte() as usize).min(bytes.len());
+            // the position may be that of the blank or comment lines before the record
+            loop {
+                let rest = &text[byte..];
+                let line_end = rest.find('\n').map_or(rest.len(), |i| i + 1);
+                let line = rest[..line_end].trim();
+                if line_end == 0 || !(line.is_empty() || line.starts_with('#')) {
+                    break;
+                }
+                byte += line_end;
+            }
+            1 + bytes[..byte].iter().filter(|&&b| b == b'\n').count() as u64
+        })
+    };
+    let header_line = line_at(header.position());
+    let names: Vec<String> = header.iter().map(|s| unquote(s).to_string()).collect();
+    if names.iter().all(|n| n.is_empty()) {
+        return Err(Error::Options(format!("{origin}: empty reference file")));
+    }
+    let first = names.first().map_or("", String::as_str);
+    if first != "t" && !first.eq_ignore_ascii_case("time") {
         return Err(bad(
-            1,
-            format!(
-                "the header must start with `t` (got `{}`)",
-                names.first().map_or("", String::as_str)
-            ),
+            header_line,
+            format!("the header must start with `t` or `time` (got `{first}`)"),
         ));
     }
     if names.len() < 2 {
-        return Err(bad(1, "the header names no column after `t`".into()));
+        return Err(bad(
+            header_line,
+            "the header names no column after `t`".into(),
+        ));
     }
-    if let Some(dup) = names
+    if let Some((_, dup)) = names
         .iter()
         .enumerate()
         .find(|(i, n)| names[..*i].contains(n))
     {
-        return Err(bad(1, format!("column `{}` appears twice", dup.1)));
+        return Err(bad(header_line, format!("column `{dup}` appears twice")));
     }
     let mut times = Vec::new();
     let mut rows = Vec::new();
-    for (i, line) in lines {
-        let line_no = i + 1;
-        let cells: Vec<&str> = line.split(',').collect();
-        if cells.len() != names.len() {
+    for record in reader.records() {
+        let record = record.map_err(|e| Error::Options(format!("{origin}: {e}")))?;
+        let line_no = line_at(record.position());
+        if record.iter().all(str::is_empty) {
+            continue;
+        }
+        if record.len() != names.len() {
             return Err(bad(
                 line_no,
-                format!("{} values for {} columns", cells.len(), names.len()),
+                format!("{} values for {} columns", record.len(), names.len()),
             ));
         }
-        let mut values = Vec::with_capacity(cells.len());
-        for (c, cell) in cells.iter().enumerate() {
-            let v: f64 = cell.trim().parse().map_err(|_| {
+        let mut values = Vec::with_capacity(record.len());
+        for (c, cell) in record.iter().map(unquote).enumerate() {
+            let v: f64 = cell.parse().map_err(|_| {
                 bad(
                     line_no,
                     format!(
-                        "column {} (`{}`): `{}` is not a number",
+                        "column {} (`{}`): `{cell}` is not a number",
                         c + 1,
-                        names[c],
-                        cell.trim()
+                        names[c]
                     ),
                 )
             })?;
@@ -113,6 +145,14 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
             ..Summary::default()
         },
     })
+}
+
+/// A cell without the quotes that survive when a tool writes a space before them (`a, "b"`).
+fn unquote(cell: &str) -> &str {
+    let c = cell.trim();
+    c.strip_prefix('"')
+        .and_then(|c| c.strip_suffix('"'))
+        .map_or(c, str::trim)
 }
 
 /// Reads a reference table from a CSV file (see [`reference_from_csv_str`]).
@@ -159,6 +199,22 @@ mod tests {
         assert!(e.to_string().contains("appears twice"), "{e}");
         let e = reference_from_csv_str("t,a\n", "r.csv").unwrap_err();
         assert!(e.to_string().contains("no rows"), "{e}");
+    }
+
+    #[test]
+    fn other_tools_csv_quoted_headers_time_column_comments() {
+        let text = "\u{feff}# exported by another tool\n\"Time\", \"bar1.x\" ,\"bar1.angle\"\n\n0, 0.5, 0\n\"0.5\",0.25,1e-1\n";
+        let r = reference_from_csv_str(text, "other.csv").unwrap();
+        assert_eq!(
+            r.columns,
+            vec!["bar1.x".to_string(), "bar1.angle".to_string()]
+        );
+        assert_eq!(r.times, vec![0.0, 0.5]);
+        assert_eq!(r.column("bar1.angle"), Some(vec![0.0, 0.1]));
+        // line numbers count the comment and blank lines of the file
+        let e = reference_from_csv_str("# c\ntime,a\n0,1\n\n1,oops\n", "o.csv").unwrap_err();
+        assert!(e.to_string().contains("o.csv line 5"), "{e}");
+        assert!(e.to_string().contains("`oops` is not a number"), "{e}");
     }
 
     #[test]

@@ -21,7 +21,7 @@ pub const SCALAR_OUTPUTS: &[&str] = &[
 /// Standard per-body columns a `b.<column>` output or expression may name.
 pub const BODY_COLUMNS: &[&str] = &[
     "x", "y", "z", "angle", "vx", "vy", "vz", "omega", "wx", "wy", "wz", "wX", "wY", "wZ", "psi",
-    "theta", "phi",
+    "theta", "phi", "qw", "qx", "qy", "qz",
 ];
 
 /// A mechanism scene (scene format v1).
