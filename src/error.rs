@@ -43,6 +43,21 @@ pub enum Error {
     /// The solver failed (function, flag and time in the message).
     #[error("{0}")]
     Solver(#[from] SolverError),
+    /// A load of the scene (or a parameter or law of a raw bond graph element) evaluates to NaN
+    /// or ±∞ during the solve: which one (JSON path, name, expression) and when.
+    #[error("{culprit}{}", if *stuck { "; the solver cannot step past it" } else { "" })]
+    NonFinite {
+        /// The culprit, its value and the time.
+        culprit: Box<crate::mech::NonFiniteValue>,
+        /// Whether the solver's steps piled up against it (rather than failing otherwise).
+        stuck: bool,
+        /// The solver's own error.
+        #[source]
+        solver: Box<SolverError>,
+    },
+    /// The model would not fit in this machine's memory (estimated before building it).
+    #[error("{0}")]
+    TooLarge(#[from] crate::mech::size::SizeError),
     /// Invalid solve options.
     #[error("invalid options: {0}")]
     Options(String),

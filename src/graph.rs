@@ -3,20 +3,21 @@
 //! A scene with `bodies`/`joints` is expanded with the chapter's fragments
 //! ([`crate::mech::bondgraph`]); a scene with a raw `"bond_graph"` is read as it is.
 
-use crate::bond::causality::{assign_causality, Causality, CausalityReport};
+use crate::bond::causality::{assign_causality, assign_causality_at, Causality, CausalityReport};
 use crate::bond::dot::to_dot;
 use crate::bond::json::RawBondGraph;
 use crate::bond::model::BondGraph;
 use crate::mech::{scene_bond_graph, Variant};
 use crate::scene::Scene;
 use crate::{Error, Result};
+use std::collections::HashMap;
 
 /// A scene's bond graph with its causal assignment.
 #[derive(Clone, Debug)]
 pub struct SceneGraph {
     /// The bond graph.
     pub graph: BondGraph,
-    /// The SCAP causal assignment.
+    /// The causal assignment (by matching, see [`crate::bond::causality`]).
     pub causality: Causality,
 }
 
@@ -29,17 +30,30 @@ impl SceneGraph {
     /// let r = g.report();
     /// assert_eq!((r.integral_inertias, r.differential.len()), (2, 4)); // seed 16.7
     /// ```
+    ///
+    /// A mechanism's causality follows the rank of its constraint rows at the scene's initial
+    /// configuration ([`assign_causality_at`] with [`initial_values`]): the true DOF of a
+    /// geometrically special mechanism, with its redundant joint rows named. A raw graph gets
+    /// the generic (structural) count ([`assign_causality`]).
     pub fn new(scene: &Scene, variant: Variant) -> Result<SceneGraph> {
-        let graph = match &scene.bond_graph {
+        match &scene.bond_graph {
             Some(raw) => {
                 let raw: RawBondGraph = serde_json::from_value(raw.clone())
                     .map_err(|e| Error::BondGraph(format!("bond_graph: {e}")))?;
-                raw.to_graph()
-                    .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?
+                let graph = raw
+                    .to_graph()
+                    .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?;
+                SceneGraph::from_graph(graph)
             }
-            None => scene_bond_graph(scene, variant)?,
-        };
-        SceneGraph::from_graph(graph)
+            None => {
+                let graph = scene_bond_graph(scene, variant)?;
+                let values = initial_values(scene);
+                let causality =
+                    assign_causality_at(&graph, scene.solve.t_start, &|n| values.get(n).copied())
+                        .map_err(|e| Error::BondGraph(e.to_string().replace('\n', "; ")))?;
+                Ok(SceneGraph { graph, causality })
+            }
+        }
     }
 
     /// Assigns causality to a bond graph already built (for example a model's raw graph).
@@ -58,4 +72,29 @@ impl SceneGraph {
     pub fn dot(&self) -> String {
         to_dot(&self.graph, Some(&self.causality))
     }
+}
+
+/// The values the moduli of a mechanism's bond graph reference, at the scene's initial state:
+/// `x_<body>.omega` the planar angle α of each body, `<body>.R_<I><i>` the entries of each
+/// spatial body's rotation `R = R_Z(ψ) R_y(θ) R_x(φ)` (seed 16.2, Cardan angles `[ψ, θ, φ]`).
+pub fn initial_values(scene: &Scene) -> HashMap<String, f64> {
+    let mut v = HashMap::new();
+    for b in &scene.bodies {
+        v.insert(format!("x_{}.omega", b.name), b.angle);
+        let [psi, theta, phi] = b.cardan;
+        let (cs, ss) = (psi.cos(), psi.sin());
+        let (ct, st) = (theta.cos(), theta.sin());
+        let (cf, sf) = (phi.cos(), phi.sin());
+        let r = [
+            [ct * cs, sf * st * cs - cf * ss, cf * st * cs + sf * ss],
+            [ct * ss, sf * st * ss + cf * cs, cf * st * ss - sf * cs],
+            [-st, sf * ct, cf * ct],
+        ];
+        for (i, big) in ["X", "Y", "Z"].iter().enumerate() {
+            for (k, small) in ["x", "y", "z"].iter().enumerate() {
+                v.insert(format!("{}.R_{big}{small}", b.name), r[i][k]);
+            }
+        }
+    }
+    v
 }

@@ -53,7 +53,7 @@
 //! | [`model`] | [`Model`]: scene → solvable model; solve, stream, compare, inspect |
 //! | [`sundials`] | the only `unsafe`: safe RAII wrappers of IDA and CVODE |
 //! | [`expr`] | expression DAG, symbolic derivatives, evaluation tapes |
-//! | [`bond`] | bond graphs: data model, validation, causality (SCAP), DOT drawings |
+//! | [`bond`] | bond graphs: data model, validation, causality (matching + numeric rank), DOT drawings |
 //! | [`graph`] | a scene's bond graph, causality report and drawing |
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field |
 //! | [`mech`] | bodies, joints, springs, loads → the multibody system |

@@ -549,6 +549,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     "--decoupled: a raw bond graph has no joints to decouple".into(),
                 ));
             }
+            // the scene's own `solve.formulation: "decoupled"` draws the twin too
+            let decoupled = decoupled
+                || (!model.is_raw_bond_graph()
+                    && model.scene().solve.formulation == bondmech::scene::Formulation::Decoupled);
             let variant = if decoupled {
                 bondmech::mech::Variant::Decoupled
             } else {

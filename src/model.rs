@@ -87,6 +87,8 @@ fn empty_system() -> MultibodySystem {
         kinetic: zero,
         outputs: Vec::new(),
         warnings: Vec::new(),
+        load_terms: Vec::new(),
+        body_size: 0.0,
         reactions: Vec::new(),
         reaction_outputs: false,
         events: Vec::new(),
@@ -98,9 +100,11 @@ impl Model {
     /// Builds the multibody system of `scene`, or reads and validates its raw `"bond_graph"`.
     ///
     /// Errors name the culprit: the JSON path of a bad body, joint or load, or the bond graph
-    /// element or bond that is invalid.
+    /// element or bond that is invalid. A model whose dense matrices would not fit in this
+    /// machine's memory is refused before it is built ([`crate::mech::size`]).
     pub fn new(scene: &Scene) -> Result<Model> {
         let clock = ThreadTime::now();
+        crate::mech::size::check_scene_memory(scene, scene.solve.formulation)?;
         let kind = if scene.bond_graph.is_some() {
             Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
         } else {
@@ -148,7 +152,7 @@ impl Model {
     }
 
     /// The bond graph of `variant` (for a mechanism: joints kept, or replaced by stiff
-    /// springs; a raw bond graph has one variant only) with its SCAP causal assignment.
+    /// springs; a raw bond graph has one variant only) with its causal assignment (by matching).
     pub fn scene_graph(&self, variant: Variant) -> Result<SceneGraph> {
         match &self.kind {
             Kind::BondGraph(g, _) => SceneGraph::from_graph((**g).clone()),
@@ -270,6 +274,7 @@ impl Model {
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
+                    .map_err(|e| crate::solve::non_finite::name_in_mechanism(sys, e))
             }
             Kind::BondGraph(g, _) => {
                 if opts.formulation == FormulationKind::Decoupled {

@@ -217,11 +217,13 @@ fn two_hinged_bars_from_json_have_four_integral_two_differential() {
     assert_eq!(inertia_counts(&g, &r), (4, 2));
     assert_eq!(r.dof, 4);
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);
-    // the first bar keeps integral causality (element order preference), then bar 2's v_x.
-    // Hand reasoning: with V_A known from bar 1 through the pin's 1-junction Ax, the x-sum
-    // 0-junction of bar 2's point A (V2x + ω2·r = V_A) is solved for the MTF term, fixing ω2:
-    // 2J is forced at 2sAx by the bonds from 2vx and to the pin Ax. With ω2 fixed, the y-sum
-    // 2sAy (V2y + ω2·r = V_Ay) is solved for V2y from the MTF term and the pin Ay.
+    // Causality by matching (issue 13), at the graph's state (both bars horizontal, x = 0):
+    // the knee's rows V_A1 = V_A2 hold bar 2's translations with coefficient 1 and its
+    // rotation with ½·sin 0 = 0 (x row) and ½ (y row); each row pivots on the unit entry, so
+    // bar 2's translations are differential and both rotations integral (the old SCAP made
+    // 2J differential through the x row, dividing by sin 0). Bar 1 stays integral: ties between
+    // the bars go to the later name, not to the file order. Each differential inertia is forced
+    // at its point-A sum by the MTF term and the pin junction.
     assert_forcing_is_named(&g, &r);
     // (element, junction, via elements, path, via bonds)
     type Forced<'a> = (&'a str, &'a str, Vec<&'a str>, Vec<&'a str>, Vec<&'a str>);
@@ -246,24 +248,24 @@ fn two_hinged_bars_from_json_have_four_integral_two_differential() {
             .find(|b| Some(b.from) == f && Some(b.to) == t);
         b.unwrap().name.clone()
     };
-    let (b_2vx, b_ax) = (bond("2vx", "2sAx"), bond("2sAx", "Ax"));
-    let (b_mtf, b_ay) = (bond("2mAy", "2sAy"), bond("2sAy", "Ay"));
+    let (b_mx, b_ax) = (bond("2mAx", "2sAx"), bond("2sAx", "Ax"));
+    let (b_my, b_ay) = (bond("2mAy", "2sAy"), bond("2sAy", "Ay"));
     assert_eq!(
         forced,
         vec![
+            (
+                "2mx",
+                "2sAx",
+                vec!["2mAx", "Ax"],
+                vec!["2vx", "2sAx"],
+                vec![b_mx.as_str(), b_ax.as_str()]
+            ),
             (
                 "2my",
                 "2sAy",
                 vec!["2mAy", "Ay"],
                 vec!["2vy", "2sAy"],
-                vec![b_mtf.as_str(), b_ay.as_str()]
-            ),
-            (
-                "2J",
-                "2sAx",
-                vec!["2vx", "Ax"],
-                vec!["2w", "2mAx", "2sAx"],
-                vec![b_2vx.as_str(), b_ax.as_str()]
+                vec![b_my.as_str(), b_ay.as_str()]
             ),
         ]
     );

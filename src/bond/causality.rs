@@ -1,56 +1,59 @@
-//! Sequential causality assignment procedure (SCAP).
+//! Causality by matching: structural assignment from a bipartite matching, true DOF from the
+//! numeric rank of the constraint rows.
 //!
 //! Each bond gets a causal stroke at the end that *receives* the effort (the other end
 //! imposes it). Rules: Se imposes effort, Sf imposes flow; at a 0-junction exactly one bond
 //! imposes the common effort, at a 1-junction exactly one bond imposes the common flow;
-//! TF/MTF pass the stroke through (one in, one out), GY/MGY have both strokes in or both out.
+//! TF/MTF pass the stroke through (one in, one out), GY/MGY have both strokes away.
 //!
-//! Order (deterministic, element order throughout):
-//! 1. sources, then propagate;
-//! 2. inertias, then capacitors, one at a time with **integral** causality (I receives effort,
-//!    C receives flow), propagating after each; a storage already fixed by propagation the other
-//!    way is **differential** (a dependent variable / constraint of the seed, 16.5), and the
-//!    junction and bonds that forced it are reported: following the variable the storage
-//!    receives back through the final causal graph, the first junction that computes it as a
-//!    balance of two or more bonds (the junction where the constraint closes, e.g. where a
-//!    pin's velocity meets the bar's own), whichever step of SCAP fixed it. An integral
-//!    choice is kept only if the rest of the graph can still be completed without a conflict
-//!    (a depth-first look-ahead with propagation over the free bonds, bounded by
-//!    [`SEARCH_BUDGET`]); otherwise the storage is made differential.
-//!    This catches constraints that close kinematic loops (slider-crank, four-bar), which
-//!    purely local propagation cannot see;
-//! 3. resistors (R imposes effort, an arbitrary choice), propagating; every other R whose
-//!    causality that choice forces lies on a zero-order causal path with it: an **algebraic loop**;
-//! 4. any bond still free, arbitrarily, propagating.
+//! 1. **Which inertias are dependent** ([`super::rank`]): the junction structure's flow
+//!    equations are eliminated down to the constraint rows `G v_I = 0` on the inertia flows, and
+//!    `G` is factorised with complete pivoting. Its rank `r` is the number of inertias in
+//!    differential causality (seed 16.5: one per independent constraint); the pivot columns are
+//!    those inertias, chosen by the size of their pivots at the state (never one whose flow would
+//!    be found by dividing by a modulus that vanishes there); rows left without a pivot are the
+//!    **redundant junctions**. [`assign_causality`] takes `r` as the generic rank (moduli at
+//!    generic values: the structural count, what a graph drawn without a geometry means) and
+//!    prefers the inertias well conditioned at the graph's initial state;
+//!    [`assign_causality_at`] takes the rank at a given state (a mechanism's initial
+//!    configuration), so a geometrically special mechanism (Bricard's loop: generically rigid,
+//!    one DOF from its geometry) gets its true DOF and its redundant joint rows named.
+//! 2. **The strokes** ([`super::orient`]): with those inertias differential and the others
+//!    integral, capacitors integral, the causal strokes are a degree-constrained orientation of
+//!    the bonds, solved as a bipartite matching (max flow). When the rules cannot all hold,
+//!    storages change causality before a junction is over-determined; an element left outside
+//!    its rule is a **conflict** (the redundant junctions are over-determined by design and
+//!    appear there too).
+//! 3. **Algebraic loops**: resistors on a cycle of the variable dependency graph (strongly
+//!    connected components of "bond variable computed from bond variable"), i.e. zero-order
+//!    causal paths.
 //!
-//! Over-determined junctions and two-ports are **conflicts**; they are recorded with the
-//! elements whose choices clash, and the assignment still completes.
-//! The number of degrees of freedom reported is `dof = #integral I` (seed 16.5: "solo las
-//! inercias con causalidad integral … corresponden con grados de libertad"): the displacements
-//! of integral capacitors are states but not degrees of freedom (the decoupled double pendulum
-//! of Fig. 21 has 6 DOF and 10 states). `state_count = #integral I + #integral C` is the number
-//! of states of the resulting ODE/DAE, listed in `states`.
+//! Everything is built in the canonical (name) order, so the assignment does not depend on the
+//! order of elements or bonds in the file. The cost is that of the sparse elimination (linear
+//! in the size of chains and trees of bodies), Dinic's max flow (`O(E √V)`) and Tarjan's
+//! algorithm (linear). `dof = #integral I` (seed 16.5: "solo las inercias con causalidad
+//! integral … corresponden con grados de libertad"); `state_count = #integral I + #integral C`.
 
 use super::model::{BondGraph, BondId, ElementId, ElementKind};
+use super::orient::Network;
+use super::rank::{
+    canonical_bonds, canonical_elements, constraint_rank, ConstraintRank, Valuation,
+};
 use super::validate::{validate, ValidationErrors};
 use serde::Serialize;
-use std::collections::{HashSet, VecDeque};
 
-/// Maximum number of tentative bond orientations tried by one look-ahead search.
-pub const SEARCH_BUDGET: usize = 20_000;
-
-/// Which step of the procedure fixed a bond.
+/// What kind of bond this is for the assignment (the matching fixes all bonds at once).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Stage {
-    /// Required by a source.
+    /// The bond of a source (its causality is required).
     Source,
-    /// Chosen for a storage element (integral causality).
+    /// The bond of a storage element (its causality chosen from the constraint rows' pivots).
     Storage,
-    /// Chosen for a resistor.
+    /// The bond of a resistor.
     Resistor,
-    /// Chosen arbitrarily for a leftover bond.
+    /// Not produced by the matching (kept so that reports of older versions still parse).
     Arbitrary,
-    /// Forced by propagation through a junction or two-port.
+    /// A bond of the junction structure (junctions and two-ports only).
     Propagated,
 }
 
@@ -61,13 +64,14 @@ pub struct BondAssignment {
     pub effort_receiver: ElementId,
     /// The element that imposes the effort (the other end).
     pub effort_source: ElementId,
-    /// The element whose choice started the propagation that fixed this bond.
+    /// The element that imposes the effort (the matching has no propagation order to record).
     pub origin: ElementId,
-    /// The step that fixed it.
+    /// What kind of bond it is.
     pub stage: Stage,
-    /// The junction/two-port that propagated it (None for a direct choice).
+    /// None: the matching fixes every bond at once (see [`DifferentialStorage`] for what forced
+    /// a differential storage, read from the final causal graph).
     pub via: Option<ElementId>,
-    /// The bonds at `via` whose causality forced this one.
+    /// Empty, as `via`.
     pub causes: Vec<BondId>,
 }
 
@@ -98,7 +102,8 @@ pub struct DifferentialStorage {
     pub via_elements: Vec<String>,
     /// Junctions and two-ports from the storage back to `forced_by_junction`, in that order.
     pub path: Vec<String>,
-    /// The element whose choice started the propagation (e.g. an inertia made integral earlier).
+    /// The constraint junction whose row was solved for this storage (the pivot row of the
+    /// rank-revealing factorisation, e.g. `knee.y`); the forcing junction otherwise.
     pub origin: String,
 }
 
@@ -152,6 +157,38 @@ pub struct Causality {
     pub conflicts: Vec<Conflict>,
     /// Resistor groups on zero-order causal loops (ids, element order).
     pub algebraic_loops: Vec<Vec<ElementId>>,
+    /// The constraint rows and their rank (see [`super::rank`]).
+    pub constraints: ConstraintSummary,
+}
+
+/// What the numeric factorisation of the constraint rows found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConstraintSummary {
+    /// Number of flow rows of the junction structure.
+    pub rows: usize,
+    /// Rank of the constraint rows on the inertia flows at generic moduli (structural count).
+    pub generic_rank: usize,
+    /// Rank at the state the assignment was made for (the graph's initial values, or the state
+    /// given to [`assign_causality_at`]).
+    pub numeric_rank: usize,
+    /// The rank the assignment follows (`generic_rank` for [`assign_causality`],
+    /// `numeric_rank` for [`assign_causality_at`]).
+    pub rank: usize,
+    /// Junctions (or Sf, TF) whose rows were left without a pivot: redundant at that rank.
+    pub redundant: Vec<ElementId>,
+    /// For each inertia put in differential causality by a pivot, the junction of its row.
+    pub pivot_rows: Vec<(ElementId, ElementId)>,
+}
+
+/// A redundant constraint junction: its row is a combination of the others.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RedundantJunction {
+    /// The junction (1-junction of a joint row, Sf of a row to ground, 0-junction or TF).
+    pub junction: String,
+    /// The joint: the junction name up to its last `.` (`hinge3` of `hinge3.axis2`).
+    pub joint: String,
+    /// The direction: the junction name after its last `.` (`axis2`; empty without a `.`).
+    pub direction: String,
 }
 
 /// The serializable causality report.
@@ -177,511 +214,451 @@ pub struct CausalityReport {
     pub storages: Vec<StorageInfo>,
     /// Causality of every bond.
     pub bond_causality: Vec<BondCausality>,
+    /// Number of flow constraint rows of the junction structure (joint rows, pins, sums).
+    pub constraint_rows: usize,
+    /// Rank of the constraint rows on the inertia flows with generic moduli (the structural
+    /// count: what the graph's shape alone allows).
+    pub generic_rank: usize,
+    /// Rank at the state of the assignment (a mechanism's initial configuration): lower than
+    /// `generic_rank` on a geometrically special mechanism (Bricard: 29 of 30).
+    pub numeric_rank: usize,
+    /// Constraint junctions whose rows are redundant (a combination of the others), named by
+    /// joint and direction; empty when every constraint is independent.
+    pub redundant: Vec<RedundantJunction>,
 }
 
-struct Scap<'g> {
-    g: &'g BondGraph,
-    adj: Vec<Vec<BondId>>,
-    state: Vec<Option<BondAssignment>>,
-    seq: Vec<usize>,
-    counter: usize,
-    queue: VecDeque<ElementId>,
-    conflicts: Vec<Conflict>,
-    conflicted: HashSet<ElementId>,
-    /// Undo log: bonds in the order they were fixed, conflicted elements in order.
-    trail: Vec<BondId>,
-    conflicted_trail: Vec<ElementId>,
-    /// Receivers of the last conflict-free completion found by the look-ahead.
-    witness: Option<Vec<ElementId>>,
+/// A deterministic generic value for a variable (`0.3 … 1.3`, from a hash of its name), used
+/// for the generic rank and for names a valuation does not know.
+pub fn generic_value(name: &str) -> f64 {
+    // FNV-1a, then mixed
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in name.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    // splitmix64 finaliser: names differing in their last letter get unrelated values
+    h ^= h >> 30;
+    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h ^= h >> 27;
+    h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^= h >> 31;
+    0.3 + (h >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// A point of the undo log to roll back to.
-#[derive(Clone, Copy)]
-struct Mark {
-    trail: usize,
-    conflicts: usize,
-    conflicted: usize,
-}
-
-impl<'g> Scap<'g> {
-    fn new(g: &'g BondGraph) -> Self {
-        let mut adj = vec![Vec::new(); g.elements.len()];
-        for (i, b) in g.bonds.iter().enumerate() {
-            adj[b.from.0].push(BondId(i));
-            adj[b.to.0].push(BondId(i));
-        }
-        Scap {
-            g,
-            adj,
-            state: vec![None; g.bonds.len()],
-            seq: vec![0; g.bonds.len()],
-            counter: 0,
-            queue: VecDeque::new(),
-            conflicts: Vec::new(),
-            conflicted: HashSet::new(),
-            trail: Vec::new(),
-            conflicted_trail: Vec::new(),
-            witness: None,
-        }
+/// The graph's own initial values: `p_<I>`, `q_<C>` from `initial` (0 when absent), every
+/// displacement `x_…` 0; anything else (signals) is unknown.
+fn initial_value(graph: &BondGraph, name: &str) -> Option<f64> {
+    if name.starts_with("x_") {
+        return Some(0.0);
     }
-
-    fn name(&self, e: ElementId) -> String {
-        self.g.element(e).name.clone()
-    }
-
-    fn receiver(&self, b: BondId) -> Option<ElementId> {
-        self.state[b.0].as_ref().map(|a| a.effort_receiver)
-    }
-
-    fn set(
-        &mut self,
-        b: BondId,
-        receiver: ElementId,
-        origin: ElementId,
-        stage: Stage,
-        via: Option<ElementId>,
-        causes: Vec<BondId>,
-    ) {
-        if self.state[b.0].is_some() {
-            return;
-        }
-        let bond = self.g.bond(b);
-        let source = if bond.from == receiver {
-            bond.to
-        } else {
-            bond.from
-        };
-        self.counter += 1;
-        self.seq[b.0] = self.counter;
-        self.state[b.0] = Some(BondAssignment {
-            effort_receiver: receiver,
-            effort_source: source,
-            origin,
-            stage,
-            via,
-            causes,
-        });
-        self.trail.push(b);
-        self.queue.push_back(bond.from);
-        self.queue.push_back(bond.to);
-    }
-
-    fn mark(&self) -> Mark {
-        Mark {
-            trail: self.trail.len(),
-            conflicts: self.conflicts.len(),
-            conflicted: self.conflicted_trail.len(),
-        }
-    }
-
-    /// Undoes every assignment and conflict recorded after `m` (the queue is empty at marks).
-    fn rollback(&mut self, m: Mark) {
-        for b in self.trail.drain(m.trail..) {
-            self.state[b.0] = None;
-        }
-        self.conflicts.truncate(m.conflicts);
-        for e in self.conflicted_trail.drain(m.conflicted..) {
-            self.conflicted.remove(&e);
-        }
-        self.queue.clear();
-    }
-
-    /// Fixes `b` and propagates.
-    fn choose(
-        &mut self,
-        b: BondId,
-        receiver: ElementId,
-        origin: ElementId,
-        stage: Stage,
-        via: Option<ElementId>,
-    ) {
-        self.set(b, receiver, origin, stage, via, vec![]);
-        self.propagate();
-    }
-
-    /// Would completing the graph from here create a conflict? (Leaves the state unchanged.)
-    /// Returns the junction of an unavoidable conflict, or None when some conflict-free
-    /// completion exists (a depth-first search with propagation, bounded by [`SEARCH_BUDGET`]
-    /// choices; when the budget runs out the completion is assumed possible).
-    fn look_ahead(&mut self) -> Option<String> {
-        // a previous conflict-free completion that agrees with every fixed bond still is one
-        // (propagated bonds are forced consequences), so no search is needed
-        if let Some(w) = &self.witness {
-            if self
-                .state
-                .iter()
-                .zip(w)
-                .all(|(a, r)| a.as_ref().is_none_or(|a| a.effort_receiver == *r))
-            {
-                return None;
+    for prefix in ["p_", "q_"] {
+        if let Some(rest) = name.strip_prefix(prefix) {
+            if let Some(e) = graph.element_by_name(rest) {
+                return Some(graph.element(e).initial.unwrap_or(0.0));
             }
         }
-        let m = self.mark();
-        let mut budget = SEARCH_BUDGET;
-        let ok = self.search(0, &mut budget);
-        self.witness = if ok && self.state.iter().all(|a| a.is_some()) {
-            Some(
-                self.state
+    }
+    None
+}
+
+/// Assigns causality to a valid graph (validation errors are returned otherwise), with the
+/// **generic** rank of the constraint rows (the structural count) and, among the choices it
+/// leaves, the inertias best conditioned at the graph's initial values (see the module docs).
+pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors> {
+    let state = |n: &str| initial_value(graph, n).or_else(|| Some(generic_value(n)));
+    assign(graph, 0.0, &state, false)
+}
+
+/// Assigns causality with the rank of the constraint rows **at a state**: `values` gives the
+/// variables the moduli reference (`x_<body>.omega` angles, rotation-entry signals, …) at time
+/// `t`; names it does not know take the graph's initial values, then generic values. A
+/// mechanism's scene graph uses its initial configuration, so the DOF is the true one there
+/// and the redundant junctions are named.
+pub fn assign_causality_at(
+    graph: &BondGraph,
+    t: f64,
+    values: Valuation,
+) -> Result<Causality, ValidationErrors> {
+    let state = |n: &str| {
+        values(n)
+            .or_else(|| initial_value(graph, n))
+            .or_else(|| Some(generic_value(n)))
+    };
+    assign(graph, t, &state, true)
+}
+
+fn assign(
+    graph: &BondGraph,
+    t: f64,
+    values: Valuation,
+    at_state: bool,
+) -> Result<Causality, ValidationErrors> {
+    validate(graph)?;
+    let deferred = joint_rows(graph);
+    let at = constraint_rank(graph, t, values, &[], &deferred);
+    let generic_values = |n: &str| Some(generic_value(n));
+    let mut generic = constraint_rank(graph, t, &generic_values, &[], &deferred);
+    if !at_state && generic.rank > at.rank {
+        // singular at the state: keep its well-conditioned pivots, complete them generically
+        let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();
+        generic = constraint_rank(graph, t, &generic_values, &first, &deferred);
+    }
+    // at full generic rank the state's own pivots are the choice (best conditioned there)
+    let generic_choice = if generic.rank == at.rank {
+        &at
+    } else {
+        &generic
+    };
+    let chosen: &ConstraintRank = if at_state { &at } else { generic_choice };
+    let differential: Vec<ElementId> = chosen.pivots.iter().map(|p| p.1).collect();
+    let constraints = ConstraintSummary {
+        rows: at.rows,
+        generic_rank: generic.rank,
+        numeric_rank: at.rank,
+        rank: chosen.rank,
+        redundant: chosen.redundant.clone(),
+        pivot_rows: chosen.pivots.iter().map(|&(r, i)| (i, r)).collect(),
+    };
+    // a gyrator first has both strokes away (efforts from flows); one left outside its rule is
+    // given the other gyrator causality (both strokes at it) and the matching is solved again
+    let mut gy_in = vec![false; graph.elements.len()];
+    let mut sources;
+    loop {
+        sources = orient(
+            graph,
+            &differential,
+            &chosen.redundant,
+            &at.zero_moduli,
+            &gy_in,
+        );
+        let mut changed = false;
+        for e in graph.element_ids() {
+            if graph.element(e).kind.is_gyrator() && !gy_in[e.0] {
+                let n = graph
+                    .bonds
                     .iter()
-                    .flatten()
-                    .map(|a| a.effort_receiver)
-                    .collect(),
-            )
-        } else {
-            None
-        };
-        self.rollback(m);
-        if ok {
-            return None;
-        }
-        let r = self.complete();
-        self.rollback(m);
-        r.or_else(|| Some(String::new()))
-    }
-
-    /// Depth-first search for a conflict-free assignment of the free bonds from index `start`;
-    /// on success the assignment is left in place.
-    fn search(&mut self, start: usize, budget: &mut usize) -> bool {
-        let Some(i) = (start..self.g.bonds.len()).find(|&i| self.state[i].is_none()) else {
-            return true;
-        };
-        let (from, to) = (self.g.bonds[i].from, self.g.bonds[i].to);
-        for receiver in [to, from] {
-            if *budget == 0 {
-                return true;
-            }
-            *budget -= 1;
-            let m = self.mark();
-            self.choose(BondId(i), receiver, from, Stage::Arbitrary, None);
-            if self.conflicts.len() == m.conflicts && self.search(i + 1, budget) {
-                return true;
-            }
-            self.rollback(m);
-        }
-        false
-    }
-
-    fn origin(&self, b: BondId) -> ElementId {
-        self.state[b.0]
-            .as_ref()
-            .map(|a| a.origin)
-            .unwrap_or(ElementId(0))
-    }
-
-    /// Origin of the most recently fixed of `causes`.
-    fn latest_origin(&self, causes: &[BondId]) -> ElementId {
-        causes
-            .iter()
-            .max_by_key(|b| self.seq[b.0])
-            .map(|&b| self.origin(b))
-            .unwrap_or(ElementId(0))
-    }
-
-    fn conflict(&mut self, at: ElementId, bonds: &[BondId], description: String) {
-        if !self.conflicted.insert(at) {
-            return;
-        }
-        self.conflicted_trail.push(at);
-        let mut elements: Vec<ElementId> = bonds.iter().map(|&b| self.origin(b)).collect();
-        elements.sort();
-        elements.dedup();
-        self.conflicts.push(Conflict {
-            junction: self.name(at),
-            elements: elements.into_iter().map(|e| self.name(e)).collect(),
-            description,
-        });
-    }
-
-    fn propagate(&mut self) {
-        while let Some(el) = self.queue.pop_front() {
-            self.process(el);
-        }
-    }
-
-    fn process(&mut self, el: ElementId) {
-        let kind = self.g.element(el).kind;
-        let bonds = self.adj[el.0].clone();
-        match kind {
-            ElementKind::Zero | ElementKind::One => self.junction(el, kind, &bonds),
-            k if k.is_two_port() && bonds.len() == 2 => self.two_port(el, k, &bonds),
-            _ => {}
-        }
-    }
-
-    fn junction(&mut self, el: ElementId, kind: ElementKind, bonds: &[BondId]) {
-        let zero = kind == ElementKind::Zero;
-        // a bond "determines" the junction when it imposes the common variable on it
-        let determines = |r: ElementId| if zero { r == el } else { r != el };
-        let det: Vec<BondId> = bonds
-            .iter()
-            .copied()
-            .filter(|&b| self.receiver(b).is_some_and(determines))
-            .collect();
-        let free: Vec<BondId> = bonds
-            .iter()
-            .copied()
-            .filter(|&b| self.receiver(b).is_none())
-            .collect();
-        let (what, var) = if zero {
-            ("0-junction", "effort")
-        } else {
-            ("1-junction", "flow")
-        };
-        let non_det_receiver = |s: &Self, b: BondId| {
-            if zero {
-                s.g.other_end(b, el)
-            } else {
-                el
-            }
-        };
-        let det_receiver = |s: &Self, b: BondId| {
-            if zero {
-                el
-            } else {
-                s.g.other_end(b, el)
-            }
-        };
-        if det.len() >= 2 {
-            let names: Vec<String> = det.iter().map(|&b| self.g.bond(b).name.clone()).collect();
-            self.conflict(
-                el,
-                &det,
-                format!(
-                    "{what} '{}' has its common {var} imposed by {} bonds ({})",
-                    self.name(el),
-                    det.len(),
-                    names.join(", ")
-                ),
-            );
-        }
-        if !det.is_empty() {
-            let origin = self.latest_origin(&det);
-            for b in free {
-                let r = non_det_receiver(self, b);
-                self.set(b, r, origin, Stage::Propagated, Some(el), det.clone());
-            }
-        } else if free.len() == 1 {
-            let causes: Vec<BondId> = bonds.iter().copied().filter(|&b| b != free[0]).collect();
-            let origin = self.latest_origin(&causes);
-            let r = det_receiver(self, free[0]);
-            self.set(free[0], r, origin, Stage::Propagated, Some(el), causes);
-        } else if free.is_empty() && !bonds.is_empty() {
-            self.conflict(
-                el,
-                bonds,
-                format!(
-                    "{what} '{}': no bond imposes the common {var}, every bond imposes the other variable",
-                    self.name(el)
-                ),
-            );
-        }
-    }
-
-    /// Assigns every free bond, choosing for each the orientation that creates no new conflict
-    /// when one exists. Returns the junction of the first unavoidable conflict, if any.
-    fn complete(&mut self) -> Option<String> {
-        let base = self.conflicts.len();
-        for i in 0..self.g.bonds.len() {
-            if self.state[i].is_some() {
-                continue;
-            }
-            let (from, to) = (self.g.bonds[i].from, self.g.bonds[i].to);
-            let m = self.mark();
-            self.choose(BondId(i), to, from, Stage::Arbitrary, None);
-            if self.conflicts.len() > m.conflicts {
-                self.rollback(m);
-                self.choose(BondId(i), from, from, Stage::Arbitrary, None);
-                if self.conflicts.len() > m.conflicts {
-                    self.rollback(m);
-                    self.choose(BondId(i), to, from, Stage::Arbitrary, None);
+                    .enumerate()
+                    .filter(|(i, b)| (b.from == e || b.to == e) && sources[*i] == e);
+                if n.count() != 2 {
+                    gy_in[e.0] = true;
+                    changed = true;
                 }
             }
         }
-        (self.conflicts.len() > base).then(|| self.conflicts[base].junction.clone())
+        if !changed {
+            break;
+        }
     }
+    Ok(finish(graph, sources, constraints))
+}
 
-    fn two_port(&mut self, el: ElementId, kind: ElementKind, bonds: &[BondId]) {
-        let (a, b) = (bonds[0], bonds[1]);
-        let ra = self.receiver(a).map(|r| r == el);
-        let rb = self.receiver(b).map(|r| r == el);
-        // gyrator: both strokes at the element or both away; transformer: exactly one
-        let same = kind.is_gyrator();
-        match (ra, rb) {
-            (Some(x), None) => {
-                let at_el = if same { x } else { !x };
-                let r = if at_el { el } else { self.g.other_end(b, el) };
-                let o = self.origin(a);
-                self.set(b, r, o, Stage::Propagated, Some(el), vec![a]);
+/// The elements whose rows are joint constraints: the graph's annotated constraint junctions,
+/// or, in a graph without annotations, every Sf and every 1-junction of two bonds with no
+/// storage on it (a junction that only equates two flows, seed Fig. 16).
+fn joint_rows(graph: &BondGraph) -> Vec<bool> {
+    let mut d = vec![false; graph.elements.len()];
+    if !graph.constraint_junctions.is_empty() {
+        for c in &graph.constraint_junctions {
+            d[c.element.0] = true;
+        }
+        return d;
+    }
+    let adj = adjacency(graph);
+    for e in graph.element_ids() {
+        d[e.0] = match graph.element(e).kind {
+            ElementKind::Sf => true,
+            ElementKind::One => {
+                adj[e.0].len() == 2
+                    && adj[e.0]
+                        .iter()
+                        .all(|&b| !graph.element(graph.other_end(b, e)).kind.is_storage())
             }
-            (None, Some(y)) => {
-                let at_el = if same { y } else { !y };
-                let r = if at_el { el } else { self.g.other_end(a, el) };
-                let o = self.origin(b);
-                self.set(a, r, o, Stage::Propagated, Some(el), vec![b]);
+            _ => false,
+        };
+    }
+    d
+}
+
+/// Adjacency in canonical bond order.
+fn adjacency(graph: &BondGraph) -> Vec<Vec<BondId>> {
+    let mut adj = vec![Vec::new(); graph.elements.len()];
+    for b in canonical_bonds(graph) {
+        let bd = graph.bond(b);
+        adj[bd.from.0].push(b);
+        adj[bd.to.0].push(b);
+    }
+    adj
+}
+
+/// The structural rule `[lo, hi]` on how many of its bonds an element is the effort source of
+/// (storages: both causalities allowed).
+fn rule(kind: ElementKind, degree: i64) -> (i64, i64) {
+    match kind {
+        ElementKind::Se => (1, 1),
+        ElementKind::Sf => (0, 0),
+        ElementKind::I | ElementKind::C | ElementKind::R => (0, 1),
+        ElementKind::Zero => ((degree - 1).max(0), (degree - 1).max(0)),
+        ElementKind::One => (degree.min(1), degree.min(1)),
+        ElementKind::TF | ElementKind::MTF => (1, 1),
+        ElementKind::GY | ElementKind::MGY => (2, 2),
+    }
+}
+
+/// The effort source of every bond (see [`super::orient`]).
+fn orient(
+    graph: &BondGraph,
+    differential: &[ElementId],
+    redundant: &[ElementId],
+    zero_moduli: &[ElementId],
+    gy_in: &[bool],
+) -> Vec<ElementId> {
+    let adj = adjacency(graph);
+    let bonds = canonical_bonds(graph);
+    let elements = canonical_elements(graph);
+    let nb = bonds.len();
+    let mut is_zero = vec![false; graph.elements.len()];
+    for &z in zero_moduli {
+        is_zero[z.0] = true;
+    }
+    let mut is_differential = vec![false; graph.elements.len()];
+    for &d in differential {
+        is_differential[d.0] = true;
+    }
+    let mut node_of = vec![0usize; graph.elements.len()];
+    for (k, e) in elements.iter().enumerate() {
+        node_of[e.0] = 2 + nb + k;
+    }
+    let mut net = Network::new(2 + nb + elements.len());
+    // bond → element arcs, the ones that would divide by a vanishing modulus held back
+    let mut arcs: Vec<(BondId, ElementId, usize)> = Vec::new();
+    let mut held: Vec<(usize, usize, usize)> = Vec::new();
+    for (k, &b) in bonds.iter().enumerate() {
+        net.arc(0, 2 + k, 1);
+        let bd = graph.bond(b);
+        for e in [bd.from, bd.to] {
+            // a TF is the effort source of its outward bond when it computes f₁ = f₂/m
+            let divides = is_zero[e.0] && bd.from == e;
+            if divides {
+                held.push((arcs.len(), 2 + k, node_of[e.0]));
+                arcs.push((b, e, usize::MAX));
+            } else {
+                let i = net.arc(2 + k, node_of[e.0], 1);
+                arcs.push((b, e, i));
             }
-            (Some(x), Some(y)) if (x == y) != same => {
-                let rule = if same {
+        }
+    }
+    let mut sink = vec![0usize; graph.elements.len()];
+    let mut cap = vec![0i64; graph.elements.len()];
+    for &e in &elements {
+        sink[e.0] = net.arc(node_of[e.0], 1, 0);
+    }
+    let kind = |e: ElementId| graph.element(e).kind;
+    let degree = |e: ElementId| adj[e.0].len() as i64;
+    let mut relax = vec![0i64; graph.elements.len()];
+    for &r in redundant {
+        // an Sf row over-determines the junction it feeds
+        let at = if kind(r) == ElementKind::Sf {
+            adj[r.0]
+                .first()
+                .map(|&b| graph.other_end(b, r))
+                .unwrap_or(r)
+        } else {
+            r
+        };
+        relax[at.0] += 1;
+    }
+    // the wanted count of a storage: I integral 0 / differential 1; C integral 1
+    let wanted = |e: ElementId| -> i64 {
+        match kind(e) {
+            ElementKind::I => i64::from(is_differential[e.0]),
+            _ => 1,
+        }
+    };
+    let set = |net: &mut Network, cap: &mut Vec<i64>, e: ElementId, c: i64| {
+        if c > cap[e.0] {
+            net.raise(sink[e.0], c - cap[e.0]);
+            cap[e.0] = c;
+        }
+    };
+    let storage = |e: ElementId| kind(e).is_storage();
+    // 1. structural lower bounds of junctions, two-ports and sources
+    for &e in &elements {
+        if !storage(e) && kind(e) != ElementKind::R {
+            let lo = if gy_in[e.0] {
+                0
+            } else {
+                rule(kind(e), degree(e)).0
+            };
+            set(&mut net, &mut cap, e, lo);
+        }
+    }
+    net.augment();
+    // 2. the storages' wanted causality
+    for &e in &elements {
+        if storage(e) {
+            set(&mut net, &mut cap, e, wanted(e));
+        }
+    }
+    net.augment();
+    // 3. upper bounds (redundant junctions may be over-determined)
+    for &e in &elements {
+        let c = if storage(e) {
+            wanted(e)
+        } else {
+            let hi = if gy_in[e.0] {
+                0
+            } else {
+                rule(kind(e), degree(e)).1
+            };
+            hi + relax[e.0]
+        };
+        set(&mut net, &mut cap, e, c);
+    }
+    net.augment();
+    // 4. storages may change causality
+    for &e in &elements {
+        if storage(e) {
+            set(&mut net, &mut cap, e, 1);
+        }
+    }
+    net.augment();
+    // 5. a transformer may divide by a vanishing modulus
+    for (k, bond_node, el_node) in held {
+        arcs[k].2 = net.arc(bond_node, el_node, 1);
+    }
+    net.augment();
+    // 6. anything left: the elements outside their rule are the conflicts
+    for &e in &elements {
+        set(&mut net, &mut cap, e, degree(e));
+    }
+    net.augment();
+    let mut source = vec![ElementId(usize::MAX); graph.bonds.len()];
+    for &(b, e, i) in &arcs {
+        if i != usize::MAX && net.flow(i) > 0 {
+            source[b.0] = e;
+        }
+    }
+    source
+}
+
+/// Builds the assignment from the effort source of every bond.
+fn finish(graph: &BondGraph, source: Vec<ElementId>, constraints: ConstraintSummary) -> Causality {
+    let adj = adjacency(graph);
+    let kind = |e: ElementId| graph.element(e).kind;
+    let bonds: Vec<BondAssignment> = graph
+        .bonds
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let src = source[i];
+            let receiver = if src == b.from { b.to } else { b.from };
+            let stage = match (kind(b.from), kind(b.to)) {
+                (k, _) | (_, k) if matches!(k, ElementKind::Se | ElementKind::Sf) => Stage::Source,
+                (k, _) | (_, k) if k.is_storage() => Stage::Storage,
+                (ElementKind::R, _) | (_, ElementKind::R) => Stage::Resistor,
+                _ => Stage::Propagated,
+            };
+            BondAssignment {
+                effort_receiver: receiver,
+                effort_source: src,
+                origin: src,
+                stage,
+                via: None,
+                causes: vec![],
+            }
+        })
+        .collect();
+    let count = |e: ElementId| -> i64 {
+        adj[e.0]
+            .iter()
+            .filter(|b| bonds[b.0].effort_source == e)
+            .count() as i64
+    };
+    // conflicts, in name order
+    let mut conflicts = Vec::new();
+    for e in canonical_elements(graph) {
+        let k = kind(e);
+        if k.is_storage() || k == ElementKind::R {
+            continue;
+        }
+        let (lo, hi) = rule(k, adj[e.0].len() as i64);
+        let n = count(e);
+        if (lo..=hi).contains(&n) || (k.is_gyrator() && n == 0) {
+            continue;
+        }
+        let name = &graph.element(e).name;
+        let neighbours = |bs: &[BondId]| -> Vec<String> {
+            let mut v: Vec<String> = bs
+                .iter()
+                .map(|&b| graph.element(graph.other_end(b, e)).name.clone())
+                .collect();
+            v.sort();
+            v.dedup();
+            v
+        };
+        let (elements, description) = match k {
+            ElementKind::Zero | ElementKind::One => {
+                let zero = k == ElementKind::Zero;
+                let det: Vec<BondId> = adj[e.0]
+                    .iter()
+                    .copied()
+                    .filter(|b| (bonds[b.0].effort_receiver == e) == zero)
+                    .collect();
+                let (what, var) = if zero {
+                    ("0-junction", "effort")
+                } else {
+                    ("1-junction", "flow")
+                };
+                if det.is_empty() {
+                    (
+                        neighbours(&adj[e.0]),
+                        format!("{what} '{name}': no bond imposes the common {var}, every bond imposes the other variable"),
+                    )
+                } else {
+                    let names: Vec<String> =
+                        det.iter().map(|&b| graph.bond(b).name.clone()).collect();
+                    (
+                        neighbours(&det),
+                        format!(
+                            "{what} '{name}' has its common {var} imposed by {} bonds ({})",
+                            det.len(),
+                            names.join(", ")
+                        ),
+                    )
+                }
+            }
+            k if k.is_two_port() => {
+                let rule = if k.is_gyrator() {
                     "needs both causal strokes at it or both away"
                 } else {
                     "needs one causal stroke at it and one away"
                 };
-                self.conflict(
-                    el,
-                    &[a, b],
-                    format!("{} '{}' {rule}", kind.as_str(), self.name(el)),
-                );
+                (
+                    neighbours(&adj[e.0]),
+                    format!("{} '{name}' {rule}", k.as_str()),
+                )
             }
-            _ => {}
-        }
-    }
-}
-
-/// Assigns causality to a valid graph (validation errors are returned otherwise).
-pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors> {
-    validate(graph)?;
-    let mut s = Scap::new(graph);
-    let ids: Vec<ElementId> = graph.element_ids().collect();
-    let kind = |e: ElementId| graph.element(e).kind;
-
-    // 1. sources
-    for &e in &ids {
-        let k = kind(e);
-        if k != ElementKind::Se && k != ElementKind::Sf {
-            continue;
-        }
-        let b = s.adj[e.0][0];
-        let want = if k == ElementKind::Sf {
-            e
-        } else {
-            graph.other_end(b, e)
-        };
-        match s.receiver(b) {
-            None => s.set(b, want, e, Stage::Source, None, vec![]),
-            Some(r) if r != want => s.conflict(
-                e,
-                &[b],
+            _ => (
+                neighbours(&adj[e.0]),
                 format!(
-                    "source '{}' is bonded directly to another source with the same causality",
-                    graph.element(e).name
+                    "source '{name}' is bonded directly to another source with the same causality"
                 ),
             ),
-            _ => {}
-        }
+        };
+        conflicts.push(Conflict {
+            junction: name.clone(),
+            elements,
+            description,
+        });
     }
-    // junctions with a single bond and the like are decided from the start
-    s.queue.extend(ids.iter().copied());
-    s.propagate();
-
-    // 2. storage: inertias first, then capacitors, integral causality preferred. A choice is
-    //    kept only if the rest of the graph can still be completed without a conflict (greedy
-    //    look-ahead); otherwise the storage is made differential: this catches constraints
-    //    that close kinematic loops, which plain local propagation cannot see.
-    for wanted in [ElementKind::I, ElementKind::C] {
-        for &e in &ids {
-            if kind(e) != wanted {
-                continue;
-            }
-            let b = s.adj[e.0][0];
-            if s.receiver(b).is_some() {
-                continue;
-            }
-            let other = graph.other_end(b, e);
-            let (integral, differential) = if wanted == ElementKind::I {
-                (e, other)
-            } else {
-                (other, e)
-            };
-            let m = s.mark();
-            s.choose(b, integral, e, Stage::Storage, None);
-            let culprit = if s.conflicts.len() > m.conflicts {
-                Some(s.conflicts[m.conflicts].junction.clone())
-            } else {
-                s.look_ahead()
-            };
-            let Some(culprit) = culprit else {
-                continue;
-            };
-            s.rollback(m);
-            let via = graph.element_by_name(&culprit);
-            // the bonds at the over-determined junction already fixed before this choice
-            // (all of its bonds when the clash only appears deeper in the completion)
-            let causes: Vec<BondId> = match via {
-                Some(j) => {
-                    let fixed: Vec<BondId> = s.adj[j.0]
-                        .iter()
-                        .copied()
-                        .filter(|&x| x != b && s.receiver(x).is_some())
-                        .collect();
-                    if fixed.is_empty() {
-                        s.adj[j.0].iter().copied().filter(|&x| x != b).collect()
-                    } else {
-                        fixed
-                    }
-                }
-                None => vec![],
-            };
-            s.set(b, differential, e, Stage::Storage, via, causes);
-            s.propagate();
-            let alt_ok = s.conflicts.len() == m.conflicts && s.look_ahead().is_none();
-            if !alt_ok {
-                s.rollback(m);
-                s.choose(b, integral, e, Stage::Storage, None);
-            }
-        }
-    }
-
-    // 3. resistors, detecting algebraic loops
-    let mut loops: Vec<Vec<ElementId>> = Vec::new();
-    for &e in &ids {
-        if kind(e) != ElementKind::R {
-            continue;
-        }
-        let b = s.adj[e.0][0];
-        if s.receiver(b).is_some() {
-            continue;
-        }
-        let r = graph.other_end(b, e);
-        s.set(b, r, e, Stage::Resistor, None, vec![]);
-        s.propagate();
-        let mut group: Vec<ElementId> = ids
-            .iter()
-            .copied()
-            .filter(|&o| {
-                o != e
-                    && kind(o) == ElementKind::R
-                    && s.state[s.adj[o.0][0].0]
-                        .as_ref()
-                        .is_some_and(|a| a.origin == e && a.stage == Stage::Propagated)
-            })
-            .collect();
-        if !group.is_empty() {
-            group.push(e);
-            group.sort();
-            loops.push(group);
-        }
-    }
-
-    // 4. leftovers, preferring the orientation that creates no conflict
-    let mut budget = SEARCH_BUDGET;
-    let m = s.mark();
-    if !s.search(0, &mut budget) {
-        s.rollback(m);
-    }
-    s.complete();
-
-    let bonds: Vec<BondAssignment> = s
-        .state
-        .into_iter()
-        .map(|a| a.expect("all bonds assigned"))
-        .collect();
     let mut storage = Vec::new();
     for wanted in [ElementKind::I, ElementKind::C] {
-        for &e in &ids {
+        for e in graph.element_ids() {
             if kind(e) != wanted {
                 continue;
             }
-            let a = &bonds[s.adj[e.0][0].0];
-            let receives_effort = a.effort_receiver == e;
+            let Some(&b) = adj[e.0].first() else { continue };
+            let receives_effort = bonds[b.0].effort_receiver == e;
             let integral = (wanted == ElementKind::I) == receives_effort;
             storage.push((
                 e,
@@ -693,12 +670,128 @@ pub fn assign_causality(graph: &BondGraph) -> Result<Causality, ValidationErrors
             ));
         }
     }
-    Ok(Causality {
+    let mut c = Causality {
         bonds,
         storage,
-        conflicts: s.conflicts,
-        algebraic_loops: loops,
-    })
+        conflicts,
+        algebraic_loops: Vec::new(),
+        constraints,
+    };
+    c.algebraic_loops = algebraic_loops(graph, &c, &adj);
+    c
+}
+
+/// Resistors on zero-order causal loops: the strongly connected components (Tarjan,
+/// iterative) of the graph "bond variable ← bond variables its computing element reads",
+/// grouped by component; each group sorted by name, groups by their first name.
+fn algebraic_loops(graph: &BondGraph, c: &Causality, adj: &[Vec<BondId>]) -> Vec<Vec<ElementId>> {
+    let nb = graph.bonds.len();
+    let kind = |e: ElementId| graph.element(e).kind;
+    // node 2b: effort of bond b, 2b+1: its flow
+    let deps = |v: usize| -> Vec<usize> {
+        let b = BondId(v / 2);
+        let effort = v.is_multiple_of(2);
+        let a = &c.bonds[b.0];
+        let x = if effort {
+            a.effort_source
+        } else {
+            a.effort_receiver
+        };
+        let others = || adj[x.0].iter().copied().filter(move |&o| o != b);
+        let e = |o: BondId| 2 * o.0;
+        let f = |o: BondId| 2 * o.0 + 1;
+        match (kind(x), effort) {
+            (ElementKind::R, true) => vec![f(b)],
+            (ElementKind::R, false) => vec![e(b)],
+            (ElementKind::One, true) | (ElementKind::Zero, false) => {
+                others().map(|o| if effort { e(o) } else { f(o) }).collect()
+            }
+            (ElementKind::Zero, true) => others()
+                .find(|o| c.bonds[o.0].effort_receiver == x)
+                .map(e)
+                .into_iter()
+                .collect(),
+            (ElementKind::One, false) => others()
+                .find(|o| c.bonds[o.0].effort_source == x)
+                .map(f)
+                .into_iter()
+                .collect(),
+            (k, true) if k.is_transformer() => others().map(e).collect(),
+            (k, false) if k.is_transformer() => others().map(f).collect(),
+            (k, true) if k.is_gyrator() => others().map(f).collect(),
+            (k, false) if k.is_gyrator() => others().map(e).collect(),
+            _ => vec![],
+        }
+    };
+    let n = 2 * nb;
+    let succ: Vec<Vec<usize>> = (0..n).map(deps).collect();
+    let mut index = vec![usize::MAX; n];
+    let mut low = vec![0usize; n];
+    let mut on = vec![false; n];
+    let mut stack = Vec::new();
+    let mut next = 0;
+    let mut groups: Vec<Vec<ElementId>> = Vec::new();
+    for root in 0..n {
+        if index[root] != usize::MAX {
+            continue;
+        }
+        let mut call: Vec<(usize, usize)> = vec![(root, 0)];
+        index[root] = next;
+        low[root] = next;
+        next += 1;
+        stack.push(root);
+        on[root] = true;
+        while let Some(&mut (v, ref mut k)) = call.last_mut() {
+            if *k < succ[v].len() {
+                let w = succ[v][*k];
+                *k += 1;
+                if index[w] == usize::MAX {
+                    index[w] = next;
+                    low[w] = next;
+                    next += 1;
+                    stack.push(w);
+                    on[w] = true;
+                    call.push((w, 0));
+                } else if on[w] {
+                    low[v] = low[v].min(index[w]);
+                }
+                continue;
+            }
+            call.pop();
+            if let Some(&(u, _)) = call.last() {
+                low[u] = low[u].min(low[v]);
+            }
+            if low[v] == index[v] {
+                let mut comp = Vec::new();
+                loop {
+                    let w = stack.pop().expect("Tarjan stack");
+                    on[w] = false;
+                    comp.push(w);
+                    if w == v {
+                        break;
+                    }
+                }
+                let cyclic = comp.len() > 1 || succ[v].contains(&v);
+                if cyclic {
+                    let mut rs: Vec<ElementId> = comp
+                        .iter()
+                        .flat_map(|&w| {
+                            let bd = graph.bond(BondId(w / 2));
+                            [bd.from, bd.to]
+                        })
+                        .filter(|&e| kind(e) == ElementKind::R)
+                        .collect();
+                    rs.sort_by(|a, b| graph.element(*a).name.cmp(&graph.element(*b).name));
+                    rs.dedup();
+                    if !rs.is_empty() {
+                        groups.push(rs);
+                    }
+                }
+            }
+        }
+    }
+    groups.sort_by(|a, b| graph.element(a[0]).name.cmp(&graph.element(b[0]).name));
+    groups
 }
 
 impl Causality {
@@ -823,7 +916,6 @@ impl Causality {
                     }
                 }
                 StorageCausality::Differential => {
-                    let a = &self.bonds[b.0];
                     let (at, causes, path) = self.closing_junction(graph, e, b);
                     differential.push(DifferentialStorage {
                         element: el.name.clone(),
@@ -835,7 +927,13 @@ impl Causality {
                             .map(|&c| name(graph.other_end(c, at)))
                             .collect(),
                         path: path.into_iter().map(name).collect(),
-                        origin: name(a.origin),
+                        origin: self
+                            .constraints
+                            .pivot_rows
+                            .iter()
+                            .find(|p| p.0 == e)
+                            .map(|p| name(p.1))
+                            .unwrap_or_else(|| name(at)),
                     });
                 }
             }
@@ -871,6 +969,33 @@ impl Causality {
                 .collect(),
             storages,
             bond_causality,
+            constraint_rows: self.constraints.rows,
+            generic_rank: self.constraints.generic_rank,
+            numeric_rank: self.constraints.numeric_rank,
+            redundant: self
+                .constraints
+                .redundant
+                .iter()
+                .map(|&r| {
+                    let junction = name(r);
+                    if let Some(c) = graph.constraint_junction(r) {
+                        return RedundantJunction {
+                            junction,
+                            joint: c.joint.clone(),
+                            direction: c.direction.clone(),
+                        };
+                    }
+                    let (joint, direction) = match junction.rsplit_once('.') {
+                        Some((j, d)) => (j.to_string(), d.to_string()),
+                        None => (junction.clone(), String::new()),
+                    };
+                    RedundantJunction {
+                        junction,
+                        joint,
+                        direction,
+                    }
+                })
+                .collect(),
         }
     }
 }

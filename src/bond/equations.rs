@@ -67,7 +67,7 @@ pub enum EquationError {
         what: String,
     },
     /// An expression does not parse against the graph's variables.
-    #[error("element '{element}': expression '{expr}': {source}")]
+    #[error("element '{element}': expression {}: {source}", crate::expr::excerpt(expr, source.pos()))]
     Expression {
         /// Element name.
         element: String,
@@ -143,6 +143,8 @@ pub struct BondEquations {
     /// Useful outputs over `[t, y]`: `f_<I>` (flow `p/m`), `e_<C>` (effort `q/C`), `energy`
     /// (`Σ p²/2m + Σ q²/2C` over every storage).
     pub outputs: Vec<(String, Expr)>,
+    /// Every element parameter and law, in the slots `[t, y, y']` (to name a non-finite one).
+    pub terms: Vec<ElementTerm>,
 }
 
 #[derive(Clone, Copy)]
@@ -169,6 +171,20 @@ struct Builder<'a> {
     loop_base: usize,
     state_var: HashMap<ElementId, Expr>,
     multiplier: HashMap<ElementId, Expr>,
+    /// Every parameter and law expression built, to name an element whose value is not finite.
+    terms: Vec<ElementTerm>,
+}
+
+/// A parameter (`value`, `modulus`, `compliance`) or law (`effort_law`, `flow_law`) of an
+/// element as an expression of the equations' slots `[t, y, y']`.
+#[derive(Clone, Debug)]
+pub struct ElementTerm {
+    /// The element.
+    pub element: ElementId,
+    /// Which of its fields: `value`, `modulus`, `compliance`, `effort_law` or `flow_law`.
+    pub field: &'static str,
+    /// The expression.
+    pub expr: Expr,
 }
 
 type Res<T> = Result<T, EquationError>;
@@ -208,7 +224,8 @@ impl Builder<'_> {
             });
         };
         let names = &self.names;
-        self.eg
+        let e = self
+            .eg
             .parse(src, &mut |n| {
                 if n == var {
                     Some(own)
@@ -220,7 +237,13 @@ impl Builder<'_> {
                 element: el.name.clone(),
                 expr: src.clone(),
                 source,
-            })
+            })?;
+        self.terms.push(ElementTerm {
+            element: x,
+            field,
+            expr: e,
+        });
+        Ok(e)
     }
 
     fn param(&mut self, e: ElementId, what: &str) -> Res<Expr> {
@@ -252,6 +275,11 @@ impl Builder<'_> {
             }
         };
         self.params.insert(e, p);
+        self.terms.push(ElementTerm {
+            element: e,
+            field: super::validate::parameter_field(el.kind),
+            expr: p,
+        });
         Ok(p)
     }
 
@@ -548,6 +576,7 @@ struct Built {
     constraints: Vec<Expr>,
     loops: Vec<(Var, Expr, Option<Expr>)>,
     outputs: Vec<(String, Expr)>,
+    terms: Vec<ElementTerm>,
 }
 
 fn run(g: &BondGraph, c: &Causality, lay: &Layout, n_loops: usize) -> Res<Built> {
@@ -592,6 +621,7 @@ fn run(g: &BondGraph, c: &Causality, lay: &Layout, n_loops: usize) -> Res<Built>
         loop_base: n_known,
         state_var,
         multiplier,
+        terms: Vec::new(),
     };
     let mut rhs = Vec::new();
     // integral storages
@@ -661,6 +691,7 @@ fn run(g: &BondGraph, c: &Causality, lay: &Layout, n_loops: usize) -> Res<Built>
         constraints,
         loops: b.loops,
         outputs,
+        terms: b.terms,
     })
 }
 
@@ -729,6 +760,7 @@ impl BondEquations {
             initial,
             signals: graph.signals.clone(),
             outputs: built.outputs,
+            terms: built.terms,
         })
     }
 

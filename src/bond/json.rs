@@ -20,8 +20,8 @@
 
 use super::model::{BondGraph, ElementId, ElementKind, Parameter, ResistorLaw};
 use super::validate::{
-    bond_path, check_parameter, collect_errors, element_path, known_variables, BondError,
-    ValidationErrors,
+    bond_path, check_parameter, check_single_bond_junctions, collect_errors, element_path,
+    known_variables, BondError, ValidationErrors, ROOT,
 };
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, HashSet};
@@ -315,12 +315,148 @@ impl RawBondGraph {
                 errors.push(err);
             }
         }
+        // a junction left with one bond is often the consequence of another error (a bond
+        // with a misspelt end): reported only when the graph has no other problem
+        if errors.is_empty() {
+            check_single_bond_junctions(&graph, &skip, &mut errors);
+        }
         if errors.is_empty() {
             Ok(graph)
         } else {
             Err(ValidationErrors(errors))
         }
     }
+
+    /// Reads the JSON value of a scene's `"bond_graph"`; an element or bond that cannot be read
+    /// (unknown field, wrong type, missing field) is named by its index and name, e.g.
+    /// `bond_graph.elements[3] (name "R1"): unknown field "resistence" (an R element takes
+    /// "value"; …)`, the closest known field suggested when one is close.
+    pub fn from_value(v: &serde_json::Value) -> Result<Self, ValidationErrors> {
+        let whole = match serde_json::from_value::<RawBondGraph>(v.clone()) {
+            Ok(g) => return Ok(g),
+            Err(e) => e,
+        };
+        let mut errors = Vec::new();
+        if let Some(obj) = v.as_object() {
+            for key in obj.keys() {
+                if !GRAPH_FIELDS.contains(&key.as_str()) {
+                    errors.push(BondError::Field {
+                        path: ROOT.into(),
+                        element: None,
+                        message: unknown_field(key, GRAPH_FIELDS),
+                    });
+                }
+            }
+        }
+        for (list, fields) in [("elements", ELEMENT_FIELDS), ("bonds", BOND_FIELDS)] {
+            let Some(items) = v.get(list).and_then(|a| a.as_array()) else {
+                continue;
+            };
+            for (i, item) in items.iter().enumerate() {
+                let path = format!("{ROOT}.{list}[{i}]");
+                let element = item.get("name").and_then(|n| n.as_str()).map(String::from);
+                let mut push = |message: String| {
+                    errors.push(BondError::Field {
+                        path: path.clone(),
+                        element: element.clone(),
+                        message,
+                    })
+                };
+                let unknown: Vec<&String> = item
+                    .as_object()
+                    .map(|o| o.keys().filter(|k| !fields.contains(&k.as_str())).collect())
+                    .unwrap_or_default();
+                if !unknown.is_empty() {
+                    for k in unknown {
+                        push(unknown_field(k, fields));
+                    }
+                    continue;
+                }
+                let err = if list == "elements" {
+                    serde_json::from_value::<RawElement>(item.clone()).err()
+                } else {
+                    serde_json::from_value::<RawBond>(item.clone()).err()
+                };
+                if let Some(e) = err {
+                    push(e.to_string());
+                }
+            }
+        }
+        if errors.is_empty() {
+            errors.push(BondError::Field {
+                path: ROOT.into(),
+                element: None,
+                message: whole.to_string(),
+            });
+        }
+        Err(ValidationErrors(errors))
+    }
+}
+
+/// Fields of a `"bond_graph"` object.
+const GRAPH_FIELDS: &[&str] = &["elements", "bonds", "signals"];
+/// Fields of an element.
+const ELEMENT_FIELDS: &[&str] = &[
+    "name",
+    "kind",
+    "value",
+    "modulus",
+    "stiffness",
+    "compliance",
+    "label",
+    "initial",
+    "effort_law",
+    "flow_law",
+];
+/// Fields of a bond.
+const BOND_FIELDS: &[&str] = &["name", "from", "to"];
+
+/// `unknown field "x"`, with the closest known field when one is close (edit distance at most
+/// a third of the longer name, or a parameter word such as `resistance` → `value`), and the
+/// known fields.
+fn unknown_field(key: &str, known: &[&str]) -> String {
+    let lower = key.to_lowercase();
+    let best = known
+        .iter()
+        .map(|k| (edit_distance(&lower, k), *k))
+        .min()
+        .filter(|(d, k)| {
+            let longer = k.len().max(lower.len());
+            *d <= (longer / 3).max(if longer >= 5 { 2 } else { 1 })
+        })
+        .map(|(_, k)| k);
+    // names of element parameters that bond graph texts use for `value`
+    let parameter_words = [
+        "resist", "induct", "inert", "mass", "capac", "effort", "flow", "source", "damp", "param",
+    ];
+    let best = best.or_else(|| {
+        (known.contains(&"value") && parameter_words.iter().any(|w| lower.contains(w)))
+            .then_some("value")
+    });
+    let list = known
+        .iter()
+        .map(|k| format!("\"{k}\""))
+        .collect::<Vec<_>>()
+        .join(", ");
+    match best {
+        Some(b) => format!("unknown field \"{key}\" (did you mean \"{b}\"? known fields: {list})"),
+        None => format!("unknown field \"{key}\" (known fields: {list})"),
+    }
+}
+
+/// Levenshtein distance between two short strings.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
 }
 
 fn element_parameter(

@@ -4,7 +4,8 @@
 //!   (TF/MTF `e1 = m·e2, f2 = m·f1`; GY/MGY `e1 = r·f2, e2 = r·f1`; port 1 = bond into the two-port).
 //! - [`json`]: the `"bond_graph"` JSON form.
 //! - [`validate`](mod@validate): structural checks with JSON paths, all errors collected.
-//! - [`causality`]: sequential causality assignment (SCAP), differential storages, conflicts,
+//! - [`causality`]: causality by matching (bipartite max flow on the junction structure), the
+//!   numeric rank of the constraint rows ([`rank`]), differential storages, redundant junctions, conflicts,
 //!   algebraic loops, degrees of freedom.
 //! - [`equations`]: state derivatives, velocity-level constraint rows of differential storages
 //!   and algebraic-loop rows from the causal graph, with exact Jacobians.
@@ -18,6 +19,8 @@ pub mod fragments;
 pub mod identifiers;
 pub mod json;
 pub mod model;
+pub mod orient;
+pub mod rank;
 pub mod validate;
 
 pub use causality::{assign_causality, CausalityReport};

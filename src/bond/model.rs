@@ -161,7 +161,7 @@ pub struct Element {
 /// The constitutive law of a nonlinear resistor, `e = Φ(f)` and/or `f = Φ⁻¹(e)`, with `e` and
 /// `f` counted *into* the resistor (so the power it dissipates is `e·f`).
 ///
-/// Which form the equations use depends on the causality SCAP gives the resistor: resistance
+/// Which form the equations use depends on the causality assignment gives the resistor: resistance
 /// causality (its flow is imposed) needs `effort`, conductance causality (its effort is
 /// imposed) needs `flow`. Both may be given. The expressions may also use time `t`, states
 /// (`p_<I>`, `q_<C>`, `x_<I>`, `x_<1-junction>`) and signals, like any modulus.
@@ -201,6 +201,21 @@ pub struct BondGraph {
     /// Names of externally supplied signals that expressions may reference
     /// (e.g. attitude matrix entries computed outside the bond graph).
     pub signals: Vec<String>,
+    /// The junctions (1-junctions or Sf) that impose a joint's constraint rows, with the joint
+    /// and direction they belong to (filled by the mechanism builder; empty for a raw graph).
+    pub constraint_junctions: Vec<ConstraintJunction>,
+}
+
+/// A junction that imposes one constraint row of a joint (seed 16.5, 16.7): the 1-junction
+/// equating two bodies' flows along one direction, or the Sf = 0 on one body's flow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConstraintJunction {
+    /// The junction (or Sf).
+    pub element: ElementId,
+    /// The joint's name in the scene.
+    pub joint: String,
+    /// The direction of the row (`x`, `y`, `axis1`, `w`, …).
+    pub direction: String,
 }
 
 impl BondGraph {
@@ -310,6 +325,32 @@ impl BondGraph {
             b.to
         } else {
             b.from
+        }
+    }
+
+    /// The joint row an element imposes, if it is a constraint junction.
+    pub fn constraint_junction(&self, e: ElementId) -> Option<&ConstraintJunction> {
+        self.constraint_junctions.iter().find(|c| c.element == e)
+    }
+
+    /// Records the constraint junctions of the joints `joints`: every 1-junction or Sf named
+    /// `<joint>.<direction>` (direction without a `.`), as the mechanism builder names them.
+    pub fn annotate_joints<'a>(&mut self, joints: impl IntoIterator<Item = &'a str>) {
+        let joints: Vec<&str> = joints.into_iter().collect();
+        for (i, el) in self.elements.iter().enumerate() {
+            if !matches!(el.kind, ElementKind::One | ElementKind::Sf) {
+                continue;
+            }
+            let Some((joint, dir)) = el.name.rsplit_once('.') else {
+                continue;
+            };
+            if joints.contains(&joint) {
+                self.constraint_junctions.push(ConstraintJunction {
+                    element: ElementId(i),
+                    joint: joint.to_string(),
+                    direction: dir.to_string(),
+                });
+            }
         }
     }
 

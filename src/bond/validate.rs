@@ -5,7 +5,7 @@
 
 use super::identifiers::{variables, ScanError};
 use super::model::{BondGraph, ElementId, ElementKind, Parameter};
-use crate::expr::{Expr, ExprGraph};
+use crate::expr::{excerpt, Expr, ExprGraph};
 use std::collections::{HashMap, HashSet};
 
 /// The JSON path prefix of a raw bond graph inside a scene.
@@ -95,8 +95,35 @@ pub enum BondError {
         /// Element name.
         element: String,
     },
+    /// A 0- or 1-junction with a single bond: it does not connect anything, and it forces its
+    /// one bond's flow (0-junction) or effort (1-junction) to zero, silently changing the
+    /// physics (a 0-junction on the rotor of a DC motor locks it).
+    #[error("{path}: {kind}-junction '{element}' has a single bond ({bond}): it connects nothing and forces that bond's {forced} to zero; connect it to two bonds or more, or remove it and bond its neighbour directly")]
+    SingleBondJunction {
+        /// JSON path of the element.
+        path: String,
+        /// Element name.
+        element: String,
+        /// `0` or `1`.
+        kind: String,
+        /// Name of the one bond.
+        bond: String,
+        /// `flow` (0-junction) or `effort` (1-junction).
+        forced: String,
+    },
+    /// A field of an element or bond that cannot be read (unknown field, wrong type, missing
+    /// field), with the element's index and name.
+    #[error("{path}{}: {message}", element.as_ref().map(|n| format!(" (name \"{n}\")")).unwrap_or_default())]
+    Field {
+        /// JSON path of the element or bond, e.g. `bond_graph.elements[3]`.
+        path: String,
+        /// Name of the element or bond, when it has one.
+        element: Option<String>,
+        /// What is wrong, e.g. `unknown field "resistence" (did you mean "resistance"?)`.
+        message: String,
+    },
     /// An expression refers to a variable that is not `t`, a state of the graph or a signal.
-    #[error("{path}: expression '{expr}' of '{element}' refers to unknown variable '{variable}' (known: t, p_<I>, x_<I or 1-junction>, q_<C>, declared signals)")]
+    #[error("{path}: expression {} of '{element}' refers to unknown variable '{variable}' (known: t, p_<I>, x_<I or 1-junction>, q_<C>, declared signals)", excerpt(expr, expr.find(variable.as_str()).unwrap_or(0)))]
     UnknownVariable {
         /// JSON path of the parameter.
         path: String,
@@ -108,7 +135,7 @@ pub enum BondError {
         variable: String,
     },
     /// An expression that does not scan.
-    #[error("{path}: expression '{expr}' of '{element}' is malformed: {reason}")]
+    #[error("{path}: expression {} of '{element}' is malformed: {reason}", excerpt(expr, *pos))]
     BadExpression {
         /// JSON path of the parameter.
         path: String,
@@ -118,6 +145,8 @@ pub enum BondError {
         expr: String,
         /// What is wrong.
         reason: String,
+        /// Byte offset of the problem in `expr` (0 when it has no single place).
+        pos: usize,
     },
     /// A NaN or infinite number.
     #[error("{path}: parameter of '{element}' is not finite ({value})")]
@@ -332,13 +361,23 @@ fn check_bonds(graph: &BondGraph, errors: &mut Vec<BondError>) {
 }
 
 fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<BondError>) {
+    // bond counts per element in one pass (linear in the graph)
+    let mut inward_of = vec![0usize; graph.elements.len()];
+    let mut outward_of = vec![0usize; graph.elements.len()];
+    for b in &graph.bonds {
+        if let Some(n) = inward_of.get_mut(b.to.0) {
+            *n += 1;
+        }
+        if let Some(n) = outward_of.get_mut(b.from.0) {
+            *n += 1;
+        }
+    }
     for (i, e) in graph.elements.iter().enumerate() {
         let id = ElementId(i);
         if skip.contains(&id) {
             continue;
         }
-        let inward = graph.bonds.iter().filter(|b| b.to == id).count();
-        let outward = graph.bonds.iter().filter(|b| b.from == id).count();
+        let (inward, outward) = (inward_of[i], outward_of[i]);
         let found = inward + outward;
         let path = element_path(i);
         if e.kind.is_one_port() && found != 1 {
@@ -370,6 +409,35 @@ fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<Bo
             errors.push(BondError::IsolatedJunction {
                 path,
                 element: e.name.clone(),
+            });
+        }
+    }
+}
+
+/// Junctions with exactly one bond (raw bond graphs only: see [`BondError::SingleBondJunction`]).
+pub(crate) fn check_single_bond_junctions(
+    graph: &BondGraph,
+    skip: &HashSet<ElementId>,
+    errors: &mut Vec<BondError>,
+) {
+    for (i, e) in graph.elements.iter().enumerate() {
+        let id = ElementId(i);
+        if !e.kind.is_junction() || skip.contains(&id) {
+            continue;
+        }
+        let bonds: Vec<_> = graph
+            .bonds
+            .iter()
+            .filter(|b| b.to == id || b.from == id)
+            .collect();
+        if let [b] = bonds.as_slice() {
+            let zero = e.kind == ElementKind::Zero;
+            errors.push(BondError::SingleBondJunction {
+                path: element_path(i),
+                element: e.name.clone(),
+                kind: if zero { "0" } else { "1" }.into(),
+                bond: b.name.clone(),
+                forced: if zero { "flow" } else { "effort" }.into(),
             });
         }
     }
@@ -563,10 +631,20 @@ fn check_expression(
             element: name.into(),
             expr: expr.into(),
             reason: scan_reason(&e),
+            pos: scan_pos(expr, &e),
         }),
     }
 }
 
 fn scan_reason(e: &ScanError) -> String {
     e.to_string()
+}
+
+/// Byte offset in `expr` of the problem `e` describes (0 when it has no single place).
+fn scan_pos(expr: &str, e: &ScanError) -> usize {
+    match e {
+        ScanError::BadCharacter(_, i) => expr.char_indices().nth(*i).map_or(0, |(b, _)| b),
+        ScanError::UnknownFunction(n) => expr.find(n.as_str()).unwrap_or(0),
+        ScanError::Unbalanced | ScanError::Empty => 0,
+    }
 }

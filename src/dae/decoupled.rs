@@ -127,3 +127,71 @@ pub fn prestressed_positions(
     x.truncate(nq);
     x
 }
+
+/// Fraction of the bodies' size (translation rows) or radians (rotation rows) above which the
+/// twin's initial spring stretch `λ/k` makes a warning: the twin then starts far from the
+/// pinned mechanism, and its results say little about it.
+pub const PRESTRESS_WARNING_FRACTION: f64 = 0.1;
+
+/// A warning when the decoupled twin's springs start stretched by more than
+/// [`PRESTRESS_WARNING_FRACTION`] of the bodies' size (`sys.body_size`; rows in metres: `x`, `y`,
+/// `z`, `normal…`) or by more than 0.1 rad (rows fixing an angle), from the pinned mechanism's
+/// joint forces `lambda` at the start and the stiffness `k`: the stretch of row `i` is `|λ_i|/k`
+/// (the prestress of [`prestressed_positions`]). `None` when every stretch is below the limit.
+///
+/// `solve.joint_stiffness = 1e-3` on the compound pendulum (λ ≈ 2.8 N) starts the bar 2.8 km
+/// from its pivot: this warning says so and names the stiffness that keeps the stretch under a
+/// tenth of the limit.
+pub fn prestress_warning(sys: &MultibodySystem, lambda: &[f64], stiffness: f64) -> Option<String> {
+    let translation = |d: &str| matches!(d, "x" | "y" | "z") || d.starts_with("normal");
+    let size = if sys.body_size > 0.0 {
+        sys.body_size
+    } else {
+        1.0
+    };
+    // worst row relative to its limit
+    let (i, ratio) = sys
+        .rows
+        .iter()
+        .zip(lambda)
+        .enumerate()
+        .map(|(i, (row, l))| {
+            let limit = if translation(&row.direction) {
+                PRESTRESS_WARNING_FRACTION * size
+            } else {
+                PRESTRESS_WARNING_FRACTION
+            };
+            (i, (l.abs() / stiffness) / limit)
+        })
+        .filter(|(_, r)| r.is_finite())
+        .fold(None, |best: Option<(usize, f64)>, (i, r)| match best {
+            Some((_, b)) if b >= r => best,
+            _ => Some((i, r)),
+        })?;
+    if ratio <= 1.0 {
+        return None;
+    }
+    let row = &sys.rows[i];
+    let stretch = lambda[i].abs() / stiffness;
+    let (unit, what, limit) = if translation(&row.direction) {
+        (
+            "m",
+            format!(
+                "{:.0} % of the bodies' size ({size:.3e} m)",
+                PRESTRESS_WARNING_FRACTION * 100.0
+            ),
+            PRESTRESS_WARNING_FRACTION * size,
+        )
+    } else {
+        (
+            "rad",
+            format!("{PRESTRESS_WARNING_FRACTION} rad"),
+            PRESTRESS_WARNING_FRACTION,
+        )
+    };
+    let suggested = lambda[i].abs() / (0.1 * limit);
+    Some(format!(
+        "solve.joint_stiffness = {stiffness:e}: the decoupled twin's springs start stretched by λ/k = {stretch:.3e} {unit} (joint '{}', row {}, joint force {:.3e}), more than {what}: the twin starts far from the pinned mechanism and its results mean little; a stiffness of at least {suggested:.1e} keeps it under {:.1e} {unit}",
+        row.joint, row.direction, lambda[i].abs(), 0.1 * limit
+    ))
+}

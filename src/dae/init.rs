@@ -67,6 +67,10 @@ pub enum InitError {
         /// What was being evaluated.
         what: String,
     },
+    /// A load (or another scene quantity) evaluates to NaN or infinity at the start: its JSON
+    /// path, name, expression and the time.
+    #[error("{0}")]
+    NonFiniteSource(crate::mech::NonFiniteValue),
 }
 
 /// Relative threshold below which a singular value counts as zero.
@@ -199,6 +203,11 @@ pub fn consistent_state_from(
     };
     // 3. accelerations and multipliers
     let q = MechanicsTapes::eval(&tapes.forces, t0, &x);
+    if !q.iter().all(|f| f.is_finite()) {
+        if let Some(culprit) = sys.non_finite_source(t0, &x) {
+            return Err(InitError::NonFiniteSource(culprit));
+        }
+    }
     finite(&q, "the generalized forces")?;
     let gamma = MechanicsTapes::eval(&tapes.gamma, t0, &x);
     finite(&gamma, "the constraint acceleration terms")?;

@@ -20,6 +20,7 @@
 
 mod diff;
 mod display;
+mod excerpt;
 mod graph;
 mod hash;
 mod ops;
@@ -27,6 +28,7 @@ mod parse;
 mod tape;
 
 pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
+pub use excerpt::{excerpt, EXCERPT_CONTEXT, EXCERPT_MAX_CHARS};
 pub use graph::{Expr, ExprGraph};
 pub use parse::ParseError;
 pub use tape::Tape;

@@ -10,7 +10,9 @@ use std::collections::HashMap;
 
 use super::body::{cross3, quaternion_from_cardan, AngleSlot, BodyKinematics, PointKinematics};
 use super::reactions::{transmits_moment, JointReaction};
-use super::system::{ConstraintRow, Coordinate, EventFunction, MultibodySystem, OutputColumn};
+use super::system::{
+    ConstraintRow, Coordinate, EventFunction, LoadTerm, MultibodySystem, OutputColumn,
+};
 use super::MechError;
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{
@@ -19,6 +21,24 @@ use crate::scene::{
 
 /// Initial joint violations above this norm are reported as warnings.
 pub const INITIAL_VIOLATION_WARNING: f64 = 1e-9;
+
+/// Size of a scene's bodies (m): the largest distance of a body point from its centre of mass,
+/// or the scene's [`length_scale`](crate::scene::validate::length_scale) when no body has points
+/// away from its centre; 0 when neither exists.
+fn body_size(scene: &Scene) -> f64 {
+    let arm = scene
+        .bodies
+        .iter()
+        .flat_map(|b| &b.points)
+        .map(|(_, c)| c.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .filter(|a| a.is_finite())
+        .fold(0.0, f64::max);
+    if arm > 0.0 {
+        arm
+    } else {
+        crate::scene::validate::length_scale(scene).unwrap_or(0.0)
+    }
+}
 
 /// Builds the multibody system of a scene (planar or spatial).
 pub fn assemble(scene: &Scene) -> Result<MultibodySystem, MechError> {
@@ -35,6 +55,8 @@ struct Assembler<'a> {
     /// per scene body
     kin: Vec<BodyKinematics>,
     warnings: Vec<String>,
+    /// Loads given as expressions, one term per component.
+    load_terms: Vec<LoadTerm>,
 }
 
 /// Planned slots of one body, before the coordinate count is known.
@@ -59,6 +81,7 @@ impl<'a> Assembler<'a> {
             mass: Vec::new(),
             kin: Vec::new(),
             warnings: Vec::new(),
+            load_terms: Vec::new(),
         })
     }
 
@@ -476,6 +499,8 @@ impl<'a> Assembler<'a> {
             kinetic,
             outputs,
             warnings: self.warnings,
+            load_terms: self.load_terms,
+            body_size: body_size(self.scene),
             reaction_outputs: self.scene.outputs.iter().any(|o| o == "reactions"),
             reactions,
             events,
@@ -555,9 +580,21 @@ impl<'a> Assembler<'a> {
     }
 
     /// Adds `F · ∂V/∂v_j` to every generalized force.
+    ///
+    /// Only the velocities `V` mentions are visited (once per force, not once per velocity of
+    /// the whole system: gravity on 6000 free bodies would otherwise take 10⁸ dependency walks).
     fn apply_force(&mut self, forces: &mut [Expr], velocity: &[Expr], f: &[Expr]) {
-        for (j, fj) in forces.iter_mut().enumerate() {
-            let slot = (1 + self.coords.len() + j) as u32;
+        let first = (1 + self.coords.len()) as u32;
+        let mut slots: Vec<u32> = velocity
+            .iter()
+            .flat_map(|&vk| self.g.vars(vk))
+            .filter(|&s| s >= first && ((s - first) as usize) < forces.len())
+            .collect();
+        slots.sort_unstable();
+        slots.dedup();
+        for slot in slots {
+            let j = (slot - first) as usize;
+            let fj = &mut forces[j];
             let mut terms = vec![*fj];
             for (vk, fk) in velocity.iter().zip(f) {
                 if self.g.depends_on(*vk, slot) {
@@ -822,6 +859,7 @@ impl<'a> Assembler<'a> {
 
     fn value_exprs(
         &mut self,
+        load_name: &str,
         value: &LoadValue,
         n: usize,
         names: &HashMap<String, Expr>,
@@ -864,15 +902,21 @@ impl<'a> Assembler<'a> {
                 }
                 let mut out = Vec::with_capacity(n);
                 for (k, s) in src.iter().enumerate() {
+                    let p = if n == 1 {
+                        format!("{path}.value")
+                    } else {
+                        format!("{path}.value[{k}]")
+                    };
                     let mut resolve = |name: &str| names.get(name).copied();
                     let e = self.g.parse(s, &mut resolve).map_err(|e| {
-                        let p = if n == 1 {
-                            format!("{path}.value")
-                        } else {
-                            format!("{path}.value[{k}]")
-                        };
-                        MechError::at(&p, format!("{e} in \"{s}\""))
+                        MechError::at(&p, format!("{e} in {}", crate::expr::excerpt(s, e.pos())))
                     })?;
+                    self.load_terms.push(LoadTerm {
+                        path: p,
+                        load: load_name.to_string(),
+                        source: s.clone(),
+                        expr: e,
+                    });
                     out.push(e);
                 }
                 Ok(out)
@@ -893,7 +937,7 @@ impl<'a> Assembler<'a> {
             match l.kind {
                 LoadKind::Force => {
                     let n = self.dim();
-                    let f = self.value_exprs(&l.value, n, names, &path)?;
+                    let f = self.value_exprs(&l.name, &l.value, n, names, &path)?;
                     let p = match &l.point {
                         Some(p) => self.point(&l.body, p, &format!("{path}.point"))?,
                         None => {
@@ -908,7 +952,7 @@ impl<'a> Assembler<'a> {
                 }
                 LoadKind::Torque => {
                     let n = if self.spatial { 3 } else { 1 };
-                    let tau = self.value_exprs(&l.value, n, names, &path)?;
+                    let tau = self.value_exprs(&l.name, &l.value, n, names, &path)?;
                     let nq = self.coords.len() as u32;
                     match self.kin[bi].clone() {
                         BodyKinematics::Spatial { w, .. } => {

@@ -14,7 +14,7 @@
 //! 1-junction (or Sf = 0 to ground) per constraint row of a spherical joint, hinge, prismatic
 //! joint or weld (see `spatial` below).
 //!
-//! The inertias that SCAP forces into differential causality here are the ones whose flows
+//! The inertias that causality assignment forces into differential causality here are the ones whose flows
 //! the joints impose: one per independent constraint row of the multibody system.
 
 use std::collections::HashMap;
@@ -43,9 +43,17 @@ pub enum Variant {
 
 /// Builds the bond graph of a scene.
 pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
-    if matches!(scene.dimension, Dimension::Spatial) {
-        return spatial(scene, variant);
-    }
+    let mut g = if matches!(scene.dimension, Dimension::Spatial) {
+        spatial(scene, variant)?
+    } else {
+        planar(scene, variant)?
+    };
+    g.annotate_joints(scene.joints.iter().map(|j| j.name.as_str()));
+    Ok(g)
+}
+
+/// The bond graph of a planar scene (seed 16.3–16.8).
+fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
     let mut g = BondGraph::default();
     let gy = -scene.gravity.get(1).copied().unwrap_or(0.0);
     // points each body needs: its named points plus coordinate points used by joints, springs

@@ -10,13 +10,15 @@ pub mod assemble;
 pub mod body;
 pub mod bondgraph;
 pub mod reactions;
+pub mod size;
 pub mod system;
 
 pub use assemble::assemble;
 pub use bondgraph::{scene_bond_graph, Variant};
 pub use reactions::JointReaction;
 pub use system::{
-    ConstraintRow, Coordinate, EventFunction, JointViolation, MultibodySystem, OutputColumn,
+    ConstraintRow, Coordinate, EventFunction, JointViolation, LoadTerm, MultibodySystem,
+    NonFiniteValue, OutputColumn,
 };
 
 /// A mechanism that cannot be built, with the JSON path of the culprit.

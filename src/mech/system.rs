@@ -83,6 +83,36 @@ pub struct JointViolation {
     pub norm: f64,
 }
 
+/// One component of a load whose value is an expression, kept so that a non-finite generalized
+/// force can be traced back to the load that produced it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadTerm {
+    /// JSON path of the value, e.g. `loads[2].value` or `loads[0].value[1]`.
+    pub path: String,
+    /// Name of the load (as in the scene, `load<i>` by default).
+    pub load: String,
+    /// The expression text as written in the scene.
+    pub source: String,
+    /// The expression, in the state layout `[t, q, v]`.
+    pub expr: Expr,
+}
+
+/// A value of the model that evaluates to NaN or ±∞, named after the scene field that
+/// produced it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{path} ({what}) evaluates to {value} at t = {t}")]
+pub struct NonFiniteValue {
+    /// JSON path of the culprit (`loads[2].value`), or the equation (`forces[bar.omega]`) when no
+    /// single scene field is to blame.
+    pub path: String,
+    /// What it is, e.g. `load 'gas', "1/t"`.
+    pub what: String,
+    /// Time of the evaluation.
+    pub t: f64,
+    /// The value (NaN or ±∞).
+    pub value: f64,
+}
+
 /// The symbolic multibody system: see the module documentation for the equations.
 #[derive(Clone, Debug)]
 pub struct MultibodySystem {
@@ -110,6 +140,12 @@ pub struct MultibodySystem {
     pub outputs: Vec<OutputColumn>,
     /// Non-fatal remarks found while building (unconnected bodies, unmodelled rotations, …).
     pub warnings: Vec<String>,
+    /// The loads given as expressions, one term per component (to name a non-finite force).
+    pub load_terms: Vec<LoadTerm>,
+    /// Size of the bodies (m): the largest distance of a body point from its centre of mass,
+    /// or the scene's [`length_scale`](crate::scene::validate::length_scale) when no body has
+    /// points away from its centre; 0 when neither exists.
+    pub body_size: f64,
     /// How each joint's reaction is read from its constraint forces, in the scene's order.
     pub reactions: Vec<JointReaction>,
     /// Whether the reaction columns are written (`"outputs": ["reactions"]`).
@@ -214,6 +250,38 @@ impl MultibodySystem {
             v.norm = v.rows.iter().map(|(_, r)| r * r).sum::<f64>().sqrt();
         }
         out
+    }
+
+    /// The first scene quantity that is not finite at time `t` and state `x = [q, v]`: a load
+    /// expression (its JSON path, name and text), or else a generalized force (the velocity it
+    /// acts on). `None` when every load and force is finite there.
+    pub fn non_finite_source(&self, t: f64, x: &[f64]) -> Option<NonFiniteValue> {
+        let mut vars = Vec::with_capacity(1 + x.len());
+        vars.push(t);
+        vars.extend_from_slice(x);
+        for l in &self.load_terms {
+            let value = self.graph.eval(l.expr, &vars);
+            if !value.is_finite() {
+                return Some(NonFiniteValue {
+                    path: l.path.clone(),
+                    what: format!("load '{}', {}", l.load, crate::expr::excerpt(&l.source, 0)),
+                    t,
+                    value,
+                });
+            }
+        }
+        for (j, &f) in self.forces.iter().enumerate() {
+            let value = self.graph.eval(f, &vars);
+            if !value.is_finite() {
+                return Some(NonFiniteValue {
+                    path: format!("the generalized force on '{}'", self.velocities[j].name),
+                    what: "gravity, springs, dampers and loads".into(),
+                    t,
+                    value,
+                });
+            }
+        }
+        None
     }
 
     /// Names of every joint's reaction columns, in order (the `r` part of the event layout).

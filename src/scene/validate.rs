@@ -7,10 +7,17 @@
 //! `ground`, joints/springs/loads naming known bodies and points, no joint
 //! between a body and itself, prismatic and hinge axes non-zero, no spherical joint in a
 //! plane, a spatial revolute (hinge) with an axis and a planar one without, t_end > 0, output_step in (0, t_end],
-//! output_times strictly increasing in [0, t_end], positive rtol, atol and
-//! joint_stiffness, non-empty expressions, tables with strictly increasing times, outputs
-//! naming known bodies/points, events with unique names and non-empty `when` (their
-//! expressions are parsed when the model is built), and bodies or a bond graph present.
+//! output_times strictly increasing in [0, t_end], non-empty expressions, tables with strictly
+//! increasing times, outputs naming known bodies/points, events with unique names and non-empty
+//! `when` (their expressions are parsed when the model is built), and bodies or a bond graph
+//! present.
+//!
+//! Single quantities go through one public function each, shared with the command-line
+//! flags: [`check_mass`] and [`check_inertia`] (0, or in `[1e-100, 1e100]`: no subnormal or
+//! absurd masses), [`check_rtol`] (`[1e-15, 1]`), [`check_atol`] (`>= 1e-100`, at most the
+//! mechanism's [`length_scale`]), [`check_joint_stiffness`] (`[1e-100, 1e16]`) and
+//! [`check_t_end`] (`> 0`, at most 1e7 output rows). Each returns a typed [`BoundError`] whose
+//! message states the rule.
 //!
 //! Warnings (not refusals): bodies that no joint, spring or load touches.
 
@@ -64,7 +71,7 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
     for (i, l) in scene.loads.iter().enumerate() {
         load(&mut p, scene, &index("loads", i), l);
     }
-    solve(&mut p, &scene.solve);
+    solve(&mut p, &scene.solve, length_scale(scene));
     for (i, o) in scene.outputs.iter().enumerate() {
         output(&mut p, scene, &index("outputs", i), o);
     }
@@ -139,6 +146,13 @@ fn finite(p: &mut Problems, path: &str, x: f64) -> bool {
     x.is_finite()
 }
 
+/// Records the refusal of a bound check at `path`.
+fn bound(p: &mut Problems, path: &str, r: Result<(), BoundError>) {
+    if let Err(e) = r {
+        p.push(path, e.to_string());
+    }
+}
+
 fn positive(p: &mut Problems, path: &str, x: f64) {
     if !(x > 0.0 && x.is_finite()) {
         p.push(path, format!("must be > 0 and finite (got {x})"));
@@ -180,13 +194,13 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
     } else if scene.bodies[..i].iter().any(|o| o.name == b.name) {
         p.push(&np, format!("duplicate body name '{}'", b.name));
     }
-    positive(p, &field(&path, "mass"), b.mass);
+    bound(p, &field(&path, "mass"), check_mass(b.mass));
     let ip = field(&path, "inertia");
     match (b.inertia, dim) {
-        (Inertia::Planar(j), Dimension::Planar) => non_negative(p, &ip, j),
+        (Inertia::Planar(j), Dimension::Planar) => bound(p, &ip, check_inertia(j)),
         (Inertia::Principal(js), Dimension::Spatial) => {
             for (k, j) in js.iter().enumerate() {
-                non_negative(p, &index(&ip, k), *j);
+                bound(p, &index(&ip, k), check_inertia(*j));
             }
             let [a, b2, c] = js;
             if js.iter().all(|x| x.is_finite() && *x > 0.0)
@@ -398,23 +412,37 @@ fn expression(p: &mut Problems, path: &str, s: &str) {
         return;
     }
     let mut depth = 0i64;
-    for c in s.chars() {
+    // byte offset of the offending parenthesis: the first unmatched ')' or the last unclosed '('
+    let mut open = Vec::new();
+    let mut at = None;
+    for (b, c) in s.char_indices() {
         match c {
-            '(' => depth += 1,
-            ')' => depth -= 1,
+            '(' => {
+                depth += 1;
+                open.push(b);
+            }
+            ')' => {
+                depth -= 1;
+                open.pop();
+            }
             _ => {}
         }
         if depth < 0 {
+            at = Some(b);
             break;
         }
     }
     if depth != 0 {
-        p.push(path, format!("unbalanced parentheses in \"{s}\""));
+        let pos = at.or(open.last().copied()).unwrap_or(0);
+        p.push(
+            path,
+            format!("unbalanced parentheses in {}", crate::expr::excerpt(s, pos)),
+        );
     }
 }
 
-fn solve(p: &mut Problems, s: &SolveSettings) {
-    positive(p, "solve.t_end", s.t_end);
+fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
+    bound(p, "solve.t_end", check_t_end(s.t_end, None));
     let t0 = s.t_start;
     if !t0.is_finite() {
         p.push("solve.t_start", format!("must be finite (got {t0})"));
@@ -465,9 +493,13 @@ fn solve(p: &mut Problems, s: &SolveSettings) {
             p.push("solve.output_times", "must be strictly increasing");
         }
     }
-    positive(p, "solve.rtol", s.rtol);
-    positive(p, "solve.atol", s.atol);
-    positive(p, "solve.joint_stiffness", s.joint_stiffness);
+    bound(p, "solve.rtol", check_rtol(s.rtol));
+    bound(p, "solve.atol", check_atol(s.atol, length));
+    bound(
+        p,
+        "solve.joint_stiffness",
+        check_joint_stiffness(s.joint_stiffness),
+    );
     non_negative(p, "solve.joint_damping", s.joint_damping);
     if s.max_steps == Some(0) {
         p.push("solve.max_steps", "must be a positive integer (got 0)");
@@ -534,4 +566,221 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
             }
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bounds on single quantities, shared by the scene and the command-line flags
+// ---------------------------------------------------------------------------------------------
+
+/// Smallest positive mass (kg) or inertia (kg·m²) a scene may give: below it squares and
+/// products with other scene quantities (`m²`, `m·g·L`, `J ω²`) drift toward the subnormal
+/// range and the mass matrix loses its digits.
+pub const MIN_MASS: f64 = 1e-100;
+/// Largest mass (kg) or inertia (kg·m²) a scene may give: above it `m²` and the energies
+/// overflow toward infinity.
+pub const MAX_MASS: f64 = 1e100;
+/// Smallest relative tolerance: about 4.5 × the double-precision epsilon; below it the error
+/// test asks for digits a double does not hold, and SUNDIALS cannot deliver it.
+pub const MIN_RTOL: f64 = 1e-15;
+/// Largest relative tolerance: 1 (100 % error) already controls nothing.
+pub const MAX_RTOL: f64 = 1.0;
+/// Smallest absolute tolerance: a positive normal double well above the subnormal range.
+pub const MIN_ATOL: f64 = 1e-100;
+/// Smallest stiffness of the decoupled twin's joint springs (N/m, or N·m/rad for angle rows):
+/// softer springs hold nothing (a joint force of 1 N would stretch them by 1e100 m).
+pub const MIN_JOINT_STIFFNESS: f64 = 1e-100;
+/// Largest stiffness of the decoupled twin's joint springs (N/m): above it the spring force
+/// `k g` is dominated by the rounding error of the positions (`k · 2.2e-16 m` is 2 N at 1e16
+/// on a mechanism of 1 m), and the oscillation `√(k/m)` cannot be resolved in any number of
+/// steps.
+pub const MAX_JOINT_STIFFNESS: f64 = 1e16;
+
+/// Why a number given for a scene field or a command-line flag cannot be used.
+///
+/// The message says what the rule is; the caller adds the field's JSON path (`solve.rtol`)
+/// or the flag (`--rtol`).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BoundError {
+    /// Zero, negative, NaN or infinite where a positive number is needed.
+    #[error("must be > 0 and finite (got {value})")]
+    NotPositive {
+        /// The value given.
+        value: f64,
+    },
+    /// Negative, NaN or infinite where zero or a positive number is needed.
+    #[error("must be >= 0 and finite (got {value})")]
+    Negative {
+        /// The value given.
+        value: f64,
+    },
+    /// Below the smallest value that makes sense.
+    #[error("must be >= {min:e} (got {value:e}): {why}")]
+    TooSmall {
+        /// The value given.
+        value: f64,
+        /// The bound.
+        min: f64,
+        /// Why the bound is there.
+        why: &'static str,
+    },
+    /// Above the largest value that makes sense.
+    #[error("must be <= {max:e} (got {value:e}): {why}")]
+    TooLarge {
+        /// The value given.
+        value: f64,
+        /// The bound.
+        max: f64,
+        /// Why the bound is there.
+        why: &'static str,
+    },
+}
+
+fn finite_positive(value: f64) -> Result<(), BoundError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(BoundError::NotPositive { value })
+    }
+}
+
+fn within(
+    value: f64,
+    min: f64,
+    max: f64,
+    why_min: &'static str,
+    why_max: &'static str,
+) -> Result<(), BoundError> {
+    finite_positive(value)?;
+    if value < min {
+        Err(BoundError::TooSmall {
+            value,
+            min,
+            why: why_min,
+        })
+    } else if value > max {
+        Err(BoundError::TooLarge {
+            value,
+            max,
+            why: why_max,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+const MASS_SMALL: &str = "smaller masses and inertias underflow in the mass matrix and the energies (rule: 0 < m, and 1e-100 <= m <= 1e100)";
+const MASS_LARGE: &str = "larger masses and inertias overflow in the mass matrix and the energies (rule: 1e-100 <= m <= 1e100)";
+
+/// A body's mass (kg): finite, in `[MIN_MASS, MAX_MASS]` = `[1e-100, 1e100]`.
+///
+/// `1e-320` (a subnormal) and `1e300` are refused: their squares and products with the scene's
+/// other quantities leave the normal range of doubles, and the solution would be garbage.
+pub fn check_mass(value: f64) -> Result<(), BoundError> {
+    within(value, MIN_MASS, MAX_MASS, MASS_SMALL, MASS_LARGE)
+}
+
+/// One (principal) moment of inertia (kg·m²): 0 (a point mass, no rotation inertia), or in
+/// `[MIN_MASS, MAX_MASS]` = `[1e-100, 1e100]` as a mass.
+pub fn check_inertia(value: f64) -> Result<(), BoundError> {
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(BoundError::Negative { value });
+    }
+    if value == 0.0 {
+        return Ok(());
+    }
+    within(value, MIN_MASS, MAX_MASS, MASS_SMALL, MASS_LARGE)
+}
+
+/// The relative tolerance (`solve.rtol`, `--rtol`): in `[MIN_RTOL, MAX_RTOL]` = `[1e-15, 1]`.
+pub fn check_rtol(value: f64) -> Result<(), BoundError> {
+    within(
+        value,
+        MIN_RTOL,
+        MAX_RTOL,
+        "a double holds about 16 digits, and SUNDIALS cannot deliver a tighter relative tolerance",
+        "a relative error of 100 % or more controls nothing",
+    )
+}
+
+/// The absolute tolerance (`solve.atol`, `--atol`): finite, `>= MIN_ATOL` (1e-100) and, when the
+/// mechanism has a size (`length_scale`, see [`length_scale`]: the largest distance of a body
+/// centre, body point or ground point from the origin, or between them), no larger than that
+/// size — an absolute error as large as the mechanism controls nothing. Raw bond graphs have no
+/// size (`None`): only the first two rules apply.
+pub fn check_atol(value: f64, length_scale: Option<f64>) -> Result<(), BoundError> {
+    finite_positive(value)?;
+    if value < MIN_ATOL {
+        return Err(BoundError::TooSmall {
+            value,
+            min: MIN_ATOL,
+            why: "an absolute tolerance this close to the subnormal range is rounding noise",
+        });
+    }
+    if let Some(l) = length_scale.filter(|l| *l > 0.0 && l.is_finite()) {
+        if value > l {
+            return Err(BoundError::TooLarge {
+                value,
+                max: l,
+                why: "the mechanism's size (largest distance of a body centre or point from the origin): an absolute error as large as the mechanism controls nothing",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The decoupled twin's joint stiffness (`solve.joint_stiffness`, `--joint-stiffness`, N/m):
+/// in `[MIN_JOINT_STIFFNESS, MAX_JOINT_STIFFNESS]` = `[1e-100, 1e16]`.
+///
+/// Inside these bounds a stiffness can still give a meaningless twin (springs that start
+/// stretched by more than the bodies' size); that is a warning, given when the twin is built
+/// with the joint forces known ([`crate::dae::decoupled::prestress_warning`]).
+pub fn check_joint_stiffness(value: f64) -> Result<(), BoundError> {
+    within(
+        value,
+        MIN_JOINT_STIFFNESS,
+        MAX_JOINT_STIFFNESS,
+        "a softer joint spring holds nothing (a joint force of 1 N would stretch it by more than 1e100 m)",
+        "the spring force k·g is then dominated by the rounding error of the positions (k · 2.2e-16 m is 2 N at 1e16 on a 1 m mechanism), and √(k/m) cannot be resolved by any step",
+    )
+}
+
+/// The end time (`solve.t_end`, `--t-end`, s): finite, `> 0`, and with `output_step` (the
+/// scene's, when given) at most [`MAX_OUTPUT_TIMES`] output times — every row is kept in
+/// memory, and `--t-end 1e12` at a step of 0.01 s would ask for 1e14 of them.
+pub fn check_t_end(value: f64, output_step: Option<f64>) -> Result<(), BoundError> {
+    finite_positive(value)?;
+    if let Some(h) = output_step.filter(|h| *h > 0.0 && h.is_finite()) {
+        let max = MAX_OUTPUT_TIMES * h;
+        if value / h > MAX_OUTPUT_TIMES {
+            return Err(BoundError::TooLarge {
+                value,
+                max,
+                why: "at the scene's output_step this asks for more than 1e7 output rows; raise solve.output_step or give solve.output_times",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The size of a mechanism (m): the largest distance of a body centre, a body point (from the
+/// origin, at the initial configuration, ignoring rotation: `|position| + |point|`) or a ground
+/// point from the origin. `None` for a scene without bodies (a raw bond graph), or when every
+/// body sits at the origin with no points.
+pub fn length_scale(scene: &Scene) -> Option<f64> {
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut l: f64 = 0.0;
+    for b in &scene.bodies {
+        let r = norm(&b.position);
+        let arm = b.points.iter().map(|(_, c)| norm(c)).fold(0.0, f64::max);
+        l = l.max(r + arm);
+    }
+    for j in &scene.joints {
+        for (name, p) in j.bodies.iter().zip(&j.points) {
+            if let (true, PointRef::Coords(c)) = (name == GROUND, p) {
+                l = l.max(norm(c));
+            }
+        }
+    }
+    (l > 0.0 && l.is_finite()).then_some(l)
 }

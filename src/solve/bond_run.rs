@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use cpu_time::ThreadTime;
 
+use super::non_finite::{map_solver_cause, name_in_bond_graph};
 use super::options::{FormulationKind, SolveOptions};
 use super::run::{
     from_t_start, is_budget, set_completed, set_energy, stopped, Row, Solution, Summary,
@@ -34,15 +35,24 @@ fn bond_error(e: impl std::fmt::Display) -> Error {
     Error::BondGraph(e.to_string().replace('\n', "; "))
 }
 
+/// Every error of an invalid raw bond graph, `; `-separated, each starting with its JSON path.
+fn validation_error(e: crate::bond::ValidationErrors) -> Error {
+    Error::BondGraph(
+        e.0.iter()
+            .map(|b| b.to_string())
+            .collect::<Vec<_>>()
+            .join("; "),
+    )
+}
+
 /// The raw bond graph of a scene (`"bond_graph"`), validated.
 pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
     let raw = scene
         .bond_graph
         .as_ref()
         .ok_or_else(|| Error::BondGraph("the scene has no bond_graph".into()))?;
-    let raw: RawBondGraph =
-        serde_json::from_value(raw.clone()).map_err(|e| bond_error(format!("bond_graph: {e}")))?;
-    raw.to_graph().map_err(bond_error)
+    let raw = RawBondGraph::from_value(raw).map_err(validation_error)?;
+    raw.to_graph().map_err(validation_error)
 }
 
 /// The solve options written in a raw bond graph scene's `solve` section
@@ -282,7 +292,9 @@ fn solve_from_first_output(
                         cv.dky(tr, 0, &mut y).ok()?;
                         Some((tr, out.row(tr, &y)))
                     });
-                    return Err(stopped(e, sol, summary, last));
+                    return Err(map_solver_cause(stopped(e, sol, summary, last), |se| {
+                        name_in_bond_graph(g, &eq, se)
+                    }));
                 }
             }
         }
@@ -370,7 +382,9 @@ fn solve_from_first_output(
                         ida.dky(tr, 0, &mut y).ok()?;
                         Some((tr, out.row(tr, &y)))
                     });
-                    return Err(stopped(e, sol, summary, last));
+                    return Err(map_solver_cause(stopped(e, sol, summary, last), |se| {
+                        name_in_bond_graph(g, &eq, se)
+                    }));
                 }
             }
         }

@@ -380,6 +380,13 @@ fn solve_from_first_output(
             let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
             build += t.elapsed().as_secs_f64();
             summary.joint_stiffness = opts.joint_stiffness;
+            summary
+                .warnings
+                .extend(crate::dae::decoupled::prestress_warning(
+                    &sys,
+                    &init.lambda,
+                    opts.joint_stiffness,
+                ));
             if opts.joint_damping != 0.0 && sys.energy_exchange.is_none() {
                 sys.energy_exchange = Some(format!(
                     "the twin's joint springs have damping {} (solve.joint_damping)",

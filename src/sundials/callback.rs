@@ -24,6 +24,24 @@ pub type CvodeJacobianFn =
 /// CVODE root functions `g(t, y) → gout`.
 pub type CvodeRootFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
 
+/// Non-finite outputs of a residual or right-hand side in a row, all within
+/// [`STUCK_WINDOW`] (relative) of each other in time, after which the solver is stuck: the
+/// integrator keeps shrinking its step against a NaN or ∞ it cannot step past (steps accumulate
+/// toward the point like Zeno's), and the callback stops the solve with
+/// [`SolverError::NonFinite`] instead of letting it run to the step or wall-clock budget.
+pub(crate) const STUCK_EVALUATIONS: usize = 25;
+/// Relative time window of [`STUCK_EVALUATIONS`].
+pub(crate) const STUCK_WINDOW: f64 = 1e-9;
+
+/// The last evaluation of a residual or right-hand side with a non-finite output.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct NonFiniteEval {
+    pub(crate) t: f64,
+    pub(crate) y: Vec<f64>,
+    pub(crate) index: usize,
+    pub(crate) value: f64,
+}
+
 /// What went wrong inside callbacks during the current solve call.
 #[derive(Debug, Default)]
 pub(crate) struct CallbackStatus {
@@ -31,6 +49,12 @@ pub(crate) struct CallbackStatus {
     fatal: Option<(f64, String)>,
     /// Last message SUNDIALS passed to the error handler.
     pub(crate) last_message: Option<String>,
+    /// Last residual / right-hand side evaluation with a non-finite output.
+    non_finite: Option<NonFiniteEval>,
+    /// Times of the latest non-finite evaluations (at most [`STUCK_EVALUATIONS`]).
+    recent: std::collections::VecDeque<f64>,
+    /// Set when the solver was found stuck on non-finite values.
+    stuck: Option<(&'static str, NonFiniteEval)>,
 }
 
 impl CallbackStatus {
@@ -40,7 +64,7 @@ impl CallbackStatus {
 
     /// Run `f`, translating its outcome to a SUNDIALS return code.
     pub(crate) fn guard(&mut self, t: f64, f: impl FnOnce() -> CallbackResult) -> c_int {
-        if self.panic.is_some() || self.fatal.is_some() {
+        if self.panic.is_some() || self.fatal.is_some() || self.stuck.is_some() {
             return -1;
         }
         match catch_unwind(AssertUnwindSafe(f)) {
@@ -62,10 +86,85 @@ impl CallbackStatus {
         }
     }
 
+    /// After `guard` of a residual or right-hand side (`what`): a non-finite output turns
+    /// success into a recoverable failure (SUNDIALS retries with a smaller step) and is
+    /// remembered with `(t, y)`; once [`STUCK_EVALUATIONS`] of them fall within
+    /// [`STUCK_WINDOW`] in time, the failure is fatal and the solve call returns
+    /// [`SolverError::NonFinite`].
+    pub(crate) fn check_output(
+        &mut self,
+        what: &'static str,
+        code: c_int,
+        t: f64,
+        y: &[f64],
+        out: &[f64],
+    ) -> c_int {
+        if code != 0 {
+            return code;
+        }
+        let Some((index, &value)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) else {
+            return 0;
+        };
+        let eval = NonFiniteEval {
+            t,
+            y: y.to_vec(),
+            index,
+            value,
+        };
+        if self.recent.len() == STUCK_EVALUATIONS {
+            self.recent.pop_front();
+        }
+        self.recent.push_back(t);
+        let (lo, hi) = self
+            .recent
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        self.non_finite = Some(eval.clone());
+        if self.recent.len() == STUCK_EVALUATIONS && hi - lo <= STUCK_WINDOW * hi.abs().max(1.0) {
+            self.stuck = Some((what, eval));
+            return -1;
+        }
+        1
+    }
+
+    /// The solver failed at `t_reached` (its last accepted time): when a residual or
+    /// right-hand side was non-finite after it, that is the likely cause, returned as
+    /// [`SolverError::NonFinite`] for `function`.
+    pub(crate) fn take_non_finite(
+        &mut self,
+        function: &'static str,
+        what: &'static str,
+        t_reached: f64,
+    ) -> Option<SolverError> {
+        let e = self.non_finite.take().filter(|e| e.t >= t_reached)?;
+        Some(SolverError::NonFinite {
+            function,
+            what,
+            t: e.t,
+            index: e.index,
+            value: e.value,
+            y: e.y,
+            stuck: false,
+        })
+    }
+
     /// Error recorded by a callback, preferred over the SUNDIALS flag it caused.
     pub(crate) fn take_error(&mut self) -> Option<SolverError> {
         if let Some((t, message)) = self.panic.take() {
             return Some(SolverError::CallbackPanic { t, message });
+        }
+        if let Some((what, e)) = self.stuck.take() {
+            return Some(SolverError::NonFinite {
+                function: "",
+                what,
+                t: e.t,
+                index: e.index,
+                value: e.value,
+                y: e.y,
+                stuck: true,
+            });
         }
         self.fatal
             .take()

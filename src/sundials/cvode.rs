@@ -75,7 +75,7 @@ unsafe extern "C" fn rhs_trampoline(
     };
     let CvodeData { status, rhs, .. } = data;
     let code = status.guard(t, || rhs(t, y, ydot));
-    finite_or_recoverable(code, ydot)
+    status.check_output("right-hand side", code, t, y, ydot)
 }
 
 unsafe extern "C" fn jacobian_trampoline(
@@ -273,10 +273,20 @@ impl Cvode {
 
     /// Turn a failing flag into an error, preferring a callback's own error.
     fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
-        if let Some(e) = self.data.status.take_error() {
+        if let Some(mut e) = self.data.status.take_error() {
+            if let SolverError::NonFinite { function: f, .. } = &mut e {
+                *f = function;
+            }
             return e;
         }
         let t = self.current_time();
+        if let Some(e) = self
+            .data
+            .status
+            .take_non_finite(function, "right-hand side", t)
+        {
+            return e;
+        }
         if flag == sys::CV_TOO_MUCH_WORK {
             if let Some(max_steps) = self.driver.max_steps {
                 return SolverError::TooMuchWork { t, max_steps };

@@ -77,6 +77,27 @@ pub enum SolverError {
         /// The budget.
         limit: Duration,
     },
+    /// The residual or right-hand side evaluated to NaN or ±∞ and the solver could not step
+    /// past it: either it failed after such an evaluation, or its trial steps shrank against it
+    /// ([`NonFinite::stuck`](SolverError::NonFinite)). `y` is the state of that evaluation, so
+    /// that the caller can name the culprit (a load, a bond graph element).
+    #[error("{}the {what} evaluates to {value} (component {index}) at t = {t}{}", if function.is_empty() { String::new() } else { format!("{function}: ") }, if *stuck { "; the solver cannot step past it" } else { "" })]
+    NonFinite {
+        /// SUNDIALS function that failed (empty when the callback stopped the solve).
+        function: &'static str,
+        /// `residual` or `right-hand side`.
+        what: &'static str,
+        /// Time of the evaluation.
+        t: f64,
+        /// First non-finite component of the output.
+        index: usize,
+        /// Its value.
+        value: f64,
+        /// The state `y` of the evaluation.
+        y: Vec<f64>,
+        /// Whether the solver's trial steps piled up against the non-finite value.
+        stuck: bool,
+    },
     /// Bad arguments (lengths, non-finite values, ...).
     #[error("invalid input: {0}")]
     InvalidInput(String),
@@ -91,7 +112,8 @@ impl SolverError {
             | SolverError::CallbackFailed { t, .. }
             | SolverError::TooMuchWork { t, .. }
             | SolverError::StepBudget { t, .. }
-            | SolverError::WallClock { t, .. } => Some(*t),
+            | SolverError::WallClock { t, .. }
+            | SolverError::NonFinite { t, .. } => Some(*t),
             SolverError::InvalidInput(_) => None,
         }
     }

@@ -93,7 +93,7 @@ unsafe extern "C" fn residual_trampoline(
         status, residual, ..
     } = data;
     let code = status.guard(t, || residual(t, y, yp, r));
-    finite_or_recoverable(code, r)
+    status.check_output("residual", code, t, y, r)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -400,10 +400,16 @@ impl Ida {
 
     /// Turn a failing flag into an error, preferring a callback's own error.
     fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
-        if let Some(e) = self.data.status.take_error() {
+        if let Some(mut e) = self.data.status.take_error() {
+            if let SolverError::NonFinite { function: f, .. } = &mut e {
+                *f = function;
+            }
             return e;
         }
         let t = self.current_time();
+        if let Some(e) = self.data.status.take_non_finite(function, "residual", t) {
+            return e;
+        }
         if flag == sys::IDA_TOO_MUCH_WORK {
             if let Some(max_steps) = self.driver.max_steps {
                 return SolverError::TooMuchWork { t, max_steps };

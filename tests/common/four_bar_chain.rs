@@ -94,3 +94,42 @@ pub fn simulate_four_bar_chain(
         .map(|(&t, y)| p.state(t, y[0], y[1]))
         .collect()
 }
+
+/// The chain as a scene (JSON text only, no `bondmech` code): N + 1 upright cranks pinned at
+/// x = 0..N, N horizontal couplers on top, uniform 1 m 1 kg bars,
+/// cranks turning at 1 rad/s (couplers translating at the crank tips' velocity (−1, 0)).
+pub fn chain_json(n: usize) -> String {
+    let g = 9.81;
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    let bar = r#""mass":1.0,"inertia":0.08333333333333333,"points":{"O":[-0.5,0],"A":[0.5,0]}"#;
+    for i in 0..=n {
+        bodies.push(format!(
+            r#"{{"name":"crank{i}",{bar},"position":[{i},0.5],"angle":1.5707963267948966,"velocity":[-0.5,0],"angular_velocity":1.0}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pivot{i}","type":"revolute","bodies":["ground","crank{i}"],"points":[[{i},0],"O"]}}"#
+        ));
+    }
+    for i in 0..n {
+        bodies.push(format!(
+            r#"{{"name":"coupler{i}",{bar},"position":[{x},1],"angle":0,"velocity":[-1,0],"angular_velocity":0}}"#,
+            x = i as f64 + 0.5
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}l","type":"revolute","bodies":["crank{i}","coupler{i}"],"points":["A","O"]}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}r","type":"revolute","bodies":["crank{j}","coupler{i}"],"points":["A","A"]}}"#,
+            j = i + 1
+        ));
+    }
+    format!(
+        r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-{g}],
+        "bodies":[{}],"joints":[{}],
+        "solve":{{"formulation":"dae","t_end":20.0,"output_step":0.05,"rtol":1e-8,"atol":1e-10}},
+        "outputs":["crank0.A","energy","constraint_error"]}}"#,
+        bodies.join(",\n"),
+        joints.join(",\n")
+    )
+}

@@ -1,0 +1,154 @@
+//! How much memory a model will need, estimated from the scene before building it, so that a
+//! model far beyond the machine (6000 free bodies) is refused with a message naming the limit
+//! instead of aborting out of memory halfway through.
+//!
+//! Today every formulation factors a **dense** Newton matrix, and the consistent start solves
+//! the dense `[M G_vᵀ; G_v 0]` by an SVD; both grow as the square of the unknowns:
+//!
+//! | what | unknowns | dense copies |
+//! |---|---|---|
+//! | GGL, compliant GGL, index 1 on IDA | `n ≤ nq + nv + 2 nc` | 1 (IDA's Newton matrix) |
+//! | decoupled twin on CVODE | `nq + nv` | 2 (Newton matrix and saved Jacobian) |
+//! | consistent start (SVD) | `nv + nc` | 4 (matrix, its copy, `U`, `Vᵀ`) |
+//!
+//! The estimate is the larger of the start and the chosen formulation's matrices, plus about
+//! 4 KiB per unknown for the symbolic equations and tapes. When a sparse linear solver comes,
+//! the dense terms become its fill; chains of a few hundred bodies (a 500-link pendulum needs
+//! about 0.2 GiB) are far from the limit either way.
+
+use crate::scene::{Dimension, Formulation, JointKind, Scene};
+
+/// Fraction of the available memory a model may plan to use.
+pub const MEMORY_FRACTION: f64 = 0.8;
+
+/// Bytes per unknown assumed for the symbolic equations, their derivatives and the tapes.
+pub const SYMBOLIC_BYTES_PER_UNKNOWN: f64 = 4096.0;
+
+/// The sizes of a scene's model and the memory its largest dense matrices need.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemoryEstimate {
+    /// Coordinates `q` (upper bound: planar bodies 3, spatial bodies 7).
+    pub coordinates: usize,
+    /// Velocities `v` (planar bodies 3, spatial bodies 6).
+    pub velocities: usize,
+    /// Constraint rows (pin 2, planar prismatic 2, planar weld 3, spherical 3, hinge 5, spatial
+    /// prismatic 5, spatial weld 6).
+    pub constraint_rows: usize,
+    /// Unknowns of the matrix that dominates.
+    pub unknowns: usize,
+    /// What that matrix is, e.g. `the dense Newton matrix of the GGL DAE on IDA`.
+    pub what: &'static str,
+    /// Bytes needed at the peak (the dominating matrices plus the symbolic part).
+    pub bytes: f64,
+}
+
+/// Why a model is refused before it is built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SizeError {
+    /// The estimate exceeds [`MEMORY_FRACTION`] of the memory available.
+    #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this machine has {} available (/proc/meminfo MemAvailable); limit: {:.0} % of it (the linear solver is dense: memory grows as the square of the unknowns)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), MEMORY_FRACTION * 100.0)]
+    TooLarge {
+        /// The estimate.
+        estimate: Box<MemoryEstimate>,
+        /// Bytes available.
+        available: u64,
+    },
+}
+
+fn gib(bytes: f64) -> String {
+    format!("{:.1} GiB", bytes / (1u64 << 30) as f64)
+}
+
+/// Estimates the memory a scene needs when solved with `formulation` (see the module
+/// documentation): the consistent start and the Newton matrix of that formulation. A raw bond
+/// graph is estimated from its element count (at most two unknowns per element).
+pub fn estimate_memory(scene: &Scene, formulation: Formulation) -> MemoryEstimate {
+    let spatial = scene.dimension == Dimension::Spatial;
+    let nb = scene.bodies.len();
+    let (mut nq, mut nv) = if spatial {
+        (7 * nb, 6 * nb)
+    } else {
+        (3 * nb, 3 * nb)
+    };
+    let nc: usize = scene
+        .joints
+        .iter()
+        .map(|j| match (&j.kind, spatial) {
+            (JointKind::Revolute, false) | (JointKind::Prismatic { .. }, false) => 2,
+            (JointKind::Weld, false) | (JointKind::Spherical, _) => 3,
+            (JointKind::Hinge { .. }, _) | (JointKind::Prismatic { .. }, true) => 5,
+            (JointKind::Weld, true) => 6,
+            (JointKind::Revolute, true) => 5,
+        })
+        .sum();
+    if let Some(elements) = scene
+        .bond_graph
+        .as_ref()
+        .and_then(|g| g.get("elements"))
+        .and_then(|e| e.as_array())
+    {
+        nq = elements.len();
+        nv = elements.len();
+    }
+    let sq = |n: usize| (n as f64) * (n as f64) * 8.0;
+    let ggl = nq + nv + 2 * nc;
+    let newton = if formulation == Formulation::Decoupled {
+        (
+            nq + nv,
+            2.0 * sq(nq + nv),
+            "the dense Newton matrix and saved Jacobian of the decoupled twin on CVODE",
+        )
+    } else {
+        (ggl, sq(ggl), "the dense Newton matrix of the DAE on IDA")
+    };
+    let candidates = [
+        newton,
+        (
+            nv + nc,
+            4.0 * sq(nv + nc),
+            "the SVD of the dense mass–constraint matrix of the consistent start",
+        ),
+    ];
+    let (unknowns, dense, what) =
+        candidates
+            .into_iter()
+            .fold(candidates[0], |a, b| if b.1 > a.1 { b } else { a });
+    MemoryEstimate {
+        coordinates: nq,
+        velocities: nv,
+        constraint_rows: nc,
+        unknowns,
+        what,
+        bytes: dense + SYMBOLIC_BYTES_PER_UNKNOWN * ggl as f64,
+    }
+}
+
+/// The memory available to a new allocation, from `/proc/meminfo` (`MemAvailable`); `None`
+/// where that file does not exist or does not say (the check is then skipped).
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses `estimate` when it exceeds [`MEMORY_FRACTION`] of `available` bytes (`None`: no
+/// limit known, accepted).
+pub fn check_memory(estimate: &MemoryEstimate, available: Option<u64>) -> Result<(), SizeError> {
+    match available {
+        Some(a) if estimate.bytes > MEMORY_FRACTION * a as f64 => Err(SizeError::TooLarge {
+            estimate: Box::new(estimate.clone()),
+            available: a,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// [`check_memory`] of the scene's [`estimate_memory`] with `formulation` against this
+/// machine's [`available_memory`]. [`Model::new`](crate::Model::new) calls it with the scene's
+/// own `solve.formulation`; a caller that solves with another (`--formulation decoupled`) calls
+/// it again with that one.
+pub fn check_scene_memory(scene: &Scene, formulation: Formulation) -> Result<(), SizeError> {
+    check_memory(&estimate_memory(scene, formulation), available_memory())
+}

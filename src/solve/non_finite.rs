@@ -1,0 +1,132 @@
+//! Naming the culprit of a non-finite residual or right-hand side.
+//!
+//! The SUNDIALS callbacks remember the state of the last evaluation that produced NaN or ±∞
+//! ([`SolverError::NonFinite`]); the formulations' tapes fuse every load and element into one
+//! residual, so the culprit is found by evaluating the scene's load expressions (or the raw bond
+//! graph's element parameters and laws) one by one at that time and state.
+
+use crate::bond::equations::BondEquations;
+use crate::bond::model::BondGraph;
+use crate::mech::{MultibodySystem, NonFiniteValue};
+use crate::sundials::SolverError;
+use crate::Error;
+
+/// `e`, with a non-finite residual of a mechanism's formulation traced to the load (JSON path,
+/// name, expression) or generalized force that produced it. The state of every formulation
+/// starts with `[q, v]`.
+pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: Error) -> Error {
+    map_solver_cause(e, |solver| name_solver_error(sys, solver))
+}
+
+/// `e` with `f` applied to the solver error it comes from: `e` itself, or the cause of an
+/// [`Error::Incomplete`] (a solve that stopped and kept its rows). Other errors are unchanged.
+pub(crate) fn map_solver_cause(e: Error, f: impl FnOnce(SolverError) -> Error) -> Error {
+    match e {
+        Error::Solver(s) => f(s),
+        Error::Incomplete { cause, partial } => Error::Incomplete {
+            cause: Box::new(map_solver_cause(*cause, f)),
+            partial,
+        },
+        other => other,
+    }
+}
+
+fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> Error {
+    if !matches!(solver, SolverError::NonFinite { .. }) {
+        return Error::Solver(solver);
+    }
+    let SolverError::NonFinite { t, y, stuck, .. } = &solver else {
+        unreachable!("matched above")
+    };
+    let n = sys.nq() + sys.nv();
+    match (y.len() >= n)
+        .then(|| sys.non_finite_source(*t, &y[..n]))
+        .flatten()
+    {
+        Some(culprit) => Error::NonFinite {
+            culprit: Box::new(culprit),
+            stuck: *stuck,
+            solver: Box::new(solver),
+        },
+        None => Error::Solver(solver),
+    }
+}
+
+/// `e` (from solving the equations `eq` of the raw bond graph `g`), with a non-finite residual
+/// or right-hand side traced to the element (index, name, field) whose parameter or law is not
+/// finite there, or else to the storage element whose equation is.
+pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverError) -> Error {
+    let SolverError::NonFinite {
+        t, y, stuck, index, ..
+    } = &e
+    else {
+        return Error::Solver(e);
+    };
+    // slots [t, y, y'] (y' unknown here: zero; parameters and laws do not use it)
+    let mut vars = vec![0.0; 1 + 2 * eq.n + eq.signals.len()];
+    vars[0] = *t;
+    for (k, v) in y.iter().take(eq.n).enumerate() {
+        vars[1 + k] = *v;
+    }
+    let element = |id: usize, what: String, value: f64| NonFiniteValue {
+        path: crate::bond::validate::element_path(id),
+        what,
+        t: *t,
+        value,
+    };
+    for term in &eq.terms {
+        let value = eq.graph.eval(term.expr, &vars);
+        if !value.is_finite() {
+            let el = g.element(term.element);
+            let src = match (term.field, &el.parameter, &el.law) {
+                ("effort_law", _, Some(l)) => l.effort.clone(),
+                ("flow_law", _, Some(l)) => l.flow.clone(),
+                (_, Some(crate::bond::model::Parameter::Expr(s)), _) => Some(s.clone()),
+                _ => None,
+            };
+            let what = match src {
+                Some(s) => format!(
+                    "{} '{}', {} {}",
+                    el.kind.as_str(),
+                    el.name,
+                    term.field,
+                    crate::expr::excerpt(&s, 0)
+                ),
+                None => format!("{} '{}', {}", el.kind.as_str(), el.name, term.field),
+            };
+            return Error::NonFinite {
+                culprit: Box::new(element(term.element.0, what, value)),
+                stuck: *stuck,
+                solver: Box::new(e),
+            };
+        }
+    }
+    // no single parameter: name the element whose equation it is
+    let Some(name) = eq.names.get(*index) else {
+        return Error::Solver(e);
+    };
+    let stem = ["p_", "q_", "x_", "lambda_"]
+        .iter()
+        .find_map(|p| name.strip_prefix(p))
+        .unwrap_or(name);
+    match g.elements.iter().position(|el| el.name == stem) {
+        Some(i) => {
+            let el = &g.elements[i];
+            let value = if let SolverError::NonFinite { value, .. } = &e {
+                *value
+            } else {
+                f64::NAN
+            };
+            Error::NonFinite {
+                culprit: Box::new(element(
+                    i,
+                    format!("{} '{}', the equation of {name}", el.kind.as_str(), el.name),
+                    value,
+                )),
+                stuck: *stuck,
+                solver: Box::new(e),
+            }
+        }
+        None => Error::Solver(e),
+    }
+}
