@@ -223,3 +223,53 @@ pub fn check_rows(scene: &Scene, t_end: Option<f64>, limits: &Limits) -> Result<
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(solve: &str) -> Scene {
+        Scene::from_json_str(&format!(
+            r#"{{"bodies": [{{"name": "b", "mass": 1, "inertia": 1}}], "solve": {solve}}}"#
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn row_count_is_the_length_of_the_output_times() {
+        for (solve, t_end) in [
+            (r#"{"t_end": 1, "output_step": 0.1}"#, None),
+            (r#"{"t_end": 1, "output_step": 0.3}"#, None),
+            (r#"{"t_end": 1}"#, None),
+            (r#"{"t_end": 2, "t_start": 0.5, "output_step": 0.25}"#, None),
+            (r#"{"t_end": 1, "output_times": [0.5, 1]}"#, None),
+            (r#"{"t_end": 1, "output_step": 0.1}"#, Some(0.35)),
+            (r#"{"t_end": 3, "output_times": [0.5, 1, 2, 3]}"#, Some(1.5)),
+        ] {
+            let s = scene(solve);
+            let model = crate::Model::new(&s).unwrap();
+            let times = match t_end {
+                Some(t) => model.output_times_until(t).unwrap(),
+                None => model.default_options().output_times,
+            };
+            assert_eq!(
+                row_count(&s, t_end),
+                times.len() as f64,
+                "{solve} {t_end:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn long_strings_are_found_with_their_path_free_text_aside() {
+        let doc: Value = serde_json::json!({
+            "description": "x".repeat(100),
+            "loads": [{"value": ["0", "y".repeat(50)], "comment": "z".repeat(100)}]
+        });
+        assert_eq!(
+            longest_string(&doc, String::new(), 20),
+            Some(("loads[0].value[1]".to_string(), 50))
+        );
+        assert_eq!(longest_string(&doc, String::new(), 50), None);
+    }
+}
