@@ -60,6 +60,7 @@
 //! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
 //! | [`solve`] | running a formulation: outputs, statistics |
 //! | [`report`] | DAE vs decoupled comparisons, tolerance and stiffness sweeps, parameter sweeps and their shards ([`report::vary`]) |
+//! | [`service`] | `bondmech serve`: the HTTP/JSON service over [`Model`] |
 //! | [`trajectory`] | typed views of a [`Solution`]: bodies, points, energy, constraint error |
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
@@ -75,6 +76,7 @@ pub mod model;
 mod model_inspect;
 pub mod report;
 pub mod scene;
+pub mod service;
 pub mod solve;
 #[allow(unsafe_code)]
 pub mod sundials;

@@ -223,6 +223,8 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Serve the HTTP/JSON API until SIGTERM or Ctrl-C (routes: docs/service.md).
+    Serve(bondmech::service::ServeArgs),
 }
 
 /// A failure of a command, with what the command still managed to do (e.g. where the rows of
@@ -776,6 +778,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 dirs.len(),
                 out.display()
             ))?)
+        }
+        Command::Serve(args) => {
+            let config = args.config().map_err(Error::Options)?;
+            let addr = config.addr.to_string();
+            Ok(
+                bondmech::service::run(config)
+                    .map_err(|source| Error::Io { path: addr, source })?,
+            )
         }
     }
 }

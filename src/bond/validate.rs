@@ -95,9 +95,10 @@ pub enum BondError {
         /// Element name.
         element: String,
     },
-    /// A 0- or 1-junction with a single bond: it does not connect anything, and it forces its
-    /// one bond's flow (0-junction) or effort (1-junction) to zero, silently changing the
-    /// physics (a 0-junction on the rotor of a DC motor locks it).
+    /// A 0-junction with a single bond: it does not connect anything, and it forces its one
+    /// bond's flow to zero, silently changing the physics (a 0-junction on the rotor of a DC
+    /// motor locks it). A 1-junction with one bond is accepted: it is a point velocity with
+    /// nothing attached, whose zero effort is exactly a free end's.
     #[error("{path}: {kind}-junction '{element}' has a single bond ({bond}): it connects nothing and forces that bond's {forced} to zero; connect it to two bonds or more, or remove it and bond its neighbour directly")]
     SingleBondJunction {
         /// JSON path of the element.
@@ -414,7 +415,8 @@ fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<Bo
     }
 }
 
-/// Junctions with exactly one bond (raw bond graphs only: see [`BondError::SingleBondJunction`]).
+/// 0-junctions with exactly one bond (raw bond graphs only: see
+/// [`BondError::SingleBondJunction`]); a 1-junction with one bond is a free point velocity.
 pub(crate) fn check_single_bond_junctions(
     graph: &BondGraph,
     skip: &HashSet<ElementId>,
@@ -430,6 +432,12 @@ pub(crate) fn check_single_bond_junctions(
             .iter()
             .filter(|b| b.to == id || b.from == id)
             .collect();
+        // a 1-junction with one bond is a point velocity with nothing attached (the free end
+        // A of a bar in the seed's figures): its zero effort is the physics, a free end
+        // carries no force. A 0-junction with one bond instead forces a flow to zero: a lock.
+        if e.kind == ElementKind::One {
+            continue;
+        }
         if let [b] = bonds.as_slice() {
             let zero = e.kind == ElementKind::Zero;
             errors.push(BondError::SingleBondJunction {

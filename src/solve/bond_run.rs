@@ -82,6 +82,24 @@ pub fn solve_raw_bond_graph(scene: &Scene, opts: &SolveOptions) -> Result<Soluti
     solve_bond_graph(&scene_bond_graph(scene)?, opts)
 }
 
+/// The output columns of a raw bond graph's solutions (see the module documentation), known
+/// before solving.
+pub fn bond_graph_columns(g: &BondGraph) -> Result<Vec<String>, Error> {
+    let causality = assign_causality(g).map_err(bond_error)?;
+    let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
+    Ok(columns_of(&eq).1)
+}
+
+/// The indices into `y` of the leading columns, and all column names.
+fn columns_of(eq: &BondEquations) -> (Vec<usize>, Vec<String>) {
+    let y_cols: Vec<usize> = (0..eq.n)
+        .filter(|&i| eq.kinds[i] != VariableKind::Loop)
+        .collect();
+    let mut columns: Vec<String> = y_cols.iter().map(|&i| eq.names[i].clone()).collect();
+    columns.extend(eq.outputs.iter().map(|(n, _)| n.clone()));
+    (y_cols, columns)
+}
+
 /// Output rows from `[t, y]`.
 struct Outputs {
     tape: Tape,
@@ -102,11 +120,7 @@ struct Outputs {
 
 impl Outputs {
     fn new(eq: &BondEquations) -> Self {
-        let y_cols: Vec<usize> = (0..eq.n)
-            .filter(|&i| eq.kinds[i] != VariableKind::Loop)
-            .collect();
-        let mut columns: Vec<String> = y_cols.iter().map(|&i| eq.names[i].clone()).collect();
-        columns.extend(eq.outputs.iter().map(|(n, _)| n.clone()));
+        let (y_cols, columns) = columns_of(eq);
         let exprs: Vec<_> = eq.outputs.iter().map(|(_, e)| *e).collect();
         let tape = eq.graph.compile(&exprs);
         let constraint_tape = eq.graph.compile(&eq.constraints);

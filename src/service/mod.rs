@@ -1,0 +1,372 @@
+//! `bondmech serve`: the library as an HTTP/JSON service (axum on tokio), a face over
+//! [`crate::Model`] like the command line.
+//!
+//! | route | answer |
+//! |---|---|
+//! | `GET /healthz` | version and linked SUNDIALS version; 503 while shutting down |
+//! | `POST /v1/run?format=json\|csv\|ndjson` | the trajectory: JSON columns/rows/summary, the CLI's CSV, or NDJSON as the solver goes |
+//! | `POST /v1/compare` | the `compare --json` document |
+//! | `POST /v1/graph?format=dot\|svg\|causality` | the bond graph drawing or causality report |
+//! | `POST /v1/sweep?quick=true` | NDJSON progress, then the sweep report |
+//! | `GET /metrics` | Prometheus text |
+//! | `GET /openapi.json` | OpenAPI 3.1 |
+//!
+//! Errors are `application/problem+json` (RFC 9457, [`problem`]). Work runs on a bounded
+//! pool of blocking threads with a bounded queue in front ([`pool`]); a client that
+//! disconnects stops its solve at the next output row; every request is checked against
+//! [`Limits`] before it is queued. The user documentation is `docs/service.md`.
+//!
+//! Start it in-process (tests do, on `127.0.0.1:0`):
+//!
+//! ```no_run
+//! let server = bondmech::service::Server::start(bondmech::service::Config {
+//!     addr: "127.0.0.1:0".parse().unwrap(),
+//!     ..Default::default()
+//! })?;
+//! println!("listening on http://{}", server.addr());
+//! server.shutdown()?; // graceful, as on SIGTERM
+//! # Ok::<(), std::io::Error>(())
+//! ```
+
+mod body;
+pub mod limits;
+pub mod metrics;
+pub mod openapi;
+pub mod pool;
+pub mod problem;
+mod routes;
+pub mod solve;
+mod svg;
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::routing::{get, post};
+use axum::Router;
+
+pub use limits::Limits;
+pub use metrics::Metrics;
+pub use problem::Problem;
+
+use pool::{Pool, StopFlags};
+
+/// Server settings; [`Config::default`] gives the documented defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// Address to listen on (default `127.0.0.1:8080`; port 0 picks a free port).
+    pub addr: SocketAddr,
+    /// Solves running at once (default: the number of cores).
+    pub max_concurrent: usize,
+    /// Requests waiting for a solve slot (default 64); beyond it, 503.
+    pub queue: usize,
+    /// Per-request limits.
+    pub limits: Limits,
+    /// After SIGTERM/Ctrl-C, in-flight solves may finish for this long; then they are
+    /// stopped at their next output row (default 10 s).
+    pub shutdown_grace: Duration,
+    /// The `Retry-After` of a 503, in seconds (default 1).
+    pub retry_after: u64,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            addr: SocketAddr::from(([127, 0, 0, 1], 8080)),
+            max_concurrent: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            queue: 64,
+            limits: Limits {
+                max_body: 1 << 20,
+                max_elements: 512,
+                max_expression_length: 4096,
+                max_rows: 100_000,
+                max_solve_seconds: 60.0,
+                body_timeout: Duration::from_secs(30),
+            },
+            shutdown_grace: Duration::from_secs(10),
+            retry_after: 1,
+        }
+    }
+}
+
+/// The flags of `bondmech serve`.
+#[derive(clap::Args, Clone, Debug)]
+pub struct ServeArgs {
+    /// Address to listen on.
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    pub addr: SocketAddr,
+    /// Solves running at once (default: the number of cores).
+    #[arg(long = "max-concurrent")]
+    pub max_concurrent: Option<usize>,
+    /// Requests waiting for a solve slot; beyond it, 503 with Retry-After.
+    #[arg(long, default_value_t = 64)]
+    pub queue: usize,
+    /// Largest request body in bytes (413 above it).
+    #[arg(long = "max-body", default_value_t = 1 << 20)]
+    pub max_body: u64,
+    /// Wall-clock budget of one solve in seconds (422 with the rows so far past it).
+    #[arg(long = "max-solve-seconds", default_value_t = 60.0)]
+    pub max_solve_seconds: f64,
+    /// Most bodies + joints + springs + loads + outputs + bond graph elements and bonds.
+    #[arg(long = "max-elements", default_value_t = 512)]
+    pub max_elements: usize,
+    /// Longest string (expression) in a scene, in bytes.
+    #[arg(long = "max-expression-length", default_value_t = 4096)]
+    pub max_expression_length: usize,
+    /// Most output rows per run.
+    #[arg(long = "max-rows", default_value_t = 100_000)]
+    pub max_rows: usize,
+    /// Seconds in-flight solves may finish after SIGTERM/Ctrl-C.
+    #[arg(long = "shutdown-grace", default_value_t = 10.0)]
+    pub shutdown_grace: f64,
+}
+
+impl ServeArgs {
+    /// The configuration, or a message naming the bad flag.
+    pub fn config(&self) -> Result<Config, String> {
+        let d = Config::default();
+        if !(self.max_solve_seconds > 0.0 && self.max_solve_seconds.is_finite()) {
+            return Err(format!(
+                "--max-solve-seconds: must be > 0 (got {})",
+                self.max_solve_seconds
+            ));
+        }
+        if !(self.shutdown_grace >= 0.0 && self.shutdown_grace.is_finite()) {
+            return Err(format!(
+                "--shutdown-grace: must be >= 0 (got {})",
+                self.shutdown_grace
+            ));
+        }
+        if self.max_concurrent == Some(0) {
+            return Err("--max-concurrent: must be >= 1".into());
+        }
+        Ok(Config {
+            addr: self.addr,
+            max_concurrent: self.max_concurrent.unwrap_or(d.max_concurrent),
+            queue: self.queue,
+            limits: Limits {
+                max_body: self.max_body,
+                max_elements: self.max_elements,
+                max_expression_length: self.max_expression_length,
+                max_rows: self.max_rows,
+                max_solve_seconds: self.max_solve_seconds,
+                body_timeout: d.limits.body_timeout,
+            },
+            shutdown_grace: Duration::from_secs_f64(self.shutdown_grace),
+            retry_after: d.retry_after,
+        })
+    }
+}
+
+/// State shared by the handlers.
+#[derive(Debug)]
+struct App {
+    limits: Limits,
+    pool: Pool,
+    metrics: Arc<Metrics>,
+    /// Set on SIGTERM/Ctrl-C: new work is refused (503), `/healthz` answers 503.
+    shutting_down: AtomicBool,
+    /// Set when the shutdown grace has run out: running solves stop at their next row.
+    stop_all: Arc<AtomicBool>,
+    retry_after: u64,
+}
+
+impl App {
+    fn stop_flags(&self) -> StopFlags {
+        StopFlags {
+            client_gone: Arc::new(AtomicBool::new(false)),
+            shutdown: self.stop_all.clone(),
+        }
+    }
+}
+
+fn router(app: Arc<App>) -> Router {
+    Router::new()
+        .route("/healthz", get(routes::healthz))
+        .route("/metrics", get(routes::metrics))
+        .route("/openapi.json", get(routes::openapi))
+        .route("/v1/run", post(routes::run))
+        .route("/v1/compare", post(routes::compare))
+        .route("/v1/graph", post(routes::graph))
+        .route("/v1/sweep", post(routes::sweep))
+        .fallback(routes::not_found)
+        .method_not_allowed_fallback(routes::method_not_allowed)
+        .layer(axum::middleware::from_fn_with_state(
+            app.clone(),
+            routes::count_requests,
+        ))
+        .with_state(app)
+}
+
+/// Serves on `listener` until `stop` resolves, then shuts down gracefully: stops accepting,
+/// refuses new work on open connections, lets in-flight work finish for `grace`, then stops
+/// running solves at their next output row.
+async fn serve(
+    listener: tokio::net::TcpListener,
+    config: Config,
+    stop: impl Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
+    let metrics = Arc::new(Metrics::default());
+    let queue_wait = Duration::from_secs_f64(config.limits.max_solve_seconds);
+    let app = Arc::new(App {
+        pool: Pool::new(
+            config.max_concurrent,
+            config.queue,
+            queue_wait,
+            config.retry_after,
+            metrics.clone(),
+        ),
+        limits: config.limits.clone(),
+        metrics,
+        shutting_down: AtomicBool::new(false),
+        stop_all: Arc::new(AtomicBool::new(false)),
+        retry_after: config.retry_after,
+    });
+    let app2 = app.clone();
+    let grace = config.shutdown_grace;
+    let signal = async move {
+        stop.await;
+        app2.shutting_down.store(true, Ordering::SeqCst);
+        let app3 = app2.clone();
+        tokio::spawn(async move {
+            tokio::time::sleep(grace).await;
+            app3.stop_all.store(true, Ordering::SeqCst);
+        });
+    };
+    axum::serve(listener, router(app))
+        .with_graceful_shutdown(signal)
+        .await
+}
+
+fn runtime(config: &Config) -> std::io::Result<tokio::runtime::Runtime> {
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .max_blocking_threads(config.max_concurrent + 2)
+        .enable_all()
+        .thread_name("bondmech-serve")
+        .build()
+}
+
+fn bind(addr: SocketAddr) -> std::io::Result<std::net::TcpListener> {
+    let l = std::net::TcpListener::bind(addr)?;
+    l.set_nonblocking(true)?;
+    Ok(l)
+}
+
+/// How long, after the grace, the runtime waits for solves still running before it exits
+/// (a solve stops at its next output row, so this only bounds a pathological interval).
+const EXIT_WAIT: Duration = Duration::from_secs(5);
+
+/// Serves until SIGTERM or Ctrl-C (`bondmech serve`), then shuts down gracefully.
+pub fn run(config: Config) -> std::io::Result<()> {
+    let listener = bind(config.addr)?;
+    eprintln!(
+        "bondmech: serving on http://{} ({} solve slots, queue {})",
+        listener.local_addr()?,
+        config.max_concurrent,
+        config.queue
+    );
+    let rt = runtime(&config)?;
+    let grace = config.shutdown_grace;
+    let r = rt.block_on(async move {
+        let listener = tokio::net::TcpListener::from_std(listener)?;
+        serve(listener, config, shutdown_signal()).await
+    });
+    rt.shutdown_timeout(grace + EXIT_WAIT);
+    r
+}
+
+/// Resolves on Ctrl-C or SIGTERM.
+async fn shutdown_signal() {
+    let ctrl_c = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        _ = ctrl_c => {},
+        _ = term => {},
+    }
+    eprintln!("bondmech: shutting down");
+}
+
+/// A server running on its own thread (for tests and embedding).
+pub struct Server {
+    addr: SocketAddr,
+    stop: Option<tokio::sync::oneshot::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<std::io::Result<()>>>,
+}
+
+impl Server {
+    /// Binds `config.addr` (port 0: a free port) and serves on a new thread.
+    pub fn start(config: Config) -> std::io::Result<Server> {
+        let listener = bind(config.addr)?;
+        let addr = listener.local_addr()?;
+        let rt = runtime(&config)?;
+        let (tx, rx) = tokio::sync::oneshot::channel::<()>();
+        let grace = config.shutdown_grace;
+        let thread = std::thread::Builder::new()
+            .name("bondmech-server".into())
+            .spawn(move || {
+                let r = rt.block_on(async move {
+                    let listener = tokio::net::TcpListener::from_std(listener)?;
+                    serve(listener, config, async {
+                        let _ = rx.await;
+                    })
+                    .await
+                });
+                rt.shutdown_timeout(grace + EXIT_WAIT);
+                r
+            })?;
+        Ok(Server {
+            addr,
+            stop: Some(tx),
+            thread: Some(thread),
+        })
+    }
+
+    /// The address it listens on.
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Starts the shutdown, as SIGTERM does, without waiting: the listener closes, new work
+    /// is refused, in-flight work goes on for the grace period.
+    pub fn begin_shutdown(&mut self) {
+        if let Some(tx) = self.stop.take() {
+            let _ = tx.send(());
+        }
+    }
+
+    /// Shuts down as on SIGTERM and waits until the server has stopped.
+    pub fn shutdown(mut self) -> std::io::Result<()> {
+        self.stop_and_join()
+    }
+
+    fn stop_and_join(&mut self) -> std::io::Result<()> {
+        self.begin_shutdown();
+        match self.thread.take() {
+            Some(t) => t
+                .join()
+                .unwrap_or_else(|_| Err(std::io::Error::other("the server thread panicked"))),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.stop_and_join();
+    }
+}

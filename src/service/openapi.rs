@@ -1,0 +1,167 @@
+//! The OpenAPI 3.1 description of every route (`GET /openapi.json`).
+
+use serde_json::{json, Value};
+
+fn problem(description: &str) -> Value {
+    json!({
+        "description": description,
+        "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}}
+    })
+}
+
+fn unavailable() -> Value {
+    json!({
+        "description": "All solve slots busy and the queue full, or shutting down; retry after the given seconds.",
+        "headers": {"Retry-After": {"schema": {"type": "integer"}, "description": "Seconds to wait."}},
+        "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}}
+    })
+}
+
+fn query(name: &str, description: &str, schema: Value) -> Value {
+    json!({"name": name, "in": "query", "required": false, "description": description, "schema": schema})
+}
+
+fn solve_params() -> Vec<Value> {
+    vec![
+        query(
+            "rtol",
+            "Relative tolerance (the scene's solve.rtol by default).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "atol",
+            "Absolute tolerance (the scene's solve.atol by default).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "t_end",
+            "End time (s); output times keep the scene's output_step.",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "formulation",
+            "dae (ggl), compliant_ggl, index1 or decoupled.",
+            json!({"type": "string", "enum": ["dae", "ggl", "compliant_ggl", "index1", "decoupled"]}),
+        ),
+        query(
+            "joint_stiffness",
+            "Joint stiffness of the decoupled twin (N/m).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "max_steps",
+            "Step budget of the whole run (solve.max_steps).",
+            json!({"type": "integer", "minimum": 1}),
+        ),
+        query(
+            "max_wall_seconds",
+            "Wall-clock budget (solve.max_wall_seconds); the server's --max-solve-seconds applies when smaller.",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "reactions",
+            "Add every joint's reaction columns (as \"outputs\": [\"reactions\"]).",
+            json!({"type": "boolean", "default": false}),
+        ),
+    ]
+}
+
+fn scene_body() -> Value {
+    json!({
+        "required": true,
+        "description": "A scene, exactly the file format (docs/scene-format.md): a mechanism or a raw bond graph.",
+        "content": {"application/json": {"schema": {"type": "object"}}}
+    })
+}
+
+fn scene_errors() -> Vec<(&'static str, Value)> {
+    vec![
+        ("400", problem("Malformed JSON (with line and column) or an invalid query parameter.")),
+        ("413", problem("Body over max_body (decided from Content-Length before reading).")),
+        ("415", problem("Content-Type is not JSON.")),
+        ("422", problem("Invalid scene (errors: [{path, message}]), a request over a limit (limit names it), a solver failure, or a solve past its budget (limit, t_reached, columns and the rows computed so far).")),
+        ("503", unavailable()),
+    ]
+}
+
+fn post(summary: &str, params: Vec<Value>, ok: Value) -> Value {
+    let mut responses = serde_json::Map::new();
+    responses.insert("200".into(), ok);
+    for (code, v) in scene_errors() {
+        responses.insert(code.into(), v);
+    }
+    json!({"post": {"summary": summary, "parameters": params, "requestBody": scene_body(), "responses": responses}})
+}
+
+/// The document.
+pub fn document() -> Value {
+    let mut run_params = solve_params();
+    run_params.push(query(
+        "format",
+        "json (default): columns, rows, summary; csv: the command line's CSV; ndjson: a {columns, rows} line, one row array per output time as it is computed, then {summary} (or {error}).",
+        json!({"type": "string", "enum": ["json", "csv", "ndjson"], "default": "json"}),
+    ));
+    json!({
+        "openapi": "3.1.0",
+        "info": {
+            "title": "bondmech",
+            "version": env!("CARGO_PKG_VERSION"),
+            "description": "Mechanisms as bond graphs, solved with SUNDIALS (IDA DAE, CVODE decoupled twin). Errors are application/problem+json (RFC 9457)."
+        },
+        "paths": {
+            "/healthz": {"get": {"summary": "Liveness and readiness: version and the linked SUNDIALS version.", "responses": {
+                "200": {"description": "Up.", "content": {"application/json": {"schema": {"type": "object", "properties": {
+                    "status": {"type": "string"}, "version": {"type": "string"}, "sundials": {"type": "string"}, "sundials_headers": {"type": "string"}}}}}},
+                "503": unavailable()}}},
+            "/metrics": {"get": {"summary": "Prometheus text format: requests by route and status, solves in flight, queue length, rejections, solve seconds.", "responses": {
+                "200": {"description": "Metrics.", "content": {"text/plain": {"schema": {"type": "string"}}}}}}},
+            "/openapi.json": {"get": {"summary": "This document.", "responses": {
+                "200": {"description": "OpenAPI 3.1.", "content": {"application/json": {"schema": {"type": "object"}}}}}}},
+            "/v1/run": post("Solve a scene.", run_params, json!({
+                "description": "The trajectory.",
+                "content": {
+                    "application/json": {"schema": {"$ref": "#/components/schemas/Run"}},
+                    "text/csv": {"schema": {"type": "string"}},
+                    "application/x-ndjson": {"schema": {"type": "string"}}
+                }
+            })),
+            "/v1/compare": post("Solve the DAE (IDA) and the decoupled twin (CVODE) and compare them (the compare --json document); each solve gets half of the budget.", solve_params(), json!({
+                "description": "The comparison.", "content": {"application/json": {"schema": {"type": "object"}}}
+            })),
+            "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
+                query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
+                query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),
+            ], json!({
+                "description": "The drawing or the report.",
+                "content": {
+                    "text/vnd.graphviz": {"schema": {"type": "string"}},
+                    "image/svg+xml": {"schema": {"type": "string"}},
+                    "application/json": {"schema": {"type": "object"}}
+                }
+            })),
+            "/v1/sweep": post("Tolerance (work-precision) and joint-stiffness sweeps: NDJSON {progress} lines, then {sweep} (or {error}).", vec![
+                query("quick", "The quick sweep (3 tolerances, 3 stiffnesses, 1 s); default true.", json!({"type": "boolean", "default": true})),
+                query("t_end", "End time of every run (s).", json!({"type": "number", "exclusiveMinimum": 0})),
+                query("accuracy", "Error the smallest sufficient joint stiffness must reach.", json!({"type": "number", "exclusiveMinimum": 0})),
+                query("repeats", "Timed runs per point (1 to 5).", json!({"type": "integer", "minimum": 1, "maximum": 5})),
+            ], json!({
+                "description": "Progress, then the report.", "content": {"application/x-ndjson": {"schema": {"type": "string"}}}
+            }))
+        },
+        "components": {"schemas": {
+            "Problem": {"type": "object", "description": "RFC 9457 problem details with extension members.", "properties": {
+                "type": {"type": "string"}, "title": {"type": "string"}, "status": {"type": "integer"}, "detail": {"type": "string"},
+                "errors": {"type": "array", "items": {"type": "object", "properties": {"path": {"type": "string"}, "message": {"type": "string"}}}},
+                "line": {"type": "integer"}, "column": {"type": "integer"}, "parameter": {"type": "string"},
+                "limit": {"type": "string"}, "limit_value": {},
+                "t_reached": {"type": "number"}, "columns": {"type": "array", "items": {"type": "string"}},
+                "rows": {"type": "array", "items": {"type": "array", "items": {"type": "number"}}}
+            }},
+            "Run": {"type": "object", "properties": {
+                "columns": {"type": "array", "items": {"type": "string"}, "description": "t, then the command line's columns."},
+                "rows": {"type": "array", "items": {"type": "array", "items": {"type": "number"}}},
+                "summary": {"type": "object", "description": "The run --summary JSON."}
+            }}
+        }}
+    })
+}

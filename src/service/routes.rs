@@ -1,0 +1,540 @@
+//! The handlers: each checks the request (query, body, limits) on the async side, takes a solve
+//! slot, and does the work on a blocking thread through the library's [`crate::Model`] API.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+use axum::body::{Body, Bytes};
+use axum::extract::{RawQuery, Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+use tokio::sync::{mpsc, oneshot};
+
+use super::body::ChannelBody;
+use super::limits::{check_document, check_rows, parse_json, read_body};
+use super::metrics::Rejection;
+use super::pool::{join, CancelOnDrop, StopFlags};
+use super::problem::Problem;
+use super::solve::{
+    invalid_scene, invalid_value, library_problem, solution_json, solve_rows, Budget, Params,
+    SolveParams, TimedRow, SOLVE_PARAMS,
+};
+use super::App;
+use crate::report::SweepConfig;
+use crate::scene::Scene;
+use crate::Model;
+
+/// The routes, for metrics labels and the 404 answer.
+pub const ROUTES: [&str; 8] = [
+    "/healthz",
+    "/metrics",
+    "/openapi.json",
+    "/v1/run",
+    "/v1/compare",
+    "/v1/graph",
+    "/v1/sweep",
+    "other",
+];
+
+fn route_label(path: &str) -> &'static str {
+    ROUTES
+        .iter()
+        .copied()
+        .find(|r| *r == path)
+        .unwrap_or("other")
+}
+
+/// Counts every answer by route and status.
+pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Next) -> Response {
+    let route = route_label(req.uri().path());
+    let resp = next.run(req).await;
+    app.metrics.request(route, resp.status().as_u16());
+    resp
+}
+
+/// Turns a handler's result into a response, counting refusals.
+fn respond(app: &App, r: Result<Response, Problem>) -> Response {
+    match r {
+        Ok(resp) => resp,
+        Err(p) => {
+            match p.kind {
+                "body-too-large" => app.metrics.reject(Rejection::BodyTooLarge),
+                "limit-exceeded" => app.metrics.reject(Rejection::Limit),
+                "unavailable" => app.metrics.reject(Rejection::Saturated),
+                "shutting-down" => app.metrics.reject(Rejection::ShuttingDown),
+                _ => {}
+            }
+            p.into_response()
+        }
+    }
+}
+
+fn with_type(body: impl Into<Body>, content_type: &'static str) -> Response {
+    let mut r = Response::new(body.into());
+    r.headers_mut()
+        .insert(header::CONTENT_TYPE, HeaderValue::from_static(content_type));
+    r
+}
+
+const JSON: &str = "application/json";
+const NDJSON: &str = "application/x-ndjson";
+
+/// 503 while shutting down: new work is refused, in-flight work finishes.
+fn not_shutting_down(app: &App) -> Result<(), Problem> {
+    if app.shutting_down.load(Ordering::SeqCst) {
+        let mut p = Problem::unavailable(
+            "the server is shutting down and takes no new work",
+            app.retry_after,
+        );
+        p.kind = "shutting-down";
+        return Err(p);
+    }
+    Ok(())
+}
+
+/// Reads, parses and validates the scene in the body, and checks it against the limits.
+async fn scene_from(app: &App, headers: &HeaderMap, body: Body) -> Result<Scene, Problem> {
+    let bytes = read_body(headers, body, &app.limits).await?;
+    let doc = parse_json(&bytes)?;
+    check_document(&doc, &app.limits)?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        Problem::new(
+            StatusCode::BAD_REQUEST,
+            "malformed-json",
+            "Malformed JSON",
+            format!("the body is not UTF-8: {e}"),
+        )
+    })?;
+    Scene::from_json_str(text).map_err(|e| {
+        let problems: Vec<(String, String)> = e
+            .problems()
+            .iter()
+            .map(|p| (p.path.clone(), p.message.clone()))
+            .collect();
+        if problems.is_empty() {
+            invalid_scene([(String::new(), e.to_string())])
+        } else {
+            invalid_scene(problems)
+        }
+    })
+}
+
+/// `GET /healthz`: version and the linked SUNDIALS; 503 while shutting down (readiness).
+pub async fn healthz(State(app): State<Arc<App>>) -> Response {
+    if let Err(p) = not_shutting_down(&app) {
+        return p.into_response();
+    }
+    let (ma, mi, pa) = crate::sundials::version::version();
+    let body = serde_json::json!({
+        "status": "ok",
+        "version": env!("CARGO_PKG_VERSION"),
+        "sundials": format!("{ma}.{mi}.{pa}"),
+        "sundials_headers": crate::sundials::version::header_version(),
+    });
+    with_type(body.to_string(), JSON)
+}
+
+/// `GET /metrics`: Prometheus text format.
+pub async fn metrics(State(app): State<Arc<App>>) -> Response {
+    with_type(
+        app.metrics.render(),
+        "text/plain; version=0.0.4; charset=utf-8",
+    )
+}
+
+/// `GET /openapi.json`.
+pub async fn openapi() -> Response {
+    with_type(super::openapi::document().to_string(), JSON)
+}
+
+/// 404 for any other path.
+pub async fn not_found(req: Request) -> Response {
+    Problem::new(
+        StatusCode::NOT_FOUND,
+        "not-found",
+        "No such route",
+        format!(
+            "no route {} (routes: {}; see /openapi.json)",
+            req.uri().path(),
+            ROUTES[..7].join(", ")
+        ),
+    )
+    .into_response()
+}
+
+/// 405 for a known path with the wrong method.
+pub async fn method_not_allowed(req: Request) -> Response {
+    Problem::new(
+        StatusCode::METHOD_NOT_ALLOWED,
+        "method-not-allowed",
+        "Method not allowed",
+        format!(
+            "{} does not take {} (see /openapi.json)",
+            req.uri().path(),
+            req.method()
+        ),
+    )
+    .into_response()
+}
+
+/// `POST /v1/run`.
+pub async fn run(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = run_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn run_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let mut allowed = SOLVE_PARAMS.to_vec();
+    allowed.push("format");
+    let params = Params::parse(q.as_deref(), &allowed)?;
+    let format = params.choice("format", &["json", "csv", "ndjson"])?;
+    let solve = SolveParams::from(&params)?;
+    let mut scene = scene_from(app, headers, body).await?;
+    solve.apply_to_scene(&mut scene);
+    check_rows(&scene, solve.t_end, &app.limits)?;
+    let slot = app.pool.acquire().await?;
+    let stop = app.stop_flags();
+    let mut guard = CancelOnDrop::new(&stop);
+    if format == "ndjson" {
+        let r = run_ndjson(app, slot, scene, solve, stop).await;
+        guard.disarm();
+        return r;
+    }
+    let app2 = app.clone();
+    let job = app.pool.spawn(slot, move || {
+        let mut partial: Vec<Vec<f64>> = Vec::new();
+        let r = solve_rows(
+            &scene,
+            &solve,
+            &app2.limits,
+            &stop,
+            &app2.metrics,
+            &mut |_, _| {},
+            &mut |t, v| {
+                let mut row = Vec::with_capacity(v.len() + 1);
+                row.push(t);
+                row.extend_from_slice(v);
+                partial.push(row);
+                true
+            },
+        );
+        match r {
+            Ok(sol) if format == "csv" => Ok(with_type(sol.to_csv(), "text/csv; charset=utf-8")),
+            Ok(sol) => Ok(with_type(solution_json(&sol), JSON)),
+            Err(f) => Err(match f.columns {
+                Some(c) => f
+                    .problem
+                    .with("columns", c)
+                    .with("rows", f.partial.unwrap_or(partial)),
+                None => *f.problem,
+            }),
+        }
+    });
+    let r = join(job).await;
+    guard.disarm();
+    r
+}
+
+/// Sends one NDJSON line; `false` when the client has gone.
+fn send_line(tx: &mpsc::Sender<Bytes>, v: &impl serde::Serialize) -> bool {
+    let mut line = serde_json::to_vec(v).unwrap_or_default();
+    line.push(b'\n');
+    tx.blocking_send(Bytes::from(line)).is_ok()
+}
+
+/// A streamed answer: 200 and the lines once the job has produced its first one (`started`),
+/// or the problem the job met before that.
+async fn stream_response(
+    started: oneshot::Receiver<Result<(), Problem>>,
+    rx: mpsc::Receiver<Bytes>,
+) -> Result<Response, Problem> {
+    match started.await {
+        Ok(Ok(())) => Ok(with_type(
+            Body::new(ChannelBody::new(Vec::new(), rx)),
+            NDJSON,
+        )),
+        Ok(Err(p)) => Err(p),
+        Err(_) => Err(Problem::internal("the solve job ended without an answer")),
+    }
+}
+
+async fn run_ndjson(
+    app: &Arc<App>,
+    slot: tokio::sync::OwnedSemaphorePermit,
+    scene: Scene,
+    solve: SolveParams,
+    stop: StopFlags,
+) -> Result<Response, Problem> {
+    let (tx, rx) = mpsc::channel::<Bytes>(64);
+    let (started_tx, started_rx) = oneshot::channel();
+    let app2 = app.clone();
+    // detached: the job ends by itself (finished, budget, or its channel closed)
+    drop(app.pool.spawn(slot, move || {
+        let mut started = Some(started_tx);
+        let r = solve_rows(
+            &scene,
+            &solve,
+            &app2.limits,
+            &stop,
+            &app2.metrics,
+            &mut |columns, rows| {
+                send_line(&tx, &serde_json::json!({"columns": columns, "rows": rows}));
+            },
+            &mut |t, v| {
+                let ok = send_line(&tx, &TimedRow(t, v));
+                if let Some(s) = started.take() {
+                    let _ = s.send(Ok(()));
+                }
+                ok
+            },
+        );
+        match r {
+            Ok(sol) => {
+                send_line(&tx, &serde_json::json!({"summary": sol.summary}));
+            }
+            Err(f) if f.cancelled => {}
+            Err(f) => match started.take() {
+                Some(s) => {
+                    let _ = s.send(Err(*f.problem));
+                }
+                None => {
+                    send_line(&tx, &serde_json::json!({"error": f.problem.to_json()}));
+                }
+            },
+        }
+        Ok(())
+    }));
+    stream_response(started_rx, rx).await
+}
+
+/// `POST /v1/compare`: the DAE and the decoupled twin, the `compare --json` document.
+pub async fn compare(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = compare_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn compare_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &SOLVE_PARAMS)?;
+    let solve = SolveParams::from(&params)?;
+    let mut scene = scene_from(app, headers, body).await?;
+    solve.apply_to_scene(&mut scene);
+    check_rows(&scene, solve.t_end, &app.limits)?;
+    let slot = app.pool.acquire().await?;
+    let limits = app.limits.clone();
+    let job = app.pool.spawn(slot, move || {
+        let budget = Budget::of(&scene, &limits);
+        let model = Model::new(&scene).map_err(|e| library_problem(&e, budget))?;
+        // two solves: each gets half of the budget
+        let half = Budget {
+            seconds: budget.seconds / 2.0,
+            limit: budget.limit,
+        };
+        let opts = super::solve::options(&model, &solve, half, &limits)?;
+        let (cmp, _, _) = model
+            .compare(&opts)
+            .map_err(|e| library_problem(&e, half))?;
+        let text = serde_json::to_vec_pretty(&cmp)
+            .map_err(|e| Problem::internal(format!("the comparison does not serialise: {e}")))?;
+        Ok(with_type(text, JSON))
+    });
+    join(job).await
+}
+
+/// `POST /v1/graph?format=dot|svg|causality&decoupled=false`.
+pub async fn graph(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = graph_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn graph_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &["format", "decoupled"])?;
+    let format = params.choice("format", &["dot", "svg", "causality"])?;
+    let decoupled = params.flag("decoupled")?.unwrap_or(false);
+    let scene = scene_from(app, headers, body).await?;
+    let slot = app.pool.acquire().await?;
+    let limits = app.limits.clone();
+    let job = app.pool.spawn(slot, move || {
+        let budget = Budget::of(&scene, &limits);
+        let model = Model::new(&scene).map_err(|e| library_problem(&e, budget))?;
+        let variant = if decoupled {
+            crate::mech::Variant::Decoupled
+        } else {
+            crate::mech::Variant::Pinned
+        };
+        let g = model
+            .scene_graph(variant)
+            .map_err(|e| library_problem(&e, budget))?;
+        Ok(match format {
+            "causality" => {
+                let text = serde_json::to_string_pretty(&g.report()).unwrap_or_default() + "\n";
+                with_type(text, JSON)
+            }
+            "svg" => with_type(
+                super::svg::render(&g.dot(), budget.duration())?,
+                "image/svg+xml",
+            ),
+            _ => with_type(g.dot(), "text/vnd.graphviz; charset=utf-8"),
+        })
+    });
+    join(job).await
+}
+
+/// `POST /v1/sweep?quick=true`: NDJSON progress lines, then the sweep report.
+pub async fn sweep(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = sweep_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+/// Most timed runs per sweep point a request may ask for.
+pub const MAX_SWEEP_REPEATS: usize = 5;
+
+async fn sweep_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &["quick", "t_end", "accuracy", "repeats"])?;
+    let quick = params.flag("quick")?.unwrap_or(true);
+    let mut cfg = if quick {
+        SweepConfig::quick()
+    } else {
+        SweepConfig::full()
+    };
+    if let Some(t) = params.number("t_end")? {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(invalid_value(
+                "t_end",
+                format!("t_end: must be > 0 (got {t})"),
+            ));
+        }
+        cfg.t_end = Some(t);
+    }
+    if let Some(a) = params.number("accuracy")? {
+        if !(a > 0.0 && a.is_finite()) {
+            return Err(invalid_value(
+                "accuracy",
+                format!("accuracy: must be > 0 (got {a})"),
+            ));
+        }
+        cfg.accuracy = a;
+    }
+    if let Some(r) = params.number("repeats")? {
+        if !(r >= 1.0 && r.fract() == 0.0) {
+            return Err(invalid_value(
+                "repeats",
+                format!("repeats: must be a whole number >= 1 (got {r})"),
+            ));
+        }
+        if r > MAX_SWEEP_REPEATS as f64 {
+            return Err(Problem::limit(
+                "max_sweep_repeats",
+                MAX_SWEEP_REPEATS,
+                format!("repeats = {r} is over the limit max_sweep_repeats = {MAX_SWEEP_REPEATS}"),
+            ));
+        }
+        cfg.repeats = r as usize;
+    }
+    let mut scene = scene_from(app, headers, body).await?;
+    check_rows(&scene, cfg.t_end, &app.limits)?;
+    if scene.bond_graph.is_some() {
+        return Err(invalid_scene([(
+            "bond_graph".to_string(),
+            "sweep needs bodies and joints (a raw bond graph has no decoupled twin)".to_string(),
+        )]));
+    }
+    // the whole sweep within the budget: each of its solves (accuracy and timed runs) gets a
+    // share
+    let budget = Budget::of(&scene, &app.limits);
+    let solves = (cfg.total_points() * (1 + cfg.repeats)) as f64;
+    scene.solve.max_wall_seconds = Some(budget.seconds / solves);
+    let slot = app.pool.acquire().await?;
+    let (tx, rx) = mpsc::channel::<Bytes>(64);
+    let (started_tx, started_rx) = oneshot::channel();
+    drop(app.pool.spawn(slot, move || {
+        let started = Mutex::new(Some(started_tx));
+        let start = || {
+            if let Some(s) = started.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                let _ = s.send(Ok(()));
+            }
+        };
+        let model = match Model::new(&scene) {
+            Ok(m) => m,
+            Err(e) => {
+                if let Some(s) = started.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                    let _ = s.send(Err(library_problem(&e, budget)));
+                }
+                return Ok(());
+            }
+        };
+        let total = cfg.total_points();
+        let done = AtomicUsize::new(0);
+        let r = crate::report::sweep::run_sweep(&model, &cfg, &|label| {
+            let k = done.fetch_add(1, Ordering::SeqCst) + 1;
+            send_line(
+                &tx,
+                &serde_json::json!({"progress": {"done": k, "total": total, "point": label}}),
+            );
+            start();
+        });
+        match r {
+            Ok(report) => {
+                start();
+                send_line(&tx, &serde_json::json!({ "sweep": report }));
+            }
+            Err(e) => {
+                let p = library_problem(&e, budget);
+                match started.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                    Some(s) => {
+                        let _ = s.send(Err(p));
+                    }
+                    None => {
+                        send_line(&tx, &serde_json::json!({"error": p.to_json()}));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }));
+    stream_response(started_rx, rx).await
+}

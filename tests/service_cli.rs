@@ -1,0 +1,68 @@
+//! `bondmech serve` as a process: it announces its address, answers, and exits 0 on SIGTERM
+//! (graceful shutdown); a bad flag is refused with a message naming it.
+
+mod service_support;
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use service_support::*;
+
+#[test]
+fn serve_answers_and_exits_cleanly_on_sigterm() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args(["serve", "--addr", "127.0.0.1:0", "--max-concurrent", "1"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("bondmech serve starts");
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    stderr.read_line(&mut line).unwrap();
+    // "bondmech: serving on http://127.0.0.1:PORT (1 solve slots, queue 64)"
+    let addr: std::net::SocketAddr = line
+        .split("http://")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .unwrap_or_else(|| panic!("{line}"))
+        .parse()
+        .unwrap();
+    assert_eq!(get(addr, "/healthz").status, 200);
+    let r = post(
+        addr,
+        "/v1/run?t_end=0.05&format=csv",
+        scene_text("pendulum.json").as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", r.text());
+    let status = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let mut exit = None;
+    for _ in 0..300 {
+        if let Some(s) = child.try_wait().unwrap() {
+            exit = Some(s);
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let Some(exit) = exit else {
+        let _ = child.kill();
+        panic!("bondmech serve did not exit after SIGTERM");
+    };
+    assert!(exit.success(), "{exit}");
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    assert!(rest.contains("shutting down"), "{rest}");
+}
+
+#[test]
+fn serve_refuses_a_bad_flag_naming_it() {
+    let (ok, _, err) = cli(&["serve", "--max-concurrent", "0"]);
+    assert!(!ok);
+    assert!(err.contains("--max-concurrent"), "{err}");
+    let (ok, _, err) = cli(&["serve", "--max-solve-seconds=0"]);
+    assert!(!ok);
+    assert!(err.contains("--max-solve-seconds"), "{err}");
+}
