@@ -10,7 +10,8 @@ use plotters::prelude::*;
 use super::sweep::{SweepReport, WorkPoint};
 use crate::{Error, Result};
 
-const COLOURS: [RGBColor; 8] = [
+/// The plots' colour cycle (matplotlib's "tab10").
+pub(crate) const COLOURS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -19,9 +20,12 @@ const COLOURS: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
-fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
+/// A plotting failure as an I/O error on the file being drawn.
+pub(crate) fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Io {
         path: path.display().to_string(),
         source: std::io::Error::other(e.to_string()),

@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+use super::plot::{plot_error, COLOURS};
 use crate::solve::Solution;
 use crate::{Error, Result};
 
@@ -114,26 +115,6 @@ pub fn plot_group(column: &str) -> PlotGroup {
         _ => 9,
     };
     GROUPS[i]
-}
-
-const COLOURS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-
-fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io {
-        path: path.display().to_string(),
-        source: std::io::Error::other(e.to_string()),
-    }
 }
 
 /// Writes one SVG per group of `sol`'s columns into `dir` (created when missing) and returns

@@ -17,7 +17,7 @@ use cpu_time::ThreadTime;
 use super::non_finite::{map_solver_cause, name_in_bond_graph};
 use super::options::{FormulationKind, SolveOptions};
 use super::run::{
-    from_t_start, is_budget, set_completed, set_energy, stopped, Row, Solution, Summary,
+    emit, from_t_start, is_budget, set_completed, set_energy, stopped, Row, Solution, Summary,
 };
 use crate::bond::assign_causality;
 use crate::bond::equations::{BondEquations, VariableKind};
@@ -401,17 +401,4 @@ fn solve_from_first_output(
 fn finish(summary: &mut Summary, out: &Outputs, g: &BondGraph) {
     summary.max_constraint_error = out.max_c;
     set_energy(summary, out.drift(), energy_exchange(g).as_deref());
-}
-
-/// Appends a row and hands it to the observer; `true` when the observer asks to stop.
-fn emit(
-    sol: &mut Solution,
-    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-    t: f64,
-    row: Vec<f64>,
-) -> bool {
-    let brk = observer(Row { t, values: &row }).is_break();
-    sol.times.push(t);
-    sol.rows.push(row);
-    brk
 }

@@ -1322,7 +1322,8 @@ fn run_decoupled(
     Ok(sol)
 }
 
-fn emit(
+/// Appends a row and hands it to the observer; `true` when the observer asks to stop.
+pub(crate) fn emit(
     sol: &mut Solution,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     t: f64,
