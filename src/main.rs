@@ -10,7 +10,7 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use bondmech::scene::Formulation;
+use bondmech::scene::{Formulation, SolveOverrides};
 use bondmech::{Error, Model, Scene, SolveOptions};
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -312,81 +312,27 @@ fn read_scene_with(path: &Path, sets: &[String]) -> Result<Scene, Error> {
     )?)
 }
 
-/// The scene's `solve` field a flag sets, for naming the flag in refusals.
-const FLAG_FIELDS: &[(&str, &str)] = &[
-    ("solve.rtol", "--rtol"),
-    ("solve.atol", "--atol"),
-    ("solve.t_end", "--t-end"),
-    ("solve.output_step", "--t-end"),
-    ("solve.output_times", "--t-end"),
-    ("solve.joint_stiffness", "--joint-stiffness"),
-    ("solve.max_steps", "--max-steps"),
-    ("solve.max_wall_seconds", "--max-wall-seconds"),
-    ("solve.formulation", "--formulation"),
-];
-
 /// Writes the flags into the scene's `solve` section and validates the scene again, so that a
 /// flag obeys the scene's own rules; a refusal names the flag and the field.
 fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
-    let s = &mut scene.solve;
-    let mut set = Vec::new();
-    if let Some(f) = args.formulation {
-        s.formulation = f.scene();
-        set.push("solve.formulation");
-    }
-    if let Some(r) = args.rtol {
-        s.rtol = r;
-        set.push("solve.rtol");
-    }
-    if let Some(a) = args.atol {
-        s.atol = a;
-        set.push("solve.atol");
-    }
-    if let Some(k) = args.joint_stiffness {
-        s.joint_stiffness = k;
-        set.push("solve.joint_stiffness");
-    }
-    if let Some(n) = args.max_steps {
-        s.max_steps = Some(n);
-        set.push("solve.max_steps");
-    }
-    if let Some(w) = args.max_wall_seconds {
-        s.max_wall_seconds = Some(w);
-        set.push("solve.max_wall_seconds");
-    }
-    if let Some(t) = args.t_end {
-        if let Some(times) = &mut s.output_times {
-            times.retain(|&x| x <= t);
-            if times.is_empty() && t.is_finite() {
-                return Err(Error::Options(format!(
-                    "--t-end {t}: every time of the scene's solve.output_times lies after it"
-                )));
-            }
-        }
-        if let Some(h) = &mut s.output_step {
-            // a step longer than the shortened run gives just its two ends
-            if t.is_finite() && t > s.t_start {
-                *h = h.min(t - s.t_start);
-            }
-        }
-        s.t_end = t;
-        set.extend(["solve.t_end", "solve.output_step", "solve.output_times"]);
-    }
-    scene.validate().map_err(|e| {
-        let named: Vec<String> = e
-            .problems()
+    let overrides = SolveOverrides {
+        formulation: args.formulation.map(FormulationArg::scene),
+        rtol: args.rtol,
+        atol: args.atol,
+        t_end: args.t_end,
+        joint_stiffness: args.joint_stiffness,
+        max_steps: args.max_steps,
+        max_wall_seconds: args.max_wall_seconds,
+    };
+    overrides.apply(scene).map_err(|problems| {
+        let lines: Vec<String> = problems
             .iter()
-            .map(|p| {
-                match FLAG_FIELDS
-                    .iter()
-                    .find(|(field, _)| p.path == *field && set.contains(field))
-                {
-                    Some((_, flag)) => format!("{flag}: {p}"),
-                    None => p.to_string(),
-                }
+            .map(|p| match p.overridden {
+                Some(field) => format!("--{}: {}", field.replace('_', "-"), p.problem),
+                None => p.problem.to_string(),
             })
             .collect();
-        Error::Options(named.join("\n"))
+        Error::Options(lines.join("\n"))
     })
 }
 

@@ -369,6 +369,11 @@ fn bad_query_parameters_name_the_parameter() {
         ("t_end=nan", 422, "t_end"),
         ("joint_stiffness=inf", 422, "joint_stiffness"),
         ("formulation=magic", 422, "formulation"),
+        // the scene's own bounds, as the command line's flags meet them (issue 12): these
+        // were accepted by the service when it set the options beside the scene
+        ("rtol=1e308", 422, "rtol"),
+        ("joint_stiffness=1e300", 422, "joint_stiffness"),
+        ("max_wall_seconds=0", 422, "max_wall_seconds"),
     ] {
         let p = post(server.addr(), &format!("/v1/run?{query}"), scene.as_bytes()).problem(status);
         assert_eq!(p["parameter"], parameter, "{query}: {p}");

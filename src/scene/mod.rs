@@ -41,6 +41,7 @@
 
 mod error;
 pub mod model;
+pub mod overrides;
 pub mod parse;
 pub mod path;
 pub(crate) mod tree;
@@ -49,6 +50,7 @@ mod write;
 
 pub use error::{Problem, SceneError};
 pub use model::*;
+pub use overrides::{OverrideProblem, SolveOverrides};
 
 use std::path::Path;
 

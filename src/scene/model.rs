@@ -350,6 +350,17 @@ impl Formulation {
         }
     }
 
+    /// Parses a name as the command line and the service accept it: a JSON name or one of the
+    /// aliases `compliant`, `index-1`, `ode`.
+    pub fn from_flag(name: &str) -> Option<Formulation> {
+        match name {
+            "compliant" => Some(Formulation::CompliantGgl),
+            "index-1" => Some(Formulation::Index1),
+            "ode" => Some(Formulation::Decoupled),
+            _ => Formulation::from_name(name),
+        }
+    }
+
     /// Parses a JSON name (`"dae"`, `"ggl"`, `"index1"`, `"decoupled"`, `"compliant_ggl"`).
     pub fn from_name(name: &str) -> Option<Formulation> {
         [

@@ -202,13 +202,15 @@ async fn run_inner(
     let format = params.choice("format", &["json", "csv", "ndjson"])?;
     let solve = SolveParams::from(&params)?;
     let mut scene = scene_from(app, headers, body).await?;
-    solve.apply_to_scene(&mut scene);
-    check_rows(&scene, solve.t_end, &app.limits)?;
+    // the server's row limit first (it counts the rows without making them), then the
+    // scene's own rules on the query's values
+    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
+    solve.apply_to_scene(&mut scene)?;
     let slot = app.pool.acquire().await?;
     let stop = app.stop_flags();
     let mut guard = CancelOnDrop::new(&stop);
     if format == "ndjson" {
-        let r = run_ndjson(app, slot, scene, solve, stop).await;
+        let r = run_ndjson(app, slot, scene, stop).await;
         guard.disarm();
         return r;
     }
@@ -217,7 +219,6 @@ async fn run_inner(
         let mut partial: Vec<Vec<f64>> = Vec::new();
         let r = solve_rows(
             &scene,
-            &solve,
             &app2.limits,
             &stop,
             &app2.metrics,
@@ -274,7 +275,6 @@ async fn run_ndjson(
     app: &Arc<App>,
     slot: tokio::sync::OwnedSemaphorePermit,
     scene: Scene,
-    solve: SolveParams,
     stop: StopFlags,
 ) -> Result<Response, Problem> {
     let (tx, rx) = mpsc::channel::<Bytes>(64);
@@ -285,7 +285,6 @@ async fn run_ndjson(
         let mut started = Some(started_tx);
         let r = solve_rows(
             &scene,
-            &solve,
             &app2.limits,
             &stop,
             &app2.metrics,
@@ -340,8 +339,10 @@ async fn compare_inner(
     let params = Params::parse(q.as_deref(), &SOLVE_PARAMS)?;
     let solve = SolveParams::from(&params)?;
     let mut scene = scene_from(app, headers, body).await?;
-    solve.apply_to_scene(&mut scene);
-    check_rows(&scene, solve.t_end, &app.limits)?;
+    // the server's row limit first (it counts the rows without making them), then the
+    // scene's own rules on the query's values
+    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
+    solve.apply_to_scene(&mut scene)?;
     let slot = app.pool.acquire().await?;
     let limits = app.limits.clone();
     let job = app.pool.spawn(slot, move || {
@@ -352,7 +353,7 @@ async fn compare_inner(
             seconds: budget.seconds / 2.0,
             limit: budget.limit,
         };
-        let opts = super::solve::options(&model, &solve, half, &limits)?;
+        let opts = super::solve::options(&model, half, &limits)?;
         let (cmp, _, _) = model
             .compare(&opts)
             .map_err(|e| library_problem(&e, half))?;

@@ -16,9 +16,9 @@ use super::limits::Limits;
 use super::metrics::Metrics;
 use super::pool::StopFlags;
 use super::problem::Problem;
-use crate::scene::Scene;
+use crate::scene::{Formulation, Scene, SolveOverrides};
 use crate::sundials::SolverError;
-use crate::{Error, FormulationKind, Model, Solution, SolveOptions};
+use crate::{Error, Model, Solution, SolveOptions};
 
 /// Query parameters, each at most once, from a fixed list per route.
 pub struct Params(BTreeMap<String, String>);
@@ -102,24 +102,13 @@ pub fn invalid_value(parameter: &str, detail: impl Into<String>) -> Problem {
     .with("parameter", parameter)
 }
 
-/// The solve flags of the command line, as query parameters.
+/// The solve flags of the command line, as query parameters: the same [`SolveOverrides`] of
+/// the scene's `solve` section, validated by the scene's own rules when applied.
 #[derive(Clone, Debug, Default)]
 pub struct SolveParams {
-    /// `formulation`.
-    pub formulation: Option<String>,
-    /// `rtol`.
-    pub rtol: Option<f64>,
-    /// `atol`.
-    pub atol: Option<f64>,
-    /// `t_end`.
-    pub t_end: Option<f64>,
-    /// `joint_stiffness`.
-    pub joint_stiffness: Option<f64>,
-    /// `max_steps`: the scene's `solve.max_steps`.
-    pub max_steps: Option<u64>,
-    /// `max_wall_seconds`: the scene's `solve.max_wall_seconds` (the server's limit still
-    /// applies when it is smaller).
-    pub max_wall_seconds: Option<f64>,
+    /// `formulation`, `rtol`, `atol`, `t_end`, `joint_stiffness`, `max_steps`,
+    /// `max_wall_seconds` (the server's limit still applies when it is smaller).
+    pub overrides: SolveOverrides,
     /// `reactions=true`: every joint's reaction columns, as `"outputs": ["reactions"]`.
     pub reactions: bool,
 }
@@ -137,17 +126,10 @@ pub const SOLVE_PARAMS: [&str; 8] = [
 ];
 
 impl SolveParams {
-    /// Reads the solve parameters (400 when one does not parse; 422 when `t_end` is not > 0).
+    /// Reads the solve parameters (400 when a number does not parse; 422 for an unknown
+    /// formulation or a `max_steps` that is not a whole number). Their ranges are the scene's,
+    /// checked by [`SolveParams::apply_to_scene`].
     pub fn from(p: &Params) -> Result<SolveParams, Problem> {
-        let t_end = p.number("t_end")?;
-        if let Some(t) = t_end {
-            if !(t > 0.0 && t.is_finite()) {
-                return Err(invalid_value(
-                    "t_end",
-                    format!("t_end: must be > 0 (got {t})"),
-                ));
-            }
-        }
         let max_steps = match p.number("max_steps")? {
             Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= u64::MAX as f64 => Some(n as u64),
             Some(n) => {
@@ -158,39 +140,48 @@ impl SolveParams {
             }
             None => None,
         };
-        let max_wall_seconds = p.number("max_wall_seconds")?;
-        if let Some(w) = max_wall_seconds {
-            if !(w > 0.0 && w.is_finite()) {
-                return Err(invalid_value(
-                    "max_wall_seconds",
-                    format!("max_wall_seconds: must be > 0 (got {w})"),
-                ));
-            }
-        }
+        let formulation = match p.text("formulation") {
+            None => None,
+            Some(f) => Some(Formulation::from_flag(f).ok_or_else(|| {
+                invalid_value(
+                    "formulation",
+                    format!("formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1 or decoupled)"),
+                )
+            })?),
+        };
         Ok(SolveParams {
-            formulation: p.text("formulation").map(str::to_string),
-            rtol: p.number("rtol")?,
-            atol: p.number("atol")?,
-            t_end,
-            joint_stiffness: p.number("joint_stiffness")?,
-            max_steps,
-            max_wall_seconds,
+            overrides: SolveOverrides {
+                formulation,
+                rtol: p.number("rtol")?,
+                atol: p.number("atol")?,
+                t_end: p.number("t_end")?,
+                joint_stiffness: p.number("joint_stiffness")?,
+                max_steps,
+                max_wall_seconds: p.number("max_wall_seconds")?,
+            },
             reactions: p.flag("reactions")?.unwrap_or(false),
         })
     }
 
-    /// The parameters that are scene fields, written into `scene` (as the command line
-    /// writes its flags): `max_steps`, `max_wall_seconds`, `reactions`.
-    pub fn apply_to_scene(&self, scene: &mut Scene) {
-        if let Some(n) = self.max_steps {
-            scene.solve.max_steps = Some(n);
-        }
-        if let Some(w) = self.max_wall_seconds {
-            scene.solve.max_wall_seconds = Some(w);
-        }
+    /// Writes the parameters into `scene` as the command line writes its flags, and validates
+    /// it again: 422 naming the parameter whose value the scene's rules refuse.
+    pub fn apply_to_scene(&self, scene: &mut Scene) -> Result<(), Problem> {
         if self.reactions && !scene.outputs.iter().any(|o| o == "reactions") {
             scene.outputs.push("reactions".into());
         }
+        self.overrides.apply(scene).map_err(|problems| {
+            match problems
+                .iter()
+                .find_map(|p| p.overridden.map(|name| (name, p)))
+            {
+                Some((name, p)) => invalid_value(name, format!("{name}: {}", p.problem)),
+                None => invalid_scene(
+                    problems
+                        .into_iter()
+                        .map(|p| (p.problem.path, p.problem.message)),
+                ),
+            }
+        })
     }
 }
 
@@ -224,47 +215,10 @@ impl Budget {
     }
 }
 
-/// The model's options with the query applied (as the command line applies its flags) and
-/// the wall-clock budget set.
-pub fn options(
-    model: &Model,
-    p: &SolveParams,
-    budget: Budget,
-    limits: &Limits,
-) -> Result<SolveOptions, Problem> {
+/// The model's options (the query is already in its scene, see
+/// [`SolveParams::apply_to_scene`]) with the row limit checked and the wall-clock budget set.
+pub fn options(model: &Model, budget: Budget, limits: &Limits) -> Result<SolveOptions, Problem> {
     let mut opts = model.default_options();
-    if let Some(f) = &p.formulation {
-        opts.formulation = FormulationKind::parse(f).ok_or_else(|| {
-            invalid_value(
-                "formulation",
-                format!("formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1 or decoupled)"),
-            )
-        })?;
-    }
-    for (name, v, slot) in [
-        ("rtol", p.rtol, &mut opts.rtol),
-        ("atol", p.atol, &mut opts.atol),
-        (
-            "joint_stiffness",
-            p.joint_stiffness,
-            &mut opts.joint_stiffness,
-        ),
-    ] {
-        if let Some(v) = v {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(invalid_value(
-                    name,
-                    format!("{name}: must be > 0 and finite (got {v})"),
-                ));
-            }
-            *slot = v;
-        }
-    }
-    if let Some(t) = p.t_end {
-        opts.output_times = model
-            .output_times_until(t)
-            .map_err(|e| invalid_value("t_end", e.to_string()))?;
-    }
     if opts.output_times.len() > limits.max_rows {
         return Err(Problem::limit(
             "max_rows",
@@ -425,12 +379,11 @@ pub fn model_columns(model: &Model) -> crate::Result<Vec<String>> {
 /// number of rows asked for.
 pub type OnStart<'a> = &'a mut dyn FnMut(&[String], usize);
 
-/// Builds the model, applies the query and budget, and solves, handing each row to `on_row`
+/// Builds the model (the query is already in `scene`), applies the budget, and solves, handing each row to `on_row`
 /// (which returns `false` when its client has gone). Stops at the next output row when the
 /// client has gone, the server's shutdown grace has run out, or the budget is spent.
 pub fn solve_rows(
     scene: &Scene,
-    params: &SolveParams,
     limits: &Limits,
     stop: &StopFlags,
     metrics: &Metrics,
@@ -442,7 +395,7 @@ pub fn solve_rows(
     let mut columns = vec!["t".to_string()];
     columns
         .extend(model_columns(&model).map_err(|e| Failure::before(library_problem(&e, budget)))?);
-    let opts = options(&model, params, budget, limits).map_err(Failure::before)?;
+    let opts = options(&model, budget, limits).map_err(Failure::before)?;
     let n_rows = opts.output_times.len();
     on_start(&columns, n_rows);
     #[derive(PartialEq)]
