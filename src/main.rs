@@ -315,15 +315,22 @@ fn read_scene_with(path: &Path, sets: &[String]) -> Result<Scene, Error> {
 /// Writes the flags into the scene's `solve` section and validates the scene again, so that a
 /// flag obeys the scene's own rules; a refusal names the flag and the field.
 fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
-    let overrides = SolveOverrides {
-        formulation: args.formulation.map(FormulationArg::scene),
-        rtol: args.rtol,
-        atol: args.atol,
-        t_end: args.t_end,
-        joint_stiffness: args.joint_stiffness,
-        max_steps: args.max_steps,
-        max_wall_seconds: args.max_wall_seconds,
-    };
+    apply_overrides(
+        scene,
+        &SolveOverrides {
+            formulation: args.formulation.map(FormulationArg::scene),
+            rtol: args.rtol,
+            atol: args.atol,
+            t_end: args.t_end,
+            joint_stiffness: args.joint_stiffness,
+            max_steps: args.max_steps,
+            max_wall_seconds: args.max_wall_seconds,
+        },
+    )
+}
+
+/// [`SolveOverrides::apply`], each refusal naming its flag (`--t-end: solve.output_step: …`).
+fn apply_overrides(scene: &mut Scene, overrides: &SolveOverrides) -> Result<(), Error> {
     overrides.apply(scene).map_err(|problems| {
         let lines: Vec<String> = problems
             .iter()
@@ -670,23 +677,12 @@ fn run(cli: Cli) -> Result<(), CliError> {
             bondmech::report::vary::check_out_dir(&out, &inputs)?;
             let mut scene_data = read_scene_with(&scene, &set)?;
             if let Some(t) = t_end {
-                let flags = SolveArgs {
-                    scene: scene.clone(),
-                    formulation: None,
-                    rtol: None,
-                    atol: None,
+                let t_end = SolveOverrides {
                     t_end: Some(t),
-                    joint_stiffness: None,
-                    max_steps: None,
-                    max_wall_seconds: None,
-                    set: Vec::new(),
-                    reactions: false,
+                    ..SolveOverrides::default()
                 };
-                apply_flags(&mut scene_data, &flags)?;
+                apply_overrides(&mut scene_data, &t_end)?;
             }
-            // a sweep measures errors row by row at the output times: event rows (and stops)
-            // would misalign its runs, so the scene's events are left out
-            scene_data.events.clear();
             let model = Model::new(&scene_data)?;
             if model.is_raw_bond_graph() {
                 return Err(options_error(
