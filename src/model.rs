@@ -270,7 +270,6 @@ impl Model {
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     ) -> Result<Solution> {
         check_tolerances(opts)?;
-        opts.integration_times()?;
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
