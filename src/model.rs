@@ -15,7 +15,7 @@ use crate::bond::causality::CausalityReport;
 use crate::bond::model::BondGraph;
 use crate::expr::ExprGraph;
 use crate::graph::SceneGraph;
-use crate::mech::{assemble, MultibodySystem, Variant};
+use crate::mech::{MultibodySystem, Variant};
 use crate::report::Comparison;
 use crate::scene::{Formulation, Scene};
 use crate::solve::bond_run::{
@@ -93,6 +93,10 @@ fn empty_system() -> MultibodySystem {
         reaction_outputs: false,
         events: Vec::new(),
         energy_exchange: None,
+        bodies: Vec::new(),
+        names: Vec::new(),
+        flow_rows: Vec::new(),
+        source: crate::mech::EquationSource::Assembled("raw bond graph".into()),
     }
 }
 
@@ -108,7 +112,7 @@ impl Model {
         let kind = if scene.bond_graph.is_some() {
             Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
         } else {
-            Kind::Mechanism(assemble(scene)?)
+            Kind::Mechanism(crate::mech::build(scene)?)
         };
         Ok(Model {
             scene: scene.clone(),

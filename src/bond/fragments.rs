@@ -207,7 +207,10 @@ fn add_point(
 /// `V_Px = V_Ox − ω·(a_x sinα + a_y cosα)`, `V_Py = V_Oy + ω·(a_x cosα − a_y sinα)`
 /// through MTFs modulated by the body angle α = `x_<body>.omega`.
 pub fn planar_body_translating(g: &mut BondGraph, spec: &PlanarBodySpec) -> PlanarBody {
-    let mut body = body_core(g, spec, false);
+    // a massless rotation still needs I:J (of value 0) when a point is off the centre: its
+    // flow ω is then a velocity unknown fixed by the joints
+    let off_centre = spec.points.iter().any(|(_, ax, ay)| *ax != 0.0 || *ay != 0.0);
+    let mut body = body_core(g, spec, off_centre);
     if spec.gravity != 0.0 {
         one_port(
             g,
@@ -468,17 +471,45 @@ pub fn revolute(g: &mut BondGraph, name: &str, a: &PointJunctions, b: &PointJunc
     }
 }
 
-/// Pin to ground (seed 16.7): Sf = 0 on both velocity components of the point.
-pub fn pin_to_ground(g: &mut BondGraph, name: &str, p: &PointJunctions) {
+/// Pin to ground (seed 16.7): Sf = 0 on both velocity components of the point. The half
+/// arrow follows the joint's order (from the first point to the second): `Sf → P` when the
+/// ground is the joint's first body, `P → Sf` when it is the second, so that the junction's
+/// flow constraint is the rate of the joint's closure `g = P_first − P_second`.
+pub fn pin_to_ground(g: &mut BondGraph, name: &str, p: &PointJunctions, ground_first: bool) {
     for axis in [Axis::X, Axis::Y] {
-        one_port(
-            g,
+        let sf = g.add_element(
             format!("{name}.{}", axis_name(axis)),
             ElementKind::Sf,
-            Parameter::Const(0.0),
-            p.axis(axis),
+            Some(Parameter::Const(0.0)),
         );
+        if ground_first {
+            g.add_bond(sf, p.axis(axis));
+        } else {
+            g.add_bond(p.axis(axis), sf);
+        }
     }
+}
+
+/// A flow constraint read off any joint closure `g(x)` (seed 16.5 generalised): the
+/// modulated flows `Σ_j m_j(x) f_j` of the given 1-junctions summed at a 0-junction
+/// `<name>.sum`, whose outflow is the rate of the closure; returns the 0-junction. A modulus
+/// `"1"` is a plain bond, a constant one a TF, any other an MTF.
+pub fn modulated_sum(g: &mut BondGraph, name: &str, terms: &[(ElementId, String)]) -> ElementId {
+    let sum = g.add_junction(format!("{name}.sum"), ElementKind::Zero);
+    for (k, (j, m)) in terms.iter().enumerate() {
+        if m == "1" {
+            g.add_bond(*j, sum);
+            continue;
+        }
+        let (kind, p) = match m.parse::<f64>() {
+            Ok(c) => (ElementKind::TF, Parameter::Const(c)),
+            Err(_) => (ElementKind::MTF, Parameter::Expr(m.clone())),
+        };
+        let tf = g.add_element(format!("{name}.m{k}"), kind, Some(p));
+        g.add_bond(*j, tf);
+        g.add_bond(tf, sum);
+    }
+    sum
 }
 
 /// Weld: revolute plus equal angular velocities.

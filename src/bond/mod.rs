@@ -9,6 +9,8 @@
 //!   algebraic loops, degrees of freedom.
 //! - [`equations`]: state derivatives, velocity-level constraint rows of differential storages
 //!   and algebraic-loop rows from the causal graph, with exact Jacobians.
+//! - [`mechanics`]: a bond graph read as a multibody system (coordinates, velocities, `M`,
+//!   `K(x) v`, `Q`, the constraint rows of its joints' junctions and their closures).
 //! - [`dot`]: Graphviz export with half arrows and causal strokes.
 //! - [`fragments`]: the chapter's constructions (planar bodies in both frames, the 3D rigid body
 //!   with its Euler junction structure, joints, springs, dampers, loads).
@@ -18,6 +20,7 @@ pub mod equations;
 pub mod fragments;
 pub mod identifiers;
 pub mod json;
+pub mod mechanics;
 pub mod model;
 pub mod orient;
 pub mod rank;
@@ -25,5 +28,8 @@ pub mod validate;
 
 pub use causality::{assign_causality, CausalityReport};
 pub use json::{BondJsonError, RawBondGraph};
-pub use model::{Bond, BondGraph, BondId, Element, ElementId, ElementKind, Parameter};
+pub use model::{
+    Bond, BondGraph, BondId, ConstraintJunction, Displacement, Element, ElementId, ElementKind,
+    FlowState, Parameter, SignalDefinition, SignalState,
+};
 pub use validate::{validate, BondError, ValidationErrors};

@@ -156,6 +156,11 @@ pub struct Element {
     pub initial: Option<f64>,
     /// Nonlinear constitutive law of an R element (instead of a resistance `parameter`).
     pub law: Option<ResistorLaw>,
+    /// For a C: its displacement as an expression of the graph's displacement states and
+    /// signals (`q_C = δ(x)`, e.g. a spring's stretch `L(x) − L₀`, or a decoupled joint's closure
+    /// `g_k(x)`), instead of an integrated state of its own. Its time derivative is the C's
+    /// flow, which [`crate::bond::mechanics`] checks at build time.
+    pub displacement: Option<String>,
 }
 
 /// The constitutive law of a nonlinear resistor, `e = Φ(f)` and/or `f = Φ⁻¹(e)`, with `e` and
@@ -204,6 +209,62 @@ pub struct BondGraph {
     /// The junctions (1-junctions or Sf) that impose a joint's constraint rows, with the joint
     /// and direction they belong to (filled by the mechanism builder; empty for a raw graph).
     pub constraint_junctions: Vec<ConstraintJunction>,
+    /// Displacement states `x_<element>` (∫ of a 1-junction's or an inertia's flow) that are
+    /// coordinates of the mechanism, with their names and initial values. Moduli, closures
+    /// and outputs use them.
+    pub displacements: Vec<Displacement>,
+    /// Names and initial flows of the inertias, for a graph read as a mechanism
+    /// ([`crate::bond::mechanics`]); an inertia without an entry is named `f_<I>` and starts
+    /// from its `initial` momentum divided by its inertia.
+    pub flows: Vec<FlowState>,
+    /// Signal states carried by the graph (e.g. a body's attitude quaternion `e' = ½ e ⊗ ω`).
+    pub signal_states: Vec<SignalState>,
+    /// Signals defined as expressions of the states (e.g. rotation matrix entries `R_ij(e)`).
+    pub signal_definitions: Vec<SignalDefinition>,
+}
+
+/// A displacement state `x_<element> = x₀ + ∫ f dt`, `f` the common flow of a 1-junction or
+/// the flow of an inertia: one generalized coordinate of a mechanism (seed 16.3: the angle α
+/// that modulates a body's MTFs is the displacement of its ω junction).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Displacement {
+    /// The 1-junction or I whose flow integrates to it.
+    pub element: ElementId,
+    /// Coordinate name (`bar1.x`, `bar1.angle`).
+    pub name: String,
+    /// Value at the start time.
+    pub initial: f64,
+}
+
+/// The flow of an inertia as a named velocity unknown.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlowState {
+    /// The inertia.
+    pub element: ElementId,
+    /// Velocity name (`bar1.vx`, `bar1.omega`).
+    pub name: String,
+    /// Initial flow.
+    pub initial: f64,
+}
+
+/// A state carried by the graph as a signal: `s' = rate(x, s, f_<junction>, t)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalState {
+    /// Signal name (usable in expressions).
+    pub name: String,
+    /// Value at the start time.
+    pub initial: f64,
+    /// Its time derivative; may use the common flow of a 1-junction as `f_<junction>`.
+    pub rate: String,
+}
+
+/// A signal defined as an expression of states and other signals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalDefinition {
+    /// Signal name (usable in expressions).
+    pub name: String,
+    /// Its definition.
+    pub expr: String,
 }
 
 /// A junction that imposes one constraint row of a joint (seed 16.5, 16.7): the 1-junction
@@ -216,6 +277,10 @@ pub struct ConstraintJunction {
     pub joint: String,
     /// The direction of the row (`x`, `y`, `axis1`, `w`, …).
     pub direction: String,
+    /// The position-level closure `g_k(x)` whose time derivative is this junction's flow
+    /// constraint (an expression of the displacement states and signals); `None` in a graph
+    /// that only constrains velocities.
+    pub closure: Option<String>,
 }
 
 impl BondGraph {
@@ -238,6 +303,7 @@ impl BondGraph {
             label: None,
             initial: None,
             law: None,
+            displacement: None,
         });
         ElementId(self.elements.len() - 1)
     }
@@ -349,6 +415,7 @@ impl BondGraph {
                     element: ElementId(i),
                     joint: joint.to_string(),
                     direction: dir.to_string(),
+                    closure: None,
                 });
             }
         }

@@ -30,7 +30,12 @@ impl ConstraintExprs {
     pub fn derive(sys: &mut MultibodySystem) -> Self {
         let nq = sys.nq();
         let g = sys.constraints.clone();
-        let gvv = sys.velocity_constraints();
+        // the flows the bond graph's constraint junctions impose, or d/dt g
+        let gvv = if sys.flow_rows.len() == g.len() && !g.is_empty() {
+            sys.flow_rows.clone()
+        } else {
+            sys.velocity_constraints()
+        };
         let gv = sys.velocity_jacobian(&gvv);
         let mut gq = Vec::with_capacity(g.len());
         for &gi in &g {

@@ -505,6 +505,20 @@ impl<'a> Assembler<'a> {
             reactions,
             events,
             energy_exchange: energy_exchange(self.scene),
+            bodies: self
+                .scene
+                .bodies
+                .iter()
+                .map(|b| b.name.clone())
+                .zip(self.kin.iter().cloned())
+                .collect(),
+            names: {
+                let mut v: Vec<(String, Expr)> = names.into_iter().collect();
+                v.sort_by(|a, b| a.0.cmp(&b.0));
+                v
+            },
+            flow_rows: Vec::new(),
+            source: super::system::EquationSource::Assembled("assembled".into()),
         };
         let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
         for v in sys.initial_violation(&names) {

@@ -41,19 +41,62 @@ pub enum Variant {
     Decoupled,
 }
 
-/// Builds the bond graph of a scene.
+/// Builds the bond graph of a scene (its drawing: joints, springs and loads in the seed's
+/// fragments; [`crate::mech::annotate`] completes the pinned graph of a mechanism it can read).
 pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
+    scene_bond_graph_with(scene, variant, false)
+}
+
+/// [`scene_bond_graph`]; with `open` the planar pinned graph leaves out what
+/// [`crate::mech::annotate`] adds from the joints' closures: prismatic joints, a weld's
+/// angle row and springs of non-zero rest length.
+pub(crate) fn scene_bond_graph_with(
+    scene: &Scene,
+    variant: Variant,
+    open: bool,
+) -> Result<BondGraph, MechError> {
     let mut g = if matches!(scene.dimension, Dimension::Spatial) {
         spatial(scene, variant)?
     } else {
-        planar(scene, variant)?
+        planar(scene, variant, open && matches!(variant, Variant::Pinned))?
     };
     g.annotate_joints(scene.joints.iter().map(|j| j.name.as_str()));
     Ok(g)
 }
 
+/// Rest length of a planar spring: its `rest_length`, or its initial length.
+pub(crate) fn planar_rest_length(scene: &Scene, si: usize) -> f64 {
+    let s = &scene.springs[si];
+    if let Some(l) = s.rest_length {
+        return l;
+    }
+    let at = |k: usize| -> [f64; 2] {
+        let c: Vec<f64> = match &s.points[k] {
+            PointRef::Coords(c) => c.clone(),
+            PointRef::Named(n) => scene
+                .bodies
+                .iter()
+                .find(|b| b.name == s.bodies[k])
+                .and_then(|b| b.points.iter().find(|(pn, _)| pn == n))
+                .map(|(_, c)| c.clone())
+                .unwrap_or_default(),
+        };
+        let (cx, cy) = (c.first().copied().unwrap_or(0.0), c.get(1).copied().unwrap_or(0.0));
+        match scene.bodies.iter().find(|b| b.name == s.bodies[k]) {
+            None => [cx, cy],
+            Some(b) => {
+                let (sn, cs) = b.angle.sin_cos();
+                let p = |i: usize| b.position.get(i).copied().unwrap_or(0.0);
+                [p(0) + cs * cx - sn * cy, p(1) + sn * cx + cs * cy]
+            }
+        }
+    };
+    let (a, b) = (at(0), at(1));
+    ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt()
+}
+
 /// The bond graph of a planar scene (seed 16.3–16.8).
-fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
+fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, MechError> {
     let mut g = BondGraph::default();
     let gy = -scene.gravity.get(1).copied().unwrap_or(0.0);
     // points each body needs: its named points plus coordinate points used by joints, springs
@@ -174,7 +217,7 @@ fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
         };
         match (&j.kind, variant) {
             (JointKind::Revolute, Variant::Pinned) => match p2 {
-                None => pin_to_ground(&mut g, &j.name, p1),
+                None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
                 Some(p2) => revolute(&mut g, &j.name, p1, p2),
             },
             (JointKind::Revolute, Variant::Decoupled)
@@ -182,6 +225,11 @@ fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
             | (JointKind::Prismatic { .. }, Variant::Decoupled) => {
                 decoupled_revolute(&mut g, &j.name, p1, p2, k, c);
             }
+            (JointKind::Weld, Variant::Pinned) if open => match p2 {
+                None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
+                Some(p2) => revolute(&mut g, &j.name, p1, p2),
+            },
+            (JointKind::Prismatic { .. }, Variant::Pinned) if open => {}
             (JointKind::Weld, Variant::Pinned) => {
                 let w1 = omega(b1).ok_or_else(|| {
                     MechError::at(&path, format!("weld: body '{b1}' has no modelled rotation"))
@@ -198,7 +246,7 @@ fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
                     }
                     _ => {
                         // fixed to ground: Sf = 0 on both components and on ω
-                        pin_to_ground(&mut g, &j.name, p1);
+                        pin_to_ground(&mut g, &j.name, p1, pa.is_none());
                         zero_flow(&mut g, &format!("{}.w", j.name), w1);
                     }
                 }
@@ -236,6 +284,9 @@ fn planar(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
         }
     }
     for (si, s) in scene.springs.iter().enumerate() {
+        if open && planar_rest_length(scene, si) != 0.0 {
+            continue;
+        }
         let path = format!("springs[{si}]");
         let pa = point(&s.bodies[0], &spring_points[si][0], &path)?;
         let pb = point(&s.bodies[1], &spring_points[si][1], &path)?;

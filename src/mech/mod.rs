@@ -2,10 +2,14 @@
 //! multibody system that the DAE and the decoupled formulations solve.
 //!
 //! * [`body`]: the kinematics of planar (16.3, 16.8) and spatial (16.1–16.2) bodies.
-//! * [`assemble`](mod@assemble): scene → [`MultibodySystem`].
+//! * [`annotate`]: the pinned bond graph completed (displacements, closures, slider and
+//!   spring fragments) and read as the [`MultibodySystem`] the solver solves.
+//! * [`assemble`](mod@assemble): the bodies' geometry, outputs, closures (and, where the
+//!   graph cannot be read yet, the equations) → [`MultibodySystem`].
 //! * [`system`]: the system `q' = K(q) v`, `M v' = Q − G_vᵀ λ`, `g(q) = 0`.
 //! * [`reactions`]: joint forces and moments from the constraint forces.
 
+pub mod annotate;
 pub mod assemble;
 pub mod body;
 pub mod bondgraph;
@@ -13,12 +17,13 @@ pub mod reactions;
 pub mod size;
 pub mod system;
 
+pub use annotate::build;
 pub use assemble::assemble;
 pub use bondgraph::{scene_bond_graph, Variant};
 pub use reactions::JointReaction;
 pub use system::{
-    ConstraintRow, Coordinate, EventFunction, JointViolation, LoadTerm, MultibodySystem,
-    NonFiniteValue, OutputColumn,
+    ConstraintRow, Coordinate, EquationSource, EventFunction, JointViolation, LoadTerm,
+    MultibodySystem, NonFiniteValue, OutputColumn,
 };
 
 /// A mechanism that cannot be built, with the JSON path of the culprit.

@@ -155,6 +155,25 @@ pub struct MultibodySystem {
     /// Why the mechanical energy is not conserved (the first damper or load that exchanges
     /// energy with the mechanism, e.g. `loads[0] ('gas') does work`); `None` when it is.
     pub energy_exchange: Option<String>,
+    /// How each scene body is represented (its slots), in the scene's order.
+    pub bodies: Vec<(String, super::body::BodyKinematics)>,
+    /// The scene's expression vocabulary (`t`, `bar.angle`, `bar.A.x`, …), sorted by name.
+    pub names: Vec<(String, Expr)>,
+    /// The velocity-level constraint rows `G_v v` read off the bond graph's constraint
+    /// junctions (one per row of `constraints`); empty when they are to be derived from `g`.
+    pub flow_rows: Vec<Expr>,
+    /// Where the equations come from.
+    pub source: EquationSource,
+}
+
+/// Where a [`MultibodySystem`]'s inertias, forces and constraint rows come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EquationSource {
+    /// Read off the mechanism's bond graph ([`crate::bond::mechanics`]).
+    BondGraph,
+    /// Assembled from the bodies directly, because the bond graph of this scene cannot be read
+    /// yet (the reason).
+    Assembled(String),
 }
 
 impl MultibodySystem {

@@ -1,0 +1,335 @@
+//! The mechanism's bond graph completed into the model the solver solves (seed 16.3–16.8).
+//!
+//! [`scene_bond_graph`](super::scene_bond_graph) draws the chapter's fragments. Here the pinned
+//! graph of a planar mechanism gets what makes it simulatable:
+//!
+//! * **displacement states** `x_<junction>` with initial values: the body's `x`, `y` (∫ of the
+//!   centre's `v_x`, `v_y` junctions) and angle `α` (∫ of the ω junction, which modulates the
+//!   body's MTFs);
+//! * **named flows** of the inertias, in the mechanism's velocity order;
+//! * on every constraint junction, the joint's **closure** `g_k(x)` (its position-level row),
+//!   whose time derivative the reader checks against the junction's flow constraint;
+//! * the joints the seed draws no fragment for (a slider on any axis, a weld's angle) as a
+//!   **modulated sum** `Σ_j (∂ġ_k/∂v_j) f_j` of the inertias' junction flows into an `Sf = 0`,
+//!   and springs of non-zero rest length as a C on the length rate `L̇ = Σ_j (∂L̇/∂v_j) f_j`
+//!   with displacement `L(x) − L₀` (and the damper's R on the same junction);
+//! * the scene names a load expression uses (`crank.angle`) as signal definitions.
+//!
+//! Then [`crate::bond::mechanics`] reads `M`, `K(x) v`, `Q` and the rows `G_v v` off the graph,
+//! and those are the equations every formulation solves.
+
+use super::body::BodyKinematics;
+use super::bondgraph::{planar_rest_length, scene_bond_graph_with, Variant};
+use super::system::{EquationSource, MultibodySystem};
+use super::MechError;
+use crate::bond::fragments::modulated_sum;
+use crate::bond::mechanics::{read_mechanics_in, MechanicsError};
+use crate::bond::model::{
+    BondGraph, ConstraintJunction, Displacement, ElementId, ElementKind, FlowState, Parameter,
+    SignalDefinition,
+};
+use crate::expr::{Expr, ExprGraph};
+use crate::scene::{BodyFrame, Dimension, PointRef, Scene};
+
+/// Why a mechanism's bond graph cannot (yet) be the model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnnotateError {
+    /// A kind of scene whose graph is not complete yet.
+    #[error("{0}")]
+    Unsupported(&'static str),
+    /// The graph cannot be read.
+    #[error(transparent)]
+    Mechanics(#[from] MechanicsError),
+    /// The scene is invalid.
+    #[error(transparent)]
+    Mech(#[from] MechError),
+    /// The graph's states do not line up with the mechanism's coordinates.
+    #[error("the bond graph's {what} '{graph}' does not match the mechanism's '{mechanism}'")]
+    Layout {
+        /// Coordinates or velocities.
+        what: &'static str,
+        /// The graph's name.
+        graph: String,
+        /// The mechanism's name.
+        mechanism: String,
+    },
+    /// A name the mechanism uses has no element in the graph.
+    #[error("the bond graph has no element '{0}'")]
+    MissingElement(String),
+}
+
+/// The complete pinned bond graph of `scene`, annotated from the mechanism's geometry `sys`
+/// (coordinates, joint closures, point positions).
+pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph, AnnotateError> {
+    if matches!(scene.dimension, Dimension::Spatial) {
+        return Err(AnnotateError::Unsupported(
+            "spatial scenes are still assembled from the bodies",
+        ));
+    }
+    if scene
+        .bodies
+        .iter()
+        .any(|b| matches!(b.frame, BodyFrame::BodyFixed))
+    {
+        return Err(AnnotateError::Unsupported(
+            "bodies in a body-fixed frame (16.3) are still assembled from the bodies",
+        ));
+    }
+    if scene.gravity.first().copied().unwrap_or(0.0) != 0.0 {
+        return Err(AnnotateError::Unsupported(
+            "gravity with an x component is still assembled from the bodies",
+        ));
+    }
+    let mut g = scene_bond_graph_with(scene, Variant::Pinned, true)?;
+    let find = |g: &BondGraph, n: &str| {
+        g.element_by_name(n)
+            .ok_or_else(|| AnnotateError::MissingElement(n.to_string()))
+    };
+    let mut slot_names = vec!["t".to_string()];
+    for c in &sys.coords {
+        let (body, what) = c.name.rsplit_once('.').unwrap_or(("", ""));
+        let junction = match what {
+            "x" => format!("{body}.v_x"),
+            "y" => format!("{body}.v_y"),
+            "angle" => format!("{body}.omega"),
+            _ => return Err(AnnotateError::MissingElement(c.name.clone())),
+        };
+        let element = find(&g, &junction)?;
+        g.displacements.push(Displacement {
+            element,
+            name: c.name.clone(),
+            initial: c.initial,
+        });
+        slot_names.push(format!("x_{junction}"));
+    }
+    let mut velocity_junctions = Vec::new();
+    for v in &sys.velocities {
+        let (body, what) = v.name.rsplit_once('.').unwrap_or(("", ""));
+        let inertia = match what {
+            "vx" => format!("{body}.I_m_x"),
+            "vy" => format!("{body}.I_m_y"),
+            "omega" => format!("{body}.I_J"),
+            _ => return Err(AnnotateError::MissingElement(v.name.clone())),
+        };
+        let element = find(&g, &inertia)?;
+        let bond = g.bonds_of(element)[0];
+        velocity_junctions.push(g.other_end(bond, element));
+        g.flows.push(FlowState {
+            element,
+            name: v.name.clone(),
+            initial: v.initial,
+        });
+        slot_names.push(format!("f_{inertia}"));
+    }
+    let mut eg = sys.graph.clone();
+    let nq = sys.nq();
+    let text = |eg: &ExprGraph, e: Expr| eg.display(e, &|s| slot_names[s as usize].clone());
+    // joints: closures on the drawn junctions, modulated sums for the others
+    for (k, row) in sys.rows.iter().enumerate() {
+        let closure = text(&eg, sys.constraints[k]);
+        if let Some(cj) = g
+            .constraint_junctions
+            .iter_mut()
+            .find(|c| c.joint == row.joint && c.direction == row.direction)
+        {
+            cj.closure = Some(closure);
+            continue;
+        }
+        let name = format!("{}.{}", row.joint, row.direction);
+        let terms = rate_terms(&mut eg, sys, nq, sys.constraints[k], &velocity_junctions, &text);
+        let sum = modulated_sum(&mut g, &name, &terms);
+        let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
+        g.add_bond(sum, sf);
+        g.constraint_junctions.push(ConstraintJunction {
+            element: sf,
+            joint: row.joint.clone(),
+            direction: row.direction.clone(),
+            closure: Some(closure),
+        });
+    }
+    // springs
+    for (si, s) in scene.springs.iter().enumerate() {
+        let pa = point(&mut eg, scene, sys, &s.bodies[0], &s.points[0])?;
+        let pb = point(&mut eg, scene, sys, &s.bodies[1], &s.points[1])?;
+        let l0 = planar_rest_length(scene, si);
+        if l0 == 0.0 {
+            // the seed's per-axis springs: δ = P_first − P_other (the ground's point fixed)
+            let (p1, p2) = if s.bodies[0] != "ground" {
+                (pa, pb)
+            } else {
+                (pb, pa)
+            };
+            for (axis, (a, b)) in ["x", "y"].iter().zip(p1.iter().zip(&p2)) {
+                let d = eg.sub(*a, *b);
+                let c = find(&g, &format!("{}.{axis}.k", s.name))?;
+                g.elements[c.0].displacement = Some(text(&eg, d));
+            }
+            continue;
+        }
+        let d: Vec<Expr> = (0..2).map(|i| eg.sub(pb[i], pa[i])).collect();
+        let dd = eg.dot(&d, &d);
+        let len = eg.sqrt(dd);
+        let terms = rate_terms(&mut eg, sys, nq, len, &velocity_junctions, &text);
+        let sum = modulated_sum(&mut g, &s.name, &terms);
+        let rate = g.add_junction(format!("{}.rate", s.name), ElementKind::One);
+        g.add_bond(sum, rate);
+        let c = g.add_element(
+            format!("{}.k", s.name),
+            ElementKind::C,
+            Some(Parameter::Const(1.0 / s.stiffness)),
+        );
+        g.add_bond(rate, c);
+        let l0e = eg.constant(l0);
+        let stretch = eg.sub(len, l0e);
+        g.elements[c.0].displacement = Some(text(&eg, stretch));
+        g.set_label(c, format!("1/{}", s.stiffness));
+        if s.damping > 0.0 {
+            let r = g.add_element(
+                format!("{}.c", s.name),
+                ElementKind::R,
+                Some(Parameter::Const(s.damping)),
+            );
+            g.add_bond(rate, r);
+        }
+    }
+    // scene names used by load expressions
+    for name in g.signals.clone() {
+        if let Some((_, e)) = sys.names.iter().find(|(n, _)| *n == name) {
+            g.signal_definitions.push(SignalDefinition {
+                name,
+                expr: text(&eg, *e),
+            });
+        }
+    }
+    Ok(g)
+}
+
+/// `Σ_j (∂ḣ/∂v_j) f_j` for `h(x)`: the junction of each velocity it depends on, with the
+/// modulus `∂ḣ/∂v_j(x)` as text (`ḣ = Σ_i ∂h/∂x_i · K_i(x) v`).
+fn rate_terms(
+    eg: &mut ExprGraph,
+    sys: &MultibodySystem,
+    nq: usize,
+    h: Expr,
+    junctions: &[ElementId],
+    text: &dyn Fn(&ExprGraph, Expr) -> String,
+) -> Vec<(ElementId, String)> {
+    let mut terms = Vec::new();
+    for i in 0..nq {
+        let s = (1 + i) as u32;
+        if eg.depends_on(h, s) {
+            let d = eg.diff(h, s);
+            terms.push(eg.mul(d, sys.kinematics[i]));
+        }
+    }
+    let rate = eg.sum(&terms);
+    let mut out = Vec::new();
+    for (j, &junction) in junctions.iter().enumerate() {
+        let s = (1 + nq + j) as u32;
+        if eg.depends_on(rate, s) {
+            let m = eg.diff(rate, s);
+            out.push((junction, text(eg, m)));
+        }
+    }
+    out
+}
+
+/// Position of a point of `body` (ground: global coordinates).
+fn point(
+    eg: &mut ExprGraph,
+    scene: &Scene,
+    sys: &MultibodySystem,
+    body: &str,
+    p: &PointRef,
+) -> Result<Vec<Expr>, AnnotateError> {
+    let coords: Vec<f64> = match p {
+        PointRef::Coords(c) => c.clone(),
+        PointRef::Named(n) => scene
+            .bodies
+            .iter()
+            .find(|b| b.name == body)
+            .and_then(|b| b.points.iter().find(|(pn, _)| pn == n))
+            .map(|(_, c)| c.clone())
+            .ok_or_else(|| AnnotateError::MissingElement(format!("{body}.{n}")))?,
+    };
+    let kin = if body == "ground" {
+        BodyKinematics::Ground
+    } else {
+        sys.bodies
+            .iter()
+            .find(|(n, _)| n == body)
+            .map(|(_, k)| k.clone())
+            .ok_or_else(|| AnnotateError::MissingElement(body.to_string()))?
+    };
+    Ok(kin.point(eg, &coords).position)
+}
+
+/// Replaces the assembled inertias, forces and constraint rows of `sys` by the ones read off
+/// the scene's bond graph; returns the graph it read.
+pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, AnnotateError> {
+    let g = mechanism_graph(scene, sys)?;
+    let eqs = read_mechanics_in(&g, sys.graph.clone())?;
+    for (what, ours, theirs) in [
+        ("coordinate", &eqs.coords, &sys.coords),
+        ("velocity", &eqs.velocities, &sys.velocities),
+    ] {
+        if ours.len() != theirs.len() {
+            return Err(AnnotateError::Layout {
+                what,
+                graph: format!("{} states", ours.len()),
+                mechanism: format!("{} states", theirs.len()),
+            });
+        }
+        for (a, b) in ours.iter().zip(theirs.iter()) {
+            if a.name != b.name {
+                return Err(AnnotateError::Layout {
+                    what,
+                    graph: a.name.clone(),
+                    mechanism: b.name.clone(),
+                });
+            }
+        }
+    }
+    if eqs.rows.len() != sys.rows.len() {
+        return Err(AnnotateError::Layout {
+            what: "constraint rows",
+            graph: eqs.rows.len().to_string(),
+            mechanism: sys.rows.len().to_string(),
+        });
+    }
+    let mut closures = Vec::with_capacity(sys.rows.len());
+    let mut flows = Vec::with_capacity(sys.rows.len());
+    for row in &sys.rows {
+        let r = eqs
+            .rows
+            .iter()
+            .find(|r| r.joint == row.joint && r.direction == row.direction)
+            .ok_or_else(|| AnnotateError::MissingElement(format!("{}.{}", row.joint, row.direction)))?;
+        closures.push(r.closure.ok_or_else(|| {
+            AnnotateError::MissingElement(format!("closure of {}.{}", row.joint, row.direction))
+        })?);
+        flows.push(r.flow);
+    }
+    sys.graph = eqs.graph;
+    sys.mass = eqs.mass;
+    sys.kinematics = eqs.kinematics;
+    sys.forces = eqs.forces;
+    sys.constraints = closures;
+    sys.flow_rows = flows;
+    sys.source = EquationSource::BondGraph;
+    Ok(g)
+}
+
+/// The multibody system of a scene, its equations read off its bond graph where the graph is
+/// complete (planar scenes in the non-rotating frame), assembled from the bodies otherwise
+/// (the reason is kept in [`MultibodySystem::source`]).
+pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
+    let mut sys = super::assemble(scene)?;
+    match read_into(scene, &mut sys) {
+        Ok(_) => {}
+        Err(AnnotateError::Mech(e)) => return Err(e),
+        Err(e) => sys.source = EquationSource::Assembled(e.to_string()),
+    }
+    Ok(sys)
+}
