@@ -380,7 +380,7 @@ fn double_pendulum(decoupled: bool) -> BondGraph {
         decoupled_revolute(&mut g, "hip", o, None, 1e6, Some(10.0));
         decoupled_revolute(&mut g, "knee", a1, Some(a2), 1e6, Some(10.0));
     } else {
-        pin_to_ground(&mut g, "hip", o);
+        pin_to_ground(&mut g, "hip", o, true);
         revolute(&mut g, "knee", a1, a2);
     }
     g
@@ -420,7 +420,7 @@ fn body_fixed_free_bar_has_three_states_and_pinned_bar_one() {
     // a bar pinned at one end: 3 − 2 = 1 degree of freedom
     let mut g = BondGraph::new();
     let b = planar_body_fixed_frame(&mut g, &bar("bar", &[("O", -0.5, 0.0)]));
-    pin_to_ground(&mut g, "pin", b.point("O").unwrap());
+    pin_to_ground(&mut g, "pin", b.point("O").unwrap(), true);
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (1, 2));
 }
@@ -434,7 +434,7 @@ fn slider_crank_has_one_degree_of_freedom() {
     let crank = planar_body_translating(&mut g, &bar("crank", &[("O", 0.0, 0.0), ("A", 0.1, 0.0)]));
     let rod = planar_body_translating(&mut g, &bar("rod", &[("A", -0.15, 0.0), ("B", 0.15, 0.0)]));
     let piston = point_mass(&mut g, "piston", 0.5, 9.81);
-    pin_to_ground(&mut g, "O", crank.point("O").unwrap());
+    pin_to_ground(&mut g, "O", crank.point("O").unwrap(), true);
     revolute(
         &mut g,
         "A",
@@ -581,7 +581,7 @@ fn body_fixed_pair(pinned: bool) -> BondGraph {
     );
     revolute(&mut g, "knee", &a_in_2, b2.point("A").unwrap());
     if pinned {
-        pin_to_ground(&mut g, "hip", b1.point("O").unwrap());
+        pin_to_ground(&mut g, "hip", b1.point("O").unwrap(), true);
     }
     g
 }
@@ -615,7 +615,7 @@ fn n_link_pendulum(n: usize, decoupled: bool) -> BondGraph {
         let o = b.point("O").unwrap().clone();
         let name = format!("j{i}");
         match (&prev, decoupled) {
-            (None, false) => pin_to_ground(&mut g, &name, &o),
+            (None, false) => pin_to_ground(&mut g, &name, &o, true),
             (None, true) => decoupled_revolute(&mut g, &name, &o, None, 1e6, None),
             (Some(p), false) => revolute(&mut g, &name, p, &o),
             (Some(p), true) => decoupled_revolute(&mut g, &name, p, Some(&o), 1e6, None),
@@ -669,7 +669,7 @@ fn four_bar_linkage_has_one_degree_of_freedom() {
         &mut g,
         &bar("rocker", &[("B", -0.75, 0.0), ("D", 0.75, 0.0)]),
     );
-    pin_to_ground(&mut g, "O", crank.point("O").unwrap());
+    pin_to_ground(&mut g, "O", crank.point("O").unwrap(), true);
     revolute(
         &mut g,
         "A",
@@ -682,7 +682,7 @@ fn four_bar_linkage_has_one_degree_of_freedom() {
         coupler.point("B").unwrap(),
         rocker.point("B").unwrap(),
     );
-    pin_to_ground(&mut g, "D", rocker.point("D").unwrap());
+    pin_to_ground(&mut g, "D", rocker.point("D").unwrap(), true);
     let r = report(&g);
     assert_eq!(inertia_counts(&g, &r), (1, 8));
     assert!(r.conflicts.is_empty(), "{:?}", r.conflicts);

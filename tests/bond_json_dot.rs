@@ -67,7 +67,7 @@ fn double_pendulum() -> BondGraph {
     };
     let b1 = planar_body_translating(&mut g, &spec("bar1", &[("O", -0.5), ("A", 0.5)]));
     let b2 = planar_body_translating(&mut g, &spec("bar2", &[("A", -0.5)]));
-    pin_to_ground(&mut g, "hip", b1.point("O").unwrap());
+    pin_to_ground(&mut g, "hip", b1.point("O").unwrap(), true);
     revolute(
         &mut g,
         "knee",

@@ -206,12 +206,12 @@ fn non_finite_parameter_is_rejected() {
 }
 
 #[test]
-fn non_positive_inertia_and_stiffness_are_rejected() {
+fn negative_inertia_and_non_positive_stiffness_are_rejected() {
     let mut v = base();
-    v["elements"][2]["value"] = json!(0.0);
+    v["elements"][2]["value"] = json!(-1.0);
     assert_eq!(
         one(v),
-        "bond_graph.elements[2].value: inertia of 'm' must be positive, got 0"
+        "bond_graph.elements[2].value: inertia of 'm' must be positive, got -1"
     );
     let v = json!({
         "elements": [{"name": "j", "kind": "1"}, {"name": "k", "kind": "C", "stiffness": -5.0}],
@@ -221,6 +221,19 @@ fn non_positive_inertia_and_stiffness_are_rejected() {
         one(v),
         "bond_graph.elements[1].stiffness: stiffness of 'k' must be positive, got -5"
     );
+}
+
+/// A zero inertia is a massless flow (a mechanism body without rotational inertia): the graph
+/// is valid, but a graph without joint closures cannot fix that flow, so its equations are
+/// refused with the element named.
+#[test]
+fn zero_inertia_is_valid_but_its_flow_needs_closures() {
+    let mut v = base();
+    v["elements"][2]["value"] = json!(0.0);
+    let raw: RawBondGraph = serde_json::from_value(v).expect("raw JSON");
+    let g = raw.to_graph().expect("a zero inertia is valid");
+    let err = bondmech::bond::equations::equations(&g).unwrap_err();
+    assert!(err.contains("'m'") && err.contains("nonzero inertia"), "{err}");
 }
 
 #[test]

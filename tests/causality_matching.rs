@@ -270,7 +270,7 @@ fn raw_double_pendulum() -> BondGraph {
     let mut g = BondGraph::new();
     let b1 = planar_body_translating(&mut g, &bar("bar1"));
     let b2 = planar_body_translating(&mut g, &bar("bar2"));
-    pin_to_ground(&mut g, "pivot", b1.point("O").unwrap());
+    pin_to_ground(&mut g, "pivot", b1.point("O").unwrap(), true);
     revolute(
         &mut g,
         "knee",

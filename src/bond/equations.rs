@@ -455,6 +455,12 @@ impl Builder<'_> {
                 }
                 let p = self.state_var[&x];
                 let m = self.param(x, "inertia")?;
+                if self.eg.is_zero(m) {
+                    return Err(EquationError::MissingParameter {
+                        element: self.element_name(x),
+                        what: "a nonzero inertia (a massless flow is fixed only by joint closures: give the graph its closures)".into(),
+                    });
+                }
                 self.eg.div(p, m)
             }
             ElementKind::C => {
@@ -656,6 +662,12 @@ fn run(g: &BondGraph, c: &Causality, lay: &Layout, n_loops: usize) -> Res<Built>
         let row = if g.element(e).kind == ElementKind::I {
             let phi = b.flow(bond)?;
             let m = b.param(e, "inertia")?;
+            if b.eg.is_zero(m) {
+                return Err(EquationError::MissingParameter {
+                    element: b.element_name(e),
+                    what: "a nonzero inertia (a massless flow is fixed only by joint closures: give the graph its closures)".into(),
+                });
+            }
             let pm = b.eg.div(own, m);
             b.eg.sub(phi, pm)
         } else {
@@ -713,6 +725,14 @@ impl BondEquations {
             return Err(EquationError::Conflict {
                 junction: c.junction.clone(),
                 description: c.description.clone(),
+            });
+        }
+        if let Some(el) = graph.elements.iter().find(|e| {
+            e.kind == ElementKind::I && matches!(e.parameter, Some(Parameter::Const(m)) if m == 0.0)
+        }) {
+            return Err(EquationError::MissingParameter {
+                element: el.name.clone(),
+                what: "a nonzero inertia (a massless flow is fixed only by joint closures: give the graph its closures)".into(),
             });
         }
         let lay = layout(graph, causality);

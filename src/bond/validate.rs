@@ -159,7 +159,9 @@ pub enum BondError {
         /// The value.
         value: f64,
     },
-    /// An inertia or capacitor (or stiffness) that is zero or negative.
+    /// A negative inertia, or a capacitor (or stiffness) that is zero or negative. (A zero
+    /// inertia is a massless flow fixed by the constraints: accepted, and read as such when the
+    /// graph is solved as a mechanism.)
     #[error("{path}: {what} of '{element}' must be positive, got {value}")]
     NonPositive {
         /// JSON path of the parameter.
@@ -533,7 +535,7 @@ pub(crate) fn check_parameter(
                 element: name.into(),
                 value: v,
             });
-        } else if matches!(kind, ElementKind::I | ElementKind::C) && v <= 0.0 {
+        } else if (kind == ElementKind::C && v <= 0.0) || (kind == ElementKind::I && v < 0.0) {
             errors.push(BondError::NonPositive {
                 path: path.into(),
                 element: name.into(),
