@@ -46,7 +46,25 @@ impl SceneGraph {
                 SceneGraph::from_graph(graph)
             }
             None => {
-                let graph = scene_bond_graph(scene, variant)?;
+                // the pinned graph the solver reads (complete: closures, sliders, springs),
+                // where the scene's graph can be read; the seed's drawing otherwise
+                let complete = match variant {
+                    Variant::Pinned => {
+                        let sys = crate::mech::assemble(scene)?;
+                        match crate::mech::annotate::mechanism_graph(scene, &sys) {
+                            Ok(g) => Some(g),
+                            Err(crate::mech::annotate::AnnotateError::Mech(e)) => {
+                                return Err(e.into())
+                            }
+                            Err(_) => None,
+                        }
+                    }
+                    Variant::Decoupled => None,
+                };
+                let graph = match complete {
+                    Some(g) => g,
+                    None => scene_bond_graph(scene, variant)?,
+                };
                 let values = initial_values(scene);
                 let causality =
                     assign_causality_at(&graph, scene.solve.t_start, &|n| values.get(n).copied())

@@ -139,6 +139,13 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The equations a scene is solved with, named after the bond graph: kinematics,
+    /// dynamics, each constraint row with its joint, junction and differential inertia, and the
+    /// flow constraint each junction imposes.
+    Equations {
+        /// Scene file (JSON; `-` reads standard input).
+        scene: PathBuf,
+    },
     /// Solve the DAE (IDA) and the decoupled twin (CVODE) side by side.
     Compare {
         #[command(flatten)]
@@ -531,6 +538,15 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 stdout_write(&text)?;
             }
             Ok(())
+        }
+        Command::Equations { scene } => {
+            let model = Model::new(&read_scene(&scene)?)?;
+            if model.is_raw_bond_graph() {
+                return Err(options_error(
+                    "equations: a raw bond graph scene is solved from its causal equations; `graph --causality` shows them".into(),
+                ));
+            }
+            Ok(stdout_write(&model.equations().to_string())?)
         }
         Command::Graph {
             scene,

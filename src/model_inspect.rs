@@ -25,12 +25,21 @@ pub struct Equations {
     /// Dynamics, one line per velocity: `m · v' = Q` (the constraint forces `−G_vᵀλ` not
     /// written).
     pub dynamics: Vec<String>,
-    /// Position constraints, one line per row: `pivot (x): bar1.x - 0.5*cos(bar1.angle) = 0`.
+    /// Position constraints, one line per row, named after the joint, the bond graph's
+    /// constraint junction and the inertia the row puts in differential causality:
+    /// `pivot (x) [junction pivot.x, differential bar1.I_m_x]: -bar1.x + 0.5*cos(bar1.angle) = 0`.
     pub constraints: Vec<String>,
+    /// The flow constraint each row's junction imposes, `G_v v = 0`, one line per row:
+    /// `pivot.x: -bar1.vx - 0.5*sin(bar1.angle)*bar1.omega = 0`.
+    pub flows: Vec<String>,
+    /// Where the equations come from: `read off the bond graph (N elements, M bonds)` or
+    /// `assembled from the bodies (reason)`.
+    pub source: String,
 }
 
 impl fmt::Display for Equations {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "equations   {}", self.source)?;
         writeln!(f, "kinematics  q' = K(q) v")?;
         for l in &self.kinematics {
             writeln!(f, "  {l}")?;
@@ -42,6 +51,12 @@ impl fmt::Display for Equations {
         writeln!(f, "constraints 0 = g(q)")?;
         for l in &self.constraints {
             writeln!(f, "  {l}")?;
+        }
+        if !self.flows.is_empty() {
+            writeln!(f, "junction flows  0 = G_v(q) v")?;
+            for l in &self.flows {
+                writeln!(f, "  {l}")?;
+            }
         }
         Ok(())
     }
@@ -114,16 +129,52 @@ impl Model {
             .zip(&sys.forces)
             .map(|((v, m), &e)| format!("{m} * {}' = {}", v.name, show(e)))
             .collect();
+        let report = self.causality().ok();
+        let differential = |junction: &str| -> String {
+            let Some(r) = &report else {
+                return "?".into();
+            };
+            if let Some(d) = r.differential.iter().find(|d| d.origin == junction) {
+                return format!("differential {}", d.element);
+            }
+            if r.redundant.iter().any(|x| x.junction == junction) {
+                return "redundant".into();
+            }
+            "no differential inertia".into()
+        };
         let constraints = sys
             .rows
             .iter()
             .zip(&sys.constraints)
-            .map(|(r, &e)| format!("{} ({}): {} = 0", r.joint, r.direction, show(e)))
+            .map(|(r, &e)| {
+                let junction = format!("{}.{}", r.joint, r.direction);
+                format!(
+                    "{} ({}) [junction {junction}, {}]: {} = 0",
+                    r.joint,
+                    r.direction,
+                    differential(&junction),
+                    show(e)
+                )
+            })
             .collect();
+        let flows = sys
+            .rows
+            .iter()
+            .zip(&sys.flow_rows)
+            .map(|(r, &e)| format!("{}.{}: {} = 0", r.joint, r.direction, show(e)))
+            .collect();
+        let source = match &sys.source {
+            crate::mech::EquationSource::BondGraph => "read off the bond graph".to_string(),
+            crate::mech::EquationSource::Assembled(why) => {
+                format!("assembled from the bodies ({why})")
+            }
+        };
         Equations {
             kinematics,
             dynamics,
             constraints,
+            flows,
+            source,
         }
     }
 

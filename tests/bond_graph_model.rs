@@ -64,7 +64,10 @@ fn agrees_with_oracle(name: &str) {
             let b = eval_all(&oracle.graph, theirs, &x);
             assert_eq!(a.len(), b.len(), "{name}: {what}");
             for (k, (u, v)) in a.iter().zip(&b).enumerate() {
-                assert!(close(*u, *v), "{name}: {what}[{k}] bond graph {u} vs oracle {v} at {x:?}");
+                assert!(
+                    close(*u, *v),
+                    "{name}: {what}[{k}] bond graph {u} vs oracle {v} at {x:?}"
+                );
             }
         }
     }

@@ -233,7 +233,10 @@ fn zero_inertia_is_valid_but_its_flow_needs_closures() {
     let raw: RawBondGraph = serde_json::from_value(v).expect("raw JSON");
     let g = raw.to_graph().expect("a zero inertia is valid");
     let err = bondmech::bond::equations::equations(&g).unwrap_err();
-    assert!(err.contains("'m'") && err.contains("nonzero inertia"), "{err}");
+    assert!(
+        err.contains("'m'") && err.contains("nonzero inertia"),
+        "{err}"
+    );
 }
 
 #[test]

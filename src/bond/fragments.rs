@@ -209,7 +209,10 @@ fn add_point(
 pub fn planar_body_translating(g: &mut BondGraph, spec: &PlanarBodySpec) -> PlanarBody {
     // a massless rotation still needs I:J (of value 0) when a point is off the centre: its
     // flow ω is then a velocity unknown fixed by the joints
-    let off_centre = spec.points.iter().any(|(_, ax, ay)| *ax != 0.0 || *ay != 0.0);
+    let off_centre = spec
+        .points
+        .iter()
+        .any(|(_, ax, ay)| *ax != 0.0 || *ay != 0.0);
     let mut body = body_core(g, spec, off_centre);
     if spec.gravity != 0.0 {
         one_port(

@@ -659,11 +659,10 @@ impl Reader<'_> {
     }
 
     fn flow(&self, b: BondId, owner: ElementId, needed: &'static str) -> Res<Expr> {
-        self.flows[b.0]
-            .ok_or_else(|| MechanicsError::UndeterminedFlow {
-                element: self.name(owner),
-                needed,
-            })
+        self.flows[b.0].ok_or_else(|| MechanicsError::UndeterminedFlow {
+            element: self.name(owner),
+            needed,
+        })
     }
 
     fn element_flow(&self, e: ElementId, needed: &'static str) -> Res<Expr> {
@@ -713,7 +712,10 @@ fn probe_states(g: &BondGraph, eg: &ExprGraph, n: usize) -> Vec<Vec<f64>> {
             .filter(|e| e.kind == ElementKind::C && e.displacement.is_none())
             .count()
         + g.signal_states.len()
-        + g.elements.iter().filter(|e| e.kind == ElementKind::I).count();
+        + g.elements
+            .iter()
+            .filter(|e| e.kind == ElementKind::I)
+            .count();
     let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut next = move || {
         seed ^= seed << 13;

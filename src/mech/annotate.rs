@@ -137,7 +137,14 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
             continue;
         }
         let name = format!("{}.{}", row.joint, row.direction);
-        let terms = rate_terms(&mut eg, sys, nq, sys.constraints[k], &velocity_junctions, &text);
+        let terms = rate_terms(
+            &mut eg,
+            sys,
+            nq,
+            sys.constraints[k],
+            &velocity_junctions,
+            &text,
+        );
         let sum = modulated_sum(&mut g, &name, &terms);
         let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
         g.add_bond(sum, sf);
@@ -305,7 +312,9 @@ pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, 
             .rows
             .iter()
             .find(|r| r.joint == row.joint && r.direction == row.direction)
-            .ok_or_else(|| AnnotateError::MissingElement(format!("{}.{}", row.joint, row.direction)))?;
+            .ok_or_else(|| {
+                AnnotateError::MissingElement(format!("{}.{}", row.joint, row.direction))
+            })?;
         closures.push(r.closure.ok_or_else(|| {
             AnnotateError::MissingElement(format!("closure of {}.{}", row.joint, row.direction))
         })?);

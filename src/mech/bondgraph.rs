@@ -81,7 +81,10 @@ pub(crate) fn planar_rest_length(scene: &Scene, si: usize) -> f64 {
                 .map(|(_, c)| c.clone())
                 .unwrap_or_default(),
         };
-        let (cx, cy) = (c.first().copied().unwrap_or(0.0), c.get(1).copied().unwrap_or(0.0));
+        let (cx, cy) = (
+            c.first().copied().unwrap_or(0.0),
+            c.get(1).copied().unwrap_or(0.0),
+        );
         match scene.bodies.iter().find(|b| b.name == s.bodies[k]) {
             None => [cx, cy],
             Some(b) => {
