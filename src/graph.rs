@@ -116,3 +116,53 @@ pub fn initial_values(scene: &Scene) -> HashMap<String, f64> {
     }
     v
 }
+
+/// A mechanism scene's bond graph written as a raw `"bond_graph"` scene (JSON): the complete
+/// pinned graph with its displacement states, named flows, joint closures, output columns
+/// and energy ([`crate::mech::annotate::export_graph`]), with the scene's `name`,
+/// `description`, `solve` and `outputs`. Solving it gives the mechanism's trajectories and
+/// columns; it can be edited like any raw graph (an R at a joint, a C, a source).
+///
+/// ```
+/// let scene = bondmech::Scene::from_path("scenes/double_pendulum.json").unwrap();
+/// let raw = bondmech::graph::bond_graph_scene(&scene).unwrap();
+/// let back = bondmech::Scene::from_json_str(&raw.to_string()).unwrap();
+/// assert!(back.bond_graph.is_some() && back.bodies.is_empty());
+/// ```
+pub fn bond_graph_scene(scene: &Scene) -> Result<serde_json::Value> {
+    if scene.bond_graph.is_some() {
+        return Err(Error::Options(
+            "--as-scene: the scene is already a raw bond graph".into(),
+        ));
+    }
+    let graph = crate::mech::annotate::export_graph(scene).map_err(|e| match e {
+        crate::mech::annotate::AnnotateError::Mech(e) => Error::from(e),
+        other => Error::Options(format!(
+            "--as-scene: this scene's bond graph cannot be written as a scene yet: {other}"
+        )),
+    })?;
+    let mut v: serde_json::Value =
+        serde_json::from_str(&scene.to_json_string()).map_err(|e| Error::Options(e.to_string()))?;
+    let obj = v
+        .as_object_mut()
+        .ok_or_else(|| Error::Options("scene is not a JSON object".into()))?;
+    for key in [
+        "bodies",
+        "joints",
+        "springs",
+        "loads",
+        "events",
+        "gravity",
+        "dimension",
+    ] {
+        obj.remove(key);
+    }
+    if let Some(outputs) = obj.get_mut("outputs").and_then(|o| o.as_array_mut()) {
+        outputs.retain(|o| o != "reactions");
+    }
+    obj.insert(
+        "bond_graph".into(),
+        serde_json::to_value(graph.to_raw()).map_err(|e| Error::Options(e.to_string()))?,
+    );
+    Ok(v)
+}

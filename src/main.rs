@@ -134,6 +134,11 @@ enum Command {
         /// Draw the decoupled twin (joints replaced by stiff springs) instead.
         #[arg(long)]
         decoupled: bool,
+        /// Print the mechanism's complete bond graph as a raw `bond_graph` scene (JSON, with
+        /// its closures, coordinates, output columns, `solve` and `outputs`): `run` on it gives
+        /// the mechanism's trajectories.
+        #[arg(long, conflicts_with_all = ["causality", "decoupled"])]
+        as_scene: bool,
         /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`. With
         /// `--causality` the file gets the JSON report, so `.svg` and `.dot` are refused.
         #[arg(long)]
@@ -552,8 +557,27 @@ fn run(cli: Cli) -> Result<(), CliError> {
             scene,
             causality,
             decoupled,
+            as_scene,
             out,
         } => {
+            if as_scene {
+                if let Some(p) = out.as_ref() {
+                    let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+                    if !ext.eq_ignore_ascii_case("json") {
+                        return Err(options_error(format!(
+                            "--out {}: --as-scene writes a JSON scene; give --out a .json file",
+                            p.display()
+                        )));
+                    }
+                }
+                check_outputs(&[&scene], &[("--out", out.as_deref())])?;
+                let v = bondmech::graph::bond_graph_scene(&read_scene(&scene)?)?;
+                let text = serde_json::to_string_pretty(&v).expect("scene serialises") + "\n";
+                return match out {
+                    Some(p) => Ok(write(&p, &text)?),
+                    None => Ok(stdout_write(&text)?),
+                };
+            }
             // the causality report is JSON: refuse to write it into a drawing's file
             if let Some(p) = out.as_ref().filter(|_| causality) {
                 let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");

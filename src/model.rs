@@ -110,7 +110,27 @@ impl Model {
         let clock = ThreadTime::now();
         crate::mech::size::check_scene_memory(scene, scene.solve.formulation)?;
         let kind = if scene.bond_graph.is_some() {
-            Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
+            let graph = scene_bond_graph(scene)?;
+            if graph.displacements.is_empty() {
+                Kind::BondGraph(Box::new(graph), empty_system())
+            } else {
+                // a mechanism's graph (named coordinates, joint closures): solved as one
+                let sys = crate::mech::annotate::system_from_graph(&graph)
+                    .map_err(|e| Error::BondGraph(e.to_string()))?;
+                for (i, o) in scene.outputs.iter().enumerate() {
+                    let known = ["energy", "constraint_error"].contains(&o.as_str())
+                        || sys
+                            .outputs
+                            .iter()
+                            .any(|c| c.name == *o || c.name.starts_with(&format!("{o}.")));
+                    if !known {
+                        return Err(Error::BondGraph(format!(
+                            "outputs[{i}]: '{o}' is not a column of the bond graph's `outputs`"
+                        )));
+                    }
+                }
+                Kind::Mechanism(sys)
+            }
         } else {
             Kind::Mechanism(crate::mech::build(scene)?)
         };

@@ -83,6 +83,64 @@ pub struct RawElement {
     /// Nonlinear R: `f = Φ⁻¹(e)`, an expression in the effort `e` on the resistor.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flow_law: Option<String>,
+    /// C: its displacement as an expression of the displacement states (instead of a state
+    /// of its own), e.g. a spring's stretch `L(x) − L₀`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<String>,
+}
+
+/// A displacement state `x_<element>` named as a coordinate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDisplacement {
+    /// The 1-junction or I whose flow it integrates.
+    pub element: String,
+    /// Coordinate name (a CSV column), e.g. `bar1.angle`.
+    pub name: String,
+    /// Initial value (default 0).
+    #[serde(default)]
+    pub initial: f64,
+}
+
+/// An inertia's flow named as a velocity.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFlow {
+    /// The inertia.
+    pub element: String,
+    /// Velocity name (a CSV column), e.g. `bar1.omega`.
+    pub name: String,
+    /// Initial flow (default 0).
+    #[serde(default)]
+    pub initial: f64,
+}
+
+/// A joint's constraint junction with its closure.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawConstraint {
+    /// The 1-junction (two bonds) or Sf that imposes the row.
+    pub element: String,
+    /// Joint name.
+    pub joint: String,
+    /// Direction of the row.
+    pub direction: String,
+    /// `g_k(x)`, whose time derivative is the junction's flow constraint.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub closure: Option<String>,
+}
+
+/// A named expression (a signal definition or an output column).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawNamedExpr {
+    /// Name.
+    pub name: String,
+    /// Expression.
+    pub expr: String,
+    /// For an output column: an angle to unwrap after evaluation.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub unwrap: bool,
 }
 
 /// A bond as written in JSON.
@@ -110,6 +168,24 @@ pub struct RawBondGraph {
     /// External signal names expressions may use.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub signals: Vec<String>,
+    /// Displacement states named as coordinates (a graph read as a mechanism).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub displacements: Vec<RawDisplacement>,
+    /// Inertias' flows named as velocities.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub flows: Vec<RawFlow>,
+    /// Joints' constraint junctions with their closures.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<RawConstraint>,
+    /// Signals defined as expressions of the states.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub signal_definitions: Vec<RawNamedExpr>,
+    /// Output columns of a graph read as a mechanism.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outputs: Vec<RawNamedExpr>,
+    /// Mechanical energy of a graph read as a mechanism.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy: Option<String>,
 }
 
 /// Failure to read a bond graph from JSON text.
@@ -164,6 +240,75 @@ fn compliance_from_stiffness(k: &Parameter) -> Parameter {
 }
 
 impl RawBondGraph {
+    /// Copies the mechanism annotations (displacements, flows, constraints, signal
+    /// definitions, outputs, energy) into `graph`, naming unknown elements by JSON path.
+    fn annotations(
+        &self,
+        graph: &mut BondGraph,
+        by_name: &HashMap<&str, ElementId>,
+        errors: &mut Vec<BondError>,
+    ) {
+        let lookup = |field: &str, i: usize, name: &str, errors: &mut Vec<BondError>| {
+            let id = by_name.get(name).copied();
+            if id.is_none() {
+                errors.push(BondError::BadParameter {
+                    path: format!("{ROOT}.{field}[{i}].element"),
+                    element: name.to_string(),
+                    reason: "no element of this name".into(),
+                });
+            }
+            id
+        };
+        for (i, d) in self.displacements.iter().enumerate() {
+            if let Some(element) = lookup("displacements", i, &d.element, errors) {
+                graph.displacements.push(super::model::Displacement {
+                    element,
+                    name: d.name.clone(),
+                    initial: d.initial,
+                });
+            }
+        }
+        for (i, f) in self.flows.iter().enumerate() {
+            if let Some(element) = lookup("flows", i, &f.element, errors) {
+                graph.flows.push(super::model::FlowState {
+                    element,
+                    name: f.name.clone(),
+                    initial: f.initial,
+                });
+            }
+        }
+        for (i, c) in self.constraints.iter().enumerate() {
+            if let Some(element) = lookup("constraints", i, &c.element, errors) {
+                graph
+                    .constraint_junctions
+                    .push(super::model::ConstraintJunction {
+                        element,
+                        joint: c.joint.clone(),
+                        direction: c.direction.clone(),
+                        closure: c.closure.clone(),
+                    });
+            }
+        }
+        graph.signal_definitions = self
+            .signal_definitions
+            .iter()
+            .map(|d| super::model::SignalDefinition {
+                name: d.name.clone(),
+                expr: d.expr.clone(),
+            })
+            .collect();
+        graph.outputs = self
+            .outputs
+            .iter()
+            .map(|o| super::model::GraphOutput {
+                name: o.name.clone(),
+                expr: o.expr.clone(),
+                unwrap: o.unwrap,
+            })
+            .collect();
+        graph.energy = self.energy.clone();
+    }
+
     /// Parses JSON text (the value of `"bond_graph"`).
     pub fn from_json_str(text: &str) -> Result<Self, serde_json::Error> {
         serde_json::from_str(text)
@@ -273,6 +418,20 @@ impl RawBondGraph {
                 }
             }
         }
+        for (i, raw) in self.elements.iter().enumerate() {
+            if let Some(d) = &raw.displacement {
+                if raw.kind != "C" {
+                    errors.push(BondError::BadParameter {
+                        path: format!("{}.displacement", element_path(i)),
+                        element: raw.name.clone(),
+                        reason: "`displacement` applies to C elements only".into(),
+                    });
+                } else {
+                    graph.elements[i].displacement = Some(d.clone());
+                }
+            }
+        }
+        self.annotations(&mut graph, &by_name, &mut errors);
         // Stiffness is checked as stiffness (positive), before inversion.
         let known = known_variables(&graph);
         for (i, k) in &stiffness_checks {
@@ -548,6 +707,7 @@ impl BondGraph {
                     initial: e.initial,
                     effort_law: e.law.as_ref().and_then(|l| l.effort.clone()),
                     flow_law: e.law.as_ref().and_then(|l| l.flow.clone()),
+                    displacement: e.displacement.clone(),
                 };
                 match e.kind {
                     ElementKind::C => raw.compliance = p,
@@ -566,10 +726,58 @@ impl BondGraph {
                 to: self.elements[b.to.0].name.clone(),
             })
             .collect();
+        let name = |id: ElementId| self.elements[id.0].name.clone();
         RawBondGraph {
             elements,
             bonds,
             signals: self.signals.clone(),
+            displacements: self
+                .displacements
+                .iter()
+                .map(|d| RawDisplacement {
+                    element: name(d.element),
+                    name: d.name.clone(),
+                    initial: d.initial,
+                })
+                .collect(),
+            flows: self
+                .flows
+                .iter()
+                .map(|f| RawFlow {
+                    element: name(f.element),
+                    name: f.name.clone(),
+                    initial: f.initial,
+                })
+                .collect(),
+            constraints: self
+                .constraint_junctions
+                .iter()
+                .map(|c| RawConstraint {
+                    element: name(c.element),
+                    joint: c.joint.clone(),
+                    direction: c.direction.clone(),
+                    closure: c.closure.clone(),
+                })
+                .collect(),
+            signal_definitions: self
+                .signal_definitions
+                .iter()
+                .map(|d| RawNamedExpr {
+                    name: d.name.clone(),
+                    expr: d.expr.clone(),
+                    unwrap: false,
+                })
+                .collect(),
+            outputs: self
+                .outputs
+                .iter()
+                .map(|o| RawNamedExpr {
+                    name: o.name.clone(),
+                    expr: o.expr.clone(),
+                    unwrap: o.unwrap,
+                })
+                .collect(),
+            energy: self.energy.clone(),
         }
     }
 }

@@ -168,6 +168,23 @@ pub struct MechanicalEquations {
     pub stored: Expr,
     /// Capacitors given by a displacement expression: `(C, δ(x), s f)`, `s f` its flow in.
     pub capacitors: Vec<(ElementId, Expr, Expr)>,
+    /// The names expressions of the graph may use (`t`, `x_…`, `q_…`, `p_…`, `f_…`, signals),
+    /// for parsing further expressions over the same layout.
+    pub names: HashMap<String, Expr>,
+}
+
+impl MechanicalEquations {
+    /// Parses `src` over the graph's names (`owner` names it in errors).
+    pub fn parse(&mut self, owner: &str, src: &str) -> Result<Expr, MechanicsError> {
+        let names = &self.names;
+        self.graph
+            .parse(src, &mut |n| names.get(n).copied())
+            .map_err(|source| MechanicsError::Expression {
+                element: owner.to_string(),
+                expr: src.to_string(),
+                source,
+            })
+    }
 }
 
 impl MechanicalEquations {
@@ -553,6 +570,7 @@ impl Reader<'_> {
             bond_flows: self.flows,
             stored,
             capacitors,
+            names: self.names,
         };
         check_integrals(g, &eqs)?;
         Ok(eqs)

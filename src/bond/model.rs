@@ -221,6 +221,22 @@ pub struct BondGraph {
     pub signal_states: Vec<SignalState>,
     /// Signals defined as expressions of the states (e.g. rotation matrix entries `R_ij(e)`).
     pub signal_definitions: Vec<SignalDefinition>,
+    /// Named output columns of a graph read as a mechanism (e.g. a body point's position
+    /// `bar2.A.x`), as expressions of the states (`x_<element>`, `f_<I>`, signals, `t`).
+    pub outputs: Vec<GraphOutput>,
+    /// The mechanical energy of a graph read as a mechanism, as an expression of the states.
+    pub energy: Option<String>,
+}
+
+/// A named output column of a graph read as a mechanism.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraphOutput {
+    /// Column name.
+    pub name: String,
+    /// Its expression.
+    pub expr: String,
+    /// An angle to unwrap (continuous across ±π) after evaluation.
+    pub unwrap: bool,
 }
 
 /// A displacement state `x_<element> = x₀ + ∫ f dt`, `f` the common flow of a 1-junction or

@@ -460,11 +460,18 @@ pub fn known_variables(graph: &BondGraph) -> HashSet<String> {
     for s in &graph.signals {
         known.insert(s.clone());
     }
+    for s in &graph.signal_states {
+        known.insert(s.name.clone());
+    }
+    for s in &graph.signal_definitions {
+        known.insert(s.name.clone());
+    }
     for e in &graph.elements {
         match e.kind {
             ElementKind::I => {
                 known.insert(format!("p_{}", e.name));
                 known.insert(format!("x_{}", e.name));
+                known.insert(format!("f_{}", e.name));
             }
             ElementKind::One => {
                 known.insert(format!("x_{}", e.name));

@@ -20,13 +20,13 @@
 
 use super::body::BodyKinematics;
 use super::bondgraph::{planar_rest_length, scene_bond_graph_with, Variant};
-use super::system::{EquationSource, MultibodySystem};
+use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
 use super::MechError;
 use crate::bond::fragments::modulated_sum;
-use crate::bond::mechanics::{read_mechanics_in, MechanicsError};
+use crate::bond::mechanics::{read_mechanics, read_mechanics_in, MechanicsError};
 use crate::bond::model::{
-    BondGraph, ConstraintJunction, Displacement, ElementId, ElementKind, FlowState, Parameter,
-    SignalDefinition,
+    BondGraph, ConstraintJunction, Displacement, ElementId, ElementKind, FlowState, GraphOutput,
+    Parameter, SignalDefinition,
 };
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{BodyFrame, Dimension, PointRef, Scene};
@@ -341,4 +341,115 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
         Err(e) => sys.source = EquationSource::Assembled(e.to_string()),
     }
     Ok(sys)
+}
+
+/// The pinned bond graph of a mechanism scene, complete and self-contained: everything
+/// [`mechanism_graph`] adds, plus the mechanism's output columns (`b.x`, `b.angle`,
+/// `b.P.x`, …) and its energy as expressions of the graph's states, so that solving the graph
+/// as a raw `"bond_graph"` scene ([`system_from_graph`]) gives the mechanism's run.
+pub fn export_graph(scene: &Scene) -> Result<BondGraph, AnnotateError> {
+    let sys = super::assemble(scene)?;
+    let mut g = mechanism_graph(scene, &sys)?;
+    let mut slot_names = vec!["t".to_string()];
+    for d in &g.displacements {
+        slot_names.push(format!("x_{}", g.element(d.element).name));
+    }
+    for f in &g.flows {
+        slot_names.push(format!("f_{}", g.element(f.element).name));
+    }
+    let text = |e: Expr| sys.graph.display(e, &|s| slot_names[s as usize].clone());
+    g.outputs = sys
+        .outputs
+        .iter()
+        .map(|o| GraphOutput {
+            name: o.name.clone(),
+            expr: text(o.expr),
+            unwrap: o.unwrap,
+        })
+        .collect();
+    g.energy = Some(text(sys.energy));
+    Ok(g)
+}
+
+/// The multibody system of a bond graph that carries a mechanism's annotations (named
+/// displacement states and flows, joint closures; see [`export_graph`]): every formulation
+/// solves it like the mechanism it came from.
+pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError> {
+    let mut eqs = read_mechanics(g)?;
+    let mut constraints = Vec::with_capacity(eqs.rows.len());
+    let mut rows = Vec::with_capacity(eqs.rows.len());
+    let mut flow_rows = Vec::with_capacity(eqs.rows.len());
+    for r in &eqs.rows {
+        let closure = r.closure.ok_or_else(|| {
+            AnnotateError::MissingElement(format!(
+                "closure of constraint junction '{}' (a graph solved as a mechanism needs every joint's closure)",
+                g.element(r.junction).name
+            ))
+        })?;
+        constraints.push(closure);
+        flow_rows.push(r.flow);
+        rows.push(ConstraintRow {
+            joint: r.joint.clone(),
+            direction: r.direction.clone(),
+        });
+    }
+    let nq = eqs.nq();
+    let mut kinetic_terms = Vec::new();
+    for (j, &m) in eqs.mass.iter().enumerate() {
+        if m != 0.0 {
+            let v = eqs.graph.var((1 + nq + j) as u32);
+            let v2 = eqs.graph.mul(v, v);
+            kinetic_terms.push(eqs.graph.scale(0.5 * m, v2));
+        }
+    }
+    let kinetic = eqs.graph.sum(&kinetic_terms);
+    let energy = match &g.energy {
+        Some(src) => eqs.parse("energy", src)?,
+        None => eqs.graph.add(kinetic, eqs.stored),
+    };
+    let mut outputs = Vec::with_capacity(g.outputs.len());
+    for o in &g.outputs {
+        let expr = if o.name == "energy" {
+            energy
+        } else {
+            eqs.parse(&o.name, &o.expr)?
+        };
+        outputs.push(OutputColumn {
+            name: o.name.clone(),
+            expr,
+            unwrap: o.unwrap,
+        });
+    }
+    let state = |v: &[crate::bond::mechanics::NamedState]| {
+        v.iter()
+            .map(|c| Coordinate {
+                name: c.name.clone(),
+                initial: c.initial,
+            })
+            .collect::<Vec<_>>()
+    };
+    Ok(MultibodySystem {
+        coords: state(&eqs.coords),
+        velocities: state(&eqs.velocities),
+        mass: eqs.mass.clone(),
+        kinematics: eqs.kinematics.clone(),
+        forces: eqs.forces.clone(),
+        constraints,
+        rows,
+        energy,
+        kinetic,
+        outputs,
+        warnings: Vec::new(),
+        load_terms: Vec::new(),
+        body_size: 0.0,
+        reactions: Vec::new(),
+        reaction_outputs: false,
+        events: Vec::new(),
+        energy_exchange: None,
+        bodies: Vec::new(),
+        names: Vec::new(),
+        flow_rows,
+        source: EquationSource::BondGraph,
+        graph: eqs.graph,
+    })
 }

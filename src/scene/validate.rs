@@ -522,6 +522,8 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                 );
             }
         }
+        // a raw graph's outputs name its own columns (checked against the graph)
+        Some(_) if scene.bond_graph.is_some() => {}
         Some((b, rest)) => {
             let Some(bi) = scene.body_index(b) else {
                 p.push(path, format!("unknown body '{b}'"));
