@@ -100,3 +100,19 @@ fn slider_crank_equations_are_read_off_its_bond_graph() {
 fn andrews_squeezer_equations_are_read_off_its_bond_graph() {
     agrees_with_oracle("andrews_squeezer");
 }
+
+#[test]
+fn spatial_bodies_equations_are_read_off_their_bond_graphs() {
+    for n in [
+        "free_body_3d",
+        "hinged_double_pendulum_3d",
+        "spatial_slider_crank",
+    ] {
+        agrees_with_oracle(n);
+    }
+}
+
+#[test]
+fn bricard_equations_are_read_off_its_bond_graph() {
+    agrees_with_oracle("bricard");
+}

@@ -131,3 +131,11 @@ fn graph_as_scene_cli_writes_a_scene_that_runs() {
     ]);
     assert!(!o.status.success());
 }
+
+#[test]
+fn spatial_scenes_round_trip_through_their_bond_graphs() {
+    round_trip("free_body_3d", 2.0);
+    round_trip("hinged_double_pendulum_3d", 1.0);
+    round_trip("spatial_slider_crank", 0.2);
+    round_trip("bricard", 0.5);
+}

@@ -32,7 +32,20 @@ impl ExprGraph {
     /// [`DISPLAY_MAX_DEPTH`] levels of nesting the remainder is elided as `…`.
     pub fn display(&self, e: Expr, name: &dyn Fn(u32) -> String) -> String {
         let mut budget = DISPLAY_MAX_CHARS;
-        self.fmt(e, name, &mut budget, 0).0
+        self.fmt(e, name, &mut budget, 0, DISPLAY_MAX_DEPTH).0
+    }
+
+    /// The complete infix form of `e` (nothing elided), to be parsed back: the text a bond
+    /// graph scene stores its moduli and closures in. `None` when it would exceed `max_chars`.
+    pub fn display_exact(
+        &self,
+        e: Expr,
+        name: &dyn Fn(u32) -> String,
+        max_chars: usize,
+    ) -> Option<String> {
+        let mut budget = max_chars;
+        let s = self.fmt(e, name, &mut budget, 0, usize::MAX).0;
+        (budget > 0).then_some(s)
     }
 
     fn prec(&self, e: Expr) -> u8 {
@@ -54,8 +67,9 @@ impl ExprGraph {
         name: &dyn Fn(u32) -> String,
         budget: &mut usize,
         depth: usize,
+        max_depth: usize,
     ) -> String {
-        let (s, p) = self.fmt(e, name, budget, depth);
+        let (s, p) = self.fmt(e, name, budget, depth, max_depth);
         if p < min {
             format!("({s})")
         } else {
@@ -69,8 +83,9 @@ impl ExprGraph {
         name: &dyn Fn(u32) -> String,
         budget: &mut usize,
         depth: usize,
+        max_depth: usize,
     ) -> (String, u8) {
-        if *budget == 0 || depth > DISPLAY_MAX_DEPTH {
+        if *budget == 0 || depth > max_depth {
             return ("…".to_string(), ATOM);
         }
         let depth = depth + 1;
@@ -78,14 +93,16 @@ impl ExprGraph {
         let call = |f: &str, args: &[Expr], budget: &mut usize| {
             let parts: Vec<String> = args
                 .iter()
-                .map(|&a| self.fmt(a, name, budget, depth).0)
+                .map(|&a| self.fmt(a, name, budget, depth, max_depth).0)
                 .collect();
             format!("{f}({})", parts.join(", "))
         };
         let s = match self.node(e) {
             Node::Const(b) => fmt_const(f64::from_bits(b)),
             Node::Var(k) => name(k),
-            Node::Un(UnOp::Neg, a) => format!("-{}", self.operand(a, NEG, name, budget, depth)),
+            Node::Un(UnOp::Neg, a) => {
+                format!("-{}", self.operand(a, NEG, name, budget, depth, max_depth))
+            }
             Node::Un(op, a) => {
                 let f = match op {
                     UnOp::Sin => "sin",
@@ -102,28 +119,28 @@ impl ExprGraph {
             Node::Bin(op, a, b) => match op {
                 BinOp::Add => format!(
                     "{} + {}",
-                    self.operand(a, ADD, name, budget, depth),
-                    self.operand(b, ADD, name, budget, depth)
+                    self.operand(a, ADD, name, budget, depth, max_depth),
+                    self.operand(b, ADD, name, budget, depth, max_depth)
                 ),
                 BinOp::Sub => format!(
                     "{} - {}",
-                    self.operand(a, ADD, name, budget, depth),
-                    self.operand(b, MUL, name, budget, depth)
+                    self.operand(a, ADD, name, budget, depth, max_depth),
+                    self.operand(b, MUL, name, budget, depth, max_depth)
                 ),
                 BinOp::Mul => format!(
                     "{} * {}",
-                    self.operand(a, MUL, name, budget, depth),
-                    self.operand(b, MUL, name, budget, depth)
+                    self.operand(a, MUL, name, budget, depth, max_depth),
+                    self.operand(b, MUL, name, budget, depth, max_depth)
                 ),
                 BinOp::Div => format!(
                     "{} / {}",
-                    self.operand(a, MUL, name, budget, depth),
-                    self.operand(b, NEG, name, budget, depth)
+                    self.operand(a, MUL, name, budget, depth, max_depth),
+                    self.operand(b, NEG, name, budget, depth, max_depth)
                 ),
                 BinOp::Pow => format!(
                     "{}^{}",
-                    self.operand(a, ATOM, name, budget, depth),
-                    self.operand(b, NEG, name, budget, depth)
+                    self.operand(a, ATOM, name, budget, depth, max_depth),
+                    self.operand(b, NEG, name, budget, depth, max_depth)
                 ),
                 BinOp::Atan2 => call("atan2", &[a, b], budget),
                 BinOp::Min => call("min", &[a, b], budget),

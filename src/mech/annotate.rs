@@ -31,6 +31,10 @@ use crate::bond::model::{
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{BodyFrame, Dimension, PointRef, Scene};
 
+/// Longest expression text written into the graph (beyond it the text holds `…` and the
+/// reader refuses it by name).
+const EXACT_TEXT_LIMIT: usize = 4_000_000;
+
 /// Why a mechanism's bond graph cannot (yet) be the model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -62,25 +66,188 @@ pub enum AnnotateError {
 /// The complete pinned bond graph of `scene`, annotated from the mechanism's geometry `sys`
 /// (coordinates, joint closures, point positions).
 pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph, AnnotateError> {
-    if matches!(scene.dimension, Dimension::Spatial) {
-        return Err(AnnotateError::Unsupported(
-            "spatial scenes are still assembled from the bodies",
-        ));
-    }
-    if scene
-        .bodies
-        .iter()
-        .any(|b| matches!(b.frame, BodyFrame::BodyFixed))
+    let spatial = matches!(scene.dimension, Dimension::Spatial);
+    if !spatial
+        && scene
+            .bodies
+            .iter()
+            .any(|b| matches!(b.frame, BodyFrame::BodyFixed))
     {
         return Err(AnnotateError::Unsupported(
             "bodies in a body-fixed frame (16.3) are still assembled from the bodies",
         ));
     }
-    if scene.gravity.first().copied().unwrap_or(0.0) != 0.0 {
+    if !spatial && scene.gravity.first().copied().unwrap_or(0.0) != 0.0 {
         return Err(AnnotateError::Unsupported(
             "gravity with an x component is still assembled from the bodies",
         ));
     }
+    if spatial
+        && scene
+            .loads
+            .iter()
+            .any(|l| matches!(l.kind, crate::scene::LoadKind::Torque))
+    {
+        return Err(AnnotateError::Unsupported(
+            "torque loads on spatial bodies are still assembled from the bodies",
+        ));
+    }
+    let (mut g, slot_names, velocity_junctions) = if spatial {
+        spatial_bodies(scene, sys)?
+    } else {
+        planar_bodies(scene, sys)?
+    };
+    let mut eg = sys.graph.clone();
+    let nq = sys.nq();
+    let text = |eg: &ExprGraph, e: Expr| {
+        eg.display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+            .unwrap_or_else(|| "…".into())
+    };
+    // joints: closures on the drawn junctions, modulated sums for the others
+    for (k, row) in sys.rows.iter().enumerate() {
+        let closure = text(&eg, sys.constraints[k]);
+        if let Some(cj) = g
+            .constraint_junctions
+            .iter_mut()
+            .find(|c| c.joint == row.joint && c.direction == row.direction)
+        {
+            cj.closure = Some(closure);
+            continue;
+        }
+        let name = format!("{}.{}", row.joint, row.direction);
+        let terms = rate_terms(
+            &mut eg,
+            sys,
+            nq,
+            sys.constraints[k],
+            &velocity_junctions,
+            &text,
+        );
+        let sum = modulated_sum(&mut g, &name, &terms);
+        let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
+        g.add_bond(sum, sf);
+        g.constraint_junctions.push(ConstraintJunction {
+            element: sf,
+            joint: row.joint.clone(),
+            direction: row.direction.clone(),
+            closure: Some(closure),
+        });
+    }
+    // springs
+    for (si, s) in scene.springs.iter().enumerate() {
+        let pa = point(&mut eg, scene, sys, &s.bodies[0], &s.points[0])?;
+        let pb = point(&mut eg, scene, sys, &s.bodies[1], &s.points[1])?;
+        let dim = pa.len();
+        let l0 = if !spatial {
+            planar_rest_length(scene, si)
+        } else {
+            match s.rest_length {
+                Some(l) => l,
+                None => {
+                    let d: Vec<Expr> = (0..dim).map(|i| eg.sub(pb[i], pa[i])).collect();
+                    let dd = eg.dot(&d, &d);
+                    let x0 = std::iter::once(0.0)
+                        .chain(sys.coords.iter().map(|c| c.initial))
+                        .chain(sys.velocities.iter().map(|c| c.initial))
+                        .collect::<Vec<_>>();
+                    eg.eval(dd, &x0).sqrt()
+                }
+            }
+        };
+        if spatial && l0 == 0.0 {
+            // per axis: C on the rate of δ_k = P_first,k − P_other,k
+            let (p1, p2) = if s.bodies[0] != "ground" {
+                (&pa, &pb)
+            } else {
+                (&pb, &pa)
+            };
+            for k in 0..dim {
+                let d = eg.sub(p1[k], p2[k]);
+                let terms = rate_terms(&mut eg, sys, nq, d, &velocity_junctions, &text);
+                let name = format!("{}.{}", s.name, ["x", "y", "z"][k]);
+                let sum = modulated_sum(&mut g, &name, &terms);
+                let rate = g.add_junction(format!("{name}.rel"), ElementKind::One);
+                g.add_bond(sum, rate);
+                let c = g.add_element(
+                    format!("{name}.k"),
+                    ElementKind::C,
+                    Some(Parameter::Const(1.0 / s.stiffness)),
+                );
+                g.add_bond(rate, c);
+                g.elements[c.0].displacement = Some(text(&eg, d));
+                if s.damping > 0.0 {
+                    let r = g.add_element(
+                        format!("{name}.c"),
+                        ElementKind::R,
+                        Some(Parameter::Const(s.damping)),
+                    );
+                    g.add_bond(rate, r);
+                }
+            }
+            continue;
+        }
+        if l0 == 0.0 {
+            // the seed's per-axis springs: δ = P_first − P_other (the ground's point fixed)
+            let (p1, p2) = if s.bodies[0] != "ground" {
+                (pa, pb)
+            } else {
+                (pb, pa)
+            };
+            for (axis, (a, b)) in ["x", "y"].iter().zip(p1.iter().zip(&p2)) {
+                let d = eg.sub(*a, *b);
+                let n = format!("{}.{axis}.k", s.name);
+                let c = g
+                    .element_by_name(&n)
+                    .ok_or(AnnotateError::MissingElement(n))?;
+                g.elements[c.0].displacement = Some(text(&eg, d));
+            }
+            continue;
+        }
+        let d: Vec<Expr> = (0..dim).map(|i| eg.sub(pb[i], pa[i])).collect();
+        let dd = eg.dot(&d, &d);
+        let len = eg.sqrt(dd);
+        let terms = rate_terms(&mut eg, sys, nq, len, &velocity_junctions, &text);
+        let sum = modulated_sum(&mut g, &s.name, &terms);
+        let rate = g.add_junction(format!("{}.rate", s.name), ElementKind::One);
+        g.add_bond(sum, rate);
+        let c = g.add_element(
+            format!("{}.k", s.name),
+            ElementKind::C,
+            Some(Parameter::Const(1.0 / s.stiffness)),
+        );
+        g.add_bond(rate, c);
+        let l0e = eg.constant(l0);
+        let stretch = eg.sub(len, l0e);
+        g.elements[c.0].displacement = Some(text(&eg, stretch));
+        g.set_label(c, format!("1/{}", s.stiffness));
+        if s.damping > 0.0 {
+            let r = g.add_element(
+                format!("{}.c", s.name),
+                ElementKind::R,
+                Some(Parameter::Const(s.damping)),
+            );
+            g.add_bond(rate, r);
+        }
+    }
+    // scene names used by load expressions
+    for name in g.signals.clone() {
+        if let Some((_, e)) = sys.names.iter().find(|(n, _)| *n == name) {
+            g.signal_definitions.push(SignalDefinition {
+                name,
+                expr: text(&eg, *e),
+            });
+        }
+    }
+    Ok(g)
+}
+
+/// The seed's planar graph (16.8) with its bodies' displacement states and named flows; the
+/// slot names of the layout `[t, x, v]` and the junction of each velocity.
+#[allow(clippy::type_complexity)]
+fn planar_bodies(
+    scene: &Scene,
+    sys: &MultibodySystem,
+) -> Result<(BondGraph, Vec<String>, Vec<ElementId>), AnnotateError> {
     let mut g = scene_bond_graph_with(scene, Variant::Pinned, true)?;
     let find = |g: &BondGraph, n: &str| {
         g.element_by_name(n)
@@ -122,94 +289,191 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
         });
         slot_names.push(format!("f_{inertia}"));
     }
-    let mut eg = sys.graph.clone();
+    Ok((g, slot_names, velocity_junctions))
+}
+
+/// The spatial graph of 16.1–16.2 in the layout of the mechanism: per body the 1-junctions of
+/// the global centre velocity `V` with I:m and the weight, the body angular velocity `ω` with
+/// I:J_k and the Euler junction structure (MGYs of modulus `h_k = J_k ω_k`), and the attitude
+/// quaternion `e` as the displacements of four 1-junctions fed by MTFs from `ω` modulated by
+/// `e` itself (`e' = ½ e ⊗ (0, ω)`, the rotation of 16.2 carried without the Cardan
+/// singularity). Point masses carry `V` only.
+#[allow(clippy::type_complexity)]
+fn spatial_bodies(
+    scene: &Scene,
+    sys: &MultibodySystem,
+) -> Result<(BondGraph, Vec<String>, Vec<ElementId>), AnnotateError> {
+    let mut g = BondGraph::new();
+    let ax = ["x", "y", "z"];
     let nq = sys.nq();
-    let text = |eg: &ExprGraph, e: Expr| eg.display(e, &|s| slot_names[s as usize].clone());
-    // joints: closures on the drawn junctions, modulated sums for the others
-    for (k, row) in sys.rows.iter().enumerate() {
-        let closure = text(&eg, sys.constraints[k]);
-        if let Some(cj) = g
-            .constraint_junctions
-            .iter_mut()
-            .find(|c| c.joint == row.joint && c.direction == row.direction)
-        {
-            cj.closure = Some(closure);
-            continue;
+    // first pass: junctions and inertias, in the velocity order
+    let mut velocity_junctions = vec![ElementId(0); sys.nv()];
+    let mut coord_junctions = vec![None; nq];
+    let mut flows = Vec::new();
+    for (bi, (name, kin)) in sys.bodies.iter().enumerate() {
+        let (r, v, w) = match kin {
+            BodyKinematics::Spatial { r, v, w, .. } => (*r, *v, Some(*w)),
+            BodyKinematics::Particle { r, v } => (*r, *v, None),
+            _ => {
+                return Err(AnnotateError::Unsupported(
+                    "a planar body in a spatial scene",
+                ))
+            }
+        };
+        for k in 0..3 {
+            let j = g.add_junction(format!("{name}.v_{}", ax[k]), ElementKind::One);
+            let vi = (v[k] as usize) - 1 - nq;
+            let i = g.add_element(
+                format!("{name}.I_m_{}", ax[k]),
+                ElementKind::I,
+                Some(Parameter::Const(sys.mass[vi])),
+            );
+            g.add_bond(j, i);
+            velocity_junctions[vi] = j;
+            coord_junctions[(r[k] as usize) - 1] = Some(j);
+            flows.push((vi, i));
+            let gk = scene.gravity.get(k).copied().unwrap_or(0.0);
+            if gk != 0.0 {
+                let se = g.add_element(
+                    format!("{name}.weight_{}", ax[k]),
+                    ElementKind::Se,
+                    Some(Parameter::Const(scene.bodies[bi].mass * gk)),
+                );
+                g.add_bond(se, j);
+            }
         }
-        let name = format!("{}.{}", row.joint, row.direction);
-        let terms = rate_terms(
-            &mut eg,
-            sys,
-            nq,
-            sys.constraints[k],
-            &velocity_junctions,
-            &text,
-        );
-        let sum = modulated_sum(&mut g, &name, &terms);
-        let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
-        g.add_bond(sum, sf);
-        g.constraint_junctions.push(ConstraintJunction {
-            element: sf,
-            joint: row.joint.clone(),
-            direction: row.direction.clone(),
-            closure: Some(closure),
+        if let Some(w) = w {
+            let mut wj = [ElementId(0); 3];
+            for k in 0..3 {
+                wj[k] = g.add_junction(format!("{name}.w_{}", ax[k]), ElementKind::One);
+                let vi = (w[k] as usize) - 1 - nq;
+                let i = g.add_element(
+                    format!("{name}.I_J_{}", ax[k]),
+                    ElementKind::I,
+                    Some(Parameter::Const(sys.mass[vi])),
+                );
+                g.add_bond(wj[k], i);
+                velocity_junctions[vi] = wj[k];
+                flows.push((vi, i));
+            }
+            for (a, b, k) in [(1, 2, 0), (2, 0, 1), (0, 1, 2)] {
+                let e = g.add_element(
+                    format!("{name}.mgy_w{}{}", ax[a], ax[b]),
+                    ElementKind::MGY,
+                    Some(Parameter::Expr(format!("p_{name}.I_J_{}", ax[k]))),
+                );
+                g.set_label(e, format!("h_{}", ax[k]));
+                g.add_bond(wj[a], e);
+                g.add_bond(e, wj[b]);
+            }
+        }
+    }
+    flows.sort_by_key(|(vi, _)| *vi);
+    let mut slot_names = vec!["t".to_string()];
+    // coordinate names: displacements of the V junctions now, quaternion junctions below
+    let mut names_q = vec![String::new(); nq];
+    for (k, j) in coord_junctions.iter().enumerate() {
+        if let Some(j) = j {
+            names_q[k] = format!("x_{}", g.element(*j).name);
+        }
+    }
+    let quaternion_names: Vec<(usize, String)> = sys
+        .coords
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| coord_junctions[*k].is_none())
+        .map(|(k, c)| (k, format!("{}.rate", c.name)))
+        .collect();
+    for (k, n) in &quaternion_names {
+        names_q[*k] = format!("x_{n}");
+    }
+    slot_names.extend(names_q);
+    for (_, i) in &flows {
+        slot_names.push(format!("f_{}", g.element(*i).name));
+    }
+    // the quaternion junctions: e_i' = Σ_k (∂e_i'/∂ω_k) ω_k
+    let mut eg = sys.graph.clone();
+    let text = |eg: &ExprGraph, e: Expr| {
+        eg.display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+            .unwrap_or_else(|| "…".into())
+    };
+    for (k, n) in &quaternion_names {
+        let rate = sys.kinematics[*k];
+        let mut terms = Vec::new();
+        for (j, &junction) in velocity_junctions.iter().enumerate() {
+            let s = (1 + nq + j) as u32;
+            if eg.depends_on(rate, s) {
+                let m = eg.diff(rate, s);
+                terms.push((junction, text(&eg, m)));
+            }
+        }
+        let sum = modulated_sum(&mut g, &sys.coords[*k].name, &terms);
+        let j = g.add_junction(n.clone(), ElementKind::One);
+        g.add_bond(sum, j);
+        coord_junctions[*k] = Some(j);
+    }
+    for (k, c) in sys.coords.iter().enumerate() {
+        g.displacements.push(Displacement {
+            element: coord_junctions[k].expect("every coordinate has its junction"),
+            name: c.name.clone(),
+            initial: c.initial,
         });
     }
-    // springs
-    for (si, s) in scene.springs.iter().enumerate() {
-        let pa = point(&mut eg, scene, sys, &s.bodies[0], &s.points[0])?;
-        let pb = point(&mut eg, scene, sys, &s.bodies[1], &s.points[1])?;
-        let l0 = planar_rest_length(scene, si);
-        if l0 == 0.0 {
-            // the seed's per-axis springs: δ = P_first − P_other (the ground's point fixed)
-            let (p1, p2) = if s.bodies[0] != "ground" {
-                (pa, pb)
-            } else {
-                (pb, pa)
-            };
-            for (axis, (a, b)) in ["x", "y"].iter().zip(p1.iter().zip(&p2)) {
-                let d = eg.sub(*a, *b);
-                let c = find(&g, &format!("{}.{axis}.k", s.name))?;
-                g.elements[c.0].displacement = Some(text(&eg, d));
+    for (vi, i) in flows {
+        g.flows.push(FlowState {
+            element: i,
+            name: sys.velocities[vi].name.clone(),
+            initial: sys.velocities[vi].initial,
+        });
+    }
+    // force loads: Se on the point's velocity component, a modulated sum of the body's flows
+    for l in &scene.loads {
+        let params = super::bondgraph::load_parameters(&l.value);
+        let p = l.point.clone().unwrap_or(PointRef::Coords(vec![0.0; 3]));
+        let pos = point(&mut eg, scene, sys, &l.body, &p)?;
+        let _ = pos;
+        let kin = sys
+            .bodies
+            .iter()
+            .find(|(n, _)| *n == l.body)
+            .map(|(_, k)| k.clone())
+            .ok_or_else(|| AnnotateError::MissingElement(l.body.clone()))?;
+        let coords: Vec<f64> = match &p {
+            PointRef::Coords(c) => c.clone(),
+            PointRef::Named(n) => scene
+                .bodies
+                .iter()
+                .find(|b| b.name == l.body)
+                .and_then(|b| b.points.iter().find(|(pn, _)| pn == n))
+                .map(|(_, c)| c.clone())
+                .unwrap_or_default(),
+        };
+        let vel = kin.point(&mut eg, &coords).velocity;
+        for (k, prm) in params.into_iter().enumerate().take(3) {
+            let mut terms = Vec::new();
+            for (j, &junction) in velocity_junctions.iter().enumerate() {
+                let s = (1 + nq + j) as u32;
+                if eg.depends_on(vel[k], s) {
+                    let m = eg.diff(vel[k], s);
+                    terms.push((junction, text(&eg, m)));
+                }
             }
-            continue;
-        }
-        let d: Vec<Expr> = (0..2).map(|i| eg.sub(pb[i], pa[i])).collect();
-        let dd = eg.dot(&d, &d);
-        let len = eg.sqrt(dd);
-        let terms = rate_terms(&mut eg, sys, nq, len, &velocity_junctions, &text);
-        let sum = modulated_sum(&mut g, &s.name, &terms);
-        let rate = g.add_junction(format!("{}.rate", s.name), ElementKind::One);
-        g.add_bond(sum, rate);
-        let c = g.add_element(
-            format!("{}.k", s.name),
-            ElementKind::C,
-            Some(Parameter::Const(1.0 / s.stiffness)),
-        );
-        g.add_bond(rate, c);
-        let l0e = eg.constant(l0);
-        let stretch = eg.sub(len, l0e);
-        g.elements[c.0].displacement = Some(text(&eg, stretch));
-        g.set_label(c, format!("1/{}", s.stiffness));
-        if s.damping > 0.0 {
-            let r = g.add_element(
-                format!("{}.c", s.name),
-                ElementKind::R,
-                Some(Parameter::Const(s.damping)),
-            );
-            g.add_bond(rate, r);
+            let name = format!("{}.{}", l.name, ax[k]);
+            let sum = modulated_sum(&mut g, &name, &terms);
+            let j = g.add_junction(format!("{name}.v"), ElementKind::One);
+            g.add_bond(sum, j);
+            if let Parameter::Expr(e) = &prm {
+                for v in crate::bond::identifiers::variables(e).unwrap_or_default() {
+                    if v != "t" {
+                        g.add_signal(v);
+                    }
+                }
+            }
+            let se = g.add_element(name, ElementKind::Se, Some(prm));
+            g.add_bond(se, j);
         }
     }
-    // scene names used by load expressions
-    for name in g.signals.clone() {
-        if let Some((_, e)) = sys.names.iter().find(|(n, _)| *n == name) {
-            g.signal_definitions.push(SignalDefinition {
-                name,
-                expr: text(&eg, *e),
-            });
-        }
-    }
-    Ok(g)
+    Ok((g, slot_names, velocity_junctions))
 }
 
 /// `Σ_j (∂ḣ/∂v_j) f_j` for `h(x)`: the junction of each velocity it depends on, with the
@@ -357,7 +621,11 @@ pub fn export_graph(scene: &Scene) -> Result<BondGraph, AnnotateError> {
     for f in &g.flows {
         slot_names.push(format!("f_{}", g.element(f.element).name));
     }
-    let text = |e: Expr| sys.graph.display(e, &|s| slot_names[s as usize].clone());
+    let text = |e: Expr| {
+        sys.graph
+            .display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+            .unwrap_or_else(|| "…".into())
+    };
     g.outputs = sys
         .outputs
         .iter()

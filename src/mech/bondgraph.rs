@@ -416,7 +416,7 @@ fn has_rotation(scene: &Scene, body: &str) -> bool {
     })
 }
 
-fn load_parameters(v: &LoadValue) -> Vec<Parameter> {
+pub(crate) fn load_parameters(v: &LoadValue) -> Vec<Parameter> {
     match v {
         LoadValue::Const(c) => c.iter().map(|&x| Parameter::Const(x)).collect(),
         LoadValue::Expr(e) => e.iter().map(|s| Parameter::Expr(s.clone())).collect(),
