@@ -34,7 +34,7 @@
 //! algorithm (linear). `dof = #integral I` (seed 16.5: "solo las inercias con causalidad
 //! integral … corresponden con grados de libertad"); `state_count = #integral I + #integral C`.
 
-use super::model::{BondGraph, BondId, ElementId, ElementKind};
+use super::model::{BondGraph, BondId, ElementId, ElementKind, Parameter};
 use super::orient::Network;
 use super::rank::{
     canonical_bonds, canonical_elements, constraint_rank, ConstraintRank, Valuation,
@@ -245,11 +245,28 @@ pub fn generic_value(name: &str) -> f64 {
     0.3 + (h >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// The graph's own initial values: `p_<I>`, `q_<C>` from `initial` (0 when absent), every
-/// displacement `x_…` 0; anything else (signals) is unknown.
+/// The graph's own initial values: `p_<I>`, `q_<C>` from `initial` (0 when absent; an
+/// inertia with a named flow starts at `I·f₀`), a displacement `x_…` from its annotation (0
+/// when it has none); anything else (signals) is unknown.
 fn initial_value(graph: &BondGraph, name: &str) -> Option<f64> {
-    if name.starts_with("x_") {
-        return Some(0.0);
+    if let Some(rest) = name.strip_prefix("x_") {
+        // an annotated displacement state starts from its initial value
+        let annotated = graph
+            .displacements
+            .iter()
+            .find(|d| graph.element(d.element).name == rest);
+        return Some(annotated.map_or(0.0, |d| d.initial));
+    }
+    if let Some(rest) = name.strip_prefix("p_") {
+        if let Some(f) = graph
+            .flows
+            .iter()
+            .find(|f| graph.element(f.element).name == rest)
+        {
+            if let Some(Parameter::Const(m)) = graph.element(f.element).parameter {
+                return Some(m * f.initial);
+            }
+        }
     }
     for prefix in ["p_", "q_"] {
         if let Some(rest) = name.strip_prefix(prefix) {

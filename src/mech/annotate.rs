@@ -123,9 +123,12 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
             &velocity_junctions,
             &text,
         );
+        // the row's flow on a 1-junction, held at zero by an Sf (like a pin's point, 16.7)
         let sum = modulated_sum(&mut g, &name, &terms);
+        let v = g.add_junction(format!("{name}.v"), ElementKind::One);
+        g.add_bond(sum, v);
         let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
-        g.add_bond(sum, sf);
+        g.add_bond(v, sf);
         g.constraint_junctions.push(ConstraintJunction {
             element: sf,
             joint: row.joint.clone(),
