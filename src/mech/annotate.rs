@@ -67,16 +67,6 @@ pub enum AnnotateError {
 /// (coordinates, joint closures, point positions).
 pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph, AnnotateError> {
     let spatial = matches!(scene.dimension, Dimension::Spatial);
-    if !spatial
-        && scene
-            .bodies
-            .iter()
-            .any(|b| matches!(b.frame, BodyFrame::BodyFixed))
-    {
-        return Err(AnnotateError::Unsupported(
-            "bodies in a body-fixed frame (16.3) are still assembled from the bodies",
-        ));
-    }
     if !spatial && scene.gravity.first().copied().unwrap_or(0.0) != 0.0 {
         return Err(AnnotateError::Unsupported(
             "gravity with an x component is still assembled from the bodies",
@@ -256,10 +246,34 @@ fn planar_bodies(
         g.element_by_name(n)
             .ok_or_else(|| AnnotateError::MissingElement(n.to_string()))
     };
+    // a body-fixed bar (16.3) moves its centre along R(α)(u, w): the frame change of 16.4
+    // brings the centre's velocity into the global axes, whose junctions integrate to x, y
+    let fixed: Vec<&str> = scene
+        .bodies
+        .iter()
+        .filter(|b| matches!(b.frame, BodyFrame::BodyFixed))
+        .map(|b| b.name.as_str())
+        .collect();
+    for b in &fixed {
+        let centre = crate::bond::fragments::PointJunctions {
+            name: format!("{b}.cm"),
+            vx: find(&g, &format!("{b}.v_x"))?,
+            vy: find(&g, &format!("{b}.v_y"))?,
+        };
+        crate::bond::fragments::change_frame(
+            &mut g,
+            &format!("{b}.cm.in_global"),
+            &centre,
+            &format!("-x_{b}.omega"),
+        );
+    }
     let mut slot_names = vec!["t".to_string()];
     for c in &sys.coords {
         let (body, what) = c.name.rsplit_once('.').unwrap_or(("", ""));
+        let global = fixed.contains(&body);
         let junction = match what {
+            "x" if global => format!("{body}.cm.in_global.v_x"),
+            "y" if global => format!("{body}.cm.in_global.v_y"),
             "x" => format!("{body}.v_x"),
             "y" => format!("{body}.v_y"),
             "angle" => format!("{body}.omega"),
@@ -277,8 +291,8 @@ fn planar_bodies(
     for v in &sys.velocities {
         let (body, what) = v.name.rsplit_once('.').unwrap_or(("", ""));
         let inertia = match what {
-            "vx" => format!("{body}.I_m_x"),
-            "vy" => format!("{body}.I_m_y"),
+            "vx" | "u" => format!("{body}.I_m_x"),
+            "vy" | "w" => format!("{body}.I_m_y"),
             "omega" => format!("{body}.I_J"),
             _ => return Err(AnnotateError::MissingElement(v.name.clone())),
         };

@@ -191,7 +191,16 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
     };
     let k = scene.solve.joint_stiffness;
     let c = (scene.solve.joint_damping > 0.0).then_some(scene.solve.joint_damping);
+    // the solver's graph writes the joints of body-fixed bars as modulated sums of the bodies'
+    // flows in the global axes (crate::mech::annotate), where their closures live
+    let body_fixed = scene
+        .bodies
+        .iter()
+        .any(|b| matches!(b.frame, BodyFrame::BodyFixed));
     for (ji, j) in scene.joints.iter().enumerate() {
+        if open && body_fixed {
+            continue;
+        }
         let path = format!("joints[{ji}]");
         let pa = point(&j.bodies[0], &joint_points[ji][0], &path)?;
         let pb = point(&j.bodies[1], &joint_points[ji][1], &path)?;
