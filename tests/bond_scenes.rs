@@ -127,9 +127,12 @@ fn body_frame_bars_keep_the_seed_counts_and_the_multibody_rank() {
 #[test]
 fn hinge_between_body_frame_bars_changes_frame_by_the_relative_angle() {
     // seed 16.4–16.5 (Fig. 9–10, 15): the velocity of A in bar 1's axes reaches the hinge's
-    // 1-junctions only through MTFs modulated by the relative angle α2 − α1, never directly
+    // 1-junctions only through MTFs modulated by the relative angle α2 − α1, never directly.
+    // This is the chapter's drawing (`mech::scene_bond_graph`): its rows hold in the rotated
+    // axes only on the joint (d/dt of no closure at other states), so the graph the solver
+    // reads writes the rows of body-fixed bars in the global axes (see bond_graph_model.rs).
     let s = body_frame_scene("two_bars.json", None);
-    let g = SceneGraph::new(&s, Variant::Pinned).unwrap().graph;
+    let g = bondmech::mech::scene_bond_graph(&s, Variant::Pinned).unwrap();
     let id = |n: &str| {
         g.elements
             .iter()
