@@ -26,8 +26,8 @@ use crate::dae::{
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
 use crate::sundials::{
-    Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverError, SolverStats,
-    StepEvent,
+    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverError,
+    SolverStats, SparseMatrixMut, StepEvent,
 };
 use crate::Error;
 
@@ -40,6 +40,8 @@ pub struct Summary {
     pub solver: String,
     /// Number of unknowns handed to the solver.
     pub unknowns: usize,
+    /// Linear solver of the Newton iterations: `dense`, `faer` or `klu` (what `auto` chose).
+    pub linear_solver: String,
     /// Internal steps.
     pub steps: u64,
     /// Residual (IDA) or right-hand side (CVODE) evaluations.
@@ -566,6 +568,18 @@ fn make_ida(
         d1.residual(&mut ws1, t, y, yp, r);
         Ok(())
     });
+    if let Some(kind) = opts.linear_solver.resolve(setup.dae.n) {
+        let pattern = CscPattern::new(setup.dae.n, setup.dae.structure())?;
+        let jacobian = Box::new(
+            move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
+                d2.jacobian(&mut ws2, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
+                Ok(())
+            },
+        );
+        return Ok(Ida::new_sparse(
+            t0, y0, yp0, residual, jacobian, pattern, kind, &ida_opts,
+        )?);
+    }
     let jacobian = Box::new(
         move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
             jm.fill_zero();
@@ -677,6 +691,21 @@ fn make_ggl_ida(
         f1.residual(&mut ws1, eps, t, y, yp, r);
         Ok(())
     });
+    let ida_opts = ida_options(atol, ggl.id.clone(), opts);
+    if let Some(kind) = opts.linear_solver.resolve(ggl.dae.n) {
+        let pattern = CscPattern::new(ggl.dae.n, ggl.structure())?;
+        let jacobian = Box::new(
+            move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
+                let eps = f64::from_bits(e2.load(Ordering::Relaxed));
+                f2.jacobian(&mut ws2, eps, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
+                Ok(())
+            },
+        );
+        return Ok(GglIda {
+            ida: Ida::new_sparse(t0, y0, yp0, residual, jacobian, pattern, kind, &ida_opts)?,
+            eps: cell,
+        });
+    }
     let jacobian = Box::new(
         move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
             jm.fill_zero();
@@ -685,7 +714,6 @@ fn make_ggl_ida(
             Ok(())
         },
     );
-    let ida_opts = ida_options(atol, ggl.id.clone(), opts);
     Ok(GglIda {
         ida: Ida::new(t0, y0, yp0, residual, Some(jacobian), &ida_opts)?,
         eps: cell,
@@ -796,6 +824,7 @@ fn run_ggl(
     atol.extend(std::iter::repeat_n(multiplier_atol(opts), 2 * nc));
     summary.solver = "IDA".into();
     summary.unknowns = ggl.dae.n;
+    summary.linear_solver = opts.linear_solver.resolved_name(ggl.dae.n).into();
     let mut ggl = ggl;
     if !opts.ggl_dependent_velocity_error_test && nc > 0 {
         // the index-2 components: out of the error test (see the option's documentation);
@@ -1123,6 +1152,7 @@ fn run_index1(
         })?;
         let f = Index1Formulation::build(&mut sys, c, &dependent)?;
         summary.unknowns = f.dae.n;
+        summary.linear_solver = opts.linear_solver.resolved_name(f.dae.n).into();
         let mut y0 = state.q.clone();
         y0.extend(&state.v);
         y0.extend(dependent.iter().map(|&j| state.vdot[j]));
@@ -1253,17 +1283,32 @@ fn run_decoupled(
         o1.rhs(&mut ws1, t, y, yd);
         Ok(())
     });
-    let jac = Box::new(
-        move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
-            jm.fill_zero();
-            o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
-            Ok(())
-        },
-    );
     summary.solver = "CVODE".into();
     summary.unknowns = ode.n;
+    summary.linear_solver = opts.linear_solver.resolved_name(ode.n).into();
     let clock = ThreadTime::now();
-    let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
+    let mut cv = match opts.linear_solver.resolve(ode.n) {
+        Some(kind) => {
+            let pattern = CscPattern::new(ode.n, ode.structure())?;
+            let jac = Box::new(
+                move |t: f64, y: &[f64], _fy: &[f64], jm: &mut SparseMatrixMut<'_>| {
+                    o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
+                    Ok(())
+                },
+            );
+            Cvode::new_sparse(Multistep::Bdf, t0, &y0, rhs, jac, pattern, kind, &cv_opts)?
+        }
+        None => {
+            let jac = Box::new(
+                move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
+                    jm.fill_zero();
+                    o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
+                    Ok(())
+                },
+            );
+            Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?
+        }
+    };
     let events = event_eval(sys, &tapes, &multipliers);
     if events.len() > 0 {
         let mut ev = events.clone();
