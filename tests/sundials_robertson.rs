@@ -535,7 +535,10 @@ fn ida_sparse_lu_faer_and_klu_match_published_idaroberts_dns_output() {
         for (tout, reference) in IDA_REF {
             ida.solve_to(tout).unwrap();
             let y = ida.y();
-            assert!((y[0] + y[1] + y[2] - 1.0).abs() < 1e-12, "{solver:?} at {tout:e}");
+            assert!(
+                (y[0] + y[1] + y[2] - 1.0).abs() < 1e-12,
+                "{solver:?} at {tout:e}"
+            );
             check_against("IDA sparse", tout, y, &reference, &[1e-8, 1e-6, 1e-6]);
             if tout >= 4.0e9 {
                 check_late_time_asymptotics("IDA sparse", tout, y, 1e-8);
@@ -599,7 +602,10 @@ fn cvode_sparse_lu_faer_and_klu_match_published_cvroberts_dns_output() {
         if let Some(c) = cv.faer_counters() {
             assert_eq!(solver, SparseSolver::Faer);
             assert_eq!(c.symbolic, 1, "{c:?}");
-            assert!(c.numeric >= stats.jacobian_evals && c.numeric > 0, "{c:?} {stats:?}");
+            assert!(
+                c.numeric >= stats.jacobian_evals && c.numeric > 0,
+                "{c:?} {stats:?}"
+            );
         } else {
             assert_eq!(solver, SparseSolver::Klu);
         }
