@@ -139,3 +139,50 @@ fn sparse_and_dense_agree_for_compliant_ggl_index1_and_the_decoupled_twin() {
         }
     }
 }
+
+#[test]
+fn scene_linear_solver_field_reaches_the_solve_and_unknown_names_are_refused() {
+    use bondmech::report::generate::n_link_pendulum_json;
+    use bondmech::scene::SolveOverrides;
+    let with = |name: &str| {
+        n_link_pendulum_json(2, 0.1, 0.01).replace(
+            r#""formulation":"dae","#,
+            &format!(r#""formulation":"dae","linear_solver":"{name}","#),
+        )
+    };
+    let scene = Scene::from_json_str(&with("klu")).unwrap();
+    assert_eq!(scene.solve.linear_solver, LinearSolverKind::Klu);
+    let m = Model::new(&scene).unwrap();
+    assert_eq!(m.default_options().linear_solver, LinearSolverKind::Klu);
+    assert_eq!(
+        m.solve(&m.default_options()).unwrap().summary.linear_solver,
+        "klu"
+    );
+    let e = Scene::from_json_str(&with("lu")).unwrap_err().to_string();
+    assert!(
+        e.contains("solve.linear_solver") && e.contains("\"lu\""),
+        "{e}"
+    );
+    // the override writes the scene field, as the command line's flag does
+    let mut scene = Scene::from_json_str(&with("klu")).unwrap();
+    let o = SolveOverrides {
+        linear_solver: Some(LinearSolverKind::Dense),
+        ..SolveOverrides::default()
+    };
+    o.apply(&mut scene).unwrap();
+    assert_eq!(scene.solve.linear_solver, LinearSolverKind::Dense);
+}
+
+#[test]
+fn auto_picks_dense_for_small_systems_and_faer_from_the_crossover_on() {
+    use bondmech::report::generate::n_link_pendulum;
+    // N-link pendulum: 10 N unknowns (3N positions and velocities, 2N multipliers λ and μ)
+    for (n, used) in [(2, "dense"), (5, "dense"), (6, "faer"), (8, "faer")] {
+        let m = Model::new(&n_link_pendulum(n, 0.05, 0.01).unwrap()).unwrap();
+        let s = m.solve(&m.default_options()).unwrap();
+        assert_eq!(s.summary.unknowns, 10 * n);
+        let expect_sparse = s.summary.unknowns >= LinearSolverKind::AUTO_SPARSE_UNKNOWNS;
+        assert_eq!(expect_sparse, used == "faer", "N = {n}");
+        assert_eq!(s.summary.linear_solver, used, "N = {n}");
+    }
+}
