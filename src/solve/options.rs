@@ -60,9 +60,11 @@ pub enum LinearSolverKind {
 
 impl LinearSolverKind {
     /// Unknowns from which `auto` picks the sparse LU. Measured with
-    /// `cargo bench --bench sparse` (N-link pendulum, GGL, `cpu_seconds / steps`, one run on a
-    /// 2-core shared machine): see the README's N-link table.
-    pub const AUTO_SPARSE_UNKNOWNS: usize = 60;
+    /// `cargo bench --bench sparse` (N-link pendulum, GGL, rtol 1e-6, µs per step, median of 5
+    /// solves, one run on a 2-core shared machine), dense / faer: 1.04 at 10 unknowns, 1.21 at
+    /// 20, 1.55 at 30, 2.4 at 60, 5.2 at 160 (and 62 at 1280). Below 30 the two are within the
+    /// noise of the machine, and dense keeps the step sequences small scenes always had.
+    pub const AUTO_SPARSE_UNKNOWNS: usize = 30;
 
     /// The name used in scenes, on the command line and in summaries.
     pub fn name(self) -> &'static str {
