@@ -139,7 +139,9 @@ fn chain_error(n: usize, s: &Solution) -> f64 {
 
 fn chain_table() {
     let n = 40;
-    println!("\nChain of {n} four-bars, GGL (compliant at the passages), 20 s, outputs every 0.05 s");
+    println!(
+        "\nChain of {n} four-bars, GGL (compliant at the passages), 20 s, outputs every 0.05 s"
+    );
     println!(
         "{:>6} {:>6} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",
         "solver", "rtol", "unknowns", "steps", "CPU (s)", "µs per step", "passages", "error"

@@ -127,6 +127,10 @@ mod tests {
         assert!(c.condition > 1e9 && c.condition < 1e11, "{c:?}");
         assert_eq!(c.joints, vec!["a".to_string(), "b".to_string()]);
         let k = joint_condition_number(&gv, &[1.0, 1.0, 1.0]);
-        assert!((k / c.condition - 1.0).abs() < 1e-6, "{k:e} against {:e}", c.condition);
+        assert!(
+            (k / c.condition - 1.0).abs() < 1e-6,
+            "{k:e} against {:e}",
+            c.condition
+        );
     }
 }

@@ -20,9 +20,8 @@ use nalgebra::DMatrix;
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
-    joint_conditioning,
-    select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation, GglFormulation,
-    ImplicitDae, Index1Formulation, JointConditioning, MechanicsTapes,
+    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation,
+    GglFormulation, ImplicitDae, Index1Formulation, MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
@@ -852,24 +851,16 @@ fn run_ggl(
         rows: Vec::new(),
         summary: Summary::default(),
     };
-    // κ alone at every output (eigenvalues only); the joints involved (eigenvectors) only where
-    // κ is large enough for them to be reported: a passage needs κ > PASSAGE_CONDITION, a
-    // failure is taken as one above SINGULAR_CONDITION (> PASSAGE_CONDITION). Measured on the
-    // 40-four-bar chain (242 joint rows): the full eigen-decomposition at the 400 outputs
-    // took 40 % of the solve.
-    let conditioning = |t: f64, y: &[f64]| {
-        let gv =
-            DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, &y[..nq + nv]));
-        let condition = joint_condition_number(&gv, &sys.mass);
-        if condition > PASSAGE_CONDITION {
-            joint_conditioning(&gv, &sys.mass, &sys.rows)
-        } else {
-            JointConditioning {
-                condition,
-                joints: Vec::new(),
-            }
-        }
+    // κ alone at every output (eigenvalues only, `joint_condition_number`); the joints involved
+    // (eigenvectors, `joint_conditioning`) only where they are reported: at a failure taken as
+    // a passage, and at a peak of κ (the PeakFinder keeps `G_v` of its samples for that).
+    // Measured on the 40-four-bar chain (242 joint rows, κ above PASSAGE_CONDITION at most
+    // outputs): full eigen-decompositions at the 400 outputs took 40 % of the solve.
+    let gv_at = |t: f64, y: &[f64]| {
+        DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, &y[..nq + nv]))
     };
+    let conditioning = |t: f64, y: &[f64]| joint_conditioning(&gv_at(t, y), &sys.mass, &sys.rows);
+    let joints_of = |gv: &DMatrix<f64>| joint_conditioning(gv, &sys.mass, &sys.rows).joints;
     let resume_plain = RESUME_PLAIN_GGL;
     // joints redundant everywhere have κ = ∞ throughout: no passages to find there
     let monitor = init.redundant_joints.is_empty();
@@ -955,8 +946,9 @@ fn run_ggl(
             }
             // while compliant, every further singular passage shows as a peak of κ
             if monitor && solver.eps() > 0.0 {
-                let c = conditioning(step.t, solver.ida.y());
-                if let Some(p) = peaks.push(step.t, c) {
+                let gv = gv_at(step.t, solver.ida.y());
+                let kappa = joint_condition_number(&gv, &sys.mass);
+                if let Some(p) = peaks.push(step.t, kappa, gv, joints_of) {
                     let near_switch = summary
                         .singular_passages
                         .last()
@@ -979,8 +971,8 @@ fn run_ggl(
                 .last()
                 .is_some_and(|p| p.plain_again_at.is_none());
             if resume_plain && switched && solver.eps() > 0.0 && k < opts.output_times.len() {
-                let c = conditioning(step.t, solver.ida.y());
-                if c.condition < REGULAR_CONDITION {
+                let kappa = joint_condition_number(&gv_at(step.t, solver.ida.y()), &sys.mass);
+                if kappa < REGULAR_CONDITION {
                     let (mut y, yp) = (solver.ida.y().to_vec(), solver.ida.yp().to_vec());
                     compliant_velocities(&tapes, nq, nv, 0.0, step.t, &mut y);
                     total.accumulate(&solver.ida.stats());
@@ -1046,7 +1038,8 @@ pub const PASSAGE_CONDITION: f64 = 300.0;
 /// `t*` follows from the steeper of the two one-sided slopes at the smallest sample.
 #[derive(Default)]
 struct PeakFinder {
-    samples: Vec<(f64, JointConditioning)>,
+    /// `(t, κ, G_v)` of the last three outputs.
+    samples: Vec<(f64, f64, DMatrix<f64>)>,
 }
 
 impl PeakFinder {
@@ -1058,16 +1051,23 @@ impl PeakFinder {
         }
     }
 
-    /// Adds the sample at `t`; returns a passage when the previous sample was a peak.
-    fn push(&mut self, t: f64, c: JointConditioning) -> Option<SingularPassage> {
-        self.samples.push((t, c));
+    /// Adds the sample `κ(t)` with the `G_v` it came from; returns a passage when the previous
+    /// sample was a peak, naming the joints `joints_of` finds in that sample's `G_v`.
+    fn push(
+        &mut self,
+        t: f64,
+        kappa: f64,
+        gv: DMatrix<f64>,
+        joints_of: impl Fn(&DMatrix<f64>) -> Vec<String>,
+    ) -> Option<SingularPassage> {
+        self.samples.push((t, kappa, gv));
         if self.samples.len() > 3 {
             self.samples.remove(0);
         }
-        let [(t0, c0), (t1, c1), (t2, c2)] = self.samples.as_slice() else {
+        let [(t0, k0, _), (t1, k1, gv1), (t2, k2, _)] = self.samples.as_slice() else {
             return None;
         };
-        let (k0, k1, k2) = (c0.condition, c1.condition, c2.condition);
+        let (k0, k1, k2) = (*k0, *k1, *k2);
         if !(k1 > PASSAGE_CONDITION && k1 >= k0 && k1 > k2 && k1.is_finite()) {
             return None;
         }
@@ -1082,7 +1082,7 @@ impl PeakFinder {
         };
         Some(SingularPassage {
             t: t_peak,
-            joints: c1.joints.clone(),
+            joints: joints_of(gv1),
             condition: k1,
             restarted_at: t_peak,
             plain_again_at: None,
