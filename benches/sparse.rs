@@ -12,7 +12,7 @@
 //! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
 //! solve per solver at N = 64. Run with `cargo bench --bench sparse`.
 
-#[allow(dead_code, unused_imports)]
+#[allow(unused_imports)]
 #[path = "../tests/common/mod.rs"]
 mod common;
 

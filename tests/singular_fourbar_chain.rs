@@ -22,10 +22,6 @@ fn times() -> Vec<f64> {
     (0..=400).map(|i| 0.05 * i as f64).collect()
 }
 
-fn solve_chain(m: &Model, rtol: f64, atol: f64) -> Solution {
-    solve_chain_with(m, rtol, atol, LinearSolverKind::Auto)
-}
-
 fn solve_chain_with(m: &Model, rtol: f64, atol: f64, ls: LinearSolverKind) -> Solution {
     let mut o = m.default_options();
     o.linear_solver = ls;
