@@ -1,6 +1,8 @@
 //! CVODE: variable-order BDF (stiff) or Adams–Moulton (non-stiff) for ODEs
 //! `y' = f(t, y)`, with Newton iteration on `M = I - γ ∂f/∂y` solved by the dense
-//! linear solver (user Jacobian `∂f/∂y` or difference quotients) for both methods.
+//! linear solver (user Jacobian `∂f/∂y` or difference quotients) for both methods, or by a
+//! sparse LU on a fixed CSC pattern ([`Cvode::new_sparse`]: faer or KLU, see
+//! [`super::sparse`]).
 
 use super::callback::{
     error_handler, finite_or_recoverable, CallbackStatus, CvodeJacobianFn, CvodeRootFn,

@@ -2,7 +2,8 @@
 //!
 //! Newton's method on the BDF corrector solves `F(t, y, α y + β) = 0` with the
 //! iteration matrix `J = ∂F/∂y + cj ∂F/∂y'` (user-supplied or difference quotients),
-//! factored by the dense linear solver or a user [`IdaLinearSolver`].
+//! factored by the dense linear solver, by a sparse LU on a fixed CSC pattern
+//! ([`Ida::new_sparse`]: faer or KLU, see [`super::sparse`]) or by a user [`IdaLinearSolver`].
 
 use super::callback::{
     error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn,
