@@ -65,6 +65,17 @@ fn main() {
         );
     }
 
+    // SUNDIALS' KLU solver (`SUNLinSol_KLU`, src/sundials/sparse.rs): Debian's libsundials-dev
+    // ships it as its own library, which sundials-sys links only with its `klu` feature (and
+    // that feature builds SUNDIALS from source). The search path is sundials-sys's.
+    if let Some(dir) = env::var_os("SUNDIALS_LIBRARY_DIR") {
+        println!(
+            "cargo:rustc-link-search=native={}",
+            PathBuf::from(dir).display()
+        );
+    }
+    println!("cargo:rustc-link-lib=dylib=sundials_sunlinsolklu");
+
     let dirs = candidate_dirs();
     let Some(dir) = dirs.iter().find(|d| has_all_headers(d)) else {
         let searched: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();

@@ -81,6 +81,10 @@ struct SolveArgs {
     /// Wall-clock budget of the whole run in s (solve.max_wall_seconds; none by default).
     #[arg(long = "max-wall-seconds")]
     max_wall_seconds: Option<f64>,
+    /// Linear solver of the Newton iterations: auto, dense, sparse (faer) or klu
+    /// (solve.linear_solver; auto by default: dense for small systems, sparse for large).
+    #[arg(long = "linear-solver", value_parser = parse_linear_solver)]
+    linear_solver: Option<bondmech::LinearSolverKind>,
     /// Change one scene field before solving: PATH=JSON, e.g. 'bodies[0].mass=2',
     /// 'gravity=[0,-1.62]', 'solve.formulation="index1"' (repeatable, applied in order).
     #[arg(long = "set", value_name = "PATH=JSON")]
@@ -337,8 +341,14 @@ fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
             joint_stiffness: args.joint_stiffness,
             max_steps: args.max_steps,
             max_wall_seconds: args.max_wall_seconds,
+            linear_solver: args.linear_solver,
         },
     )
+}
+
+fn parse_linear_solver(s: &str) -> Result<bondmech::LinearSolverKind, String> {
+    bondmech::LinearSolverKind::parse(s)
+        .ok_or_else(|| format!("unknown linear solver '{s}' (expected auto, dense, sparse or klu)"))
 }
 
 /// [`SolveOverrides::apply`], each refusal naming its flag (`--t-end: solve.output_step: …`).
@@ -840,10 +850,11 @@ fn animate(
                 || args.t_end.is_some()
                 || args.joint_stiffness.is_some()
                 || args.max_steps.is_some()
-                || args.max_wall_seconds.is_some();
+                || args.max_wall_seconds.is_some()
+                || args.linear_solver.is_some();
             if solve_flags {
                 return Err(Error::Options(format!(
-                    "--csv {}: the motion comes from the CSV; the solve flags (--formulation, --rtol, --atol, --t-end, --joint-stiffness, --max-steps, --max-wall-seconds) apply only when animate solves the scene",
+                    "--csv {}: the motion comes from the CSV; the solve flags (--formulation, --rtol, --atol, --t-end, --joint-stiffness, --max-steps, --max-wall-seconds, --linear-solver) apply only when animate solves the scene",
                     path.display()
                 )));
             }

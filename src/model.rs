@@ -247,6 +247,7 @@ impl Model {
             max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
+            linear_solver: s.linear_solver,
             ..SolveOptions::default()
         }
     }

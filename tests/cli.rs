@@ -352,3 +352,48 @@ fn run_prints_each_summary_warning_to_stderr_as_one_line() {
     let got: Vec<&str> = stderr.lines().collect();
     assert_eq!(got, want);
 }
+
+#[test]
+fn linear_solver_flag_picks_the_newton_solver_and_unknown_names_are_refused() {
+    // the double pendulum has 20 unknowns: `auto` keeps the dense LU there
+    for (flag, used) in [
+        ("dense", "dense"),
+        ("sparse", "faer"),
+        ("klu", "klu"),
+        ("auto", "dense"),
+    ] {
+        let sum = tmp(&format!("ls_{flag}.json"));
+        let out = bondmech(&[
+            "run",
+            &scene("double_pendulum.json"),
+            "--t-end",
+            "0.1",
+            "--linear-solver",
+            flag,
+            "--out",
+            tmp(&format!("ls_{flag}.csv")).to_str().unwrap(),
+            "--summary",
+            sum.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&sum).unwrap()).unwrap();
+        assert_eq!(s["linear_solver"], used, "--linear-solver {flag}");
+    }
+    let out = bondmech(&[
+        "run",
+        &scene("double_pendulum.json"),
+        "--linear-solver",
+        "cholesky",
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--linear-solver") && err.contains("cholesky"),
+        "{err}"
+    );
+}

@@ -6,7 +6,7 @@
 mod common;
 
 use bondmech::solve::run::SINGULAR_CONDITION;
-use bondmech::{FormulationKind, Model, Scene, Solution};
+use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
 use common::four_bar_chain::{chain_json, simulate_four_bar_chain, FourBarChain};
 use common::integrate::integrate;
 use common::{REFERENCE_ATOL, REFERENCE_RTOL};
@@ -22,8 +22,9 @@ fn times() -> Vec<f64> {
     (0..=400).map(|i| 0.05 * i as f64).collect()
 }
 
-fn solve_chain(m: &Model, rtol: f64, atol: f64) -> Solution {
+fn solve_chain_with(m: &Model, rtol: f64, atol: f64, ls: LinearSolverKind) -> Solution {
     let mut o = m.default_options();
+    o.linear_solver = ls;
     o.formulation = FormulationKind::Ggl;
     o.rtol = rtol;
     o.atol = atol;
@@ -69,12 +70,17 @@ fn reference_alignments(n: usize) -> usize {
 /// The chain follows the 1-DOF reference, keeps the parallelogram branch, and says where it met
 /// the singular configuration.
 fn check_chain(n: usize, rtol: f64, atol: f64, bound: f64) {
+    check_chain_with(n, rtol, atol, bound, LinearSolverKind::Auto)
+}
+
+fn check_chain_with(n: usize, rtol: f64, atol: f64, bound: f64, ls: LinearSolverKind) {
     let m = model(&chain_json(n));
-    let s = solve_chain(&m, rtol, atol);
+    let s = solve_chain_with(&m, rtol, atol, ls);
     let err = first_crank_top_error(n, &s);
     let sm = &s.summary;
     eprintln!(
-        "chain N = {n}, rtol {rtol:e}: error {err:.3e}, steps {}, CPU {:.2} s, ε {:e}, passages {}, drift {:.2e}",
+        "chain N = {n}, rtol {rtol:e}, {}: error {err:.3e}, steps {}, CPU {:.2} s, ε {:e}, passages {}, drift {:.2e}",
+        sm.linear_solver,
         sm.steps,
         sm.cpu_seconds,
         sm.compliance,
@@ -126,6 +132,14 @@ fn one_four_bar_follows_one_dof_reference_through_alignments() {
 fn chain_of_3_four_bars_follows_one_dof_reference_through_alignments() {
     check_chain(3, 5e-9, 5e-11, 1e-3);
     check_chain(3, 1e-9, 1e-11, 1e-4);
+}
+
+/// The same chain and bounds with the Newton matrix factored by faer's sparse LU and by KLU.
+#[test]
+fn chain_of_10_four_bars_passes_its_alignments_with_the_sparse_solvers() {
+    for ls in [LinearSolverKind::Sparse, LinearSolverKind::Klu] {
+        check_chain_with(10, 5e-9, 5e-11, 1e-3, ls);
+    }
 }
 
 #[test]

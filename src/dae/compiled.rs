@@ -92,6 +92,12 @@ impl ImplicitDae {
         (self.dy.len(), self.dyp.len())
     }
 
+    /// The structural non-zeros of `J = ∂F/∂y + cj ∂F/∂y'` as `(row, col)` (an entry in both
+    /// parts appears twice): the sparsity pattern of IDA's Newton matrix, fixed for the tapes.
+    pub fn structure(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.dy.iter().chain(&self.dyp).map(|e| (e.row, e.col))
+    }
+
     /// Evaluates `F(t, y, y')` into `r`.
     pub fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
         fill_vars(&mut ws.vars, t, y, Some(yp));
@@ -188,6 +194,12 @@ impl ExplicitOde {
         for (e, v) in self.dy.iter().zip(&ws.jac) {
             put(e.row, e.col, *v);
         }
+    }
+
+    /// The structural non-zeros of `∂f/∂y` as `(row, col)`: with the diagonal, the sparsity
+    /// pattern of CVODE's Newton matrix `I − γ ∂f/∂y`.
+    pub fn structure(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.dy.iter().map(|e| (e.row, e.col))
     }
 
     /// Number of structural non-zeros of `∂f/∂y`.

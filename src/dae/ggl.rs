@@ -98,6 +98,20 @@ impl GglFormulation {
         }
     }
 
+    /// The structural non-zeros of `∂F/∂y + cj ∂F/∂y'` for any compliance: the compiled
+    /// tapes' entries and the `(λ_k, μ_k)`, `(μ_k, λ_k)` pairs where `−ε` enters, so one
+    /// sparsity pattern serves plain and compliant GGL alike.
+    pub fn structure(&self) -> Vec<(usize, usize)> {
+        let (nq, nv, nc) = self.dims;
+        let (lam, mu) = (nq + nv, nq + nv + nc);
+        let mut s: Vec<(usize, usize)> = self.dae.structure().collect();
+        for k in 0..nc {
+            s.push((lam + k, mu + k));
+            s.push((mu + k, lam + k));
+        }
+        s
+    }
+
     /// `F(t, y, y')` with compliance `eps`: the compiled ε = 0 residual minus `ε μ` in the
     /// position rows and `ε λ` in the velocity rows.
     pub fn residual(

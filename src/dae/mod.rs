@@ -22,4 +22,4 @@ pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MechanicsTapes};
-pub use singular::{joint_conditioning, JointConditioning};
+pub use singular::{joint_condition_number, joint_conditioning, JointConditioning};

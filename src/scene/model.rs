@@ -401,6 +401,8 @@ pub struct SolveSettings {
     pub max_steps: Option<u64>,
     /// Wall-clock budget in s (none by default).
     pub max_wall_seconds: Option<f64>,
+    /// Linear solver of the Newton iterations (default `auto`).
+    pub linear_solver: crate::solve::LinearSolverKind,
 }
 
 impl SolveSettings {
@@ -427,6 +429,7 @@ impl SolveSettings {
             joint_damping: 0.0,
             max_steps: None,
             max_wall_seconds: None,
+            linear_solver: crate::solve::LinearSolverKind::Auto,
         }
     }
 }

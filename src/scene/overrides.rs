@@ -34,6 +34,8 @@ pub struct SolveOverrides {
     pub max_steps: Option<u64>,
     /// `solve.max_wall_seconds`.
     pub max_wall_seconds: Option<f64>,
+    /// `solve.linear_solver`.
+    pub linear_solver: Option<crate::solve::LinearSolverKind>,
 }
 
 /// One problem of a scene with overrides applied, and the override it comes from (the field
@@ -58,6 +60,7 @@ const FIELDS: &[(&str, &[&str])] = &[
     ("joint_stiffness", &["solve.joint_stiffness"]),
     ("max_steps", &["solve.max_steps"]),
     ("max_wall_seconds", &["solve.max_wall_seconds"]),
+    ("linear_solver", &["solve.linear_solver"]),
 ];
 
 impl SolveOverrides {
@@ -90,6 +93,10 @@ impl SolveOverrides {
         if let Some(w) = self.max_wall_seconds {
             s.max_wall_seconds = Some(w);
             put("max_wall_seconds");
+        }
+        if let Some(l) = self.linear_solver {
+            s.linear_solver = l;
+            put("linear_solver");
         }
         if let Some(t) = self.t_end {
             if let Some(times) = &mut s.output_times {

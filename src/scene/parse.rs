@@ -719,6 +719,7 @@ const SOLVE_KEYS: &[&str] = &[
     "joint_damping",
     "max_steps",
     "max_wall_seconds",
+    "linear_solver",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -755,6 +756,16 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         }
     };
     let max_wall_seconds = f.number(p, "max_wall_seconds");
+    let linear_solver = match f.string(p, "linear_solver") {
+        None => crate::solve::LinearSolverKind::Auto,
+        Some(s) => crate::solve::LinearSolverKind::parse(&s).unwrap_or_else(|| {
+            p.push(
+                f.path("linear_solver"),
+                format!("unknown linear solver \"{s}\" (expected auto, dense, sparse or klu)"),
+            );
+            crate::solve::LinearSolverKind::Auto
+        }),
+    };
     Some(SolveSettings {
         formulation,
         t_start,
@@ -767,5 +778,6 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         joint_damping,
         max_steps,
         max_wall_seconds,
+        linear_solver,
     })
 }

@@ -184,6 +184,9 @@ fn solve(s: &SolveSettings) -> Json {
     if let Some(w) = s.max_wall_seconds {
         e.push(("max_wall_seconds", num(w)));
     }
+    if s.linear_solver != crate::solve::LinearSolverKind::Auto {
+        e.push(("linear_solver", text(s.linear_solver.name())));
+    }
     obj(e)
 }
 

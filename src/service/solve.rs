@@ -158,6 +158,7 @@ impl SolveParams {
                 joint_stiffness: p.number("joint_stiffness")?,
                 max_steps,
                 max_wall_seconds: p.number("max_wall_seconds")?,
+                linear_solver: None,
             },
             reactions: p.flag("reactions")?.unwrap_or(false),
         })

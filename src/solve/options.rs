@@ -41,6 +41,73 @@ impl FormulationKind {
     }
 }
 
+/// Which linear solver factors the Newton matrix (IDA's `∂F/∂y + cj ∂F/∂y'`, CVODE's
+/// `I − γ ∂f/∂y`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LinearSolverKind {
+    /// Dense below [`LinearSolverKind::AUTO_SPARSE_UNKNOWNS`] unknowns, faer's sparse LU from
+    /// there on. The default.
+    #[default]
+    Auto,
+    /// SUNDIALS' dense LU on the full `n × n` matrix.
+    Dense,
+    /// faer's sparse LU on the compressed-sparse-column matrix.
+    Sparse,
+    /// SUNDIALS' KLU (SuiteSparse) on the same sparse matrix.
+    Klu,
+}
+
+impl LinearSolverKind {
+    /// Unknowns from which `auto` picks the sparse LU. Measured with
+    /// `cargo bench --bench sparse` (N-link pendulum, GGL, rtol 1e-6, µs per step, median of 5
+    /// solves, one run on a 2-core shared machine), dense / faer: 1.04 at 10 unknowns, 1.21 at
+    /// 20, 1.55 at 30, 2.4 at 60, 5.2 at 160 (and 62 at 1280). Below 30 the two are within the
+    /// noise of the machine, and dense keeps the step sequences small scenes always had.
+    pub const AUTO_SPARSE_UNKNOWNS: usize = 30;
+
+    /// The name used in scenes, on the command line and in summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            LinearSolverKind::Auto => "auto",
+            LinearSolverKind::Dense => "dense",
+            LinearSolverKind::Sparse => "sparse",
+            LinearSolverKind::Klu => "klu",
+        }
+    }
+
+    /// Parses `auto`, `dense`, `sparse` (alias `faer`) or `klu`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "auto" => Some(LinearSolverKind::Auto),
+            "dense" => Some(LinearSolverKind::Dense),
+            "sparse" | "faer" => Some(LinearSolverKind::Sparse),
+            "klu" => Some(LinearSolverKind::Klu),
+            _ => None,
+        }
+    }
+
+    /// The sparse solver to use for `n` unknowns, `None` for the dense one.
+    pub fn resolve(self, n: usize) -> Option<crate::sundials::SparseSolver> {
+        use crate::sundials::SparseSolver;
+        match self {
+            LinearSolverKind::Auto if n >= Self::AUTO_SPARSE_UNKNOWNS => Some(SparseSolver::Faer),
+            LinearSolverKind::Auto | LinearSolverKind::Dense => None,
+            LinearSolverKind::Sparse => Some(SparseSolver::Faer),
+            LinearSolverKind::Klu => Some(SparseSolver::Klu),
+        }
+    }
+
+    /// What [`Self::resolve`] picks for `n` unknowns, by name: `dense`, `faer` or `klu`.
+    pub fn resolved_name(self, n: usize) -> &'static str {
+        match self.resolve(n) {
+            None => "dense",
+            Some(crate::sundials::SparseSolver::Faer) => "faer",
+            Some(crate::sundials::SparseSolver::Klu) => "klu",
+        }
+    }
+}
+
 /// Options of one solve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveOptions {
@@ -102,6 +169,8 @@ pub struct SolveOptions {
     /// interpolated output times (double pendulum, rtol 1e-8: max |g| 2.3e-9 against 7.2e-10).
     /// Opt-in for smooth, regular mechanisms.
     pub ggl_dependent_velocity_error_test: bool,
+    /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
+    pub linear_solver: LinearSolverKind,
 }
 
 impl Default for SolveOptions {
@@ -121,6 +190,7 @@ impl Default for SolveOptions {
             twin_max_order: None,
             twin_stab_lim_det: false,
             ggl_dependent_velocity_error_test: true,
+            linear_solver: LinearSolverKind::Auto,
         }
     }
 }

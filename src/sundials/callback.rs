@@ -6,6 +6,7 @@
 
 use super::error::{CallbackError, CallbackResult, SolverError};
 use super::matrix::DenseMatrixMut;
+use super::sparse::SparseMatrixMut;
 use std::os::raw::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -14,6 +15,10 @@ pub type ResidualFn = Box<dyn FnMut(f64, &[f64], &[f64], &mut [f64]) -> Callback
 /// IDA Jacobian `(t, cj, y, y', J)`: fill `J = ∂F/∂y + cj ∂F/∂y'`.
 pub type IdaJacobianFn =
     Box<dyn FnMut(f64, f64, &[f64], &[f64], &mut DenseMatrixMut<'_>) -> CallbackResult + Send>;
+/// IDA sparse Jacobian `(t, cj, y, y', J)`: fill the values of `J = ∂F/∂y + cj ∂F/∂y'` in
+/// its fixed [`super::sparse::CscPattern`] (they arrive zeroed).
+pub type IdaSparseJacobianFn =
+    Box<dyn FnMut(f64, f64, &[f64], &[f64], &mut SparseMatrixMut<'_>) -> CallbackResult + Send>;
 /// IDA root functions `g(t, y, y') → gout`.
 pub type IdaRootFn = Box<dyn FnMut(f64, &[f64], &[f64], &mut [f64]) -> CallbackResult + Send>;
 /// CVODE right-hand side `f(t, y) → ydot`.
@@ -21,6 +26,10 @@ pub type RhsFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send
 /// CVODE Jacobian `(t, y, f(t, y), J)`: fill `J = ∂f/∂y`.
 pub type CvodeJacobianFn =
     Box<dyn FnMut(f64, &[f64], &[f64], &mut DenseMatrixMut<'_>) -> CallbackResult + Send>;
+/// CVODE sparse Jacobian `(t, y, f(t, y), J)`: fill the values of `J = ∂f/∂y` in its fixed
+/// [`super::sparse::CscPattern`] (they arrive zeroed).
+pub type CvodeSparseJacobianFn =
+    Box<dyn FnMut(f64, &[f64], &[f64], &mut SparseMatrixMut<'_>) -> CallbackResult + Send>;
 /// CVODE root functions `g(t, y) → gout`.
 pub type CvodeRootFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
 

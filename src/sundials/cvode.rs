@@ -1,9 +1,12 @@
 //! CVODE: variable-order BDF (stiff) or Adams–Moulton (non-stiff) for ODEs
 //! `y' = f(t, y)`, with Newton iteration on `M = I - γ ∂f/∂y` solved by the dense
-//! linear solver (user Jacobian `∂f/∂y` or difference quotients) for both methods.
+//! linear solver (user Jacobian `∂f/∂y` or difference quotients) for both methods, or by a
+//! sparse LU on a fixed CSC pattern ([`Cvode::new_sparse`]: faer or KLU, see
+//! [`super::sparse`]).
 
 use super::callback::{
-    error_handler, finite_or_recoverable, CallbackStatus, CvodeJacobianFn, CvodeRootFn, RhsFn,
+    error_handler, finite_or_recoverable, CallbackStatus, CvodeJacobianFn, CvodeRootFn,
+    CvodeSparseJacobianFn, RhsFn,
 };
 use super::context::Context;
 use super::driver::{self, DriverState, RawEvent, Stepper};
@@ -11,6 +14,7 @@ use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
 use super::options::{check_tolerances, check_vector, CvodeOptions, Multistep, Step};
+use super::sparse::{self, CscPattern, FaerCounters, SparseMatrix, SparseMatrixMut, SparseSolver};
 use super::stats::SolverStats;
 use super::vector::{slice_of, slice_of_mut, NVector};
 use std::os::raw::{c_int, c_long, c_void};
@@ -25,6 +29,7 @@ struct CvodeData {
     nroots: usize,
     rhs: RhsFn,
     jacobian: Option<CvodeJacobianFn>,
+    sparse_jacobian: Option<(CvodeSparseJacobianFn, CscPattern)>,
     roots: Option<CvodeRootFn>,
 }
 
@@ -47,7 +52,9 @@ pub struct Cvode {
     #[allow(dead_code)] // owned: freed after `mem`
     ls: LinearSolver,
     #[allow(dead_code)] // owned: freed after `ls`
-    mat: DenseMatrix,
+    mat: Option<DenseMatrix>,
+    #[allow(dead_code)] // owned: freed after `ls`
+    smat: Option<SparseMatrix>,
     y: NVector,
     tmp: NVector,
     data: Box<CvodeData>,
@@ -110,6 +117,45 @@ unsafe extern "C" fn jacobian_trampoline(
     finite_or_recoverable(code, j.as_mut_slice())
 }
 
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn sparse_jacobian_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    fy: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    _t1: sys::N_Vector,
+    _t2: sys::N_Vector,
+    _t3: sys::N_Vector,
+) -> c_int {
+    // SAFETY: as in rhs_trampoline; jac is the CSC matrix we attached, with room for the
+    // pattern's entries (CVODE zeroes its index arrays, so the pattern is written back).
+    let (data, y, f) = unsafe {
+        let data = &mut *(user_data as *mut CvodeData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of(fy, n))
+    };
+    let CvodeData {
+        status,
+        sparse_jacobian,
+        ..
+    } = data;
+    let Some((jacobian, pattern)) = sparse_jacobian.as_mut() else {
+        return -1;
+    };
+    // SAFETY: as above.
+    let values = unsafe {
+        sparse::write_pattern(jac, pattern);
+        sparse::values_of(jac, pattern)
+    };
+    values.fill(0.0);
+    let Some(mut j) = SparseMatrixMut::from_slice(pattern, values) else {
+        return -1;
+    };
+    let code = status.guard(t, || jacobian(t, y, f, &mut j));
+    finite_or_recoverable(code, j.values_mut())
+}
+
 unsafe extern "C" fn root_trampoline(
     t: f64,
     yy: sys::N_Vector,
@@ -145,6 +191,50 @@ impl Cvode {
         jacobian: Option<CvodeJacobianFn>,
         opts: &CvodeOptions,
     ) -> Result<Cvode, SolverError> {
+        Cvode::build(method, t0, y0, rhs, jacobian, None, opts)
+    }
+
+    /// Create a CVODE solver whose Jacobian `∂f/∂y` (and Newton matrix `I − γ ∂f/∂y`) is
+    /// stored in the fixed sparsity `pattern` (CSC), filled by `jacobian` and factored by the
+    /// sparse LU `solver`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new_sparse(
+        method: Multistep,
+        t0: f64,
+        y0: &[f64],
+        rhs: RhsFn,
+        jacobian: CvodeSparseJacobianFn,
+        pattern: CscPattern,
+        solver: SparseSolver,
+        opts: &CvodeOptions,
+    ) -> Result<Cvode, SolverError> {
+        if pattern.n() != y0.len() {
+            return Err(SolverError::InvalidInput(format!(
+                "sparsity pattern is {0} × {0} but y0 has length {1}",
+                pattern.n(),
+                y0.len()
+            )));
+        }
+        Cvode::build(
+            method,
+            t0,
+            y0,
+            rhs,
+            None,
+            Some((jacobian, pattern, solver)),
+            opts,
+        )
+    }
+
+    fn build(
+        method: Multistep,
+        t0: f64,
+        y0: &[f64],
+        rhs: RhsFn,
+        jacobian: Option<CvodeJacobianFn>,
+        sparse_jac: Option<(CvodeSparseJacobianFn, CscPattern, SparseSolver)>,
+        opts: &CvodeOptions,
+    ) -> Result<Cvode, SolverError> {
         let n = y0.len();
         if n == 0 {
             return Err(SolverError::InvalidInput("y0 is empty".into()));
@@ -161,16 +251,32 @@ impl Cvode {
         let y = NVector::from_slice(&ctx, y0)?;
         let tmp = NVector::from_slice(&ctx, y0)?;
         let has_jac = jacobian.is_some();
+        let (mat, smat, ls) = match &sparse_jac {
+            Some((_, p, kind)) => {
+                let sm = SparseMatrix::new(&ctx, p)?;
+                let ls = sparse::new_sparse_solver(&ctx, &y, &sm, *kind)?;
+                (None, Some(sm), ls)
+            }
+            None => {
+                let m = DenseMatrix::square(&ctx, n)?;
+                let ls = LinearSolver::dense(&ctx, &y, &m)?;
+                (Some(m), None, ls)
+            }
+        };
         let mut data = Box::new(CvodeData {
             status: CallbackStatus::default(),
             n,
             nroots: 0,
             rhs,
             jacobian,
+            sparse_jacobian: sparse_jac.map(|(j, p, _)| (j, p)),
             roots: None,
         });
-        let mat = DenseMatrix::square(&ctx, n)?;
-        let ls = LinearSolver::dense(&ctx, &y, &mat)?;
+        let a = match (&mat, &smat) {
+            (Some(m), _) => m.raw(),
+            (None, Some(m)) => m.raw(),
+            (None, None) => std::ptr::null_mut(),
+        };
         let lmm = match method {
             Multistep::Bdf => sys::CV_BDF,
             Multistep::Adams => sys::CV_ADAMS,
@@ -223,7 +329,7 @@ impl Cvode {
             check(
                 P,
                 "CVodeSetLinearSolver",
-                sys::CVodeSetLinearSolver(raw, ls.raw(), mat.raw()),
+                sys::CVodeSetLinearSolver(raw, ls.raw(), a),
                 t0,
             )?;
             if has_jac {
@@ -231,6 +337,14 @@ impl Cvode {
                     P,
                     "CVodeSetJacFn",
                     sys::CVodeSetJacFn(raw, Some(jacobian_trampoline)),
+                    t0,
+                )?;
+            }
+            if smat.is_some() {
+                check(
+                    P,
+                    "CVodeSetJacFn",
+                    sys::CVodeSetJacFn(raw, Some(sparse_jacobian_trampoline)),
                     t0,
                 )?;
             }
@@ -254,6 +368,7 @@ impl Cvode {
             mem,
             ls,
             mat,
+            smat,
             y,
             tmp,
             data,
@@ -269,6 +384,12 @@ impl Cvode {
 
     fn raw(&self) -> *mut c_void {
         self.mem.0
+    }
+
+    /// Symbolic analyses and numeric factorisations of the faer sparse LU so far (`None`
+    /// when CVODE does not use it).
+    pub fn faer_counters(&self) -> Option<FaerCounters> {
+        sparse::faer_counters(&self.ls)
     }
 
     /// Turn a failing flag into an error, preferring a callback's own error.

@@ -2,10 +2,12 @@
 //!
 //! Newton's method on the BDF corrector solves `F(t, y, α y + β) = 0` with the
 //! iteration matrix `J = ∂F/∂y + cj ∂F/∂y'` (user-supplied or difference quotients),
-//! factored by the dense linear solver or a user [`IdaLinearSolver`].
+//! factored by the dense linear solver, by a sparse LU on a fixed CSC pattern
+//! ([`Ida::new_sparse`]: faer or KLU, see [`super::sparse`]) or by a user [`IdaLinearSolver`].
 
 use super::callback::{
-    error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn, ResidualFn,
+    error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn,
+    IdaSparseJacobianFn, ResidualFn,
 };
 use super::context::Context;
 use super::custom_ls::{self, IdaLinearSolver};
@@ -14,6 +16,7 @@ use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
 use super::options::{check_tolerances, check_vector, CalcIc, IdaOptions, Step};
+use super::sparse::{self, CscPattern, FaerCounters, SparseMatrix, SparseMatrixMut, SparseSolver};
 use super::stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 use super::vector::{slice_of, slice_of_mut, NVector};
 use std::os::raw::{c_int, c_long, c_void};
@@ -29,6 +32,7 @@ pub(crate) struct IdaData {
     nroots: usize,
     residual: ResidualFn,
     jacobian: Option<IdaJacobianFn>,
+    sparse_jacobian: Option<(IdaSparseJacobianFn, CscPattern)>,
     roots: Option<IdaRootFn>,
 }
 
@@ -52,6 +56,8 @@ pub struct Ida {
     ls: LinearSolver,
     #[allow(dead_code)] // owned: freed after `ls`
     mat: Option<DenseMatrix>,
+    #[allow(dead_code)] // owned: freed after `ls`
+    smat: Option<SparseMatrix>,
     y: NVector,
     yp: NVector,
     tmp: NVector,
@@ -131,6 +137,47 @@ unsafe extern "C" fn jacobian_trampoline(
     finite_or_recoverable(code, j.as_mut_slice())
 }
 
+#[allow(clippy::too_many_arguments)]
+unsafe extern "C" fn sparse_jacobian_trampoline(
+    t: f64,
+    cj: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    _rr: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    _t1: sys::N_Vector,
+    _t2: sys::N_Vector,
+    _t3: sys::N_Vector,
+) -> c_int {
+    // SAFETY: as in residual_trampoline; jac is the CSC matrix we attached, built with room
+    // for the pattern's entries (IDA zeroes its index arrays, so the pattern is written back).
+    let (data, y, yp) = unsafe {
+        let data = &mut *(user_data as *mut IdaData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of(yp, n))
+    };
+    let IdaData {
+        status,
+        sparse_jacobian,
+        ..
+    } = data;
+    let Some((jacobian, pattern)) = sparse_jacobian.as_mut() else {
+        return -1;
+    };
+    // SAFETY: as above.
+    let values = unsafe {
+        sparse::write_pattern(jac, pattern);
+        sparse::values_of(jac, pattern)
+    };
+    values.fill(0.0);
+    let Some(mut j) = SparseMatrixMut::from_slice(pattern, values) else {
+        return -1;
+    };
+    let code = status.guard(t, || jacobian(t, cj, y, yp, &mut j));
+    finite_or_recoverable(code, j.values_mut())
+}
+
 unsafe extern "C" fn root_trampoline(
     t: f64,
     yy: sys::N_Vector,
@@ -161,6 +208,7 @@ unsafe extern "C" fn root_trampoline(
 enum Linear {
     Dense(Option<IdaJacobianFn>),
     Custom(Box<dyn IdaLinearSolver>),
+    Sparse(IdaSparseJacobianFn, CscPattern, SparseSolver),
 }
 
 impl Ida {
@@ -187,6 +235,37 @@ impl Ida {
         opts: &IdaOptions,
     ) -> Result<Ida, SolverError> {
         Ida::build(t0, y0, yp0, residual, Linear::Custom(linear_solver), opts)
+    }
+
+    /// Create an IDA solver whose Newton matrix `J = ∂F/∂y + cj ∂F/∂y'` is stored in the
+    /// fixed sparsity `pattern` (CSC), filled by `jacobian` and factored by the sparse LU
+    /// `solver`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new_sparse(
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        residual: ResidualFn,
+        jacobian: IdaSparseJacobianFn,
+        pattern: CscPattern,
+        solver: SparseSolver,
+        opts: &IdaOptions,
+    ) -> Result<Ida, SolverError> {
+        if pattern.n() != y0.len() {
+            return Err(SolverError::InvalidInput(format!(
+                "sparsity pattern is {0} × {0} but y0 has length {1}",
+                pattern.n(),
+                y0.len()
+            )));
+        }
+        Ida::build(
+            t0,
+            y0,
+            yp0,
+            residual,
+            Linear::Sparse(jacobian, pattern, solver),
+            opts,
+        )
     }
 
     fn build(
@@ -220,26 +299,34 @@ impl Ida {
         let y = NVector::from_slice(&ctx, y0)?;
         let yp = NVector::from_slice(&ctx, yp0)?;
         let tmp = NVector::from_slice(&ctx, y0)?;
-        let (jacobian, custom) = match linear {
-            Linear::Dense(j) => (j, None),
-            Linear::Custom(c) => (None, Some(c)),
+        let (jacobian, custom, sparse_jac) = match linear {
+            Linear::Dense(j) => (j, None, None),
+            Linear::Custom(c) => (None, Some(c), None),
+            Linear::Sparse(j, p, s) => (None, None, Some((j, p, s))),
         };
         let has_jac = jacobian.is_some();
+        let sparse_kind = sparse_jac.as_ref().map(|(_, _, s)| *s);
+        let smat = match &sparse_jac {
+            Some((_, p, _)) => Some(SparseMatrix::new(&ctx, p)?),
+            None => None,
+        };
         let mut data = Box::new(IdaData {
             status: CallbackStatus::default(),
             n,
             nroots: 0,
             residual,
             jacobian,
+            sparse_jacobian: sparse_jac.map(|(j, p, _)| (j, p)),
             roots: None,
         });
-        let (mat, mut ls) = match custom {
-            None => {
+        let (mat, mut ls) = match (custom, &smat, sparse_kind) {
+            (_, Some(sm), Some(kind)) => (None, sparse::new_sparse_solver(&ctx, &y, sm, kind)?),
+            (None, _, _) => {
                 let mat = DenseMatrix::square(&ctx, n)?;
                 let ls = LinearSolver::dense(&ctx, &y, &mat)?;
                 (Some(mat), ls)
             }
-            Some(c) => (None, custom_ls::new_linear_solver(&ctx, c, n)?),
+            (Some(c), _, _) => (None, custom_ls::new_linear_solver(&ctx, c, n)?),
         };
         // SAFETY: valid context; NULL checked below.
         let raw = unsafe { sys::IDACreate(ctx.raw()) };
@@ -282,7 +369,11 @@ impl Ida {
                 )?;
             }
             check(P, "IDASetUserData", sys::IDASetUserData(raw, data_ptr), t0)?;
-            let a = mat.as_ref().map_or(ptr::null_mut(), |m| m.raw());
+            let a = match (&mat, &smat) {
+                (Some(m), _) => m.raw(),
+                (None, Some(m)) => m.raw(),
+                (None, None) => ptr::null_mut(),
+            };
             check(
                 P,
                 "IDASetLinearSolver",
@@ -297,7 +388,15 @@ impl Ida {
                     t0,
                 )?;
             }
-            if mat.is_none() {
+            if smat.is_some() {
+                check(
+                    P,
+                    "IDASetJacFn",
+                    sys::IDASetJacFn(raw, Some(sparse_jacobian_trampoline)),
+                    t0,
+                )?;
+            }
+            if mat.is_none() && smat.is_none() {
                 custom_ls::attach(&mut ls, raw, status_ptr as *mut CallbackStatus);
             }
             if let Some(v) = opts.max_order {
@@ -352,6 +451,7 @@ impl Ida {
             mem,
             ls,
             mat,
+            smat,
             y,
             yp,
             tmp,
@@ -369,6 +469,12 @@ impl Ida {
 
     fn raw(&self) -> *mut c_void {
         self.mem.0
+    }
+
+    /// Symbolic analyses and numeric factorisations of the faer sparse LU so far (`None`
+    /// when IDA does not use it).
+    pub fn faer_counters(&self) -> Option<FaerCounters> {
+        sparse::faer_counters(&self.ls)
     }
 
     /// Steps accepted after Newton convergence or error test failures, in order, since the

@@ -15,6 +15,7 @@
 //! - [`stats`][]: [`SolverStats`].
 //! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
 //! - [`ida`], [`cvode`]: the solvers.
+//! - [`sparse`]: [`CscPattern`], the CSC `SUNMatrix` and the sparse LU solvers (faer, KLU).
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
 //! - [`mod@version`]: linked library version.
 //! - [`heap`]: bytes in use by `malloc`, for leak tests.
@@ -30,16 +31,21 @@ pub mod ida;
 pub mod linsol;
 pub mod matrix;
 pub mod options;
+pub mod sparse;
 pub mod stats;
 pub mod vector;
 pub mod version;
 
-pub use callback::{CvodeJacobianFn, CvodeRootFn, IdaJacobianFn, IdaRootFn, ResidualFn, RhsFn};
+pub use callback::{
+    CvodeJacobianFn, CvodeRootFn, CvodeSparseJacobianFn, IdaJacobianFn, IdaRootFn,
+    IdaSparseJacobianFn, ResidualFn, RhsFn,
+};
 pub use custom_ls::IdaLinearSolver;
 pub use cvode::Cvode;
 pub use error::{CallbackError, CallbackResult, SolverError};
 pub use ida::Ida;
 pub use matrix::DenseMatrixMut;
 pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
+pub use sparse::{CscPattern, FaerCounters, SparseMatrixMut, SparseSolver};
 pub use stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 pub use version::{header_version, version};

@@ -1,0 +1,207 @@
+//! Large mechanisms: cost per step of the dense LU against the sparse ones (faer, KLU).
+//!
+//! 1. The N-link pendulum (uniform 1 m, 1 kg bars hanging from a ground pin, released
+//!    horizontal; `report::generate::n_link_pendulum`), GGL DAE, rtol 1e-6, atol 1e-8, 1 s:
+//!    `cpu_seconds / steps` at N = 32 … 512 for each linear solver, and its growth against
+//!    N = 32 (linear in N would be 2×, 4×, 8×, 16×). The dense LU is measured only while one
+//!    solve stays under [`DENSE_BUDGET`] s of CPU (it grows like N³).
+//! 2. The chain of 40 parallelogram four-bars in series over 20 s (about 20 singular passages),
+//!    rtol 5e-9, atol 5e-11 as `tests/singular_fourbar_chain.rs`, with the error of the first
+//!    crank's top against the exact 1-DOF model (`tests/common/four_bar_chain.rs`).
+//!
+//! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
+//! solve per solver at N = 64. Run with `cargo bench --bench sparse`.
+
+#[allow(unused_imports)]
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::Duration;
+
+use bondmech::report::generate::n_link_pendulum;
+use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
+use common::four_bar_chain::{chain_json, simulate_four_bar_chain, FourBarChain};
+use criterion::Criterion;
+
+/// CPU seconds of one dense solve beyond which the dense column stops.
+const DENSE_BUDGET: f64 = 60.0;
+
+const SOLVERS: [(LinearSolverKind, &str); 3] = [
+    (LinearSolverKind::Dense, "dense"),
+    (LinearSolverKind::Sparse, "faer"),
+    (LinearSolverKind::Klu, "klu"),
+];
+
+fn n_link_solve(model: &Model, ls: LinearSolverKind) -> Solution {
+    let mut o = model.default_options();
+    o.formulation = FormulationKind::Ggl;
+    o.rtol = 1e-6;
+    o.atol = 1e-8;
+    o.linear_solver = ls;
+    model.solve(&o).expect("the N-link pendulum solves")
+}
+
+fn n_link_table() {
+    println!("\nN-link pendulum, GGL DAE, rtol 1e-6, atol 1e-8, 1 s (one solve per cell)");
+    println!(
+        "{:>4} {:>8} {:>10} {:>6} {:>7} {:>10} {:>12} {:>8}",
+        "N", "unknowns", "build (s)", "solver", "steps", "CPU (s)", "µs per step", "vs N=32"
+    );
+    let mut base = [None; 3];
+    let mut dense_over = false;
+    for n in [32usize, 64, 128, 256, 512] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        let model = Model::new(&scene).expect("model builds");
+        for (k, (ls, label)) in SOLVERS.iter().enumerate() {
+            if *ls == LinearSolverKind::Dense && dense_over {
+                println!(
+                    "{n:>4} {:>8} {:>10} {label:>6}  (skipped: over {DENSE_BUDGET} s)",
+                    "", ""
+                );
+                continue;
+            }
+            let s = n_link_solve(&model, *ls);
+            let build = s.summary.build_cpu_seconds;
+            let per_step = s.summary.cpu_seconds / s.summary.steps.max(1) as f64;
+            let b = *base[k].get_or_insert(per_step);
+            println!(
+                "{:>4} {:>8} {:>10.2} {:>6} {:>7} {:>10.3} {:>12.1} {:>7.1}×",
+                n,
+                s.summary.unknowns,
+                build,
+                label,
+                s.summary.steps,
+                s.summary.cpu_seconds,
+                per_step * 1e6,
+                per_step / b
+            );
+            if *ls == LinearSolverKind::Dense && s.summary.cpu_seconds > DENSE_BUDGET / 8.0 {
+                // the next N costs about 8 times as much
+                dense_over = true;
+            }
+        }
+    }
+}
+
+/// Where `auto` should switch: dense against faer on small N-link pendulums (median of 5).
+fn crossover_table() {
+    println!("\nCrossover: N-link pendulum as above, µs per step (median of 5 solves)");
+    println!(
+        "{:>4} {:>8} {:>12} {:>12} {:>12} {:>12}",
+        "N", "unknowns", "dense", "faer", "klu", "dense/faer"
+    );
+    for n in [1usize, 2, 3, 4, 6, 8, 12, 16] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        let model = Model::new(&scene).expect("model builds");
+        let mut cells = Vec::new();
+        let mut unknowns = 0;
+        for (ls, _) in SOLVERS {
+            let mut per_step: Vec<f64> = (0..5)
+                .map(|_| {
+                    let s = n_link_solve(&model, ls);
+                    unknowns = s.summary.unknowns;
+                    s.summary.cpu_seconds / s.summary.steps.max(1) as f64
+                })
+                .collect();
+            per_step.sort_by(f64::total_cmp);
+            cells.push(per_step[2]);
+        }
+        println!(
+            "{:>4} {:>8} {:>12.1} {:>12.1} {:>12.1} {:>12.2}",
+            n,
+            unknowns,
+            cells[0] * 1e6,
+            cells[1] * 1e6,
+            cells[2] * 1e6,
+            cells[0] / cells[1]
+        );
+    }
+}
+
+/// Largest distance of the first crank's top from the exact 1-DOF model.
+fn chain_error(n: usize, s: &Solution) -> f64 {
+    let p = FourBarChain {
+        loops: n,
+        m: 1.0,
+        l: 1.0,
+        g: 9.81,
+    };
+    let r = simulate_four_bar_chain(&p, [std::f64::consts::FRAC_PI_2, 1.0], &s.times);
+    r.iter()
+        .enumerate()
+        .map(|(k, rk)| {
+            let x = s.value(k, "crank0.A.x").unwrap();
+            let y = s.value(k, "crank0.A.y").unwrap();
+            (x - rk.first_crank_top[0]).hypot(y - rk.first_crank_top[1])
+        })
+        .fold(0.0, f64::max)
+}
+
+fn chain_table() {
+    let n = 40;
+    println!(
+        "\nChain of {n} four-bars, GGL (compliant at the passages), 20 s, outputs every 0.05 s"
+    );
+    println!(
+        "{:>6} {:>6} {:>8} {:>7} {:>10} {:>12} {:>9} {:>10}",
+        "solver", "rtol", "unknowns", "steps", "CPU (s)", "µs per step", "passages", "error"
+    );
+    let model = Model::new(&Scene::from_json_str(&chain_json(n)).unwrap()).unwrap();
+    // atol = rtol / 100 as tests/singular_fourbar_chain.rs; dense last (minutes)
+    let runs = [
+        (LinearSolverKind::Sparse, "faer", 1e-8),
+        (LinearSolverKind::Klu, "klu", 1e-8),
+        (LinearSolverKind::Sparse, "faer", 5e-9),
+        (LinearSolverKind::Klu, "klu", 5e-9),
+        (LinearSolverKind::Dense, "dense", 1e-8),
+    ];
+    for (ls, label, rtol) in runs {
+        let mut o = model.default_options();
+        o.formulation = FormulationKind::Ggl;
+        o.rtol = rtol;
+        o.atol = rtol / 100.0;
+        o.output_times = (0..=400).map(|i| 0.05 * i as f64).collect();
+        o.max_steps = Some(2_000_000);
+        o.linear_solver = ls;
+        match model.solve(&o) {
+            Ok(s) => println!(
+                "{:>6} {:>6.0e} {:>8} {:>7} {:>10.2} {:>12.1} {:>9} {:>10.2e}",
+                label,
+                rtol,
+                s.summary.unknowns,
+                s.summary.steps,
+                s.summary.cpu_seconds,
+                s.summary.cpu_seconds * 1e6 / s.summary.steps.max(1) as f64,
+                s.summary.singular_passages.len(),
+                chain_error(n, &s)
+            ),
+            Err(e) => println!("{label:>6} {rtol:>6.0e} failed: {e}"),
+        }
+    }
+}
+
+fn main() {
+    let only = std::env::var("BONDMECH_SPARSE_BENCH").unwrap_or_default();
+    if only.is_empty() || only == "crossover" {
+        crossover_table();
+    }
+    if only.is_empty() || only == "n_link" {
+        n_link_table();
+    }
+    if only.is_empty() || only == "chain" {
+        chain_table();
+    }
+    let scene = n_link_pendulum(64, 1.0, 0.01).expect("generated scene is valid");
+    let model = Model::new(&scene).expect("model builds");
+    let mut crit = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(5))
+        .configure_from_args();
+    let mut g = crit.benchmark_group("n_link_64");
+    for (ls, label) in SOLVERS {
+        g.bench_function(label, |b| b.iter(|| n_link_solve(&model, ls)));
+    }
+    g.finish();
+    crit.final_summary();
+}

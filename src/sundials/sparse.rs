@@ -1,0 +1,479 @@
+//! Sparse Newton matrices: a compressed-sparse-column pattern fixed once per problem, the
+//! SUNDIALS CSC `SUNMatrix` the Jacobian callbacks fill, and two sparse direct solvers for it.
+//!
+//! IDA's iteration matrix `J = ∂F/∂y + cj ∂F/∂y'` (and CVODE's `M = I − γ ∂f/∂y`) of a
+//! mechanism has a few entries per row, so it is stored as CSC (`colptr`, `rowidx`, values)
+//! and factored `P J Q = L U` by a sparse LU:
+//!
+//! * [`SparseSolver::Faer`]: faer's sparse LU (COLAMD column ordering, partial pivoting by
+//!   rows), wrapped here as a custom *matrix-direct* `SUNLinearSolver`: the symbolic analysis
+//!   runs once per pattern (again only if the pattern seen at a setup differs), and every
+//!   `setup` refactors numerically with the current values;
+//! * [`SparseSolver::Klu`]: SUNDIALS' own `SUNLinSol_KLU` (SuiteSparse KLU, from Debian's
+//!   `libsundials-dev`), which likewise analyses once and refactors.
+//!
+//! Both are *matrix-based* solvers, so the integrators keep their usual Jacobian reuse
+//! (IDA re-evaluates `J` only when `cj` changed enough or Newton failed; CVODE reuses
+//! `∂f/∂y` across steps and re-forms `I − γJ`) exactly as with the dense solver.
+//!
+//! The pattern always contains the diagonal: CVODE's `SUNMatScaleAddI` then adds `I` in
+//! place (it would otherwise re-allocate with a new pattern), and an explicit zero on the
+//! diagonal costs nothing.
+
+use super::context::Context;
+use super::error::SolverError;
+use super::linsol::LinearSolver;
+use super::vector::{slice_of, slice_of_mut, NVector};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
+use std::os::raw::{c_int, c_void};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ptr;
+use sundials_sys as sys;
+
+/// Which sparse LU factors the Newton matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SparseSolver {
+    /// faer's sparse LU through our custom `SUNLinearSolver`.
+    Faer,
+    /// SUNDIALS' `SUNLinSol_KLU` (SuiteSparse KLU).
+    Klu,
+}
+
+/// A square sparsity pattern in compressed sparse column form: the row indices of column `j`
+/// are `rowidx[colptr[j]..colptr[j+1]]`, sorted and unique. Always holds the diagonal.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CscPattern {
+    n: usize,
+    colptr: Vec<usize>,
+    rowidx: Vec<usize>,
+}
+
+impl CscPattern {
+    /// The pattern of an `n × n` matrix with the given `(row, col)` entries (repeats allowed)
+    /// and the diagonal. An entry outside `n × n` is an [`SolverError::InvalidInput`].
+    pub fn new(
+        n: usize,
+        entries: impl IntoIterator<Item = (usize, usize)>,
+    ) -> Result<CscPattern, SolverError> {
+        let mut cols: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
+        for (r, c) in entries {
+            if r >= n || c >= n {
+                return Err(SolverError::InvalidInput(format!(
+                    "sparsity pattern entry ({r}, {c}) lies outside the {n} × {n} matrix"
+                )));
+            }
+            cols[c].push(r);
+        }
+        let mut colptr = Vec::with_capacity(n + 1);
+        let mut rowidx = Vec::new();
+        colptr.push(0);
+        for mut col in cols {
+            col.sort_unstable();
+            col.dedup();
+            rowidx.extend(col);
+            colptr.push(rowidx.len());
+        }
+        Ok(CscPattern { n, colptr, rowidx })
+    }
+
+    /// Matrix dimension.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.rowidx.len()
+    }
+
+    /// Column pointers (`n + 1` of them).
+    pub fn colptr(&self) -> &[usize] {
+        &self.colptr
+    }
+
+    /// Row indices, column after column.
+    pub fn rowidx(&self) -> &[usize] {
+        &self.rowidx
+    }
+
+    /// Index into the values of entry `(row, col)`, if it is in the pattern.
+    pub fn position(&self, row: usize, col: usize) -> Option<usize> {
+        if col >= self.n {
+            return None;
+        }
+        let (a, b) = (self.colptr[col], self.colptr[col + 1]);
+        self.rowidx[a..b].binary_search(&row).ok().map(|k| a + k)
+    }
+}
+
+/// Mutable view of the values of a sparse matrix with a [`CscPattern`].
+pub struct SparseMatrixMut<'a> {
+    pattern: &'a CscPattern,
+    data: &'a mut [f64],
+}
+
+impl<'a> SparseMatrixMut<'a> {
+    /// View of `data` (one value per pattern entry); `None` if the lengths differ.
+    pub fn from_slice(pattern: &'a CscPattern, data: &'a mut [f64]) -> Option<Self> {
+        (data.len() == pattern.nnz()).then_some(SparseMatrixMut { pattern, data })
+    }
+
+    /// The pattern.
+    pub fn pattern(&self) -> &CscPattern {
+        self.pattern
+    }
+
+    /// `A[i, j] += v`. Panics if `(i, j)` is not in the pattern (inside a Jacobian callback
+    /// the panic is caught and stops the solve with an error naming the entry).
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        match self.pattern.position(i, j) {
+            Some(k) => self.data[k] += v,
+            None => panic!("Jacobian entry ({i}, {j}) is not in the sparsity pattern"),
+        }
+    }
+
+    /// `A[i, j]` (0 outside the pattern).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.pattern.position(i, j).map_or(0.0, |k| self.data[k])
+    }
+
+    /// Set every stored value to zero.
+    pub fn fill_zero(&mut self) {
+        self.data.fill(0.0);
+    }
+
+    /// The stored values, in pattern order.
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        self.data
+    }
+}
+
+/// Owned CSC `SUNSparseMatrix` holding a [`CscPattern`], destroyed on drop.
+pub(crate) struct SparseMatrix {
+    raw: sys::SUNMatrix,
+}
+
+impl SparseMatrix {
+    pub(crate) fn new(ctx: &Context, pattern: &CscPattern) -> Result<SparseMatrix, SolverError> {
+        let n = pattern.n() as sys::sunindextype;
+        // SAFETY: valid context, positive dimensions; NULL is checked below.
+        let raw = unsafe {
+            sys::SUNSparseMatrix(
+                n,
+                n,
+                pattern.nnz().max(1) as sys::sunindextype,
+                sys::CSC_MAT as c_int,
+                ctx.raw(),
+            )
+        };
+        if raw.is_null() {
+            return Err(SolverError::InvalidInput("SUNSparseMatrix failed".into()));
+        }
+        let m = SparseMatrix { raw };
+        // SAFETY: `raw` is a live CSC matrix with room for the pattern's nnz entries.
+        unsafe { write_pattern(raw, pattern) };
+        Ok(m)
+    }
+
+    pub(crate) fn raw(&self) -> sys::SUNMatrix {
+        self.raw
+    }
+}
+
+impl Drop for SparseMatrix {
+    fn drop(&mut self) {
+        // SAFETY: `raw` came from SUNSparseMatrix and is destroyed exactly once.
+        unsafe { sys::SUNMatDestroy(self.raw) }
+    }
+}
+
+/// Writes `pattern`'s column pointers and row indices into a CSC `SUNMatrix`
+/// (`SUNMatZero` clears them, so a Jacobian callback writes them back every time).
+///
+/// # Safety
+/// `m` must be a live CSC sparse matrix with `n = pattern.n()` columns and capacity for at
+/// least `pattern.nnz()` entries, not accessed elsewhere meanwhile.
+pub(crate) unsafe fn write_pattern(m: sys::SUNMatrix, pattern: &CscPattern) {
+    // SAFETY: guaranteed by the caller.
+    unsafe {
+        let n = pattern.n();
+        let ptrs = std::slice::from_raw_parts_mut(sys::SUNSparseMatrix_IndexPointers(m), n + 1);
+        for (d, s) in ptrs.iter_mut().zip(pattern.colptr()) {
+            *d = *s as sys::sunindextype;
+        }
+        let nnz = pattern.nnz();
+        if nnz > 0 {
+            let rows = std::slice::from_raw_parts_mut(sys::SUNSparseMatrix_IndexValues(m), nnz);
+            for (d, s) in rows.iter_mut().zip(pattern.rowidx()) {
+                *d = *s as sys::sunindextype;
+            }
+        }
+    }
+}
+
+/// View of the values of a CSC `SUNMatrix` holding `pattern`.
+///
+/// # Safety
+/// As for [`write_pattern`]; the view must not outlive `m`.
+pub(crate) unsafe fn values_of<'a>(m: sys::SUNMatrix, pattern: &CscPattern) -> &'a mut [f64] {
+    // SAFETY: guaranteed by the caller.
+    unsafe {
+        let nnz = pattern.nnz();
+        if nnz == 0 {
+            return &mut [];
+        }
+        std::slice::from_raw_parts_mut(sys::SUNSparseMatrix_Data(m), nnz)
+    }
+}
+
+// --- KLU -----------------------------------------------------------------------------------
+
+// sundials-sys 0.6 binds `SUNLinSol_KLU` only with its `klu` feature, which pulls
+// `suitesparse_sys` and makes sundials-sys build SUNDIALS from source with cmake (refused by
+// this project, see build.rs). Debian's libsundials-dev ships the KLU solver as its own
+// library, so we declare its one constructor here and link it from build.rs.
+extern "C" {
+    fn SUNLinSol_KLU(
+        y: sys::N_Vector,
+        a: sys::SUNMatrix,
+        sunctx: sys::SUNContext,
+    ) -> sys::SUNLinearSolver;
+}
+
+/// The sparse direct solver `kind` for the CSC matrix `a` (template vector `y`).
+pub(crate) fn new_sparse_solver(
+    ctx: &Context,
+    y: &NVector,
+    a: &SparseMatrix,
+    kind: SparseSolver,
+) -> Result<LinearSolver, SolverError> {
+    match kind {
+        SparseSolver::Klu => {
+            // SAFETY: live serial vector, CSC matrix and context of matching size.
+            let raw = unsafe { SUNLinSol_KLU(y.raw(), a.raw(), ctx.raw()) };
+            if raw.is_null() {
+                return Err(SolverError::InvalidInput("SUNLinSol_KLU failed".into()));
+            }
+            // SAFETY: built by SUNDIALS; its free op releases the KLU data.
+            Ok(unsafe { LinearSolver::from_raw(raw) })
+        }
+        SparseSolver::Faer => new_faer_solver(ctx),
+    }
+}
+
+// --- faer sparse LU as a SUNLinearSolver ---------------------------------------------------
+
+/// Counters of the faer solver (for tests: the symbolic analysis runs once per pattern).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FaerCounters {
+    /// Symbolic analyses (column ordering, elimination structure).
+    pub symbolic: u64,
+    /// Numeric factorisations.
+    pub numeric: u64,
+}
+
+/// State of the faer LU: the pattern it was analysed for, the symbolic and numeric factors.
+struct FaerLu {
+    colptr: Vec<usize>,
+    rowidx: Vec<usize>,
+    symbolic: Option<SymbolicLu<usize>>,
+    numeric: NumericLu<usize, f64>,
+    factored: bool,
+    factor_mem: MemBuffer,
+    solve_mem: MemBuffer,
+    counters: FaerCounters,
+}
+
+/// Reads the pattern of the CSC matrix `a` into `lu`, redoing the symbolic analysis if it
+/// changed, then factors `a` numerically. Returns 0, or a positive (recoverable) code when
+/// the matrix is singular, or -1 on an internal failure.
+fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64]) -> c_int {
+    let same = lu.colptr.len() == ptrs.len()
+        && lu.rowidx.len() == rows.len()
+        && lu.colptr.iter().zip(ptrs).all(|(a, b)| *a as i64 == *b)
+        && lu.rowidx.iter().zip(rows).all(|(a, b)| *a as i64 == *b);
+    if !same || lu.symbolic.is_none() {
+        lu.colptr = ptrs.iter().map(|&p| p as usize).collect();
+        lu.rowidx = rows.iter().map(|&r| r as usize).collect();
+        let pattern =
+            SymbolicSparseColMatRef::new_unsorted_checked(n, n, &lu.colptr, None, &lu.rowidx);
+        let symbolic = match factorize_symbolic_lu(pattern, Default::default()) {
+            Ok(s) => s,
+            Err(_) => return -1,
+        };
+        lu.factor_mem = MemBuffer::new(
+            symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        lu.solve_mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        lu.symbolic = Some(symbolic);
+        lu.numeric = NumericLu::new();
+        lu.counters.symbolic += 1;
+    }
+    let Some(symbolic) = lu.symbolic.as_ref() else {
+        return -1;
+    };
+    let pattern = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &lu.colptr, None, &lu.rowidx);
+    let a = SparseColMatRef::new(pattern, vals);
+    lu.counters.numeric += 1;
+    let stack = MemStack::new(&mut lu.factor_mem);
+    match symbolic.factorize_numeric_lu(&mut lu.numeric, a, Par::Seq, stack, Default::default()) {
+        Ok(_) => {
+            lu.factored = true;
+            0
+        }
+        Err(_) => {
+            lu.factored = false;
+            // SUNLS_LUFACT_FAIL: recoverable, the integrator retries with a smaller step
+            sys::SUNLS_LUFACT_FAIL as c_int
+        }
+    }
+}
+
+fn faer_solve(lu: &mut FaerLu, x: &mut [f64]) -> c_int {
+    let (Some(symbolic), true) = (lu.symbolic.as_ref(), lu.factored) else {
+        return -1;
+    };
+    let n = x.len();
+    let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+    let stack = MemStack::new(&mut lu.solve_mem);
+    LuRef::new_unchecked(symbolic, &lu.numeric).solve_in_place_with_conj(
+        Conj::No,
+        rhs,
+        Par::Seq,
+        stack,
+    );
+    if x.iter().all(|v| v.is_finite()) {
+        0
+    } else {
+        // a numerically singular factor: recoverable, as the dense solver's zero pivot is
+        sys::SUNLS_PACKAGE_FAIL_REC as c_int
+    }
+}
+
+unsafe extern "C" fn faer_get_type(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
+    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
+}
+
+unsafe extern "C" fn faer_get_id(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
+    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
+}
+
+unsafe extern "C" fn faer_initialize(s: sys::SUNLinearSolver) -> c_int {
+    // SAFETY: content is the Box<FaerLu> installed by new_faer_solver.
+    unsafe {
+        let lu = &mut *((*s).content as *mut FaerLu);
+        lu.factored = false;
+    }
+    0
+}
+
+unsafe extern "C" fn faer_setup_op(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int {
+    // SAFETY: content is our Box<FaerLu>; `a` is the live CSC matrix the integrator attached
+    // (square, n columns, colptr[n] stored entries), not accessed elsewhere during setup.
+    let (lu, n, ptrs, rows, vals) = unsafe {
+        if a.is_null() || sys::SUNMatGetID(a) != sys::SUNMatrix_ID_SUNMATRIX_SPARSE {
+            return -1;
+        }
+        let lu = &mut *((*s).content as *mut FaerLu);
+        let n = sys::SUNSparseMatrix_Columns(a) as usize;
+        let ptrs = std::slice::from_raw_parts(sys::SUNSparseMatrix_IndexPointers(a), n + 1);
+        let nnz = ptrs[n] as usize;
+        let (rows, vals): (&[i64], &[f64]) = if nnz == 0 {
+            (&[], &[])
+        } else {
+            (
+                std::slice::from_raw_parts(sys::SUNSparseMatrix_IndexValues(a), nnz),
+                std::slice::from_raw_parts(sys::SUNSparseMatrix_Data(a), nnz),
+            )
+        };
+        (lu, n, ptrs, rows, vals)
+    };
+    // no panic may unwind into SUNDIALS
+    catch_unwind(AssertUnwindSafe(|| faer_setup(lu, n, ptrs, rows, vals))).unwrap_or(-1)
+}
+
+unsafe extern "C" fn faer_solve_op(
+    s: sys::SUNLinearSolver,
+    _a: sys::SUNMatrix,
+    x: sys::N_Vector,
+    b: sys::N_Vector,
+    _tol: f64,
+) -> c_int {
+    // SAFETY: content is our Box<FaerLu>; x and b are serial vectors of the matrix size
+    // (the integrator's own), possibly the same vector.
+    unsafe {
+        let lu = &mut *((*s).content as *mut FaerLu);
+        let n = lu.colptr.len().saturating_sub(1);
+        if sys::N_VGetLength(x) as usize != n || sys::N_VGetLength(b) as usize != n {
+            return -1;
+        }
+        if x != b {
+            slice_of_mut(x, n).copy_from_slice(slice_of(b, n));
+        }
+        let xs = slice_of_mut(x, n);
+        catch_unwind(AssertUnwindSafe(|| faer_solve(lu, xs))).unwrap_or(-1)
+    }
+}
+
+unsafe extern "C" fn faer_free(s: sys::SUNLinearSolver) -> c_int {
+    // SAFETY: `s` was built by new_faer_solver; its content is our Box<FaerLu>, reclaimed
+    // once here, then the empty shell and ops are freed by SUNDIALS.
+    unsafe {
+        if s.is_null() {
+            return 0;
+        }
+        if !(*s).content.is_null() {
+            drop(Box::from_raw((*s).content as *mut FaerLu));
+            (*s).content = ptr::null_mut();
+        }
+        sys::SUNLinSolFreeEmpty(s);
+    }
+    0
+}
+
+fn new_faer_solver(ctx: &Context) -> Result<LinearSolver, SolverError> {
+    // SAFETY: valid context; NULL checked; the ops table was allocated by SUNLinSolNewEmpty.
+    unsafe {
+        let s = sys::SUNLinSolNewEmpty(ctx.raw());
+        if s.is_null() {
+            return Err(SolverError::InvalidInput("SUNLinSolNewEmpty failed".into()));
+        }
+        let ops = &mut *(*s).ops;
+        ops.gettype = Some(faer_get_type);
+        ops.getid = Some(faer_get_id);
+        ops.initialize = Some(faer_initialize);
+        ops.setup = Some(faer_setup_op);
+        ops.solve = Some(faer_solve_op);
+        ops.free = Some(faer_free);
+        let content = Box::new(FaerLu {
+            colptr: Vec::new(),
+            rowidx: Vec::new(),
+            symbolic: None,
+            numeric: NumericLu::new(),
+            factored: false,
+            factor_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+            solve_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+            counters: FaerCounters::default(),
+        });
+        (*s).content = Box::into_raw(content) as *mut c_void;
+        Ok(LinearSolver::from_raw(s))
+    }
+}
+
+/// The counters of a faer solver built by [`new_sparse_solver`] (`None` for KLU).
+pub(crate) fn faer_counters(ls: &LinearSolver) -> Option<FaerCounters> {
+    // SAFETY: a live solver; the id tells whether its content is our FaerLu.
+    unsafe {
+        let s = ls.raw();
+        if sys::SUNLinSolGetID(s) != sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
+            || sys::SUNLinSolGetType(s) != sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
+            || (*s).content.is_null()
+        {
+            return None;
+        }
+        Some((*((*s).content as *const FaerLu)).counters)
+    }
+}
