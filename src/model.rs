@@ -193,6 +193,7 @@ impl Model {
             Formulation::Decoupled => FormulationKind::Decoupled,
             Formulation::CompliantGgl => FormulationKind::CompliantGgl,
             Formulation::Index1 => FormulationKind::Index1,
+            Formulation::Partitioned => FormulationKind::Partitioned,
             _ => FormulationKind::Ggl,
         };
         SolveOptions {

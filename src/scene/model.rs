@@ -336,6 +336,8 @@ pub enum Formulation {
     Decoupled,
     /// `"compliant_ggl"`: GGL with a small compliance, passes singular configurations.
     CompliantGgl,
+    /// `"partitioned"`: the degrees of freedom as ODE states (coordinate partitioning).
+    Partitioned,
 }
 
 impl Formulation {
@@ -347,6 +349,7 @@ impl Formulation {
             Formulation::Index1 => "index1",
             Formulation::Decoupled => "decoupled",
             Formulation::CompliantGgl => "compliant_ggl",
+            Formulation::Partitioned => "partitioned",
         }
     }
 
@@ -369,6 +372,7 @@ impl Formulation {
             Formulation::Index1,
             Formulation::Decoupled,
             Formulation::CompliantGgl,
+            Formulation::Partitioned,
         ]
         .into_iter()
         .find(|f| f.as_str() == name)

@@ -728,7 +728,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         Some(s) => Formulation::from_name(&s).unwrap_or_else(|| {
             p.push(
                 f.path("formulation"),
-                format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled or compliant_ggl)"),
+                format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled, compliant_ggl or partitioned)"),
             );
             Formulation::Dae
         }),

@@ -341,6 +341,12 @@ impl Cvode {
         self.driver.steps_used += steps;
     }
 
+    /// Time CVODE's internal integration has reached (the last accepted step, at or after
+    /// [`Self::t`]); [`Self::dky`] interpolates up to it.
+    pub fn last_step_time(&self) -> f64 {
+        self.current_time()
+    }
+
     /// Time of the state in `y()`.
     pub fn t(&self) -> f64 {
         self.driver.t

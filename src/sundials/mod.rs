@@ -14,7 +14,7 @@
 //! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
 //! - [`stats`][]: [`SolverStats`].
 //! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
-//! - [`ida`], [`cvode`]: the solvers.
+//! - [`ida`], [`cvode`]: the solvers; [`erk`]: ARKODE's explicit Runge–Kutta (ERKStep).
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
 //! - [`mod@version`]: linked library version.
 //! - [`heap`]: bytes in use by `malloc`, for leak tests.
@@ -24,6 +24,7 @@ pub mod context;
 pub mod custom_ls;
 pub mod cvode;
 pub mod driver;
+pub mod erk;
 pub mod error;
 pub mod heap;
 pub mod ida;
@@ -37,6 +38,7 @@ pub mod version;
 pub use callback::{CvodeJacobianFn, CvodeRootFn, IdaJacobianFn, IdaRootFn, ResidualFn, RhsFn};
 pub use custom_ls::IdaLinearSolver;
 pub use cvode::Cvode;
+pub use erk::{Erk, ErkOptions};
 pub use error::{CallbackError, CallbackResult, SolverError};
 pub use ida::Ida;
 pub use matrix::DenseMatrixMut;
