@@ -24,5 +24,5 @@ pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MechanicsTapes};
-pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
+pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart};
 pub use singular::{joint_conditioning, JointConditioning};

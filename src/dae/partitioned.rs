@@ -20,7 +20,7 @@
 //! `G_Dᵀ λ = Q_D − M_D a_D`. The small dense LU below is hand-written (no allocation per call;
 //! nalgebra's decompositions take their matrix by value).
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use nalgebra::DMatrix;
 
@@ -40,6 +40,18 @@ pub enum PartitionError {
         t: f64,
         /// Size of the last correction.
         correction: f64,
+    },
+    /// Newton converged far from the tangent prediction (a correction of at least
+    /// [`BRANCH_FRACTION`] of the prediction): the trial step probably crossed to another branch
+    /// of the joints' solutions near a bifurcation (the integrator retries with a smaller step).
+    #[error("Newton on the joints left the tangent prediction at t = {t} (correction {correction:e}, prediction {predicted:e})")]
+    Branch {
+        /// Time of the evaluation.
+        t: f64,
+        /// Size of Newton's correction of the prediction.
+        correction: f64,
+        /// Size of the prediction.
+        predicted: f64,
     },
     /// The dependent block of `G_q` or `G_v` is singular at this state.
     #[error("the dependent block of the joints' Jacobian is singular at t = {t}")]
@@ -200,6 +212,22 @@ impl PartitionedSystem {
     }
 }
 
+/// Where a [`PartitionedRhs`] takes its Newton warm start from.
+#[derive(Clone, Debug, Default)]
+pub enum WarmStart {
+    /// Its own last converged point.
+    #[default]
+    Own,
+    /// Its own, and it publishes each converged `q` here.
+    Publish(Arc<Mutex<Vec<f64>>>),
+    /// The `q` last published here (by the integrator's right-hand side).
+    Follow(Arc<Mutex<Vec<f64>>>),
+}
+
+/// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
+/// that a right-hand side accepts (see [`PartitionError::Branch`]).
+pub const BRANCH_FRACTION: f64 = 0.5;
+
 /// Largest Newton iterations per right-hand side.
 pub const MAX_NEWTON_ITERATIONS: usize = 8;
 
@@ -217,6 +245,10 @@ pub struct PartitionedRhs {
     pub repartition_above: f64,
     /// Newton iterations allowed per evaluation ([`MAX_NEWTON_ITERATIONS`] by default).
     pub max_newton: usize,
+    /// Where the converged coordinates are published after each evaluation (the integrator's
+    /// right-hand side), or read from before each one (an evaluator of output rows, whose own
+    /// last point may be an output interval away): see [`WarmStart`].
+    pub warm: WarmStart,
     vars: Vec<f64>,
     w_pos: Vec<f64>,
     o_pos: Vec<f64>,
@@ -278,6 +310,7 @@ impl PartitionedRhs {
             condition_estimate: 1.0,
             repartition_above: f64::INFINITY,
             max_newton: MAX_NEWTON_ITERATIONS,
+            warm: WarmStart::Own,
             vars,
             part,
             newton_tol,
@@ -298,6 +331,17 @@ impl PartitionedRhs {
         let (dq, iq) = (&self.part.dep_q, &self.part.ind_q);
         let niq = iq.len();
         self.vars[0] = t;
+        // size of the tangent prediction, and whether the Newton correction is checked against it
+        let mut predicted = 0.0f64;
+        let mut checked = false;
+        if let WarmStart::Follow(w) = &self.warm {
+            if let Ok(q) = w.lock() {
+                if q.len() == nq {
+                    self.vars[1..=nq].copy_from_slice(&q);
+                    self.have_prev = false;
+                }
+            }
+        }
         if self.have_prev && nc > 0 {
             // tangent predictor with the last factorisation
             for k in 0..nc {
@@ -310,7 +354,12 @@ impl PartitionedRhs {
             lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             for (k, &i) in dq.iter().enumerate() {
                 self.vars[1 + i] -= self.tmp[k];
+                predicted = predicted.max(self.tmp[k].abs());
             }
+            for (k, &i) in dq.iter().enumerate() {
+                self.c[k] = self.vars[1 + i];
+            }
+            checked = true;
         }
         for (l, &i) in iq.iter().enumerate() {
             self.vars[1 + i] = y[l];
@@ -349,8 +398,30 @@ impl PartitionedRhs {
             }
             last = step;
             if step <= self.newton_tol {
+                if checked {
+                    // Newton must stay near the tangent prediction: a correction comparable to
+                    // the prediction itself means the step crossed to another branch of the
+                    // joints' solutions (near a bifurcation): retry with a smaller step
+                    let corr = dq.iter().enumerate().fold(0.0f64, |a, (k, &i)| {
+                        a.max((self.vars[1 + i] - self.c[k]).abs())
+                    });
+                    if corr > BRANCH_FRACTION * predicted + 1e3 * self.newton_tol {
+                        self.have_prev = false;
+                        return Err(PartitionError::Branch {
+                            t,
+                            correction: corr,
+                            predicted,
+                        });
+                    }
+                }
                 self.qi_prev.copy_from_slice(&y[..niq]);
                 self.have_prev = true;
+                if let WarmStart::Publish(w) = &self.warm {
+                    if let Ok(mut q) = w.lock() {
+                        q.clear();
+                        q.extend_from_slice(&self.vars[1..=nq]);
+                    }
+                }
                 return Ok(());
             }
         }

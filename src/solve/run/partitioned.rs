@@ -17,35 +17,50 @@ use super::{
 };
 use crate::dae::{
     consistent_state_from, ConsistentState, ConstraintExprs, GglFormulation, MechanicsTapes,
-    Partition, PartitionError, PartitionedRhs, PartitionedSystem,
+    Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::options::{Integrator, SolveOptions};
 use crate::solve::reactions::Multipliers;
 use crate::sundials::{
-    CallbackError, Cvode, CvodeOptions, Erk, ErkOptions, Multistep, SolverError, SolverStats,
-    Step, StepEvent,
+    CallbackError, Cvode, CvodeOptions, Erk, ErkOptions, Multistep, SolverError, SolverStats, Step,
+    StepEvent,
 };
 use crate::Error;
 
 /// Condition estimate of the dependent block `G_v[:, D]` (largest over smallest pivot of its
-/// LU) above which the right-hand side asks for a new partition (or ten times the estimate at
-/// the start of the segment, if larger).
-pub const REPARTITION_CONDITION: f64 = 1e2;
+/// LU) above which the right-hand side asks for a new partition (or [`REPARTITION_GROWTH`] times the
+/// estimate at the start of the segment, if larger).
+pub const REPARTITION_CONDITION: f64 = 20.0;
+
+/// Growth of the re-choice threshold over the segment's starting estimate (and over the
+/// last threshold when a re-choice kept the partition).
+pub const REPARTITION_GROWTH: f64 = 3.0;
 
 /// Condition number of the best partition's dependent blocks above which no partition is
-/// taken as well conditioned: the compliant GGL carries the mechanism through.
-pub const SINGULAR_PARTITION: f64 = 1e4;
+/// taken as well conditioned: the compliant GGL carries the mechanism through. Relative to a
+/// mechanism whose best partition starts at [`TYPICAL_CONDITION`]; the thresholds scale with
+/// the starting condition where it is larger (units: the Andrews squeezer, in metres and
+/// radians over millimetre levers, starts at 7e2 and is regular).
+pub const SINGULAR_PARTITION: f64 = 60.0;
 
 /// The compliant GGL hands the mechanism back at the first output where the best partition's
-/// condition number is below this.
-pub const REGULAR_PARTITION: f64 = 1e3;
+/// condition number is below this (scaled like [`SINGULAR_PARTITION`]).
+pub const REGULAR_PARTITION: f64 = 30.0;
+
+/// The starting condition number below which [`SINGULAR_PARTITION`] and
+/// [`REGULAR_PARTITION`] apply as they are (measured: planar pendulums, four-bars and
+/// slider-cranks start between 1 and 5).
+pub const TYPICAL_CONDITION: f64 = 5.0;
 
 /// `Integrator::Auto` takes BDF when `ρ̂ · Δt_out` exceeds this, where `ρ̂` is the infinity
 /// norm of the reduced ODE's Jacobian at the start (an upper bound of its spectral radius, by
 /// difference quotients) and `Δt_out` the mean output interval: an explicit method would then
 /// need more than about this many steps per output interval for stability alone.
 pub const STIFFNESS_LIMIT: f64 = 500.0;
+
+/// Failed segments from the same output after which the compliant GGL takes the passage.
+const MAX_RETRIES: usize = 2;
 
 /// Newton iterations allowed when completing an output row (the warm start is one output
 /// interval old there, not one step).
@@ -116,14 +131,16 @@ fn make_integ(
 ) -> Result<Integ, Error> {
     let mut c1 = core.clone();
     let f1 = flag.clone();
-    let rhs = Box::new(move |t: f64, y: &[f64], yd: &mut [f64]| match c1.rhs(t, y, yd) {
-        Ok(()) => Ok(()),
-        Err(e @ PartitionError::Repartition { .. }) => {
-            f1.store(true, Ordering::Relaxed);
-            Err(CallbackError::Fatal(e.to_string()))
-        }
-        Err(e) => Err(CallbackError::Recoverable(e.to_string())),
-    });
+    let rhs = Box::new(
+        move |t: f64, y: &[f64], yd: &mut [f64]| match c1.rhs(t, y, yd) {
+            Ok(()) => Ok(()),
+            Err(e @ PartitionError::Repartition { .. }) => {
+                f1.store(true, Ordering::Relaxed);
+                Err(CallbackError::Fatal(e.to_string()))
+            }
+            Err(e) => Err(CallbackError::Recoverable(e.to_string())),
+        },
+    );
     let stop_time = opts.output_times.last().copied();
     let integ = match kind {
         Integrator::Erk => {
@@ -222,6 +239,14 @@ pub(super) fn run_partitioned(
 ) -> Result<Solution, Error> {
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let t0 = opts.output_times[0];
+    if !init.redundant_joints.is_empty() {
+        // redundant everywhere: no partition exists at any time; the compliant GGL solves it
+        // (the caller has named the joints in a warning)
+        let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
+        let eps = opts.compliance.unwrap_or(1e-10 / mref);
+        let ggl = GglFormulation::build(&mut sys, c, eps);
+        return super::run_ggl(&sys, ggl, tapes, init, eps, eps, opts, summary, observer);
+    }
     let psys = Arc::new(PartitionedSystem::new(&mut sys, c));
     let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let qscale = 1.0 + init.q.iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -242,17 +267,15 @@ pub(super) fn run_partitioned(
     let mut first = x.clone();
     first.extend(&init.lambda);
     let row = out.row(t0, &first);
-    let finish = |summary: &mut Summary,
-                      out: &OutputEval,
-                      total: &SolverStats,
-                      compliant_time: f64| {
-        summary.cpu_seconds = clock.elapsed().as_secs_f64();
-        fill_stats(summary, total);
-        summary.max_constraint_error = out.max_g;
-        summary.compliant_time = compliant_time;
-        summary.compliance_used = compliant_time > 0.0 || !summary.singular_passages.is_empty();
-        set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
-    };
+    let finish =
+        |summary: &mut Summary, out: &OutputEval, total: &SolverStats, compliant_time: f64| {
+            summary.cpu_seconds = clock.elapsed().as_secs_f64();
+            fill_stats(summary, total);
+            summary.max_constraint_error = out.max_g;
+            summary.compliant_time = compliant_time;
+            summary.compliance_used = compliant_time > 0.0 || !summary.singular_passages.is_empty();
+            set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+        };
     if emit(&mut sol, observer, t0, row) {
         finish(summary, &out, &total, 0.0);
         set_completed(summary, &sol);
@@ -270,6 +293,10 @@ pub(super) fn run_partitioned(
     // the threshold of the partition kept after a re-choice found nothing better
     let mut keep_threshold = REPARTITION_CONDITION;
     let mut stalls = 0;
+    // the thresholds' scale: the best partition's condition at the start
+    let scale = psys.choose(t0, &x).map_or(1.0, |p| {
+        (psys.condition(&p, t0, &x) / TYPICAL_CONDITION).max(1.0)
+    });
     'segment: while k_next < n_out {
         let choice = psys
             .choose(t_start, &x)
@@ -277,7 +304,7 @@ pub(super) fn run_partitioned(
                 let k = psys.condition(&p, t_start, &x);
                 (p, k)
             })
-            .filter(|(_, k)| *k <= SINGULAR_PARTITION && stalls < 2);
+            .filter(|(_, k)| *k <= SINGULAR_PARTITION * scale && stalls < MAX_RETRIES);
         let Some((part, _)) = choice else {
             // no well-conditioned partition: the compliant GGL carries the passage
             let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
@@ -290,11 +317,7 @@ pub(super) fn run_partitioned(
                     g
                 }
             };
-            let gv = DMatrix::from_row_slice(
-                nc,
-                nv,
-                &MechanicsTapes::eval(&tapes.gv, t_start, &x),
-            );
+            let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t_start, &x));
             let cond = joint_conditioning(&gv, &sys.mass, &sys.rows);
             summary.warnings.push(format!(
                 "partitioned: no well-conditioned partition at t = {t_start:.6} (joints [{}], κ = {:.1e}); the compliant GGL (ε = {eps:.1e}) carries the passage",
@@ -351,7 +374,7 @@ pub(super) fn run_partitioned(
                 let xr = solver.ida.y()[..nq + nv].to_vec();
                 let back = psys
                     .choose(step.t, &xr)
-                    .is_some_and(|p| psys.condition(&p, step.t, &xr) < REGULAR_PARTITION);
+                    .is_some_and(|p| psys.condition(&p, step.t, &xr) < REGULAR_PARTITION * scale);
                 if back && k_next < n_out {
                     let st = consistent_state_from(&sys, &tapes, step.t, &xr)?;
                     x = st.q.iter().chain(&st.v).copied().collect();
@@ -390,8 +413,8 @@ pub(super) fn run_partitioned(
                 what: e.to_string(),
             })
         })?;
-        core.repartition_above = threshold.max(10.0 * core.condition_estimate);
-        keep_threshold = 10.0 * core.repartition_above;
+        core.repartition_above = threshold.max(REPARTITION_GROWTH * core.condition_estimate);
+        keep_threshold = REPARTITION_GROWTH * core.repartition_above;
         last_part = Some(part.clone());
         if kind == Integrator::Auto {
             kind = stiffness_choice(&core, t_start, &y0, opts);
@@ -404,7 +427,10 @@ pub(super) fn run_partitioned(
         };
         summary.unknowns = y0.len();
         let flag = Arc::new(AtomicBool::new(false));
+        let shared = Arc::new(std::sync::Mutex::new(Vec::new()));
+        core.warm = WarmStart::Publish(shared.clone());
         let mut oc = core.clone();
+        oc.warm = WarmStart::Follow(shared);
         oc.repartition_above = f64::INFINITY;
         oc.max_newton = OUTPUT_NEWTON_ITERATIONS;
         let roots = (events.len() > 0).then(|| {
@@ -420,32 +446,24 @@ pub(super) fn run_partitioned(
         });
         let mut integ = make_integ(kind, &core, &flag, t_start, &y0, opts, roots)?;
         integ.charge(wall_start.elapsed(), total.steps);
-        let seg_start = t_start;
         while k_next < n_out {
             let step = match integ.solve_to(opts.output_times[k_next]) {
                 Ok(s) => s,
                 Err(e) => {
-                    let repartition = flag.load(Ordering::Relaxed);
                     if !is_budget(&e) && nc > 0 {
-                        // a partition failure (its block degraded, or Newton/steps failed
-                        // near a singular configuration): choose again at the last step
-                        let tl = integ.last_step_time();
-                        let mut y = vec![0.0; y0.len()];
-                        let full = integ
-                            .dky(tl, &mut y)
-                            .ok()
-                            .and_then(|_| oc.full_with_multipliers(tl, &y).ok());
+                        // a partition failure (the block degraded, or Newton or the steps
+                        // failed near a singular configuration): choose again from the last
+                        // output, where the state is known good (the steps accepted just
+                        // before the failure may already be degraded), and after two
+                        // failures from the same output hand the passage to the GGL
                         total.accumulate(&integ.stats());
-                        if let Some(full) = full {
-                            if tl > seg_start || repartition {
-                                stalls = if tl > t_start { 0 } else { stalls + 1 };
-                                x.copy_from_slice(&full[..nq + nv]);
-                                t_start = tl;
-                                continue 'segment;
-                            }
+                        if flag.load(Ordering::Relaxed) {
+                            summary.warnings.push(format!(
+                                "partitioned: dependent block degraded at t = {:.6} ({e})",
+                                integ.last_step_time()
+                            ));
                         }
-                        // no progress at all: hand the passage to the compliant GGL
-                        stalls = 2;
+                        stalls += 1;
                         continue 'segment;
                     }
                     total.accumulate(&integ.stats());
@@ -460,13 +478,11 @@ pub(super) fn run_partitioned(
                     return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
-            let full = oc
-                .full_with_multipliers(step.t, integ.y())
-                .map_err(|e| {
-                    Error::Solver(SolverError::InvalidInput(format!(
-                        "partitioned: completing the output row: {e}"
-                    )))
-                })?;
+            let full = oc.full_with_multipliers(step.t, integ.y()).map_err(|e| {
+                Error::Solver(SolverError::InvalidInput(format!(
+                    "partitioned: completing the output row: {e}"
+                )))
+            })?;
             if let StepEvent::Root(info) = &step.event {
                 let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
                     continue;
@@ -479,7 +495,10 @@ pub(super) fn run_partitioned(
                 continue;
             }
             k_next += 1;
+            stalls = 0;
+            // (t_start, x): the last point reached on the mechanism, where a failure restarts
             x.copy_from_slice(&full[..nq + nv]);
+            t_start = step.t;
             let row = out.row(step.t, &full);
             if emit(&mut sol, observer, step.t, row) {
                 total.accumulate(&integ.stats());
@@ -487,7 +506,6 @@ pub(super) fn run_partitioned(
             }
         }
         total.accumulate(&integ.stats());
-        stalls = 0;
         break;
     }
     finish(summary, &out, &total, compliant_time);
