@@ -118,9 +118,8 @@ fn check_chain(n: usize, rtol: f64, atol: f64, bound: f64) {
 
 /// The partitioned formulation on the chain: the crank angle is the degree of freedom, every
 /// alignment (where no partition is well conditioned) goes to the compliant GGL and back; same
-/// 1-DOF reference and bound as the GGL at rtol 1e-9, one decade tighter (the explicit
-/// Runge–Kutta's phase error on the crank angle, which grows to 60 rad, reached 8e-4 at rtol
-/// 1e-9 and 5.5e-6 at 1e-10, N = 1).
+/// 1-DOF reference and bound as the GGL at rtol 1e-9 (measured 2.5e-5 for N = 1, 8.9e-5 for
+/// N = 3, with 20 passages through the compliant GGL).
 fn check_chain_partitioned(n: usize, rtol: f64, bound: f64) {
     let m = model(&chain_json(n));
     let mut o = m.default_options();
@@ -154,12 +153,12 @@ fn check_chain_partitioned(n: usize, rtol: f64, bound: f64) {
 
 #[test]
 fn partitioned_one_four_bar_follows_one_dof_reference_through_alignments() {
-    check_chain_partitioned(1, 1e-10, 1e-4);
+    check_chain_partitioned(1, 1e-9, 1e-4);
 }
 
 #[test]
 fn partitioned_chain_of_3_four_bars_follows_one_dof_reference_through_alignments() {
-    check_chain_partitioned(3, 1e-10, 1e-4);
+    check_chain_partitioned(3, 1e-9, 1e-4);
 }
 
 #[test]
