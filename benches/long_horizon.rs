@@ -7,6 +7,7 @@
 //! Run with `cargo bench --bench long_horizon` (a few minutes: the tightest GGL runs take
 //! millions of steps; each run is capped at 120 s of wall clock).
 
+#[allow(dead_code)] // the bench uses only the exact angle
 #[path = "../tests/common/elliptic.rs"]
 mod elliptic;
 

@@ -206,6 +206,7 @@ impl Model {
             max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
+            integrator: s.integrator,
             ..SolveOptions::default()
         }
     }

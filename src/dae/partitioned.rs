@@ -20,6 +20,9 @@
 //! `G_Dᵀ λ = Q_D − M_D a_D`. The small dense LU below is hand-written (no allocation per call;
 //! nalgebra's decompositions take their matrix by value).
 
+// the dense kernels index row-major matrices and several vectors with the same loop variable
+#![allow(clippy::needless_range_loop)]
+
 use std::sync::{Arc, Mutex};
 
 use nalgebra::DMatrix;

@@ -405,6 +405,8 @@ pub struct SolveSettings {
     pub max_steps: Option<u64>,
     /// Wall-clock budget in s (none by default).
     pub max_wall_seconds: Option<f64>,
+    /// Integrator of the partitioned formulation (default `auto`).
+    pub integrator: crate::solve::Integrator,
 }
 
 impl SolveSettings {
@@ -431,6 +433,7 @@ impl SolveSettings {
             joint_damping: 0.0,
             max_steps: None,
             max_wall_seconds: None,
+            integrator: crate::solve::Integrator::Auto,
         }
     }
 }

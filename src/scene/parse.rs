@@ -719,6 +719,7 @@ const SOLVE_KEYS: &[&str] = &[
     "joint_damping",
     "max_steps",
     "max_wall_seconds",
+    "integrator",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -755,6 +756,16 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         }
     };
     let max_wall_seconds = f.number(p, "max_wall_seconds");
+    let integrator = match f.string(p, "integrator") {
+        None => crate::solve::Integrator::Auto,
+        Some(s) => crate::solve::Integrator::parse(&s).unwrap_or_else(|| {
+            p.push(
+                f.path("integrator"),
+                format!("unknown integrator \"{s}\" (expected auto, adams, bdf or erk)"),
+            );
+            crate::solve::Integrator::Auto
+        }),
+    };
     Some(SolveSettings {
         formulation,
         t_start,
@@ -767,5 +778,6 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         joint_damping,
         max_steps,
         max_wall_seconds,
+        integrator,
     })
 }

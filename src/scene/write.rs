@@ -184,6 +184,9 @@ fn solve(s: &SolveSettings) -> Json {
     if let Some(w) = s.max_wall_seconds {
         e.push(("max_wall_seconds", num(w)));
     }
+    if s.integrator != crate::solve::Integrator::Auto {
+        e.push(("integrator", text(s.integrator.name())));
+    }
     obj(e)
 }
 
