@@ -5,6 +5,9 @@
 //! ≤ 1e-6 at every tighter tolerance too. Also: model build time, and time per step of the GGL
 //! N-link pendulum against N.
 //!
+//! The partitioned formulation is also compared with the minimal model on ARKODE's explicit
+//! Runge–Kutta (same Butcher table), the ratio printed under its row.
+//!
 //! Run with `cargo bench --bench mechanisms` (prints the tables, then criterion's timings).
 
 #[path = "common/minimal.rs"]
@@ -27,6 +30,8 @@ const DECOUPLED_K: f64 = 1e8;
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
     Minimal,
+    /// The minimal model on ARKODE's explicit Runge–Kutta.
+    MinimalErk,
     Bondmech(FormulationKind),
 }
 
@@ -34,6 +39,7 @@ impl Method {
     fn label(self) -> String {
         match self {
             Method::Minimal => "minimal CVODE BDF".into(),
+            Method::MinimalErk => "minimal ARKODE ERK".into(),
             Method::Bondmech(FormulationKind::Decoupled) => {
                 format!("decoupled k={DECOUPLED_K:.0e}")
             }
@@ -83,6 +89,15 @@ fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
                 cpu: r.cpu_seconds,
                 steps: r.steps,
                 jac: r.jacobian_evals,
+            })
+        }
+        Method::MinimalErk => {
+            let r = minimal::solve_minimal_erk(&case.minimal, rtol, rtol * 1e-2, &case.times);
+            Some(Run {
+                error: max_difference(&r.rows, &case.reference),
+                cpu: r.cpu_seconds,
+                steps: r.steps,
+                jac: 0,
             })
         }
         Method::Bondmech(f) => {
@@ -146,6 +161,8 @@ fn case(name: &'static str, minimal: MinimalModel) -> Case {
 fn matched_table(case: &Case) -> Vec<(Method, f64)> {
     let methods = [
         Method::Minimal,
+        Method::MinimalErk,
+        Method::Bondmech(FormulationKind::Partitioned),
         Method::Bondmech(FormulationKind::Ggl),
         Method::Bondmech(FormulationKind::Index1),
         Method::Bondmech(FormulationKind::Decoupled),
@@ -160,6 +177,7 @@ fn matched_table(case: &Case) -> Vec<(Method, f64)> {
         "{:<24} {:>8} {:>10} {:>7} {:>6} {:>12} {:>9}",
         "method", "rtol", "error", "steps", "jac", "CPU (µs)", "ratio"
     );
+    let mut erk_limit = f64::NAN;
     let mut chosen = Vec::new();
     let mut limit = f64::NAN;
     for m in methods {
@@ -186,6 +204,9 @@ fn matched_table(case: &Case) -> Vec<(Method, f64)> {
         if m == Method::Minimal {
             limit = med;
         }
+        if m == Method::MinimalErk {
+            erk_limit = med;
+        }
         println!(
             "{:<24} {:>8.1e} {:>10.2e} {:>7} {:>6} {:>12.0} {:>9.2}{}",
             m.label(),
@@ -201,6 +222,13 @@ fn matched_table(case: &Case) -> Vec<(Method, f64)> {
                 ""
             }
         );
+        if m == Method::Bondmech(FormulationKind::Partitioned) {
+            println!(
+                "{:<24} partitioned / minimal ERK = {:.2}",
+                "",
+                med / erk_limit
+            );
+        }
         chosen.push((m, rtol));
     }
     let build = case

@@ -42,6 +42,9 @@ enum FormulationArg {
     /// Joints replaced by stiff springs, an ODE on CVODE.
     #[value(alias = "ode")]
     Decoupled,
+    /// The degrees of freedom as ODE states (dependent coordinates by Newton), on explicit
+    /// Runge–Kutta or CVODE; singular passages on the compliant GGL.
+    Partitioned,
 }
 
 impl FormulationArg {
@@ -52,6 +55,7 @@ impl FormulationArg {
             FormulationArg::CompliantGgl => Formulation::CompliantGgl,
             FormulationArg::Index1 => Formulation::Index1,
             FormulationArg::Decoupled => Formulation::Decoupled,
+            FormulationArg::Partitioned => Formulation::Partitioned,
         }
     }
 }

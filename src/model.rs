@@ -235,6 +235,7 @@ impl Model {
             Formulation::Decoupled => FormulationKind::Decoupled,
             Formulation::CompliantGgl => FormulationKind::CompliantGgl,
             Formulation::Index1 => FormulationKind::Index1,
+            Formulation::Partitioned => FormulationKind::Partitioned,
             _ => FormulationKind::Ggl,
         };
         SolveOptions {
@@ -248,6 +249,7 @@ impl Model {
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
             linear_solver: s.linear_solver,
+            integrator: s.integrator,
             ..SolveOptions::default()
         }
     }

@@ -21,8 +21,22 @@ fn model() -> Model {
 /// trajectory of P3 equal to the exact 1-DOF model.
 #[test]
 fn bricard_benchmark_a04_is_named_redundant_conserves_energy_and_follows_the_1dof_model() {
+    check_bricard(None);
+}
+
+/// The partitioned formulation has no partition where the joints are redundant everywhere: it
+/// names them and hands the loop to the compliant GGL, with the same results.
+#[test]
+fn partitioned_bricard_is_named_redundant_and_solved_by_the_compliant_ggl() {
+    check_bricard(Some(bondmech::FormulationKind::Partitioned));
+}
+
+fn check_bricard(formulation: Option<bondmech::FormulationKind>) {
     let m = model();
     let mut o = m.default_options();
+    if let Some(f) = formulation {
+        o.formulation = f;
+    }
     let times: Vec<f64> = (0..=100).map(|i| 0.1 * i as f64).collect();
     o.output_times = times.clone();
     // Grübler: 5 bodies × 6 − 6 hinges × 5 = 0; the real mobility is 1, so G_v (30 rows) has

@@ -7,7 +7,7 @@ mod common;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
-use common::elliptic::{elliptic_k, pendulum_period};
+use common::elliptic::{elliptic_k, jacobi_sn_cn, pendulum_angle, pendulum_period};
 use common::four_bar_chain::{simulate_four_bar_chain, FourBarChain};
 use common::integrate::integrate;
 use common::n_link::{simulate_n_link, NLinkPendulum};
@@ -103,6 +103,39 @@ fn integrator_error_shrinks_with_tolerance_on_time_dependent_problem() {
 }
 
 // ------------------------------------------------------------------ elliptic
+
+#[test]
+fn jacobi_sn_cn_match_abramowitz_stegun_and_identities() {
+    // m = 0: sn = sin; sn² + cn² = 1; sn(K) = 1 (A&S 16.5)
+    let (s, c) = jacobi_sn_cn(0.7, 0.0);
+    assert!((s - 0.7f64.sin()).abs() < 1e-15 && (c - 0.7f64.cos()).abs() < 1e-15);
+    let (s, c) = jacobi_sn_cn(1.3, 0.6);
+    assert!((s * s + c * c - 1.0).abs() < 1e-14, "{s} {c}");
+    let (s, _) = jacobi_sn_cn(elliptic_k(0.5), 0.5);
+    assert!((s - 1.0).abs() < 1e-14, "{s}");
+}
+
+#[test]
+fn exact_pendulum_angle_matches_integrated_pendulum_released_horizontal() {
+    // θ'' = −(g/L) sin θ from θ0 = π/2 at rest, integrated by the tests' Dormand–Prince
+    let (l, g, a) = (1.0, 9.81, FRAC_PI_2);
+    let times: Vec<f64> = (0..=40).map(|i| 0.25 * i as f64).collect();
+    let ys = integrate(
+        |_t, y, dy| {
+            dy[0] = y[1];
+            dy[1] = -(g / l) * y[0].sin();
+        },
+        0.0,
+        &[a, 0.0],
+        &times,
+        1e-12,
+        1e-12,
+    );
+    for (t, y) in times.iter().zip(&ys) {
+        let exact = pendulum_angle(l, g, a, *t);
+        assert!((exact - y[0]).abs() < 1e-9, "t = {t}: {exact} vs {}", y[0]);
+    }
+}
 
 #[test]
 fn elliptic_k_at_zero_is_half_pi() {

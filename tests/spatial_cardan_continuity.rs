@@ -7,12 +7,25 @@ use bondmech::{Model, Scene};
 
 #[test]
 fn cardan_angles_stay_continuous_through_theta_half_pi() {
+    check_tumble(None);
+}
+
+#[test]
+fn partitioned_cardan_angles_stay_continuous_through_theta_half_pi() {
+    check_tumble(Some(bondmech::FormulationKind::Partitioned));
+}
+
+fn check_tumble(formulation: Option<bondmech::FormulationKind>) {
     let json = r#"{"name":"tumble","dimension":3,"gravity":[0,0,0],
       "bodies":[{"name":"b","mass":1,"inertia":[0.1,0.2,0.3],"position":[0,0,0],
                  "cardan":[0,0,0],"angular_velocity":[0,2,0]}],
       "solve":{"t_end":4,"output_step":0.01,"rtol":1e-10,"atol":1e-12}}"#;
     let m = Model::new(&Scene::from_json_str(json).unwrap()).unwrap();
-    let s = m.solve(&m.default_options()).unwrap();
+    let mut o = m.default_options();
+    if let Some(f) = formulation {
+        o.formulation = f;
+    }
+    let s = m.solve(&o).unwrap();
     // 4 s at 2 rad/s: θ runs to 8 rad, through π/2, 3π/2 and 5π/2
     for (k, &t) in s.times.iter().enumerate() {
         let (psi, theta, phi) = (

@@ -52,8 +52,21 @@ fn model() -> Model {
 
 #[test]
 fn spatial_slider_crank_conserves_energy_and_matches_hand_derived_1dof_lagrange_model() {
+    check_spatial_slider_crank(None);
+}
+
+#[test]
+fn partitioned_spatial_slider_crank_conserves_energy_and_matches_hand_derived_1dof_lagrange_model()
+{
+    check_spatial_slider_crank(Some(bondmech::FormulationKind::Partitioned));
+}
+
+fn check_spatial_slider_crank(formulation: Option<bondmech::FormulationKind>) {
     let m = model();
     let mut o = m.default_options();
+    if let Some(f) = formulation {
+        o.formulation = f;
+    }
     let times: Vec<f64> = (0..=100).map(|i| 0.05 * i as f64).collect();
     o.output_times = times.clone();
     let s = m.solve(&o).expect("solves");

@@ -5,6 +5,7 @@
 //! * [`ggl`]: stabilized index-2 DAE (Gear–Gupta–Leimkuhler), plain or compliant, for IDA.
 //! * [`index1`]: index-1 with dummy derivatives (dependent velocities re-selected as needed).
 //! * [`singular`]: conditioning of the joints (how near `G_v` is to losing rank).
+//! * [`partitioned`]: the degrees of freedom as ODE states (dependent coordinates by Newton).
 //! * [`decoupled`]: the stiff-spring twin (seed 16.6), an ODE for CVODE.
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
@@ -14,6 +15,7 @@ pub mod ggl;
 pub mod index1;
 pub mod init;
 pub mod mechanics;
+pub mod partitioned;
 pub mod singular;
 
 pub use compiled::{ExplicitOde, ImplicitDae, Workspace};
@@ -22,4 +24,5 @@ pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MechanicsTapes};
+pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart};
 pub use singular::{joint_condition_number, joint_conditioning, JointConditioning};

@@ -336,6 +336,8 @@ pub enum Formulation {
     Decoupled,
     /// `"compliant_ggl"`: GGL with a small compliance, passes singular configurations.
     CompliantGgl,
+    /// `"partitioned"`: the degrees of freedom as ODE states (coordinate partitioning).
+    Partitioned,
 }
 
 impl Formulation {
@@ -347,6 +349,7 @@ impl Formulation {
             Formulation::Index1 => "index1",
             Formulation::Decoupled => "decoupled",
             Formulation::CompliantGgl => "compliant_ggl",
+            Formulation::Partitioned => "partitioned",
         }
     }
 
@@ -369,6 +372,7 @@ impl Formulation {
             Formulation::Index1,
             Formulation::Decoupled,
             Formulation::CompliantGgl,
+            Formulation::Partitioned,
         ]
         .into_iter()
         .find(|f| f.as_str() == name)
@@ -403,6 +407,8 @@ pub struct SolveSettings {
     pub max_wall_seconds: Option<f64>,
     /// Linear solver of the Newton iterations (default `auto`).
     pub linear_solver: crate::solve::LinearSolverKind,
+    /// Integrator of the partitioned formulation (default `auto`).
+    pub integrator: crate::solve::Integrator,
 }
 
 impl SolveSettings {
@@ -430,6 +436,7 @@ impl SolveSettings {
             max_steps: None,
             max_wall_seconds: None,
             linear_solver: crate::solve::LinearSolverKind::Auto,
+            integrator: crate::solve::Integrator::Auto,
         }
     }
 }

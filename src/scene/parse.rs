@@ -720,6 +720,7 @@ const SOLVE_KEYS: &[&str] = &[
     "max_steps",
     "max_wall_seconds",
     "linear_solver",
+    "integrator",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -729,7 +730,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         Some(s) => Formulation::from_name(&s).unwrap_or_else(|| {
             p.push(
                 f.path("formulation"),
-                format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled or compliant_ggl)"),
+                format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled, compliant_ggl or partitioned)"),
             );
             Formulation::Dae
         }),
@@ -766,6 +767,16 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             crate::solve::LinearSolverKind::Auto
         }),
     };
+    let integrator = match f.string(p, "integrator") {
+        None => crate::solve::Integrator::Auto,
+        Some(s) => crate::solve::Integrator::parse(&s).unwrap_or_else(|| {
+            p.push(
+                f.path("integrator"),
+                format!("unknown integrator \"{s}\" (expected auto, adams, bdf or erk)"),
+            );
+            crate::solve::Integrator::Auto
+        }),
+    };
     Some(SolveSettings {
         formulation,
         t_start,
@@ -779,5 +790,6 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         max_steps,
         max_wall_seconds,
         linear_solver,
+        integrator,
     })
 }

@@ -187,6 +187,9 @@ fn solve(s: &SolveSettings) -> Json {
     if s.linear_solver != crate::solve::LinearSolverKind::Auto {
         e.push(("linear_solver", text(s.linear_solver.name())));
     }
+    if s.integrator != crate::solve::Integrator::Auto {
+        e.push(("integrator", text(s.integrator.name())));
+    }
     obj(e)
 }
 

@@ -40,8 +40,8 @@ fn solve_params() -> Vec<Value> {
         ),
         query(
             "formulation",
-            "dae (ggl), compliant_ggl, index1 or decoupled.",
-            json!({"type": "string", "enum": ["dae", "ggl", "compliant_ggl", "index1", "decoupled"]}),
+            "dae (ggl), compliant_ggl, index1, decoupled or partitioned.",
+            json!({"type": "string", "enum": ["dae", "ggl", "compliant_ggl", "index1", "decoupled", "partitioned"]}),
         ),
         query(
             "joint_stiffness",

@@ -145,7 +145,7 @@ impl SolveParams {
             Some(f) => Some(Formulation::from_flag(f).ok_or_else(|| {
                 invalid_value(
                     "formulation",
-                    format!("formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1 or decoupled)"),
+                    format!("formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1, decoupled or partitioned)"),
                 )
             })?),
         };

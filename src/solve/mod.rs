@@ -7,5 +7,5 @@ pub mod options;
 mod reactions;
 pub mod run;
 
-pub use options::{FormulationKind, LinearSolverKind, SolveOptions};
+pub use options::{FormulationKind, Integrator, LinearSolverKind, SolveOptions};
 pub use run::{solve_system, EventRecord, Row, SingularPassage, Solution, Summary};

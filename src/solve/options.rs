@@ -16,6 +16,52 @@ pub enum FormulationKind {
     Index1,
     /// Joints replaced by stiff springs (the decoupled twin), an ODE on CVODE BDF.
     Decoupled,
+    /// The degrees of freedom as the ODE states (coordinate partitioning): the dependent
+    /// coordinates by Newton on `g(q) = 0` in every right-hand side, on CVODE (Adams or BDF)
+    /// or ARKODE's explicit Runge–Kutta ([`Integrator`]); the partition is re-chosen when its
+    /// block degrades, and singular configurations are handed to the compliant GGL.
+    Partitioned,
+}
+
+/// The integrator of the partitioned formulation (`solve.integrator`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Chosen by a stiffness test at the start (see `solve::run::STIFFNESS_LIMIT`): explicit
+    /// Runge–Kutta when the reduced ODE is not stiff, CVODE BDF when it is.
+    #[default]
+    Auto,
+    /// CVODE's variable-order Adams–Moulton (orders 1–12).
+    Adams,
+    /// CVODE's variable-order BDF (orders 1–5), Newton with a difference-quotient Jacobian.
+    Bdf,
+    /// ARKODE's explicit Runge–Kutta (Dormand–Prince 5(4) at rtol ≥ 1e-7, Fehlberg 8(7)
+    /// below), adaptive.
+    Erk,
+}
+
+impl Integrator {
+    /// The name used in scenes and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Auto => "auto",
+            Integrator::Adams => "adams",
+            Integrator::Bdf => "bdf",
+            Integrator::Erk => "erk",
+        }
+    }
+
+    /// Parses `auto`, `adams`, `bdf` or `erk`.
+    pub fn parse(s: &str) -> Option<Self> {
+        [
+            Integrator::Auto,
+            Integrator::Adams,
+            Integrator::Bdf,
+            Integrator::Erk,
+        ]
+        .into_iter()
+        .find(|i| i.name() == s)
+    }
 }
 
 impl FormulationKind {
@@ -26,6 +72,7 @@ impl FormulationKind {
             FormulationKind::CompliantGgl => "compliant_ggl",
             FormulationKind::Index1 => "index1",
             FormulationKind::Decoupled => "decoupled",
+            FormulationKind::Partitioned => "partitioned",
         }
     }
 
@@ -36,6 +83,7 @@ impl FormulationKind {
             "compliant_ggl" | "compliant" => Some(FormulationKind::CompliantGgl),
             "index1" | "index-1" => Some(FormulationKind::Index1),
             "decoupled" | "ode" => Some(FormulationKind::Decoupled),
+            "partitioned" => Some(FormulationKind::Partitioned),
             _ => None,
         }
     }
@@ -171,6 +219,8 @@ pub struct SolveOptions {
     pub ggl_dependent_velocity_error_test: bool,
     /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
     pub linear_solver: LinearSolverKind,
+    /// Integrator of the partitioned formulation (ignored by the others).
+    pub integrator: Integrator,
 }
 
 impl Default for SolveOptions {
@@ -191,6 +241,7 @@ impl Default for SolveOptions {
             twin_stab_lim_det: false,
             ggl_dependent_velocity_error_test: true,
             linear_solver: LinearSolverKind::Auto,
+            integrator: Integrator::Auto,
         }
     }
 }

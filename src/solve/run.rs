@@ -7,6 +7,8 @@
 //! [`SingularPassage`] (time, joints, κ). Joints redundant everywhere use the compliant GGL from
 //! the start.
 
+mod partitioned;
+
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -97,6 +99,11 @@ pub struct Summary {
     pub singular_passages: Vec<SingularPassage>,
     /// Times the index-1 formulation re-selected its dependent velocities.
     pub index1_reselections: u64,
+    /// Times the partitioned formulation re-chose its dependent coordinates and velocities
+    /// (its dependent block had degraded).
+    pub partition_rechoices: u64,
+    /// Integrator of the partitioned formulation (`adams`, `bdf` or `erk`; empty otherwise).
+    pub integrator: String,
     /// Joint stiffness of the decoupled twin (0 otherwise).
     pub joint_stiffness: f64,
     /// Non-fatal remarks about the model.
@@ -396,6 +403,9 @@ fn solve_from_first_output(
                 ));
             }
             run_decoupled(&sys, dec, tapes, &init, opts, &mut summary, observer)
+        }
+        FormulationKind::Partitioned => {
+            partitioned::run_partitioned(sys, &c, tapes, &init, opts, &mut summary, observer)
         }
         FormulationKind::Index1 => {
             summary.formulation = "index1".into();

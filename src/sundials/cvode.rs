@@ -59,6 +59,8 @@ pub struct Cvode {
     tmp: NVector,
     data: Box<CvodeData>,
     driver: DriverState,
+    /// Time of the last step the integrator accepted (what `last_step_time` returns).
+    accepted: f64,
     #[allow(dead_code)] // owned: freed last
     ctx: Context,
 }
@@ -372,6 +374,7 @@ impl Cvode {
             y,
             tmp,
             data,
+            accepted: t0,
             driver: DriverState::new(
                 t0,
                 opts.max_steps,
@@ -462,6 +465,12 @@ impl Cvode {
         self.driver.steps_used += steps;
     }
 
+    /// Time CVODE's internal integration has reached (the last accepted step, at or after
+    /// [`Self::t`]); [`Self::dky`] interpolates up to it.
+    pub fn last_step_time(&self) -> f64 {
+        self.accepted
+    }
+
     /// Time of the state in `y()`.
     pub fn t(&self) -> f64 {
         self.driver.t
@@ -500,6 +509,7 @@ impl Cvode {
             return Err(self.fail("CVodeReInit", flag));
         }
         self.driver.restart(t0);
+        self.accepted = t0;
         Ok(())
     }
 
@@ -562,6 +572,28 @@ impl Stepper for Cvode {
     }
 
     fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
+        let r = self.one_step_raw(tout);
+        if let Ok((t, _)) = &r {
+            self.accepted = self.accepted.max(*t);
+        }
+        r
+    }
+
+    fn root_info(&mut self) -> Vec<i32> {
+        self.root_info_raw()
+    }
+
+    fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
+        self.interpolate_raw(t)
+    }
+
+    fn clear_status(&mut self) {
+        self.data.status.clear();
+    }
+}
+
+impl Cvode {
+    fn one_step_raw(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
         let mut tret = self.driver.t;
         // SAFETY: live CVODE memory, an owned vector of length n, valid out-pointer.
         let flag =
@@ -575,23 +607,19 @@ impl Stepper for Cvode {
         }
     }
 
-    fn root_info(&mut self) -> Vec<i32> {
+    fn root_info_raw(&mut self) -> Vec<i32> {
         let mut info = vec![0 as c_int; self.data.nroots];
         // SAFETY: live CVODE memory; `info` has room for nroots entries.
         unsafe { sys::CVodeGetRootInfo(self.raw(), info.as_mut_ptr()) };
         info
     }
 
-    fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
+    fn interpolate_raw(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live CVODE memory and an owned vector of length n.
         let flag = unsafe { sys::CVodeGetDky(self.raw(), t, 0, self.y.raw()) };
         if flag < 0 {
             return Err(self.fail("CVodeGetDky", flag));
         }
         Ok(())
-    }
-
-    fn clear_status(&mut self) {
-        self.data.status.clear();
     }
 }

@@ -14,7 +14,7 @@
 //! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
 //! - [`stats`][]: [`SolverStats`].
 //! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
-//! - [`ida`], [`cvode`]: the solvers.
+//! - [`ida`], [`cvode`]: the solvers; [`erk`]: ARKODE's explicit Runge–Kutta (ERKStep).
 //! - [`sparse`]: [`CscPattern`], the CSC `SUNMatrix` and the sparse LU solvers (faer, KLU).
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
 //! - [`mod@version`]: linked library version.
@@ -25,6 +25,7 @@ pub mod context;
 pub mod custom_ls;
 pub mod cvode;
 pub mod driver;
+pub mod erk;
 pub mod error;
 pub mod heap;
 pub mod ida;
@@ -42,6 +43,7 @@ pub use callback::{
 };
 pub use custom_ls::IdaLinearSolver;
 pub use cvode::Cvode;
+pub use erk::{Erk, ErkOptions};
 pub use error::{CallbackError, CallbackResult, SolverError};
 pub use ida::Ida;
 pub use matrix::DenseMatrixMut;

@@ -1,0 +1,690 @@
+//! The partitioned formulation: the seed's degrees of freedom as the ODE states.
+//!
+//! The chapter's causality assignment splits the inertias into integral-causality ones (the
+//! degrees of freedom) and differential-causality ones (dependent: their flows are fixed by the
+//! joints). Numerically the split is a choice of `nc` *dependent* columns of `G_q` (coordinates
+//! `q_D`) and of `G_v` (velocities `v_D`) whose square blocks are well conditioned, made by a
+//! column-pivoted Gram–Schmidt ([`select_dependent`], the rank-revealing QR of the joints'
+//! Jacobian) at the current state. The ODE state is `y = [q_I, v_I]`, and each right-hand side
+//!
+//! ```text
+//!   g(q_I, q_D) = 0                      Newton for q_D (warm-started, tolerance ≪ the integrator's)
+//!   G_D v_D = −G_I v_I                   dependent velocities (G_v = [G_I G_D] at q)
+//!   v' = R a_I + s,  R = [I; −G_D⁻¹G_I],  s = [0; −G_D⁻¹γ]
+//!   (M_I + Bᵀ M_D B) a_I = Q_I − Bᵀ (Q_D + M_D c),   B = G_D⁻¹G_I,  c = G_D⁻¹γ
+//!   y' = [(K(q) v)_I, a_I]
+//! ```
+//!
+//! which are the reduced (Maggi/Kane) equations `Rᵀ(M v' − Q) = 0` with `G_v v' + γ = 0`; one LU
+//! factorisation of `G_D` serves the velocities, `B`, `c` and the multipliers
+//! `G_Dᵀ λ = Q_D − M_D a_D`. The small dense LU below is hand-written (no allocation per call;
+//! nalgebra's decompositions take their matrix by value).
+
+// the dense kernels index row-major matrices and several vectors with the same loop variable
+#![allow(clippy::needless_range_loop)]
+
+use std::sync::{Arc, Mutex};
+
+use nalgebra::DMatrix;
+
+use super::index1::{dependent_condition, select_dependent};
+use super::mechanics::ConstraintExprs;
+use crate::expr::{Expr, Tape};
+use crate::mech::MultibodySystem;
+
+/// Why a right-hand side of the partitioned ODE could not be evaluated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PartitionError {
+    /// Newton on `g(q) = 0` for the dependent coordinates did not converge (the integrator
+    /// retries with a smaller step).
+    #[error("Newton on the joints did not converge at t = {t} (last correction {correction:e})")]
+    Newton {
+        /// Time of the evaluation.
+        t: f64,
+        /// Size of the last correction.
+        correction: f64,
+    },
+    /// Newton converged far from the tangent prediction (a correction of at least
+    /// [`BRANCH_FRACTION`] of the prediction): the trial step probably crossed to another branch
+    /// of the joints' solutions near a bifurcation (the integrator retries with a smaller step).
+    #[error("Newton on the joints left the tangent prediction at t = {t} (correction {correction:e}, prediction {predicted:e})")]
+    Branch {
+        /// Time of the evaluation.
+        t: f64,
+        /// Size of Newton's correction of the prediction.
+        correction: f64,
+        /// Size of the prediction.
+        predicted: f64,
+    },
+    /// The dependent block of `G_q` or `G_v` is singular at this state.
+    #[error("the dependent block of the joints' Jacobian is singular at t = {t}")]
+    SingularBlock {
+        /// Time of the evaluation.
+        t: f64,
+    },
+    /// The reduced mass matrix `Rᵀ M R` is singular (a degree of freedom without inertia).
+    #[error("the reduced mass matrix is singular at t = {t}")]
+    SingularMass {
+        /// Time of the evaluation.
+        t: f64,
+    },
+    /// The dependent block's condition estimate passed the re-choice threshold: the runner
+    /// chooses a new partition at the last accepted step.
+    #[error("the dependent block's condition estimate {condition:.1e} asks for a new partition at t = {t}")]
+    Repartition {
+        /// Time of the evaluation.
+        t: f64,
+        /// Condition estimate.
+        condition: f64,
+    },
+}
+
+/// A choice of dependent and independent coordinates and velocities (sorted index lists).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Partition {
+    /// Dependent coordinates `q_D` (one per constraint row).
+    pub dep_q: Vec<usize>,
+    /// Independent coordinates `q_I` (ODE states).
+    pub ind_q: Vec<usize>,
+    /// Dependent velocities `v_D`.
+    pub dep_v: Vec<usize>,
+    /// Independent velocities `v_I` (ODE states).
+    pub ind_v: Vec<usize>,
+}
+
+impl Partition {
+    /// Number of ODE states `|q_I| + |v_I|`.
+    pub fn n_states(&self) -> usize {
+        self.ind_q.len() + self.ind_v.len()
+    }
+
+    /// The ODE state `[q_I, v_I]` of a full state `x = [q, v]` (`nq` coordinates).
+    pub fn states_of(&self, nq: usize, x: &[f64]) -> Vec<f64> {
+        self.ind_q
+            .iter()
+            .map(|&i| x[i])
+            .chain(self.ind_v.iter().map(|&j| x[nq + j]))
+            .collect()
+    }
+}
+
+/// The compiled pieces of a multibody system that every partition shares.
+#[derive(Clone, Debug)]
+pub struct PartitionedSystem {
+    /// `(nq, nv, nc)`.
+    pub dims: (usize, usize, usize),
+    /// `[g, G_q]` (row-major `nc × nq`) over `[t, q, v]`.
+    pos: Tape,
+    /// `G_v`, row-major `nc × nv`.
+    gv: Tape,
+    /// `[Q, γ, K(q) v]`.
+    dynamics: Tape,
+    /// Diagonal of `M`.
+    mass: Vec<f64>,
+    /// `q' = v` (then `G_q = G_v` and one block serves both levels).
+    identity_kinematics: bool,
+    /// Coordinates preferred as dependent (translations, as the seed's causality picks them).
+    preferred_q: Vec<bool>,
+    /// Velocities preferred as dependent.
+    preferred_v: Vec<bool>,
+}
+
+impl PartitionedSystem {
+    /// Compiles the tapes from the system and its constraint calculus.
+    pub fn new(sys: &mut MultibodySystem, c: &ConstraintExprs) -> Self {
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let identity_kinematics = nq == nv
+            && (0..nq).all(|i| {
+                let s = sys.v_slot(i);
+                let v = sys.graph.var(s);
+                sys.kinematics[i] == v
+            });
+        let mut pos: Vec<Expr> = c.g.clone();
+        pos.extend(c.gq.iter().flatten().copied());
+        let gv: Vec<Expr> = c.gv.iter().flatten().copied().collect();
+        let mut dynamics = sys.forces.clone();
+        dynamics.extend(&c.gamma);
+        dynamics.extend(&sys.kinematics);
+        let last = |n: &str| n.rsplit('.').next().unwrap_or("").to_string();
+        PartitionedSystem {
+            dims: (nq, nv, nc),
+            pos: sys.graph.compile(&pos),
+            gv: sys.graph.compile(&gv),
+            dynamics: sys.graph.compile(&dynamics),
+            mass: sys.mass.clone(),
+            identity_kinematics,
+            preferred_q: sys
+                .coords
+                .iter()
+                .map(|c| matches!(last(&c.name).as_str(), "x" | "y" | "z"))
+                .collect(),
+            preferred_v: sys
+                .velocities
+                .iter()
+                .map(|v| matches!(last(&v.name).as_str(), "vx" | "vy" | "vz" | "u" | "w"))
+                .collect(),
+        }
+    }
+
+    fn vars(&self, t: f64, x: &[f64]) -> Vec<f64> {
+        let mut v = Vec::with_capacity(1 + x.len());
+        v.push(t);
+        v.extend_from_slice(x);
+        v
+    }
+
+    /// `G_q` and `G_v` at `(t, x = [q, v])`.
+    pub fn jacobians(&self, t: f64, x: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+        let (nq, nv, nc) = self.dims;
+        let vars = self.vars(t, x);
+        let mut out = vec![0.0; self.pos.n_outputs()];
+        self.pos.eval(&vars, &mut self.pos.workspace(), &mut out);
+        let gq = DMatrix::from_row_slice(nc, nq, &out[nc..]);
+        let mut out = vec![0.0; self.gv.n_outputs()];
+        self.gv.eval(&vars, &mut self.gv.workspace(), &mut out);
+        (gq, DMatrix::from_row_slice(nc, nv, &out))
+    }
+
+    /// The numeric causality choice at `(t, x)`: dependent columns of `G_q` and `G_v` by
+    /// column-pivoted Gram–Schmidt (translations first, as the seed's differential causality
+    /// picks them). `None` when `G_v` or `G_q` has lower rank than its number of rows (a
+    /// singular configuration: no partition exists).
+    pub fn choose(&self, t: f64, x: &[f64]) -> Option<Partition> {
+        let (nq, nv, _) = self.dims;
+        let (gq, gv) = self.jacobians(t, x);
+        let dep_v = select_dependent(&gv, &self.preferred_v)?;
+        let dep_q = if self.identity_kinematics {
+            dep_v.clone()
+        } else {
+            select_dependent(&gq, &self.preferred_q)?
+        };
+        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
+        Some(Partition {
+            ind_q: rest(nq, &dep_q),
+            ind_v: rest(nv, &dep_v),
+            dep_q,
+            dep_v,
+        })
+    }
+
+    /// Condition number (2-norm) of the dependent blocks of `G_q` and `G_v` (the larger) at
+    /// `(t, x)`.
+    pub fn condition(&self, p: &Partition, t: f64, x: &[f64]) -> f64 {
+        let (gq, gv) = self.jacobians(t, x);
+        dependent_condition(&gq, &p.dep_q).max(dependent_condition(&gv, &p.dep_v))
+    }
+}
+
+/// Where a [`PartitionedRhs`] takes its Newton warm start from.
+#[derive(Clone, Debug, Default)]
+pub enum WarmStart {
+    /// Its own last converged point.
+    #[default]
+    Own,
+    /// Its own, and it publishes each converged `q` here.
+    Publish(Arc<Mutex<Vec<f64>>>),
+    /// The `q` last published here (by the integrator's right-hand side).
+    Follow(Arc<Mutex<Vec<f64>>>),
+}
+
+/// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
+/// that a right-hand side accepts (see [`PartitionError::Branch`]).
+pub const BRANCH_FRACTION: f64 = 0.5;
+
+/// Largest Newton iterations per right-hand side.
+pub const MAX_NEWTON_ITERATIONS: usize = 8;
+
+/// The right-hand side of the partitioned ODE for one partition, with its workspace and the
+/// warm start of the dependent coordinates.
+#[derive(Clone, Debug)]
+pub struct PartitionedRhs {
+    sys: Arc<PartitionedSystem>,
+    /// The partition.
+    pub part: Partition,
+    /// Newton's absolute tolerance on the dependent coordinates.
+    pub newton_tol: f64,
+    /// Condition estimate (largest over smallest |pivot| of `G_D`'s LU) above which the
+    /// right-hand side fails with [`PartitionError::Repartition`]; infinite: never.
+    pub repartition_above: f64,
+    /// Newton iterations allowed per evaluation ([`MAX_NEWTON_ITERATIONS`] by default).
+    pub max_newton: usize,
+    /// Where the converged coordinates are published after each evaluation (the integrator's
+    /// right-hand side), or read from before each one (an evaluator of output rows, whose own
+    /// last point may be an output interval away): see [`WarmStart`].
+    pub warm: WarmStart,
+    vars: Vec<f64>,
+    w_pos: Vec<f64>,
+    o_pos: Vec<f64>,
+    w_gv: Vec<f64>,
+    o_gv: Vec<f64>,
+    w_dyn: Vec<f64>,
+    o_dyn: Vec<f64>,
+    /// LU of `G_q[:, D]` and its pivots, `G_q[:, I]`.
+    jq: Vec<f64>,
+    pq: Vec<usize>,
+    bq: Vec<f64>,
+    /// LU of `G_v[:, D]` and its pivots, `G_v[:, I]` then overwritten by `B = G_D⁻¹ G_I`.
+    jv: Vec<f64>,
+    pv: Vec<usize>,
+    bv: Vec<f64>,
+    /// `q_I` of the last converged call (for the tangent predictor).
+    qi_prev: Vec<f64>,
+    have_prev: bool,
+    mhat: Vec<f64>,
+    pm: Vec<usize>,
+    tmp: Vec<f64>,
+    c: Vec<f64>,
+    /// Accelerations `v'` of the last call (all velocities).
+    pub acc: Vec<f64>,
+    /// Newton iterations so far.
+    pub newton_iterations: u64,
+    /// Condition estimate of the last `G_v[:, D]` factorised.
+    pub condition_estimate: f64,
+}
+
+impl PartitionedRhs {
+    /// The right-hand side for partition `part`, warm-started at the full state `x = [q, v]`.
+    pub fn new(sys: Arc<PartitionedSystem>, part: Partition, x: &[f64], newton_tol: f64) -> Self {
+        let (nq, nv, nc) = sys.dims;
+        let (niq, niv) = (part.ind_q.len(), part.ind_v.len());
+        let mut vars = vec![0.0; 1 + nq + nv];
+        vars[1..].copy_from_slice(&x[..nq + nv]);
+        PartitionedRhs {
+            w_pos: sys.pos.workspace(),
+            o_pos: vec![0.0; sys.pos.n_outputs()],
+            w_gv: sys.gv.workspace(),
+            o_gv: vec![0.0; sys.gv.n_outputs()],
+            w_dyn: sys.dynamics.workspace(),
+            o_dyn: vec![0.0; sys.dynamics.n_outputs()],
+            jq: vec![0.0; nc * nc],
+            pq: vec![0; nc],
+            bq: vec![0.0; nc * niq],
+            jv: vec![0.0; nc * nc],
+            pv: vec![0; nc],
+            bv: vec![0.0; nc * niv],
+            qi_prev: vec![0.0; niq],
+            have_prev: false,
+            mhat: vec![0.0; niv * niv],
+            pm: vec![0; niv],
+            tmp: vec![0.0; nc.max(niv)],
+            c: vec![0.0; nc],
+            acc: vec![0.0; nv],
+            newton_iterations: 0,
+            condition_estimate: 1.0,
+            repartition_above: f64::INFINITY,
+            max_newton: MAX_NEWTON_ITERATIONS,
+            warm: WarmStart::Own,
+            vars,
+            part,
+            newton_tol,
+            sys,
+        }
+    }
+
+    /// The full state `[q, v]` of the last evaluation.
+    pub fn full_state(&self) -> &[f64] {
+        &self.vars[1..]
+    }
+
+    /// Solves `g(q) = 0` for the dependent coordinates with `q_I = y[..|q_I|]`, from the warm
+    /// start, and factorises `G_q[:, D]` (Newton with the exact Jacobian; a tangent predictor
+    /// `Δq_D = −G_D⁻¹ G_I Δq_I` from the last converged call starts it).
+    fn positions(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        let (nq, _, nc) = self.sys.dims;
+        let (dq, iq) = (&self.part.dep_q, &self.part.ind_q);
+        let niq = iq.len();
+        self.vars[0] = t;
+        // size of the tangent prediction, and whether the Newton correction is checked against it
+        let mut predicted = 0.0f64;
+        let mut checked = false;
+        if let WarmStart::Follow(w) = &self.warm {
+            if let Ok(q) = w.lock() {
+                if q.len() == nq {
+                    self.vars[1..=nq].copy_from_slice(&q);
+                    self.have_prev = false;
+                }
+            }
+        }
+        if self.have_prev && nc > 0 {
+            // tangent predictor with the last factorisation
+            for k in 0..nc {
+                let mut s = 0.0;
+                for l in 0..niq {
+                    s += self.bq[k * niq + l] * (y[l] - self.qi_prev[l]);
+                }
+                self.tmp[k] = s;
+            }
+            lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
+            for (k, &i) in dq.iter().enumerate() {
+                self.vars[1 + i] -= self.tmp[k];
+                predicted = predicted.max(self.tmp[k].abs());
+            }
+            for (k, &i) in dq.iter().enumerate() {
+                self.c[k] = self.vars[1 + i];
+            }
+            checked = true;
+        }
+        for (l, &i) in iq.iter().enumerate() {
+            self.vars[1 + i] = y[l];
+        }
+        if nc == 0 {
+            return Ok(());
+        }
+        let mut last = f64::INFINITY;
+        for _ in 0..self.max_newton {
+            self.newton_iterations += 1;
+            self.sys
+                .pos
+                .eval(&self.vars, &mut self.w_pos, &mut self.o_pos);
+            let (g, gq) = self.o_pos.split_at(nc);
+            for k in 0..nc {
+                for (a, &i) in dq.iter().enumerate() {
+                    self.jq[k * nc + a] = gq[k * nq + i];
+                }
+                for (l, &i) in iq.iter().enumerate() {
+                    self.bq[k * niq + l] = gq[k * nq + i];
+                }
+                self.tmp[k] = g[k];
+            }
+            if lu_factor(&mut self.jq, nc, &mut self.pq).is_none() {
+                self.have_prev = false;
+                return Err(PartitionError::SingularBlock { t });
+            }
+            lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
+            let mut step = 0.0f64;
+            for (k, &i) in dq.iter().enumerate() {
+                self.vars[1 + i] -= self.tmp[k];
+                step = step.max(self.tmp[k].abs());
+            }
+            if !step.is_finite() {
+                break;
+            }
+            last = step;
+            if step <= self.newton_tol {
+                if checked {
+                    // Newton must stay near the tangent prediction: a correction comparable to
+                    // the prediction itself means the step crossed to another branch of the
+                    // joints' solutions (near a bifurcation): retry with a smaller step
+                    let corr = dq.iter().enumerate().fold(0.0f64, |a, (k, &i)| {
+                        a.max((self.vars[1 + i] - self.c[k]).abs())
+                    });
+                    if corr > BRANCH_FRACTION * predicted + 1e3 * self.newton_tol {
+                        self.have_prev = false;
+                        return Err(PartitionError::Branch {
+                            t,
+                            correction: corr,
+                            predicted,
+                        });
+                    }
+                }
+                self.qi_prev.copy_from_slice(&y[..niq]);
+                self.have_prev = true;
+                if let WarmStart::Publish(w) = &self.warm {
+                    if let Ok(mut q) = w.lock() {
+                        q.clear();
+                        q.extend_from_slice(&self.vars[1..=nq]);
+                    }
+                }
+                return Ok(());
+            }
+        }
+        self.have_prev = false;
+        Err(PartitionError::Newton {
+            t,
+            correction: last,
+        })
+    }
+
+    /// Evaluates `y' = f(t, y)` (see the module documentation); `y = [q_I, v_I]`.
+    pub fn rhs(&mut self, t: f64, y: &[f64], yd: &mut [f64]) -> Result<(), PartitionError> {
+        self.complete(t, y)?;
+        let (nq, nv, nc) = self.sys.dims;
+        let niq = self.part.ind_q.len();
+        let niv = self.part.ind_v.len();
+        // [Q, γ, Kv] at the full state
+        self.sys
+            .dynamics
+            .eval(&self.vars, &mut self.w_dyn, &mut self.o_dyn);
+        let (qf, rest) = self.o_dyn.split_at(nv);
+        let (gamma, kv) = rest.split_at(nc);
+        let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
+        let m = &self.sys.mass;
+        // B = G_D⁻¹ G_I (column by column), c = G_D⁻¹ γ
+        for l in 0..niv {
+            for k in 0..nc {
+                self.tmp[k] = self.bv[k * niv + l];
+            }
+            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
+            for k in 0..nc {
+                self.bv[k * niv + l] = self.tmp[k];
+            }
+        }
+        self.c.copy_from_slice(gamma);
+        lu_solve(&self.jv, nc, &self.pv, &mut self.c);
+        // M̂ = M_I + Bᵀ M_D B,  r = Q_I − Bᵀ (Q_D + M_D c)
+        for a in 0..niv {
+            for b in 0..niv {
+                let mut s = if a == b { m[iv[a]] } else { 0.0 };
+                for (k, &j) in dv.iter().enumerate() {
+                    s += self.bv[k * niv + a] * m[j] * self.bv[k * niv + b];
+                }
+                self.mhat[a * niv + b] = s;
+            }
+        }
+        let (yq, ya) = yd.split_at_mut(niq);
+        for (a, &j) in iv.iter().enumerate() {
+            let mut s = qf[j];
+            for (k, &d) in dv.iter().enumerate() {
+                s -= self.bv[k * niv + a] * (qf[d] + m[d] * self.c[k]);
+            }
+            ya[a] = s;
+        }
+        if niv > 0 {
+            if lu_factor(&mut self.mhat, niv, &mut self.pm).is_none() {
+                return Err(PartitionError::SingularMass { t });
+            }
+            lu_solve(&self.mhat, niv, &self.pm, ya);
+        }
+        for (a, &j) in iv.iter().enumerate() {
+            self.acc[j] = ya[a];
+        }
+        for (k, &d) in dv.iter().enumerate() {
+            let mut s = -self.c[k];
+            for a in 0..niv {
+                s -= self.bv[k * niv + a] * ya[a];
+            }
+            self.acc[d] = s;
+        }
+        for (l, &i) in self.part.ind_q.iter().enumerate() {
+            yq[l] = kv[i];
+        }
+        let _ = nq;
+        Ok(())
+    }
+
+    /// Completes `y = [q_I, v_I]` to the full state `[q, v]` (Newton for `q_D`, then
+    /// `G_D v_D = −G_I v_I`), left in [`Self::full_state`]; factorises `G_v[:, D]`.
+    pub fn complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        self.positions(t, y)?;
+        let (nq, nv, nc) = self.sys.dims;
+        let niq = self.part.ind_q.len();
+        let niv = self.part.ind_v.len();
+        let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
+        for (l, &j) in iv.iter().enumerate() {
+            self.vars[1 + nq + j] = y[niq + l];
+        }
+        if nc == 0 {
+            return Ok(());
+        }
+        self.sys.gv.eval(&self.vars, &mut self.w_gv, &mut self.o_gv);
+        for k in 0..nc {
+            for (a, &j) in dv.iter().enumerate() {
+                self.jv[k * nc + a] = self.o_gv[k * nv + j];
+            }
+            for (l, &j) in iv.iter().enumerate() {
+                self.bv[k * niv + l] = self.o_gv[k * nv + j];
+            }
+        }
+        let Some((big, small)) = lu_factor(&mut self.jv, nc, &mut self.pv) else {
+            return Err(PartitionError::SingularBlock { t });
+        };
+        self.condition_estimate = big / small;
+        if self.condition_estimate > self.repartition_above {
+            return Err(PartitionError::Repartition {
+                t,
+                condition: self.condition_estimate,
+            });
+        }
+        for k in 0..nc {
+            let mut s = 0.0;
+            for (l, &j) in iv.iter().enumerate() {
+                s += self.bv[k * niv + l] * self.vars[1 + nq + j];
+            }
+            self.tmp[k] = -s;
+        }
+        lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
+        for (k, &j) in dv.iter().enumerate() {
+            self.vars[1 + nq + j] = self.tmp[k];
+        }
+        Ok(())
+    }
+
+    /// The full state with the multipliers, `[q, v, λ]`, at `(t, y)`: `λ` from
+    /// `G_Dᵀ λ = Q_D − M_D a_D` with the accelerations of the reduced equations.
+    pub fn full_with_multipliers(&mut self, t: f64, y: &[f64]) -> Result<Vec<f64>, PartitionError> {
+        let mut yd = vec![0.0; y.len()];
+        self.rhs(t, y, &mut yd)?;
+        let (_, nv, nc) = self.sys.dims;
+        let mut out = self.full_state().to_vec();
+        let mut lam: Vec<f64> = self
+            .part
+            .dep_v
+            .iter()
+            .map(|&d| self.o_dyn[d] - self.sys.mass[d] * self.acc[d])
+            .collect();
+        if nc > 0 {
+            lu_solve_transposed(&self.jv, nc, &self.pv, &mut lam);
+        }
+        let _ = nv;
+        out.extend(lam);
+        Ok(out)
+    }
+}
+
+/// In-place LU factorisation with partial pivoting of the row-major `n × n` matrix `a`
+/// (`P a = L U`, unit `L` below the diagonal, `U` on and above it); `piv[k]` is the row swapped
+/// with row `k`. Returns the largest and smallest |pivot|, or `None` when a pivot is zero or
+/// not finite.
+pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Option<(f64, f64)> {
+    let (mut big, mut small) = (0.0f64, f64::INFINITY);
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k * n + k].abs();
+        for i in k + 1..n {
+            let v = a[i * n + k].abs();
+            if v > best {
+                best = v;
+                p = i;
+            }
+        }
+        if best == 0.0 || !best.is_finite() {
+            return None;
+        }
+        piv[k] = p;
+        if p != k {
+            for j in 0..n {
+                a.swap(k * n + j, p * n + j);
+            }
+        }
+        let d = a[k * n + k];
+        big = big.max(best);
+        small = small.min(best);
+        for i in k + 1..n {
+            let f = a[i * n + k] / d;
+            a[i * n + k] = f;
+            if f != 0.0 {
+                for j in k + 1..n {
+                    a[i * n + j] -= f * a[k * n + j];
+                }
+            }
+        }
+    }
+    Some((big, if n == 0 { 1.0 } else { small }))
+}
+
+/// Solves `A x = b` in place with the factors of [`lu_factor`].
+pub fn lu_solve(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
+    for k in 0..n {
+        b.swap(k, piv[k]);
+    }
+    for i in 0..n {
+        let mut s = b[i];
+        for j in 0..i {
+            s -= a[i * n + j] * b[j];
+        }
+        b[i] = s;
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for j in i + 1..n {
+            s -= a[i * n + j] * b[j];
+        }
+        b[i] = s / a[i * n + i];
+    }
+}
+
+/// Solves `Aᵀ x = b` in place with the factors of [`lu_factor`] (`Aᵀ = Uᵀ Lᵀ P`).
+pub fn lu_solve_transposed(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for j in 0..i {
+            s -= a[j * n + i] * b[j];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for j in i + 1..n {
+            s -= a[j * n + i] * b[j];
+        }
+        b[i] = s;
+    }
+    for k in (0..n).rev() {
+        b.swap(k, piv[k]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lu_solves_a_pivoting_system_and_its_transpose() {
+        // A = [[0, 2, 1], [1, 1, 0], [3, 0, 1]]
+        let a0 = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
+        let mut a = a0;
+        let mut p = [0; 3];
+        lu_factor(&mut a, 3, &mut p).unwrap();
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| a0[i * 3 + j] * x[j]).sum())
+            .collect();
+        lu_solve(&a, 3, &p, &mut b);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-14, "{b:?}");
+        }
+        let mut bt: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| a0[j * 3 + i] * x[j]).sum())
+            .collect();
+        lu_solve_transposed(&a, 3, &p, &mut bt);
+        for i in 0..3 {
+            assert!((bt[i] - x[i]).abs() < 1e-14, "{bt:?}");
+        }
+    }
+
+    #[test]
+    fn singular_matrix_has_no_factorisation() {
+        let mut a = [1.0, 2.0, 2.0, 4.0];
+        assert!(lu_factor(&mut a, 2, &mut [0; 2]).is_none());
+    }
+}

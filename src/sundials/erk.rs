@@ -1,0 +1,489 @@
+//! ARKODE's explicit Runge–Kutta stepper (ERKStep) for non-stiff ODEs `y' = f(t, y)`.
+//!
+//! `sundials-sys` 0.6 generates no ARKODE bindings (its `wrapper.h` leaves the ARKODE headers
+//! out; its `arkode` feature only links `libsundials_arkode`), so the few ERKStep functions
+//! used here are declared by hand in [`ffi`], copied from Debian's SUNDIALS 6.4
+//! `arkode/arkode_erkstep.h`.
+//!
+//! Output times are reached exactly: `solve_to(tout)` sets ERKStep's stop time to `tout`, so the
+//! last step lands on it (an explicit method's own dense output is of lower order than the
+//! method; landing costs at most one short step per output).
+
+use super::callback::{error_handler, finite_or_recoverable, CallbackStatus, CvodeRootFn, RhsFn};
+use super::context::Context;
+use super::driver::{self, DriverState, RawEvent, Stepper};
+use super::error::{check, Package, SolverError};
+use super::options::{check_tolerances, check_vector, Step};
+use super::stats::SolverStats;
+use super::vector::{slice_of, slice_of_mut, NVector};
+use std::os::raw::{c_int, c_long, c_void};
+use sundials_sys as sys;
+
+const P: Package = Package::Arkode;
+
+/// Hand-written declarations of the ERKStep API of SUNDIALS 6.4 (`arkode_erkstep.h`).
+pub(crate) mod ffi {
+    use std::os::raw::{c_char, c_int, c_long, c_void};
+    use sundials_sys as sys;
+
+    /// `ARKRhsFn`.
+    pub type ArkRhsFn = Option<
+        unsafe extern "C" fn(t: f64, y: sys::N_Vector, yd: sys::N_Vector, ud: *mut c_void) -> c_int,
+    >;
+    /// `ARKRootFn`.
+    pub type ArkRootFn = Option<
+        unsafe extern "C" fn(t: f64, y: sys::N_Vector, g: *mut f64, ud: *mut c_void) -> c_int,
+    >;
+    /// `ARKErrHandlerFn`.
+    pub type ArkErrHandlerFn =
+        Option<unsafe extern "C" fn(c_int, *const c_char, *const c_char, *mut c_char, *mut c_void)>;
+
+    /// `ARK_ONE_STEP`.
+    pub const ARK_ONE_STEP: c_int = 2;
+    /// `ARK_SUCCESS`.
+    pub const ARK_SUCCESS: c_int = 0;
+    /// `ARK_TSTOP_RETURN`.
+    pub const ARK_TSTOP_RETURN: c_int = 1;
+    /// `ARK_ROOT_RETURN`.
+    pub const ARK_ROOT_RETURN: c_int = 2;
+    /// `ARK_TOO_MUCH_WORK`.
+    pub const ARK_TOO_MUCH_WORK: c_int = -1;
+    /// `ARKODE_DORMAND_PRINCE_7_4_5` of `ARKODE_ERKTableID`.
+    pub const DORMAND_PRINCE_7_4_5: c_int = 8;
+    /// `ARKODE_FEHLBERG_13_7_8`.
+    pub const FEHLBERG_13_7_8: c_int = 11;
+
+    #[link(name = "sundials_arkode")]
+    extern "C" {
+        pub fn ERKStepCreate(
+            f: ArkRhsFn,
+            t0: f64,
+            y0: sys::N_Vector,
+            ctx: sys::SUNContext,
+        ) -> *mut c_void;
+        pub fn ERKStepReInit(mem: *mut c_void, f: ArkRhsFn, t0: f64, y0: sys::N_Vector) -> c_int;
+        pub fn ERKStepSStolerances(mem: *mut c_void, rtol: f64, atol: f64) -> c_int;
+        pub fn ERKStepSetUserData(mem: *mut c_void, ud: *mut c_void) -> c_int;
+        pub fn ERKStepSetTableNum(mem: *mut c_void, table: c_int) -> c_int;
+        pub fn ERKStepSetMaxNumSteps(mem: *mut c_void, mxsteps: c_long) -> c_int;
+        pub fn ERKStepSetStopTime(mem: *mut c_void, tstop: f64) -> c_int;
+        pub fn ERKStepSetErrHandlerFn(
+            mem: *mut c_void,
+            f: ArkErrHandlerFn,
+            d: *mut c_void,
+        ) -> c_int;
+        pub fn ERKStepRootInit(mem: *mut c_void, n: c_int, g: ArkRootFn) -> c_int;
+        pub fn ERKStepEvolve(
+            mem: *mut c_void,
+            tout: f64,
+            yout: sys::N_Vector,
+            tret: *mut f64,
+            itask: c_int,
+        ) -> c_int;
+        pub fn ERKStepGetDky(mem: *mut c_void, t: f64, k: c_int, dky: sys::N_Vector) -> c_int;
+        pub fn ERKStepGetNumSteps(mem: *mut c_void, n: *mut c_long) -> c_int;
+        pub fn ERKStepGetNumRhsEvals(mem: *mut c_void, n: *mut c_long) -> c_int;
+        pub fn ERKStepGetNumErrTestFails(mem: *mut c_void, n: *mut c_long) -> c_int;
+        pub fn ERKStepGetNumGEvals(mem: *mut c_void, n: *mut c_long) -> c_int;
+        pub fn ERKStepGetLastStep(mem: *mut c_void, h: *mut f64) -> c_int;
+        pub fn ERKStepGetCurrentTime(mem: *mut c_void, t: *mut f64) -> c_int;
+        pub fn ERKStepGetRootInfo(mem: *mut c_void, info: *mut c_int) -> c_int;
+        pub fn ERKStepFree(mem: *mut *mut c_void);
+        pub fn ERKStepGetReturnFlagName(flag: c_long) -> *mut c_char;
+    }
+}
+
+/// Options for [`Erk`].
+#[derive(Clone, Debug)]
+pub struct ErkOptions {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance (scalar).
+    pub atol: f64,
+    /// Internal steps allowed per `solve_to` call (`None`: the driver's default 500).
+    pub max_steps: Option<u64>,
+    /// Internal steps allowed over the whole integration (`None`: no cap).
+    pub max_total_steps: Option<u64>,
+    /// Wall-clock time allowed for the whole integration.
+    pub max_wall_clock: Option<std::time::Duration>,
+    /// Do not integrate past this time.
+    pub stop_time: Option<f64>,
+}
+
+/// The Butcher table for a relative tolerance: Dormand–Prince 5(4) down to 1e-7, Fehlberg
+/// 8(7) below (the high order pays where the steps are accuracy-bound).
+///
+/// Not Verner 6(5) (`ARKODE_VERNER_8_5_6`) nor ARK5(4)8L[2]SA-ERK: in Debian's SUNDIALS 6.4
+/// both fall short of their order — on `y'' = −y` over 50 s with a step of 0.01 s Verner
+/// ends 3.8e-7 off (Dormand–Prince 1.4e-12, Fehlberg 4.7e-14), and at rtol 1e-9 it took
+/// 2593 steps to end 3e-6 off where Fehlberg took 406 to end 3e-10 off
+/// (`tests/sundials_erk.rs`).
+pub fn table_for(rtol: f64) -> (c_int, &'static str) {
+    if rtol >= 1e-7 {
+        (ffi::DORMAND_PRINCE_7_4_5, "Dormand-Prince 5(4)")
+    } else {
+        (ffi::FEHLBERG_13_7_8, "Fehlberg 8(7)")
+    }
+}
+
+struct ErkData {
+    status: CallbackStatus,
+    n: usize,
+    nroots: usize,
+    rhs: RhsFn,
+    roots: Option<CvodeRootFn>,
+}
+
+struct ErkMem(*mut c_void);
+
+impl Drop for ErkMem {
+    fn drop(&mut self) {
+        // SAFETY: the pointer came from ERKStepCreate and is freed exactly once.
+        unsafe { ffi::ERKStepFree(&mut self.0) }
+    }
+}
+
+/// An ERKStep integrator with its own SUNDIALS context (field order is drop order).
+pub struct Erk {
+    mem: ErkMem,
+    y: NVector,
+    tmp: NVector,
+    data: Box<ErkData>,
+    driver: DriverState,
+    /// Time of the last step the integrator accepted (what `last_step_time` returns).
+    accepted: f64,
+    stop_time: Option<f64>,
+    #[allow(dead_code)] // owned: freed last
+    ctx: Context,
+}
+
+// SAFETY: an Erk exclusively owns its context, memory, vectors and closures (all `Send`);
+// SUNDIALS keeps no global state across contexts.
+unsafe impl Send for Erk {}
+
+unsafe extern "C" fn rhs_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    yd: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
+    // SAFETY: user_data is the Box<ErkData> registered with ERKStepSetUserData, alive as long
+    // as the ARKODE memory; yy and yd are distinct serial vectors of length n.
+    let (data, y, ydot) = unsafe {
+        let data = &mut *(user_data as *mut ErkData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of_mut(yd, n))
+    };
+    let ErkData { status, rhs, .. } = data;
+    let code = status.guard(t, || rhs(t, y, ydot));
+    status.check_output("right-hand side", code, t, y, ydot)
+}
+
+unsafe extern "C" fn root_trampoline(
+    t: f64,
+    yy: sys::N_Vector,
+    gout: *mut f64,
+    user_data: *mut c_void,
+) -> c_int {
+    // SAFETY: as in rhs_trampoline; gout has room for the nroots registered.
+    let (data, y, g) = unsafe {
+        let data = &mut *(user_data as *mut ErkData);
+        let n = data.n;
+        let g = std::slice::from_raw_parts_mut(gout, data.nroots);
+        (data, slice_of(yy, n), g)
+    };
+    let ErkData { status, roots, .. } = data;
+    let Some(roots) = roots.as_mut() else {
+        return -1;
+    };
+    let code = status.guard(t, || roots(t, y, g));
+    if finite_or_recoverable(code, g) != 0 {
+        -1
+    } else {
+        0
+    }
+}
+
+impl Erk {
+    /// Creates an explicit Runge–Kutta solver for `y' = f(t, y)` from `(t0, y0)`, with the
+    /// Butcher table of [`table_for`] the relative tolerance.
+    pub fn new(t0: f64, y0: &[f64], rhs: RhsFn, opts: &ErkOptions) -> Result<Erk, SolverError> {
+        let n = y0.len();
+        if n == 0 {
+            return Err(SolverError::InvalidInput("y0 is empty".into()));
+        }
+        if !t0.is_finite() {
+            return Err(SolverError::InvalidInput(format!(
+                "t0 must be finite, got {t0}"
+            )));
+        }
+        check_vector("y0", y0, n)?;
+        check_tolerances(opts.rtol, &[opts.atol], n)?;
+        let ctx = Context::new()?;
+        let y = NVector::from_slice(&ctx, y0)?;
+        let tmp = NVector::from_slice(&ctx, y0)?;
+        let mut data = Box::new(ErkData {
+            status: CallbackStatus::default(),
+            n,
+            nroots: 0,
+            rhs,
+            roots: None,
+        });
+        // SAFETY: valid context and vector; NULL checked below.
+        let raw = unsafe { ffi::ERKStepCreate(Some(rhs_trampoline), t0, y.raw(), ctx.raw()) };
+        if raw.is_null() {
+            return Err(SolverError::InvalidInput("ERKStepCreate failed".into()));
+        }
+        let mem = ErkMem(raw);
+        let status_ptr = &mut data.status as *mut CallbackStatus as *mut c_void;
+        let data_ptr = &mut *data as *mut ErkData as *mut c_void;
+        // SAFETY: live ARKODE memory; user data and error-handler data point into the Box
+        // `data`, kept alive (unmoved) by the returned Erk.
+        unsafe {
+            check(
+                P,
+                "ERKStepSetErrHandlerFn",
+                ffi::ERKStepSetErrHandlerFn(raw, Some(error_handler), status_ptr),
+                t0,
+            )?;
+            check(
+                P,
+                "ERKStepSStolerances",
+                ffi::ERKStepSStolerances(raw, opts.rtol, opts.atol),
+                t0,
+            )?;
+            check(
+                P,
+                "ERKStepSetUserData",
+                ffi::ERKStepSetUserData(raw, data_ptr),
+                t0,
+            )?;
+            check(
+                P,
+                "ERKStepSetTableNum",
+                ffi::ERKStepSetTableNum(raw, table_for(opts.rtol).0),
+                t0,
+            )?;
+            // the driver counts steps; ARKODE's own per-call limit is one step in ONE_STEP mode
+            check(
+                P,
+                "ERKStepSetMaxNumSteps",
+                ffi::ERKStepSetMaxNumSteps(raw, -1),
+                t0,
+            )?;
+        }
+        Ok(Erk {
+            mem,
+            y,
+            tmp,
+            data,
+            accepted: t0,
+            driver: DriverState::new(
+                t0,
+                opts.max_steps,
+                opts.max_wall_clock,
+                opts.max_total_steps,
+            ),
+            stop_time: opts.stop_time,
+            ctx,
+        })
+    }
+
+    fn raw(&self) -> *mut c_void {
+        self.mem.0
+    }
+
+    fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
+        if let Some(mut e) = self.data.status.take_error() {
+            if let SolverError::NonFinite { function: f, .. } = &mut e {
+                *f = function;
+            }
+            return e;
+        }
+        let t = self.current_time();
+        if let Some(e) = self
+            .data
+            .status
+            .take_non_finite(function, "right-hand side", t)
+        {
+            return e;
+        }
+        if flag == ffi::ARK_TOO_MUCH_WORK {
+            if let Some(max_steps) = self.driver.max_steps {
+                return SolverError::TooMuchWork { t, max_steps };
+            }
+        }
+        check(P, function, flag, t).expect_err("flag is negative")
+    }
+
+    /// Registers `n` root functions `g(t, y)`; sign changes stop `solve_to`.
+    pub fn set_roots(&mut self, n: usize, f: CvodeRootFn) -> Result<(), SolverError> {
+        self.data.roots = Some(f);
+        self.data.nroots = n;
+        // SAFETY: live ARKODE memory; the trampoline reads closures from the user data.
+        let flag = unsafe { ffi::ERKStepRootInit(self.raw(), n as c_int, Some(root_trampoline)) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepRootInit", flag));
+        }
+        Ok(())
+    }
+
+    /// Integrates to `tout` exactly (or an earlier root); `y()` then holds the state at `step.t`.
+    pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
+        let stop = self.stop_time.map_or(tout, |s| s.min(tout));
+        if stop > self.driver.t {
+            // SAFETY: live ARKODE memory.
+            let flag = unsafe { ffi::ERKStepSetStopTime(self.raw(), stop) };
+            if flag < 0 {
+                return Err(self.fail("ERKStepSetStopTime", flag));
+            }
+        }
+        driver::solve_to(self, tout)
+    }
+
+    /// Time of the last accepted step (at or after [`Self::t`]).
+    pub fn last_step_time(&self) -> f64 {
+        self.accepted
+    }
+
+    /// Counts `spent` against the wall-clock budget (a solve continued from an earlier solver).
+    pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
+        self.driver.wall_used += spent;
+    }
+
+    /// Counts `steps` against the total step budget.
+    pub fn charge_steps(&mut self, steps: u64) {
+        self.driver.steps_used += steps;
+    }
+
+    /// Time of the state in `y()`.
+    pub fn t(&self) -> f64 {
+        self.driver.t
+    }
+
+    /// State at `t()`.
+    pub fn y(&self) -> &[f64] {
+        self.y.as_slice()
+    }
+
+    /// k-th derivative of ARKODE's interpolant at `t` (within the last step).
+    pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
+        if out.len() != self.data.n {
+            return Err(SolverError::InvalidInput(format!(
+                "dky output has length {}, expected {}",
+                out.len(),
+                self.data.n
+            )));
+        }
+        // SAFETY: live ARKODE memory; tmp is an owned vector of length n.
+        let flag = unsafe { ffi::ERKStepGetDky(self.raw(), t, k, self.tmp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepGetDky", flag));
+        }
+        out.copy_from_slice(self.tmp.as_slice());
+        Ok(())
+    }
+
+    /// Restarts from `(t0, y0)` keeping options and closures.
+    pub fn reinit(&mut self, t0: f64, y0: &[f64]) -> Result<(), SolverError> {
+        check_vector("y0", y0, self.data.n)?;
+        self.y.as_mut_slice().copy_from_slice(y0);
+        // SAFETY: live ARKODE memory and an owned vector of length n.
+        let flag =
+            unsafe { ffi::ERKStepReInit(self.raw(), Some(rhs_trampoline), t0, self.y.raw()) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepReInit", flag));
+        }
+        self.driver.restart(t0);
+        self.accepted = t0;
+        Ok(())
+    }
+
+    /// Integrator counters (`residual_evals` counts right-hand-side evaluations).
+    pub fn stats(&self) -> SolverStats {
+        let mem = self.raw();
+        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
+            let mut v: c_long = 0;
+            // SAFETY: live ARKODE memory and a valid out-pointer.
+            unsafe { f(mem, &mut v) };
+            v.max(0) as u64
+        };
+        let mut last_step = 0.0;
+        // SAFETY: live ARKODE memory and a valid out-pointer.
+        unsafe { ffi::ERKStepGetLastStep(mem, &mut last_step) };
+        SolverStats {
+            steps: get(ffi::ERKStepGetNumSteps),
+            residual_evals: get(ffi::ERKStepGetNumRhsEvals),
+            error_test_failures: get(ffi::ERKStepGetNumErrTestFails),
+            root_evals: get(ffi::ERKStepGetNumGEvals),
+            last_step,
+            ..SolverStats::default()
+        }
+    }
+}
+
+impl Stepper for Erk {
+    fn driver(&mut self) -> &mut DriverState {
+        &mut self.driver
+    }
+
+    fn current_time(&self) -> f64 {
+        let mut t = self.driver.t;
+        // SAFETY: live ARKODE memory and a valid out-pointer.
+        unsafe { ffi::ERKStepGetCurrentTime(self.raw(), &mut t) };
+        t
+    }
+
+    fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
+        let r = self.one_step_raw(tout);
+        if let Ok((t, _)) = &r {
+            self.accepted = self.accepted.max(*t);
+        }
+        r
+    }
+
+    fn root_info(&mut self) -> Vec<i32> {
+        self.root_info_raw()
+    }
+
+    fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
+        self.interpolate_raw(t)
+    }
+
+    fn clear_status(&mut self) {
+        self.data.status.clear();
+    }
+}
+
+impl Erk {
+    fn one_step_raw(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
+        let mut tret = self.driver.t;
+        // SAFETY: live ARKODE memory, an owned vector of length n, valid out-pointer.
+        let flag = unsafe {
+            ffi::ERKStepEvolve(self.raw(), tout, self.y.raw(), &mut tret, ffi::ARK_ONE_STEP)
+        };
+        match flag {
+            ffi::ARK_SUCCESS => Ok((tret, RawEvent::Success)),
+            ffi::ARK_ROOT_RETURN => Ok((tret, RawEvent::Root)),
+            ffi::ARK_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
+            f if f < 0 => Err(self.fail("ERKStepEvolve", f)),
+            _ => Ok((tret, RawEvent::Success)),
+        }
+    }
+
+    fn root_info_raw(&mut self) -> Vec<i32> {
+        let mut info = vec![0 as c_int; self.data.nroots];
+        // SAFETY: live ARKODE memory; `info` has room for nroots entries.
+        unsafe { ffi::ERKStepGetRootInfo(self.raw(), info.as_mut_ptr()) };
+        info
+    }
+
+    fn interpolate_raw(&mut self, t: f64) -> Result<(), SolverError> {
+        // SAFETY: live ARKODE memory and an owned vector of length n.
+        let flag = unsafe { ffi::ERKStepGetDky(self.raw(), t, 0, self.y.raw()) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepGetDky", flag));
+        }
+        Ok(())
+    }
+}
