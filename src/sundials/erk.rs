@@ -2,7 +2,7 @@
 //!
 //! `sundials-sys` 0.6 generates no ARKODE bindings (its `wrapper.h` leaves the ARKODE headers
 //! out; its `arkode` feature only links `libsundials_arkode`), so the few ERKStep functions
-//! used here are declared by hand in [`ffi`], copied from Debian's SUNDIALS 6.4
+//! used here are declared by hand in the private `ffi` module, copied from Debian's SUNDIALS 6.4
 //! `arkode/arkode_erkstep.h`.
 //!
 //! Output times are reached exactly: `solve_to(tout)` sets ERKStep's stop time to `tout`, so the
@@ -113,7 +113,7 @@ pub struct ErkOptions {
 /// The Butcher table for a relative tolerance: Dormand–Prince 5(4) down to 1e-7, Fehlberg
 /// 8(7) below (the high order pays where the steps are accuracy-bound).
 ///
-/// Not Verner 6(5) (`ARKODE_VERNER_8_5_6`) nor ARK5(4)8L[2]SA-ERK: in Debian's SUNDIALS 6.4
+/// Not Verner 6(5) (`ARKODE_VERNER_8_5_6`) nor `ARK5(4)8L[2]SA-ERK`: in Debian's SUNDIALS 6.4
 /// both fall short of their order — on `y'' = −y` over 50 s with a step of 0.01 s Verner
 /// ends 3.8e-7 off (Dormand–Prince 1.4e-12, Fehlberg 4.7e-14), and at rtol 1e-9 it took
 /// 2593 steps to end 3e-6 off where Fehlberg took 406 to end 3e-10 off
