@@ -649,7 +649,7 @@ impl Reader<'_> {
 
     /// A non-opened 1-junction whose bonds got different flows equates two independent flows.
     fn check_hidden_constraints(&mut self) -> Res<()> {
-        let probe = probe_states(self.g, &self.eg, 1);
+        let probe = probe_states(self.g, 1);
         for e in self.g.element_ids() {
             if self.g.element(e).kind != ElementKind::One || self.opened[e.0] {
                 continue;
@@ -721,8 +721,7 @@ impl Reader<'_> {
 
 /// Deterministic pseudo-random states `[t, x, v]` near the initial one (for the build-time
 /// checks), `n` of them.
-fn probe_states(g: &BondGraph, eg: &ExprGraph, n: usize) -> Vec<Vec<f64>> {
-    let _ = eg;
+fn probe_states(g: &BondGraph, n: usize) -> Vec<Vec<f64>> {
     let n_slots = 1
         + g.displacements.len()
         + g.elements
@@ -752,7 +751,7 @@ fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations) -> Res<()> {
     let mut eg = eqs.graph.clone();
     let nq = eqs.nq();
     let x0 = eqs.initial_slots();
-    let mut probes = probe_states(g, &eg, 3);
+    let mut probes = probe_states(g, 3);
     for p in &mut probes {
         for (k, v) in p.iter_mut().enumerate() {
             *v = x0[k] + 0.3 * (*v - 0.5);

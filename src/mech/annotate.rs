@@ -415,15 +415,7 @@ fn spatial_bodies(
             .unwrap_or_else(|| "…".into())
     };
     for (k, n) in &quaternion_names {
-        let rate = sys.kinematics[*k];
-        let mut terms = Vec::new();
-        for (j, &junction) in velocity_junctions.iter().enumerate() {
-            let s = (1 + nq + j) as u32;
-            if eg.depends_on(rate, s) {
-                let m = eg.diff(rate, s);
-                terms.push((junction, text(&eg, m)));
-            }
-        }
+        let terms = velocity_terms(&mut eg, nq, sys.kinematics[*k], &velocity_junctions, &text);
         let sum = modulated_sum(&mut g, &sys.coords[*k].name, &terms);
         let j = g.add_junction(n.clone(), ElementKind::One);
         g.add_bond(sum, j);
@@ -447,8 +439,6 @@ fn spatial_bodies(
     for l in &scene.loads {
         let params = super::bondgraph::load_parameters(&l.value);
         let p = l.point.clone().unwrap_or(PointRef::Coords(vec![0.0; 3]));
-        let pos = point(&mut eg, scene, sys, &l.body, &p)?;
-        let _ = pos;
         let kin = sys
             .bodies
             .iter()
@@ -467,14 +457,7 @@ fn spatial_bodies(
         };
         let vel = kin.point(&mut eg, &coords).velocity;
         for (k, prm) in params.into_iter().enumerate().take(3) {
-            let mut terms = Vec::new();
-            for (j, &junction) in velocity_junctions.iter().enumerate() {
-                let s = (1 + nq + j) as u32;
-                if eg.depends_on(vel[k], s) {
-                    let m = eg.diff(vel[k], s);
-                    terms.push((junction, text(&eg, m)));
-                }
-            }
+            let terms = velocity_terms(&mut eg, nq, vel[k], &velocity_junctions, &text);
             let name = format!("{}.{}", l.name, ax[k]);
             let sum = modulated_sum(&mut g, &name, &terms);
             let j = g.add_junction(format!("{name}.v"), ElementKind::One);
@@ -512,6 +495,18 @@ fn rate_terms(
         }
     }
     let rate = eg.sum(&terms);
+    velocity_terms(eg, nq, rate, junctions, text)
+}
+
+/// `rate = Σ_j m_j(x) v_j` as the junction of each velocity it depends on with the modulus
+/// `m_j = ∂rate/∂v_j` as text (the MTFs of a modulated sum).
+fn velocity_terms(
+    eg: &mut ExprGraph,
+    nq: usize,
+    rate: Expr,
+    junctions: &[ElementId],
+    text: &dyn Fn(&ExprGraph, Expr) -> String,
+) -> Vec<(ElementId, String)> {
     let mut out = Vec::new();
     for (j, &junction) in junctions.iter().enumerate() {
         let s = (1 + nq + j) as u32;
