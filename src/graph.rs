@@ -46,20 +46,26 @@ impl SceneGraph {
                 SceneGraph::from_graph(graph)
             }
             None => {
-                // the pinned graph the solver reads (complete: closures, sliders, springs),
-                // where the scene's graph can be read; the seed's drawing otherwise
-                let complete = match variant {
-                    Variant::Pinned => {
-                        let sys = crate::mech::assemble(scene)?;
-                        match crate::mech::annotate::mechanism_graph(scene, &sys) {
-                            Ok(g) => Some(g),
-                            Err(crate::mech::annotate::AnnotateError::Mech(e)) => {
-                                return Err(e.into())
-                            }
-                            Err(_) => None,
-                        }
-                    }
-                    Variant::Decoupled => None,
+                // the graph the solver reads: the complete pinned graph (closures, sliders,
+                // springs), or its decoupled twin (each constraint junction opened, a spring
+                // put in); the seed's drawing where the scene's graph cannot be read yet
+                let sys = crate::mech::assemble(scene)?;
+                let complete = match crate::mech::annotate::mechanism_graph(scene, &sys) {
+                    Ok(g) => Some(g),
+                    Err(crate::mech::annotate::AnnotateError::Mech(e)) => return Err(e.into()),
+                    Err(_) => None,
+                };
+                let complete = match (complete, variant) {
+                    (Some(g), Variant::Decoupled) => Some(
+                        crate::bond::decouple::decouple(
+                            &g,
+                            scene.solve.joint_stiffness,
+                            scene.solve.joint_damping,
+                        )
+                        .map_err(|e| Error::BondGraph(e.to_string()))?
+                        .graph,
+                    ),
+                    (g, _) => g,
                 };
                 let graph = match complete {
                     Some(g) => g,

@@ -97,6 +97,7 @@ fn empty_system() -> MultibodySystem {
         names: Vec::new(),
         flow_rows: Vec::new(),
         source: crate::mech::EquationSource::Assembled("raw bond graph".into()),
+        bond_graph: None,
     }
 }
 

@@ -135,9 +135,8 @@ fn check_scene(name: &str, seed: u64) {
         }
         // decoupled twin (stiffness and damping moderate so the differences keep their digits)
         {
-            let mut sys = assemble(&scene(name)).unwrap();
-            let c = ConstraintExprs::derive(&mut sys);
-            let d = DecoupledFormulation::build(&mut sys, &c, 1e3, 7.0).unwrap();
+            let mut sys = bondmech::mech::build(&scene(name)).unwrap();
+            let d = DecoupledFormulation::build(&mut sys, 1e3, 7.0).unwrap();
             let n = d.ode.n;
             let y = rng.vec(n);
             let mut ws = d.ode.workspace();

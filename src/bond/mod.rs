@@ -11,10 +11,12 @@
 //!   and algebraic-loop rows from the causal graph, with exact Jacobians.
 //! - [`mechanics`]: a bond graph read as a multibody system (coordinates, velocities, `M`,
 //!   `K(x) v`, `Q`, the constraint rows of its joints' junctions and their closures).
+//! - [`decouple`]: the decoupled twin: each constraint junction opened, a stiff spring put in.
 //! - [`dot`]: Graphviz export with half arrows and causal strokes.
 //! - [`fragments`]: the chapter's constructions (planar bodies in both frames, the 3D rigid body
 //!   with its Euler junction structure, joints, springs, dampers, loads).
 pub mod causality;
+pub mod decouple;
 pub mod dot;
 pub mod equations;
 pub mod fragments;

@@ -1,19 +1,23 @@
 //! The decoupled twin (seed 16.6, Fig. 17–18, 21): every joint row replaced by a stiff spring.
 //!
-//! Each constraint row `g_i(q)` becomes a spring of stiffness `k` (and damper `c`) along the
-//! direction that row measures — the global `x`, `y` of a pin, as the chapter's `k_x`, `k_y` —
-//! so every inertia gets integral causality and the equations are an ODE:
+//! The twin is a transformation of the mechanism's bond graph ([`crate::bond::decouple`]):
+//! each constraint junction is opened and a C of stiffness `k` (displacement: the joint's
+//! closure `g_i(q)`) with an R of damping `c` is put in, as the chapter draws it, so every
+//! inertia gets integral causality. Reading that graph as a mechanism
+//! ([`crate::bond::mechanics`]) gives the ODE
 //!
 //! ```text
 //!   q' = K(q) v
 //!   M v' = Q(t, q, v) − G_vᵀ (k g(q) + c G_v v)
 //! ```
 //!
-//! solved by CVODE (BDF, Newton, exact Jacobian). Rows that fix an angle (prismatic, weld) get a
-//! torsional spring of the same numeric stiffness `k` (N·m/rad).
+//! solved by CVODE (BDF, Newton, exact Jacobian): `graph --decoupled` draws exactly this graph.
+//! Rows that fix an angle (prismatic, weld) get a torsional spring of the same numeric
+//! stiffness `k` (N·m/rad).
 
 use super::compiled::ExplicitOde;
-use super::mechanics::ConstraintExprs;
+use crate::bond::decouple::{decouple, DecoupledGraph};
+use crate::bond::mechanics::read_mechanics_in;
 use crate::expr::Expr;
 use crate::mech::{MechError, MultibodySystem};
 
@@ -26,62 +30,82 @@ pub struct DecoupledFormulation {
     pub stiffness: f64,
     /// Joint damping c.
     pub damping: f64,
-    /// Spring energy `½ k Σ g_i²`, to add to the mechanical energy.
+    /// Spring energy `½ k Σ g_i²` (the twin's springs' stored energy), to add to the
+    /// mechanical energy.
     pub spring_energy: Expr,
-    /// Force of each row's spring-damper, `k g_i + c (G_v v)_i`: the twin's counterpart of the
-    /// multipliers λ (the joint reactions are read from it).
+    /// Force of each row's spring-damper, `k g_i + c (G_v v)_i` (the effort at the opened
+    /// junction): the twin's counterpart of the multipliers λ (the joint reactions are read
+    /// from it).
     pub row_force: Vec<Expr>,
+    /// The twin's bond graph.
+    pub twin: DecoupledGraph,
 }
 
 impl DecoupledFormulation {
-    /// Builds the ODE; fails when a coordinate has no inertia (the ODE would be singular).
+    /// Opens the joints of the bond graph `sys` was read from, reads the twin's equations into
+    /// `sys`'s expression arena and compiles the ODE; fails when a coordinate has no inertia
+    /// (the ODE would be singular) or when `sys` was not read from a bond graph.
     pub fn build(
         sys: &mut MultibodySystem,
-        c: &ConstraintExprs,
         stiffness: f64,
         damping: f64,
     ) -> Result<Self, MechError> {
+        let err = |m: String| MechError::at("solve.formulation", m);
         if let Some((j, _)) = sys.mass.iter().enumerate().find(|(_, &m)| m <= 0.0) {
-            return Err(MechError::at(
-                "solve.formulation",
-                format!(
-                    "the decoupled twin needs an inertia on every coordinate, but '{}' has none (a point mass whose rotation is fixed only by joints): give the body an inertia, or solve it as a DAE",
-                    sys.velocities[j].name
-                ),
+            return Err(err(format!(
+                "the decoupled twin needs an inertia on every coordinate, but '{}' has none (a point mass whose rotation is fixed only by joints): give the body an inertia, or solve it as a DAE",
+                sys.velocities[j].name
+            )));
+        }
+        let pinned = sys.bond_graph.clone().ok_or_else(|| {
+            err("the decoupled twin is a transformation of the mechanism's bond graph, and this model's equations were not read from one".into())
+        })?;
+        let twin = decouple(&pinned, stiffness, damping)
+            .map_err(|e| err(format!("decoupled twin: {e}")))?;
+        let eqs = read_mechanics_in(&twin.graph, sys.graph.clone())
+            .map_err(|e| err(format!("decoupled twin: {e}")))?;
+        let same = |a: &[crate::bond::mechanics::NamedState], b: &[crate::mech::Coordinate]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.name == y.name)
+        };
+        if !same(&eqs.coords, &sys.coords) || !same(&eqs.velocities, &sys.velocities) {
+            return Err(err(
+                "decoupled twin: opening the joints changed the graph's states".into(),
             ));
         }
         let (nq, nv) = (sys.nq(), sys.nv());
-        let g = &mut sys.graph;
-        // joint force magnitude per row: k g_i + c (G_v v)_i
-        let row_force: Vec<Expr> = (0..c.g.len())
-            .map(|i| {
-                let a = g.scale(stiffness, c.g[i]);
-                let b = g.scale(damping, c.gvv[i]);
-                g.add(a, b)
-            })
-            .collect();
-        let mut rhs: Vec<Expr> = sys.kinematics.clone();
+        let mut g = eqs.graph;
+        let mut row_force = Vec::with_capacity(twin.springs.len());
+        let mut stored = Vec::with_capacity(twin.springs.len());
+        for s in &twin.springs {
+            let (_, delta, flow) = eqs
+                .capacitors
+                .iter()
+                .find(|(c, _, _)| *c == s.spring)
+                .copied()
+                .ok_or_else(|| err(format!("decoupled twin: no spring for joint '{}'", s.joint)))?;
+            // junction effort k δ + c f, and λ = s (k δ + c f)
+            let a = g.scale(stiffness, delta);
+            let b = g.scale(damping, flow);
+            let e = g.add(a, b);
+            row_force.push(g.scale(s.sign, e));
+            let d2 = g.mul(delta, delta);
+            stored.push(g.scale(0.5 * stiffness, d2));
+        }
+        let spring_energy = g.sum(&stored);
+        let mut rhs: Vec<Expr> = eqs.kinematics.clone();
         for j in 0..nv {
-            let mut terms = vec![sys.forces[j]];
-            for (row, &rf) in c.gv.iter().zip(&row_force) {
-                if !g.is_zero(row[j]) {
-                    let p = g.mul(row[j], rf);
-                    terms.push(g.neg(p));
-                }
-            }
-            let f = g.sum(&terms);
-            rhs.push(g.scale(1.0 / sys.mass[j], f));
+            rhs.push(g.scale(1.0 / sys.mass[j], eqs.forces[j]));
         }
         debug_assert_eq!(rhs.len(), nq + nv);
-        let sq: Vec<Expr> = c.g.iter().map(|&e| g.mul(e, e)).collect();
-        let s = g.sum(&sq);
-        let spring_energy = g.scale(0.5 * stiffness, s);
+        let ode = ExplicitOde::build(&mut g, &rhs);
+        sys.graph = g;
         Ok(DecoupledFormulation {
-            ode: ExplicitOde::build(g, &rhs),
+            ode,
             stiffness,
             damping,
             spring_energy,
             row_force,
+            twin,
         })
     }
 }

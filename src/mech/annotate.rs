@@ -29,7 +29,7 @@ use crate::bond::model::{
     Parameter, SignalDefinition,
 };
 use crate::expr::{Expr, ExprGraph};
-use crate::scene::{BodyFrame, Dimension, PointRef, Scene};
+use crate::scene::{BodyFrame, Dimension, LoadKind, PointRef, Scene};
 
 /// Longest expression text written into the graph (beyond it the text holds `…` and the
 /// reader refuses it by name).
@@ -67,21 +67,6 @@ pub enum AnnotateError {
 /// (coordinates, joint closures, point positions).
 pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph, AnnotateError> {
     let spatial = matches!(scene.dimension, Dimension::Spatial);
-    if !spatial && scene.gravity.first().copied().unwrap_or(0.0) != 0.0 {
-        return Err(AnnotateError::Unsupported(
-            "gravity with an x component is still assembled from the bodies",
-        ));
-    }
-    if spatial
-        && scene
-            .loads
-            .iter()
-            .any(|l| matches!(l.kind, crate::scene::LoadKind::Torque))
-    {
-        return Err(AnnotateError::Unsupported(
-            "torque loads on spatial bodies are still assembled from the bodies",
-        ));
-    }
     let (mut g, slot_names, velocity_junctions) = if spatial {
         spatial_bodies(scene, sys)?
     } else {
@@ -287,6 +272,25 @@ fn planar_bodies(
         });
         slot_names.push(format!("x_{junction}"));
     }
+    // the weight's global x component (the seed's fragments carry y) on the junction whose
+    // displacement is the centre's x
+    let gx = scene.gravity.first().copied().unwrap_or(0.0);
+    if gx != 0.0 {
+        for b in &scene.bodies {
+            let junction = if fixed.contains(&b.name.as_str()) {
+                format!("{}.cm.in_global.v_x", b.name)
+            } else {
+                format!("{}.v_x", b.name)
+            };
+            let j = find(&g, &junction)?;
+            let se = g.add_element(
+                format!("{}.weight_X", b.name),
+                ElementKind::Se,
+                Some(Parameter::Const(b.mass * gx)),
+            );
+            g.add_bond(se, j);
+        }
+    }
     let mut velocity_junctions = Vec::new();
     for v in &sys.velocities {
         let (body, what) = v.name.rsplit_once('.').unwrap_or(("", ""));
@@ -455,7 +459,23 @@ fn spatial_bodies(
                 .map(|(_, c)| c.clone())
                 .unwrap_or_default(),
         };
-        let vel = kin.point(&mut eg, &coords).velocity;
+        // a force acts on its point's velocity, a torque on the body's global angular
+        // velocity `R ω` (the frame change of 16.2)
+        let vel = match l.kind {
+            LoadKind::Force => kin.point(&mut eg, &coords).velocity,
+            LoadKind::Torque => match &kin {
+                BodyKinematics::Spatial { w, .. } => {
+                    let rot = kin.rotation3(&mut eg);
+                    let we: Vec<Expr> = w.iter().map(|&s| eg.var(s)).collect();
+                    (0..3).map(|i| eg.dot(&rot[i], &we)).collect()
+                }
+                _ => {
+                    return Err(AnnotateError::Unsupported(
+                        "a torque on a body without rotation",
+                    ))
+                }
+            },
+        };
         for (k, prm) in params.into_iter().enumerate().take(3) {
             let terms = velocity_terms(&mut eg, nq, vel[k], &velocity_junctions, &text);
             let name = format!("{}.{}", l.name, ax[k]);
@@ -603,6 +623,7 @@ pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, 
     sys.constraints = closures;
     sys.flow_rows = flows;
     sys.source = EquationSource::BondGraph;
+    sys.bond_graph = Some(std::sync::Arc::new(g.clone()));
     Ok(g)
 }
 
@@ -612,11 +633,13 @@ pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, 
 pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
     let mut sys = super::assemble(scene)?;
     match read_into(scene, &mut sys) {
-        Ok(_) => {}
-        Err(AnnotateError::Mech(e)) => return Err(e),
-        Err(e) => sys.source = EquationSource::Assembled(e.to_string()),
+        Ok(_) => Ok(sys),
+        Err(AnnotateError::Mech(e)) => Err(e),
+        Err(e) => Err(MechError::at(
+            "bodies",
+            format!("the mechanism's bond graph cannot be read as its equations: {e}"),
+        )),
     }
-    Ok(sys)
 }
 
 /// The pinned bond graph of a mechanism scene, complete and self-contained: everything
@@ -730,6 +753,7 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         names: Vec::new(),
         flow_rows,
         source: EquationSource::BondGraph,
+        bond_graph: Some(std::sync::Arc::new(g.clone())),
         graph: eqs.graph,
     })
 }

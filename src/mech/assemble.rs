@@ -519,6 +519,7 @@ impl<'a> Assembler<'a> {
             },
             flow_rows: Vec::new(),
             source: super::system::EquationSource::Assembled("assembled".into()),
+            bond_graph: None,
         };
         let names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
         for v in sys.initial_violation(&names) {

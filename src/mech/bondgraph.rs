@@ -317,9 +317,9 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
             (None, None) => continue,
         };
         let damp = (s.damping > 0.0).then_some(s.damping);
+        // `<spring>.x.k`, `<spring>.x.c`, … (spring_damper names the axis)
         for ax in [Axis::X, Axis::Y] {
-            let n = format!("{}.{}", s.name, if ax == Axis::X { "x" } else { "y" });
-            spring_damper(&mut g, &n, p1, p2, ax, Some(s.stiffness), damp);
+            spring_damper(&mut g, &s.name, p1, p2, ax, Some(s.stiffness), damp);
         }
     }
     for (li, l) in scene.loads.iter().enumerate() {

@@ -164,6 +164,9 @@ pub struct MultibodySystem {
     pub flow_rows: Vec<Expr>,
     /// Where the equations come from.
     pub source: EquationSource,
+    /// The complete bond graph the equations were read from (the decoupled twin is read from
+    /// its transformation, [`crate::bond::decouple`]); `None` for equations assembled beside it.
+    pub bond_graph: Option<std::sync::Arc<crate::bond::model::BondGraph>>,
 }
 
 /// Where a [`MultibodySystem`]'s inertias, forces and constraint rows come from.

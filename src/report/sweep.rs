@@ -244,7 +244,7 @@ pub fn largest_eigenvalue(model: &Model, opts: &SolveOptions) -> Result<f64> {
     let c = ConstraintExprs::derive(&mut sys);
     let tapes = MechanicsTapes::new(&mut sys, &c, None);
     let init = consistent_state(&sys, &tapes, t0)?;
-    let dec = DecoupledFormulation::build(&mut sys, &c, opts.joint_stiffness, opts.joint_damping)?;
+    let dec = DecoupledFormulation::build(&mut sys, opts.joint_stiffness, opts.joint_damping)?;
     let y0: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let n = dec.ode.n;
     let mut jm = DMatrix::<f64>::zeros(n, n);

@@ -380,12 +380,8 @@ fn solve_from_first_output(
     let result = match opts.formulation {
         FormulationKind::Decoupled => {
             let t = ThreadTime::now();
-            let dec = DecoupledFormulation::build(
-                &mut sys,
-                &c,
-                opts.joint_stiffness,
-                opts.joint_damping,
-            )?;
+            let dec =
+                DecoupledFormulation::build(&mut sys, opts.joint_stiffness, opts.joint_damping)?;
             let tapes = MechanicsTapes::new(&mut sys, &c, Some(dec.spring_energy));
             build += t.elapsed().as_secs_f64();
             summary.joint_stiffness = opts.joint_stiffness;
