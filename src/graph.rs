@@ -49,12 +49,8 @@ impl SceneGraph {
                 // the graph the solver reads: the complete pinned graph (closures, sliders,
                 // springs), or its decoupled twin (each constraint junction opened, a spring
                 // put in); the seed's drawing where the scene's graph cannot be read yet
-                let sys = crate::mech::assemble(scene)?;
-                let complete = match crate::mech::annotate::mechanism_graph(scene, &sys) {
-                    Ok(g) => Some(g),
-                    Err(crate::mech::annotate::AnnotateError::Mech(e)) => return Err(e.into()),
-                    Err(_) => None,
-                };
+                let sys = crate::mech::build(scene)?;
+                let complete = sys.bond_graph.as_deref().cloned();
                 let complete = match (complete, variant) {
                     (Some(g), Variant::Decoupled) => Some(
                         crate::bond::decouple::decouple(

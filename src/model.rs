@@ -142,24 +142,6 @@ impl Model {
         })
     }
 
-    /// The model with its equations assembled from the bodies directly (the oracle the bond
-    /// graph's equations are checked against), for benchmarks that compare the two. Not for
-    /// solving: [`Model::new`] reads the equations off the bond graph.
-    #[doc(hidden)]
-    pub fn new_assembled(scene: &Scene) -> Result<Model> {
-        let clock = ThreadTime::now();
-        let kind = if scene.bond_graph.is_some() {
-            Kind::BondGraph(Box::new(scene_bond_graph(scene)?), empty_system())
-        } else {
-            Kind::Mechanism(crate::mech::assemble(scene)?)
-        };
-        Ok(Model {
-            scene: scene.clone(),
-            kind,
-            build_cpu_seconds: clock.elapsed().as_secs_f64(),
-        })
-    }
-
     /// The scene this model was built from.
     pub fn scene(&self) -> &Scene {
         &self.scene

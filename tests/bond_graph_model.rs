@@ -1,8 +1,12 @@
-//! The bond graph is the model: a planar mechanism's equations are read off its own bond graph
+//! The bond graph is the model: a mechanism's equations are read off its own bond graph
 //! ([`bondmech::bond::mechanics`]), and they agree with an independently written
-//! absolute-coordinate multibody assembly (`mech::assemble`, kept as the oracle) at random
-//! states on every bundled scene the graph can carry.
+//! absolute-coordinate multibody assembly (`tests/oracle`, once bondmech's own equation path)
+//! at random states on every bundled scene: `M`, `K(q) v`, `Q`, `g`, `G_v v`, the energy, and
+//! the decoupled twin's right-hand side (the graph with its joints opened).
 
+mod oracle;
+
+use bondmech::dae::DecoupledFormulation;
 use bondmech::expr::ExprGraph;
 use bondmech::mech::{self, EquationSource, MultibodySystem};
 use bondmech::scene::Scene;
@@ -62,18 +66,29 @@ fn agrees_with_oracle_on(name: &str, s: &Scene) {
         EquationSource::BondGraph,
         "{name}: equations not read off the bond graph"
     );
-    let mut oracle = mech::assemble(&s).unwrap();
+    let (mut oracle, potential) = oracle::assembled(&s);
     assert_eq!(bg.mass, oracle.mass, "{name}: inertias");
     let names = |c: &[mech::Coordinate]| c.iter().map(|c| c.name.clone()).collect::<Vec<_>>();
     assert_eq!(names(&bg.coords), names(&oracle.coords), "{name}");
     assert_eq!(names(&bg.velocities), names(&oracle.velocities), "{name}");
     let gvv = oracle.velocity_constraints();
+    // the oracle's energy: ½ Σ M v² + the weight's and the springs' potential
+    let nq = oracle.nq();
+    let mut kinetic = Vec::new();
+    for (j, &m) in oracle.mass.clone().iter().enumerate() {
+        let v = oracle.graph.var((1 + nq + j) as u32);
+        let v2 = oracle.graph.mul(v, v);
+        kinetic.push(oracle.graph.scale(0.5 * m, v2));
+    }
+    kinetic.push(potential);
+    let energy = oracle.graph.sum(&kinetic);
     for x in states(&bg, 5) {
         for (what, ours, theirs) in [
             ("kinematics", &bg.kinematics, &oracle.kinematics),
             ("forces", &bg.forces, &oracle.forces),
             ("closures", &bg.constraints, &oracle.constraints),
             ("constraint flows", &bg.flow_rows, &gvv),
+            ("energy", &vec![bg.energy], &vec![energy]),
         ] {
             let a = eval_all(&bg.graph, ours, &x);
             let b = eval_all(&oracle.graph, theirs, &x);
@@ -84,6 +99,57 @@ fn agrees_with_oracle_on(name: &str, s: &Scene) {
                     "{name}: {what}[{k}] bond graph {u} vs oracle {v} at {x:?}"
                 );
             }
+        }
+    }
+    twin_agrees_with_oracle(name, &bg, &mut oracle, &gvv);
+}
+
+/// The decoupled twin read off the graph with its joints opened (a C of stiffness k with the
+/// closure as displacement and an R of damping c on every constraint junction) against the
+/// oracle's `M v' = Q − G_vᵀ (k g + c G_v v)`, `G_v = ∂(G_v v)/∂v`.
+fn twin_agrees_with_oracle(
+    name: &str,
+    bg: &MultibodySystem,
+    oracle: &mut MultibodySystem,
+    gvv: &[bondmech::expr::Expr],
+) {
+    if bg.mass.iter().any(|&m| m <= 0.0) {
+        return; // no twin without an inertia on every velocity
+    }
+    let (k, c) = (1e4, 3.0);
+    let mut twin_sys = bg.clone();
+    let twin = DecoupledFormulation::build(&mut twin_sys, k, c).unwrap();
+    let (nq, nv) = (oracle.nq(), oracle.nv());
+    let mut ws = twin.ode.workspace();
+    for x in states(bg, 3) {
+        let y = &x[1..];
+        let mut ours = vec![0.0; nq + nv];
+        twin.ode.rhs(&mut ws, x[0], y, &mut ours);
+        let g = eval_all(&oracle.graph, &oracle.constraints, &x);
+        let rate = eval_all(&oracle.graph, gvv, &x);
+        // Q_j − Σ_i G_ij (k g_i + c G_i v), and the largest term of the whole system: the
+        // joints' spring forces cancel, so rounding is relative to that scale
+        let mut want = vec![0.0; nv];
+        let mut scale = 0.0f64;
+        for (j, w) in want.iter_mut().enumerate() {
+            let slot = (1 + nq + j) as u32;
+            let mut q = oracle.graph.eval(oracle.forces[j], &x);
+            scale = scale.max(q.abs());
+            for (i, &row) in gvv.iter().enumerate() {
+                let gij = oracle.graph.diff(row, slot);
+                let term = oracle.graph.eval(gij, &x) * (k * g[i] + c * rate[i]);
+                q -= term;
+                scale = scale.max(term.abs());
+            }
+            *w = q;
+        }
+        for j in 0..nv {
+            let m = oracle.mass[j];
+            let (got, want) = (ours[nq + j], want[j] / m);
+            assert!(
+                (got - want).abs() <= 1e-11 * (1.0 + scale / m),
+                "{name}: twin v'[{j}] from the opened graph {got} vs oracle {want} (force scale {scale}, inertia {m})"
+            );
         }
     }
 }

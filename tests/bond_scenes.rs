@@ -2,7 +2,7 @@
 //! between the bond graph and the DAE: one independent constraint row per differential inertia.
 
 use bondmech::graph::SceneGraph;
-use bondmech::mech::{assemble, Variant};
+use bondmech::mech::{build, Variant};
 use bondmech::Scene;
 
 fn counts(scene: &str, variant: Variant) -> (usize, usize) {
@@ -50,7 +50,7 @@ fn differential_inertias_match_constraint_rows_of_every_planar_scene() {
     ] {
         let path = format!("{}/scenes/{scene}", env!("CARGO_MANIFEST_DIR"));
         let s = Scene::from_path(path).unwrap();
-        let sys = assemble(&s).unwrap();
+        let sys = build(&s).unwrap();
         let r = SceneGraph::new(&s, Variant::Pinned).unwrap().report();
         // DOF by Grübler from the multibody system = integral inertias of the bond graph
         let dof = sys.nv() - sys.nc();

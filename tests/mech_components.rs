@@ -6,7 +6,7 @@
 mod common;
 
 use bondmech::dae::{consistent_state_from, ConstraintExprs, MechanicsTapes};
-use bondmech::mech::assemble;
+use bondmech::mech::build;
 use bondmech::{FormulationKind, Model, Scene};
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
 use common::n_link::{simulate_n_link, NLinkPendulum};
@@ -32,7 +32,7 @@ fn double_pendulum(frame: &str) -> String {
 #[test]
 fn double_pendulum_accelerations_match_lagrange_at_random_states() {
     let scene = Scene::from_json_str(&double_pendulum("inertial")).unwrap();
-    let mut sys = assemble(&scene).unwrap();
+    let mut sys = build(&scene).unwrap();
     let c = ConstraintExprs::derive(&mut sys);
     let tapes = MechanicsTapes::new(&mut sys, &c, None);
     let reference = DoublePendulum {

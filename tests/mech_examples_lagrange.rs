@@ -5,7 +5,7 @@
 mod common;
 
 use bondmech::dae::{consistent_state_from, ConsistentState, ConstraintExprs, MechanicsTapes};
-use bondmech::mech::{assemble, MultibodySystem};
+use bondmech::mech::{build, MultibodySystem};
 use bondmech::Scene;
 use common::examples::{pendulum_accelerations, two_bar_accelerations, FourBar, HingedBar};
 use common::slider_crank::SliderCrank;
@@ -45,7 +45,7 @@ struct Probe {
 
 impl Probe {
     fn new(scene: &Scene) -> Probe {
-        let mut sys = assemble(scene).unwrap();
+        let mut sys = build(scene).unwrap();
         let c = ConstraintExprs::derive(&mut sys);
         let tapes = MechanicsTapes::new(&mut sys, &c, None);
         Probe { sys, tapes }

@@ -6,7 +6,7 @@ use bondmech::dae::select_dependent;
 use bondmech::dae::{
     ConstraintExprs, DecoupledFormulation, GglFormulation, Index1Formulation, MechanicsTapes,
 };
-use bondmech::mech::assemble;
+use bondmech::mech::build;
 use bondmech::Scene;
 use nalgebra::DMatrix;
 
@@ -66,7 +66,7 @@ fn check_scene(name: &str, seed: u64) {
     for _ in 0..3 {
         // GGL, plain and compliant (ε large enough for its blocks to show in the differences)
         for eps in [0.0, 0.3] {
-            let mut sys = assemble(&scene(name)).unwrap();
+            let mut sys = build(&scene(name)).unwrap();
             let c = ConstraintExprs::derive(&mut sys);
             let f = GglFormulation::build(&mut sys, &c, eps);
             let n = f.dae.n;
@@ -98,7 +98,7 @@ fn check_scene(name: &str, seed: u64) {
         }
         // index 1 with the dependent set chosen at a random configuration
         {
-            let mut sys = assemble(&scene(name)).unwrap();
+            let mut sys = build(&scene(name)).unwrap();
             let c = ConstraintExprs::derive(&mut sys);
             let tapes = MechanicsTapes::new(&mut sys, &c, None);
             let (nq, nv, nc) = tapes.dims;

@@ -130,7 +130,10 @@ pub fn decouple(
         let rel = match g.element(cj.element).kind {
             // f_a → J → f_b: J becomes the 0-junction of f_a − f_b, carried by `J.rel`
             ElementKind::One if bonds.len() == 2 => {
-                let into = bonds.iter().filter(|&&b| g.bond(b).to == cj.element).count();
+                let into = bonds
+                    .iter()
+                    .filter(|&&b| g.bond(b).to == cj.element)
+                    .count();
                 if into != 1 {
                     return Err(DecoupleError::Shape { junction: name });
                 }

@@ -20,6 +20,8 @@
 
 use super::body::BodyKinematics;
 use super::bondgraph::{planar_rest_length, scene_bond_graph_with, Variant};
+use super::columns::Columns;
+use super::geometry::Geometry;
 use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
 use super::MechError;
 use crate::bond::fragments::modulated_sum;
@@ -570,7 +572,7 @@ fn point(
 
 /// Replaces the assembled inertias, forces and constraint rows of `sys` by the ones read off
 /// the scene's bond graph; returns the graph it read.
-pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, AnnotateError> {
+pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<Expr, AnnotateError> {
     let g = mechanism_graph(scene, sys)?;
     let eqs = read_mechanics_in(&g, sys.graph.clone())?;
     for (what, ours, theirs) in [
@@ -623,23 +625,40 @@ pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<BondGraph, 
     sys.constraints = closures;
     sys.flow_rows = flows;
     sys.source = EquationSource::BondGraph;
-    sys.bond_graph = Some(std::sync::Arc::new(g.clone()));
-    Ok(g)
+    sys.bond_graph = Some(std::sync::Arc::new(g));
+    Ok(eqs.stored)
 }
 
 /// The multibody system of a scene, its equations read off its bond graph where the graph is
 /// complete (planar scenes in the non-rotating frame), assembled from the bodies otherwise
 /// (the reason is kept in [`MultibodySystem::source`]).
 pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
-    let mut sys = super::assemble(scene)?;
-    match read_into(scene, &mut sys) {
-        Ok(_) => Ok(sys),
-        Err(AnnotateError::Mech(e)) => Err(e),
-        Err(e) => Err(MechError::at(
-            "bodies",
-            format!("the mechanism's bond graph cannot be read as its equations: {e}"),
-        )),
-    }
+    let (mut sys, names) = Geometry::new(scene).system()?;
+    let stored = match read_into(scene, &mut sys) {
+        Ok(stored) => stored,
+        Err(AnnotateError::Mech(e)) => return Err(e),
+        Err(e) => {
+            return Err(MechError::at(
+                "bodies",
+                format!("the mechanism's bond graph cannot be read as its equations: {e}"),
+            ))
+        }
+    };
+    let kin: Vec<BodyKinematics> = sys.bodies.iter().map(|(_, k)| k.clone()).collect();
+    let (nq, nv) = (sys.nq(), sys.nv());
+    let mut columns = Columns {
+        g: &mut sys.graph,
+        scene,
+        kin: &kin,
+        nq,
+        nv,
+    };
+    let (energy, kinetic) = columns.energy(&sys.mass, stored);
+    sys.outputs = columns.outputs(&names, energy)?;
+    sys.events = columns.events(&names, energy, &sys.reactions)?;
+    sys.energy = energy;
+    sys.kinetic = kinetic;
+    Ok(sys)
 }
 
 /// The pinned bond graph of a mechanism scene, complete and self-contained: everything
@@ -647,8 +666,14 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
 /// `b.P.x`, …) and its energy as expressions of the graph's states, so that solving the graph
 /// as a raw `"bond_graph"` scene ([`system_from_graph`]) gives the mechanism's run.
 pub fn export_graph(scene: &Scene) -> Result<BondGraph, AnnotateError> {
-    let sys = super::assemble(scene)?;
-    let mut g = mechanism_graph(scene, &sys)?;
+    let sys = build(scene)?;
+    let mut g = sys
+        .bond_graph
+        .as_deref()
+        .cloned()
+        .ok_or(AnnotateError::Unsupported(
+            "a mechanism without its bond graph",
+        ))?;
     let mut slot_names = vec!["t".to_string()];
     for d in &g.displacements {
         slot_names.push(format!("x_{}", g.element(d.element).name));

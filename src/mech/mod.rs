@@ -1,24 +1,28 @@
-//! Mechanisms from the chapter: bodies, joints, springs and loads, expanded into the symbolic
-//! multibody system that the DAE and the decoupled formulations solve.
+//! Mechanisms from the chapter: bodies, joints, springs and loads, drawn as the bond graph
+//! whose equations every formulation solves.
 //!
 //! * [`body`]: the kinematics of planar (16.3, 16.8) and spatial (16.1–16.2) bodies.
 //! * [`annotate`]: the pinned bond graph completed (displacements, closures, slider and
 //!   spring fragments) and read as the [`MultibodySystem`] the solver solves.
-//! * [`assemble`](mod@assemble): the bodies' geometry, outputs, closures (and, where the
-//!   graph cannot be read yet, the equations) → [`MultibodySystem`].
+//! * [`geometry`]: the slot layout, the names expressions may use, the load terms; with
+//!   * `layout`: the bodies' coordinates, velocities and inertias (what the scene needs),
+//!   * `joints`: each joint kind's closure rows `g_k(q)` and how its reaction is read,
+//!   * `columns`: the output columns, the energy and the events.
 //! * [`system`]: the system `q' = K(q) v`, `M v' = Q − G_vᵀ λ`, `g(q) = 0`.
 //! * [`reactions`]: joint forces and moments from the constraint forces.
 
 pub mod annotate;
-pub mod assemble;
 pub mod body;
 pub mod bondgraph;
+mod columns;
+pub mod geometry;
+mod joints;
+mod layout;
 pub mod reactions;
 pub mod size;
 pub mod system;
 
 pub use annotate::build;
-pub use assemble::assemble;
 pub use bondgraph::{scene_bond_graph, Variant};
 pub use reactions::JointReaction;
 pub use system::{

@@ -1,0 +1,370 @@
+//! A mechanism's geometry: the bodies' states ([`layout`](super::layout)), the joints'
+//! closures ([`joints`](super::joints)), the names expressions may use and the load terms,
+//! the slot layout `[t, q, v]` — everything the bond graph's moduli, closures and outputs
+//! are written from. The dynamics (`M`, `Q`, the joints' flow rows) are not here: they are
+//! read off the bond graph ([`crate::mech::annotate`]).
+
+use std::collections::HashMap;
+
+use super::body::{BodyKinematics, PointKinematics};
+use super::columns::Columns;
+use super::layout::Plan;
+use super::system::{Coordinate, EquationSource, LoadTerm, MultibodySystem};
+use super::MechError;
+use crate::expr::{Expr, ExprGraph};
+use crate::scene::{Dimension, Inertia, LoadValue, PointRef, Scene};
+
+/// Initial joint violations above this norm are reported as warnings.
+pub const INITIAL_VIOLATION_WARNING: f64 = 1e-9;
+
+/// Size of a scene's bodies (m): the largest distance of a body point from its centre of mass,
+/// or the scene's [`length_scale`](crate::scene::validate::length_scale) when no body has points
+/// away from its centre; 0 when neither exists.
+fn body_size(scene: &Scene) -> f64 {
+    let arm = scene
+        .bodies
+        .iter()
+        .flat_map(|b| &b.points)
+        .map(|(_, c)| c.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .filter(|a| a.is_finite())
+        .fold(0.0, f64::max);
+    if arm > 0.0 {
+        arm
+    } else {
+        crate::scene::validate::length_scale(scene).unwrap_or(0.0)
+    }
+}
+
+/// The geometry of `scene` as a [`MultibodySystem`]: coordinates, velocities, the bodies'
+/// inertias, `K(q) v`, the joints' closures and reactions, the names; its forces, energy,
+/// outputs and events are left empty (zero). [`crate::mech::build`] completes it from the
+/// bond graph; a test can check the graph's equations against a separate assembly on it.
+pub fn geometry(scene: &Scene) -> Result<MultibodySystem, MechError> {
+    Geometry::new(scene).system().map(|(sys, _)| sys)
+}
+
+/// Builds a mechanism's geometry (bodies, joints, names) over one expression arena.
+pub(super) struct Geometry<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) spatial: bool,
+    pub(super) g: ExprGraph,
+    pub(super) coords: Vec<Coordinate>,
+    pub(super) vels: Vec<Coordinate>,
+    pub(super) mass: Vec<f64>,
+    /// per scene body
+    pub(super) kin: Vec<BodyKinematics>,
+    pub(super) warnings: Vec<String>,
+    /// Loads given as expressions, one term per component.
+    pub(super) load_terms: Vec<LoadTerm>,
+}
+
+/// The system of a scene's geometry, its forces still zero, and the names expressions may use.
+pub(super) type GeometrySystem = (MultibodySystem, HashMap<String, Expr>);
+
+impl<'a> Geometry<'a> {
+    pub(super) fn new(scene: &'a Scene) -> Self {
+        Geometry {
+            scene,
+            spatial: matches!(scene.dimension, Dimension::Spatial),
+            g: ExprGraph::new(),
+            coords: Vec::new(),
+            vels: Vec::new(),
+            mass: Vec::new(),
+            kin: Vec::new(),
+            warnings: Vec::new(),
+            load_terms: Vec::new(),
+        }
+    }
+
+    pub(super) fn dim(&self) -> usize {
+        if self.spatial {
+            3
+        } else {
+            2
+        }
+    }
+
+    /// Point coordinates of a reference on body `body` ("ground" or a scene body).
+    pub(super) fn point_coords(
+        &self,
+        body: &str,
+        p: &PointRef,
+        path: &str,
+    ) -> Result<Vec<f64>, MechError> {
+        match p {
+            PointRef::Coords(c) => Ok(c.clone()),
+            PointRef::Named(n) => {
+                let b = self
+                    .scene
+                    .bodies
+                    .iter()
+                    .find(|b| b.name == body)
+                    .ok_or_else(|| MechError::at(path, format!("unknown body '{body}'")))?;
+                b.points
+                    .iter()
+                    .find(|(pn, _)| pn == n)
+                    .map(|(_, c)| c.clone())
+                    .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'")))
+            }
+        }
+    }
+
+    pub(super) fn body_index(&self, name: &str, path: &str) -> Result<Option<usize>, MechError> {
+        if name == "ground" {
+            return Ok(None);
+        }
+        self.scene
+            .bodies
+            .iter()
+            .position(|b| b.name == name)
+            .map(Some)
+            .ok_or_else(|| MechError::at(path, format!("unknown body '{name}'")))
+    }
+
+    pub(super) fn kin_of(&self, body: &str, path: &str) -> Result<BodyKinematics, MechError> {
+        Ok(match self.body_index(body, path)? {
+            None => BodyKinematics::Ground,
+            Some(i) => self.kin[i].clone(),
+        })
+    }
+
+    pub(super) fn point(
+        &mut self,
+        body: &str,
+        p: &PointRef,
+        path: &str,
+    ) -> Result<PointKinematics, MechError> {
+        let c = self.point_coords(body, p, path)?;
+        if c.len() != self.dim() {
+            return Err(MechError::at(
+                path,
+                format!("point needs {} coordinates, got {}", self.dim(), c.len()),
+            ));
+        }
+        let k = self.kin_of(body, path)?;
+        Ok(k.point(&mut self.g, &c))
+    }
+
+    pub(super) fn initial_slots(&self) -> Vec<f64> {
+        let mut x = vec![0.0];
+        x.extend(self.coords.iter().map(|c| c.initial));
+        x.extend(self.vels.iter().map(|c| c.initial));
+        x
+    }
+
+    /// The geometry of the scene as a [`MultibodySystem`] whose inertias, forces, energy,
+    /// outputs and events are still to be filled in (from the bond graph, then
+    /// [`Columns`]), with the names expressions may use.
+    pub(super) fn system(mut self) -> Result<GeometrySystem, MechError> {
+        let plans: Vec<Plan> = self.plan()?;
+        self.allocate(&plans)?;
+        let nv = self.vels.len();
+        let kinematics = self.kinematics();
+        let names = Columns {
+            g: &mut self.g,
+            scene: self.scene,
+            kin: &self.kin,
+            nq: self.coords.len(),
+            nv,
+        }
+        .name_table()?;
+        self.load_terms(&names)?;
+        let (constraints, rows, reactions) = self.joints()?;
+        self.connectivity();
+        let zero = self.g.zero();
+        let mut sys = MultibodySystem {
+            graph: self.g,
+            coords: self.coords,
+            velocities: self.vels,
+            mass: self.mass,
+            kinematics,
+            forces: vec![zero; nv],
+            constraints,
+            rows,
+            energy: zero,
+            kinetic: zero,
+            outputs: Vec::new(),
+            warnings: self.warnings,
+            load_terms: self.load_terms,
+            body_size: body_size(self.scene),
+            reaction_outputs: self.scene.outputs.iter().any(|o| o == "reactions"),
+            reactions,
+            events: Vec::new(),
+            energy_exchange: energy_exchange(self.scene),
+            bodies: self
+                .scene
+                .bodies
+                .iter()
+                .map(|b| b.name.clone())
+                .zip(self.kin.iter().cloned())
+                .collect(),
+            names: {
+                let mut v: Vec<(String, Expr)> =
+                    names.iter().map(|(n, e)| (n.clone(), *e)).collect();
+                v.sort_by(|a, b| a.0.cmp(&b.0));
+                v
+            },
+            flow_rows: Vec::new(),
+            source: EquationSource::Assembled("geometry only".into()),
+            bond_graph: None,
+        };
+        let joint_names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
+        for v in sys.initial_violation(&joint_names) {
+            if v.norm > INITIAL_VIOLATION_WARNING {
+                sys.warnings.push(format!(
+                    "joints[{}] '{}': the initial configuration violates the joint by {:.3e} ({}); the solver projects it onto the joint before starting",
+                    v.index,
+                    v.joint,
+                    v.norm,
+                    v.rows
+                        .iter()
+                        .map(|(d, r)| format!("{d} {r:.3e}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+        }
+        Ok((sys, names))
+    }
+
+    /// The loads' value expressions, one term per component (to name a load whose value is
+    /// not finite); the loads themselves act through the bond graph's effort sources.
+    fn load_terms(&mut self, names: &HashMap<String, Expr>) -> Result<(), MechError> {
+        for (li, l) in self.scene.loads.iter().enumerate() {
+            let path = format!("loads[{li}]");
+            let Some(bi) = self.body_index(&l.body, &format!("{path}.body"))? else {
+                continue; // a load on the ground does nothing
+            };
+            let n = match l.kind {
+                crate::scene::LoadKind::Force => self.dim(),
+                crate::scene::LoadKind::Torque if self.spatial => 3,
+                crate::scene::LoadKind::Torque => {
+                    if !matches!(
+                        self.kin[bi],
+                        BodyKinematics::PlanarInertial { omega: Some(_), .. }
+                            | BodyKinematics::PlanarBodyFixed { .. }
+                    ) {
+                        return Err(MechError::at(
+                            &format!("{path}.body"),
+                            format!("body '{}' has no modelled rotation", l.body),
+                        ));
+                    }
+                    1
+                }
+            };
+            self.value_exprs(&l.name, &l.value, n, names, &path)?;
+        }
+        Ok(())
+    }
+
+    fn value_exprs(
+        &mut self,
+        load_name: &str,
+        value: &LoadValue,
+        n: usize,
+        names: &HashMap<String, Expr>,
+        path: &str,
+    ) -> Result<Vec<Expr>, MechError> {
+        match value {
+            LoadValue::Const(v) => {
+                if v.len() != n {
+                    return Err(MechError::at(
+                        &format!("{path}.value"),
+                        format!("needs {n} components, got {}", v.len()),
+                    ));
+                }
+                Ok(v.iter().map(|&c| self.g.constant(c)).collect())
+            }
+            LoadValue::Table { t, v } => {
+                let mut out = Vec::with_capacity(n);
+                for k in 0..n {
+                    let col: Vec<f64> = v
+                        .iter()
+                        .map(|row| row.get(k).copied().unwrap_or(f64::NAN))
+                        .collect();
+                    if col.iter().any(|x| !x.is_finite()) {
+                        return Err(MechError::at(
+                            &format!("{path}.value.table.v"),
+                            format!("every sample needs {n} finite components"),
+                        ));
+                    }
+                    let tv = self.g.var(0);
+                    out.push(self.g.table(t, &col, tv));
+                }
+                Ok(out)
+            }
+            LoadValue::Expr(src) => {
+                if src.len() != n {
+                    return Err(MechError::at(
+                        &format!("{path}.value"),
+                        format!("needs {n} expressions, got {}", src.len()),
+                    ));
+                }
+                let mut out = Vec::with_capacity(n);
+                for (k, s) in src.iter().enumerate() {
+                    let p = if n == 1 {
+                        format!("{path}.value")
+                    } else {
+                        format!("{path}.value[{k}]")
+                    };
+                    let mut resolve = |name: &str| names.get(name).copied();
+                    let e = self.g.parse(s, &mut resolve).map_err(|e| {
+                        MechError::at(&p, format!("{e} in {}", crate::expr::excerpt(s, e.pos())))
+                    })?;
+                    self.load_terms.push(LoadTerm {
+                        path: p,
+                        load: load_name.to_string(),
+                        source: s.clone(),
+                        expr: e,
+                    });
+                    out.push(e);
+                }
+                Ok(out)
+            }
+        }
+    }
+
+    /// Warn about bodies nothing connects to.
+    fn connectivity(&mut self) {
+        let s = self.scene;
+        for (bi, b) in s.bodies.iter().enumerate() {
+            let used = s.joints.iter().any(|j| j.bodies.contains(&b.name))
+                || s.springs.iter().any(|j| j.bodies.contains(&b.name))
+                || s.loads.iter().any(|l| l.body == b.name);
+            if !used && s.bodies.len() > 1 {
+                self.warnings.push(format!(
+                    "bodies[{bi}] '{}' is not connected to anything (it only falls or drifts)",
+                    b.name
+                ));
+            }
+        }
+    }
+}
+
+pub(super) fn coord(body: &str, what: &str, initial: f64) -> Coordinate {
+    Coordinate {
+        name: format!("{body}.{what}"),
+        initial,
+    }
+}
+
+pub(super) fn planar_inertia(i: &Inertia) -> f64 {
+    match i {
+        Inertia::Planar(j) => *j,
+        Inertia::Principal(j) => j[2],
+    }
+}
+
+/// The first damper or load of `scene` that exchanges energy with the mechanism, named by its
+/// JSON path: the energy column (kinetic + gravity + springs) is conserved only without them.
+pub(super) fn energy_exchange(scene: &Scene) -> Option<String> {
+    if let Some((i, l)) = scene.loads.iter().enumerate().next() {
+        return Some(format!("loads[{i}] ('{}') does work", l.name));
+    }
+    scene
+        .springs
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.damping != 0.0)
+        .map(|(i, s)| format!("springs[{i}] ('{}') has damping {}", s.name, s.damping))
+}

@@ -1,0 +1,70 @@
+//! Spatial hinge: the points coincide (`P_a − P_b = 0`, three rows) and the bodies share the
+//! hinge axis (two rows).
+
+use super::{perpendicular_pair, unit_axis, Ends, Rows};
+use crate::expr::{Expr, ExprGraph};
+use crate::mech::body::BodyKinematics;
+use crate::mech::geometry::Geometry;
+use crate::mech::MechError;
+
+impl Geometry<'_> {
+    /// The five rows of a spatial hinge about `axis` (body a's frame).
+    pub(super) fn hinge(
+        &mut self,
+        ends: &Ends,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Rows, MechError> {
+        if !self.spatial {
+            return Err(MechError::at(
+                &format!("{path}.axis"),
+                "a planar revolute pins about z and takes no axis",
+            ));
+        }
+        let mut rows = self.coincident(ends);
+        rows.extend(self.hinge_rows(&ends.ka, &ends.kb, axis, path)?);
+        Ok(rows)
+    }
+
+    /// The two orientation rows of a spatial hinge: with `a = R_a â` the hinge axis (`â` the
+    /// unit `axis` in body a's frame) and `c_1, c_2` an orthonormal pair perpendicular to the
+    /// axis as body b sees it initially (`R_b(0)ᵀ R_a(0) â`), the rows are `a · (R_b c_1) = 0`
+    /// and `a · (R_b c_2) = 0` (dimensionless: about the small relative rotation angles).
+    fn hinge_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let u = unit_axis(axis, path)?;
+        let ra = ka.rotation3(&mut self.g);
+        let rb = kb.rotation3(&mut self.g);
+        let x0 = self.initial_slots();
+        let ev = |g: &ExprGraph, r: &[[Expr; 3]; 3]| -> [[f64; 3]; 3] {
+            let mut m = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for k in 0..3 {
+                    m[i][k] = g.eval(r[i][k], &x0);
+                }
+            }
+            m
+        };
+        let (ra0, rb0) = (ev(&self.g, &ra), ev(&self.g, &rb));
+        // global axis at t = 0, then seen from body b
+        let ag: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())
+            .collect();
+        let ab: [f64; 3] = std::array::from_fn(|k| (0..3).map(|i| rb0[i][k] * ag[i]).sum::<f64>());
+        let (c1, c2) = perpendicular_pair(ab);
+        let ue: Vec<Expr> = u.iter().map(|&c| self.g.constant(c)).collect();
+        let a: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ue)).collect();
+        let mut out = Vec::with_capacity(2);
+        for (dir, c) in [("axis1", c1), ("axis2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let bc: Vec<Expr> = (0..3).map(|i| self.g.dot(&rb[i], &ce)).collect();
+            out.push((dir, self.g.dot(&a, &bc)));
+        }
+        Ok(out)
+    }
+}

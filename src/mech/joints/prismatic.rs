@@ -1,0 +1,87 @@
+//! Prismatic joint (a slider, seed Fig. 29): the second body's point stays on the line
+//! through the first body's point along `axis` (body a's frame), and the relative rotation is
+//! fixed. Planar: `n·(P_b − P_a) = 0` with `n = R(α_a) perp(axis)`, plus the relative angle;
+//! spatial: two normal rows and the three rotation rows of a weld.
+
+use super::{perpendicular_pair, unit_axis, Ends, Rows};
+use crate::expr::Expr;
+use crate::mech::body::BodyKinematics;
+use crate::mech::body::PointKinematics;
+use crate::mech::geometry::Geometry;
+use crate::mech::MechError;
+
+impl Geometry<'_> {
+    /// The rows of a prismatic joint along `axis`.
+    pub(super) fn prismatic(
+        &mut self,
+        ends: &Ends,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Rows, MechError> {
+        if self.spatial {
+            return self.spatial_prismatic_rows(&ends.ka, &ends.kb, &ends.pa, &ends.pb, axis, path);
+        }
+        let (ka, kb, pa, pb) = (&ends.ka, &ends.kb, &ends.pa, &ends.pb);
+        let mut rows: Rows = Vec::with_capacity(2);
+        // n = R(α_a)·perp(u); n·(P_b − P_a) = 0
+        let norm = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
+        let perp = [-axis[1] / norm, axis[0] / norm];
+        let n = ka.point(&mut self.g, &perp);
+        let origin = ka.point(&mut self.g, &[0.0, 0.0]);
+        let g = &mut self.g;
+        let nx = if matches!(ka, BodyKinematics::Ground) {
+            [g.constant(perp[0]), g.constant(perp[1])]
+        } else {
+            [
+                g.sub(n.position[0], origin.position[0]),
+                g.sub(n.position[1], origin.position[1]),
+            ]
+        };
+        let d = [
+            g.sub(pb.position[0], pa.position[0]),
+            g.sub(pb.position[1], pa.position[1]),
+        ];
+        rows.push(("normal", g.dot(&nx, &d)));
+        if let Some(e) = self.relative_angle_row(ka, kb) {
+            rows.push(("angle", e));
+        }
+        Ok(rows)
+    }
+
+    /// Rows of a spatial prismatic joint: with `d = P_b − P_a` and `c_1, c_2` an orthonormal pair
+    /// perpendicular to `axis` in body a's frame, `(R_a c_1)·d = 0` and `(R_a c_2)·d = 0` (body b's
+    /// point stays on the line through `P_a` along `R_a axis`), plus the three rows of a weld
+    /// fixing the relative rotation (left out when body b is a point mass, which has none).
+    fn spatial_prismatic_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        pa: &PointKinematics,
+        pb: &PointKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let axis = unit_axis(axis, path)?;
+        if matches!(ka, BodyKinematics::Particle { .. }) {
+            return Err(MechError::at(
+                &format!("{path}.bodies[0]"),
+                "the first body of a prismatic joint carries the axis and needs a rotation; a point mass (inertia [0, 0, 0]) has none (list it second)",
+            ));
+        }
+        let (c1, c2) = perpendicular_pair(axis);
+        let ra = ka.rotation3(&mut self.g);
+        let d: Vec<Expr> = (0..3)
+            .map(|k| self.g.sub(pb.position[k], pa.position[k]))
+            .collect();
+        let mut out = Vec::with_capacity(5);
+        for (dir, c) in [("normal1", c1), ("normal2", c2)] {
+            let ce: Vec<Expr> = c.iter().map(|&x| self.g.constant(x)).collect();
+            let n: Vec<Expr> = (0..3).map(|i| self.g.dot(&ra[i], &ce)).collect();
+            out.push((dir, self.g.dot(&n, &d)));
+        }
+        if !matches!(kb, BodyKinematics::Particle { .. }) {
+            out.extend(self.relative_rotation_rows(ka, kb));
+        }
+        Ok(out)
+    }
+}
