@@ -139,3 +139,53 @@ fn spatial_scenes_round_trip_through_their_bond_graphs() {
     round_trip("spatial_slider_crank", 0.2);
     round_trip("bricard", 0.5);
 }
+
+/// The decoupled twin is a transformation of the graph, so the exported graph has the same
+/// twin: solved with `formulation: "decoupled"`, the raw file gives the mechanism's twin
+/// trajectories (both open the same constraint junctions and put in the same springs).
+#[test]
+fn exported_graph_has_the_mechanisms_decoupled_twin() {
+    let mut s = tight(scene("double_pendulum"), 0.5);
+    s.solve.formulation = bondmech::scene::Formulation::Decoupled;
+    s.solve.joint_stiffness = 1e5;
+    s.solve.joint_damping = 2.0;
+    let raw = bondmech::graph::bond_graph_scene(&s).unwrap();
+    let back = Scene::from_json_str(&raw.to_string()).unwrap();
+    let (a, b) = (solve(&s), solve(&back));
+    assert_eq!(a.summary.formulation, "decoupled");
+    assert_eq!(b.summary.formulation, "decoupled");
+    assert_eq!(a.columns, b.columns);
+    for (k, (ra, rb)) in a.rows.iter().zip(&b.rows).enumerate() {
+        for (c, (x, y)) in ra.iter().zip(rb).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-8,
+                "{} at t = {}: mechanism's twin {x} vs its graph's twin {y}",
+                a.columns[c],
+                a.times[k]
+            );
+        }
+    }
+    // the twin's springs stretch: it is not the pinned mechanism
+    assert!(a.summary.max_constraint_error > 1e-7);
+}
+
+/// Regression: the springs of zero rest length were drawn as `<s>.x.x.k` while the graph's
+/// completion looked for `<s>.x.k`, so such a scene quietly fell back to the equations
+/// assembled beside the graph. Now it is read off its graph, spring elements named per axis.
+#[test]
+fn zero_rest_length_spring_is_read_off_its_bond_graph() {
+    let s = Scene::from_json_str(
+        r#"{"name":"msd","dimension":2,"gravity":[0,-9.81],
+        "bodies":[{"name":"m","mass":2,"inertia":0,"position":[0.3,0],"angle":0}],
+        "springs":[{"name":"s","bodies":["ground","m"],"points":[[0,0],[0,0]],"stiffness":50,"rest_length":0,"damping":1.5}],
+        "solve":{"t_end":1.0,"output_step":0.1}}"#,
+    )
+    .unwrap();
+    let sys = bondmech::mech::build(&s).unwrap();
+    assert_eq!(sys.source, bondmech::mech::EquationSource::BondGraph);
+    let g = sys.bond_graph.as_deref().unwrap();
+    for n in ["s.x.k", "s.y.k", "s.x.c", "s.y.c"] {
+        assert!(g.element_by_name(n).is_some(), "no element {n}");
+    }
+    assert!(g.element_by_name("s.x.x.k").is_none());
+}
