@@ -53,13 +53,14 @@
 //! | [`model`] | [`Model`]: scene → solvable model; solve, stream, compare, inspect |
 //! | [`sundials`] | the only `unsafe`: safe RAII wrappers of IDA and CVODE |
 //! | [`expr`] | expression DAG, symbolic derivatives, evaluation tapes |
-//! | [`bond`] | bond graphs: data model, validation, causality (matching + numeric rank), DOT drawings |
+//! | [`bond`] | bond graphs: data model, validation, causality (matching + numeric rank), the equations read off a graph ([`bond::mechanics`]), the decoupled twin as a transformation ([`bond::decouple`]), DOT drawings |
 //! | [`graph`] | a scene's bond graph, causality report and drawing |
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
-//! | [`mech`] | bodies, joints, springs, loads → the multibody system |
-//! | [`dae`] | GGL and decoupled formulations, consistent initialisation |
+//! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
+//! | [`dae`] | the formulations (GGL, index 1, partitioned, decoupled twin), consistent initialisation |
 //! | [`solve`] | running a formulation: outputs, statistics |
-//! | [`report`] | DAE vs decoupled comparisons, tolerance and stiffness sweeps, parameter sweeps and their shards ([`report::vary`]) |
+//! | [`report`] | DAE vs decoupled comparisons, the data, CSV, JSON and SVG of tolerance, stiffness and parameter sweeps ([`report::vary`]), plots, animations |
+//! | [`study`] | running sweeps: many solves of one scene, in parallel and in shards |
 //! | [`service`] | `bondmech serve`: the HTTP/JSON service over [`Model`] |
 //! | [`trajectory`] | typed views of a [`Solution`]: bodies, points, energy, constraint error |
 #![deny(unsafe_code)]
@@ -78,6 +79,7 @@ pub mod report;
 pub mod scene;
 pub mod service;
 pub mod solve;
+pub mod study;
 #[allow(unsafe_code)]
 pub mod sundials;
 pub mod trajectory;

@@ -759,7 +759,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     solution: bondmech::report::reference::reference_from_csv(&path)?,
                 });
             }
-            let report = bondmech::report::sweep::sweep_command(&model, &cfg, &out)?;
+            let report = bondmech::study::sweep::sweep_command(&model, &cfg, &out)?;
             Ok(stdout_write(&format!(
                 "{}wrote {}\n",
                 report.table(),
@@ -798,7 +798,8 @@ struct VaryArgs {
 
 /// `sweep --vary`: a parameter sweep (whole, or one shard of it).
 fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
-    use bondmech::report::vary::{vary_command, Shard, VarySweep};
+    use bondmech::report::vary::Shard;
+    use bondmech::study::vary::{vary_command, VarySweep};
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     let (text, name) = read_scene_text(scene)?;
     let reference = match &a.reference {

@@ -7,7 +7,8 @@ mod common;
 
 use std::process::Command;
 
-use bondmech::report::sweep::{run_sweep, solution_error, SweepConfig};
+use bondmech::report::sweep::{solution_error, SweepConfig};
+use bondmech::study::sweep::run_sweep;
 use bondmech::{FormulationKind, Model, Scene};
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
 

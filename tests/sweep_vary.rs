@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use bondmech::report::reference::reference_from_csv;
-use bondmech::report::vary::{merge, merge_command, Shard, VaryReport, VarySweep, CSV_FILE};
+use bondmech::report::vary::{merge, merge_command, Shard, VaryReport, CSV_FILE};
 use bondmech::report::ExternalReference;
+use bondmech::study::vary::VarySweep;
 use bondmech::{Model, Scene};
 
 const SCENE: &str = "scenes/double_pendulum.json";

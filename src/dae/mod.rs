@@ -1,4 +1,5 @@
-//! Formulations of a multibody system as equations for SUNDIALS.
+//! Formulations of a multibody system as equations for SUNDIALS, one module each; the implicit
+//! ones offer IDA's runner one interface, [`DaeFormulation`].
 //!
 //! * [`mechanics`]: the constraint calculus (`g`, `G_q`, `G_v`, `γ`) shared by all formulations.
 //! * [`init`]: consistent initial values (projection onto the joints).
@@ -7,19 +8,23 @@
 //! * [`singular`]: conditioning of the joints (how near `G_v` is to losing rank).
 //! * [`partitioned`]: the degrees of freedom as ODE states (dependent coordinates by Newton).
 //! * [`decoupled`]: the stiff-spring twin (seed 16.6), an ODE for CVODE.
+//! * [`raw_graph`]: the velocity-level index-2 and index-1 DAEs (or the ODE) of a raw bond graph.
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
 pub mod compiled;
 pub mod decoupled;
+pub mod formulation;
 pub mod ggl;
 pub mod index1;
 pub mod init;
 pub mod mechanics;
 pub mod partitioned;
+pub mod raw_graph;
 pub mod singular;
 
 pub use compiled::{ExplicitOde, ImplicitDae, Workspace};
 pub use decoupled::DecoupledFormulation;
+pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};

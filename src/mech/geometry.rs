@@ -1,5 +1,5 @@
-//! A mechanism's geometry: the bodies' states ([`layout`](super::layout)), the joints'
-//! closures ([`joints`](super::joints)), the names expressions may use and the load terms,
+//! A mechanism's geometry: the bodies' states (module `layout`), the joints' closures (module
+//! `joints`, one file per joint kind), the names expressions may use and the load terms,
 //! the slot layout `[t, q, v]` — everything the bond graph's moduli, closures and outputs
 //! are written from. The dynamics (`M`, `Q`, the joints' flow rows) are not here: they are
 //! read off the bond graph ([`crate::mech::annotate`]).

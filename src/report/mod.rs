@@ -1,6 +1,7 @@
-//! Reports: comparisons of the DAE with its decoupled twin, speed-against-error sweeps, their
-//! SVG plots, parameter sweeps over scene fields (sharded and merged), and generated benchmark
-//! scenes.
+//! Reports: comparisons of the DAE with its decoupled twin, the data of speed-against-error
+//! sweeps and parameter sweeps (sharded and merged) with their CSV, JSON and SVG, plots and
+//! animations of solutions, and generated benchmark scenes. Reports take solutions; the runs
+//! that produce a sweep's solutions are [`crate::study`]'s.
 
 pub mod animate;
 pub mod compare;
@@ -12,4 +13,4 @@ pub mod timeplot;
 pub mod vary;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
-pub use sweep::{run_sweep, ExternalReference, SweepConfig, SweepReport};
+pub use sweep::{ExternalReference, SweepConfig, SweepReport};

@@ -510,7 +510,7 @@ async fn sweep_inner(
         };
         let total = cfg.total_points();
         let done = AtomicUsize::new(0);
-        let r = crate::report::sweep::run_sweep(&model, &cfg, &|label| {
+        let r = crate::study::sweep::run_sweep(&model, &cfg, &|label| {
             let k = done.fetch_add(1, Ordering::SeqCst) + 1;
             send_line(
                 &tx,

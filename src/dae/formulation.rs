@@ -1,0 +1,179 @@
+//! The one interface IDA's runner sees: a formulation as a fully implicit DAE
+//! `F(t, y, y') = 0` with its exact iteration matrix `J = ∂F/∂y + c_j ∂F/∂y'` and the id vector
+//! (differential or algebraic unknowns). The GGL DAE (plain or compliant), the index-1 DAE and
+//! a raw bond graph's DAEs implement it; the solver set-up ([`crate::solve`]) is written once
+//! against it.
+//!
+//! ```
+//! use bondmech::dae::{DaeFormulation, ConstraintExprs, GglDae, GglFormulation};
+//! let scene = bondmech::Scene::from_path("scenes/pendulum.json").unwrap();
+//! let mut sys = bondmech::mech::build(&scene).unwrap();
+//! let c = ConstraintExprs::derive(&mut sys);
+//! let ggl = GglDae::new(GglFormulation::build(&mut sys, &c, 0.0), 0.0);
+//! let f: &dyn DaeFormulation = &ggl;
+//! // q, v, λ, μ: the pendulum's 3 coordinates and velocities, 2 rows
+//! assert_eq!((f.len(), f.id().iter().filter(|&&d| d == 0.0).count()), (10, 4));
+//! ```
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use super::compiled::{ImplicitDae, Workspace};
+use super::ggl::GglFormulation;
+use super::index1::Index1Formulation;
+
+/// A formulation as a fully implicit DAE for IDA (see the module documentation).
+pub trait DaeFormulation: Send + Sync {
+    /// Number of unknowns `n` (and of equations).
+    fn len(&self) -> usize;
+    /// Whether it has no unknowns.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// IDA's id vector: 1 for a differential unknown, 0 for an algebraic one.
+    fn id(&self) -> &[f64];
+    /// Fresh evaluation buffers.
+    fn workspace(&self) -> Workspace;
+    /// `r = F(t, y, y')`.
+    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]);
+    /// Calls `put(row, col, value)` for every entry of `J = ∂F/∂y + c_j ∂F/∂y'` (entries may
+    /// repeat: values add).
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        put: &mut dyn FnMut(usize, usize, f64),
+    );
+    /// The structural non-zeros `(row, col)` of `J` (the sparsity pattern of the Newton matrix).
+    fn structure(&self) -> Vec<(usize, usize)>;
+}
+
+/// The GGL DAE at a compliance `ε` that can change between steps (the runner switches to the
+/// compliant GGL at a singular passage and restarts IDA): `F` and `J` of [`GglFormulation`]
+/// evaluated at the current `ε`.
+#[derive(Debug)]
+pub struct GglDae {
+    /// The compiled GGL residual.
+    pub formulation: Arc<GglFormulation>,
+    compliance: AtomicU64,
+}
+
+impl GglDae {
+    /// The GGL DAE at compliance `eps` (0: plain GGL).
+    pub fn new(formulation: GglFormulation, eps: f64) -> Self {
+        GglDae {
+            formulation: Arc::new(formulation),
+            compliance: AtomicU64::new(eps.to_bits()),
+        }
+    }
+    /// The current compliance `ε`.
+    pub fn compliance(&self) -> f64 {
+        f64::from_bits(self.compliance.load(Ordering::Relaxed))
+    }
+    /// Sets the compliance used by later evaluations.
+    pub fn set_compliance(&self, eps: f64) {
+        self.compliance.store(eps.to_bits(), Ordering::Relaxed);
+    }
+}
+
+impl DaeFormulation for GglDae {
+    fn len(&self) -> usize {
+        self.formulation.dae.n
+    }
+    fn id(&self) -> &[f64] {
+        &self.formulation.id
+    }
+    fn workspace(&self) -> Workspace {
+        self.formulation.dae.workspace()
+    }
+    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+        self.formulation
+            .residual(ws, self.compliance(), t, y, yp, r);
+    }
+    fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        put: &mut dyn FnMut(usize, usize, f64),
+    ) {
+        self.formulation
+            .jacobian(ws, self.compliance(), t, cj, y, yp, put);
+    }
+    fn structure(&self) -> Vec<(usize, usize)> {
+        self.formulation.structure()
+    }
+}
+
+impl DaeFormulation for Index1Formulation {
+    fn len(&self) -> usize {
+        self.dae.n
+    }
+    fn id(&self) -> &[f64] {
+        &self.id
+    }
+    fn workspace(&self) -> Workspace {
+        self.dae.workspace()
+    }
+    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+        self.dae.residual(ws, t, y, yp, r);
+    }
+    fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        put: &mut dyn FnMut(usize, usize, f64),
+    ) {
+        self.dae.jacobian(ws, t, cj, y, yp, put);
+    }
+    fn structure(&self) -> Vec<(usize, usize)> {
+        self.dae.structure().collect()
+    }
+}
+
+/// A compiled DAE with its id vector (a raw bond graph's velocity-level or index-1 DAE).
+#[derive(Clone, Debug)]
+pub struct IdDae {
+    /// The compiled residual.
+    pub dae: ImplicitDae,
+    /// 1 for differential unknowns, 0 for algebraic.
+    pub id: Vec<f64>,
+}
+
+impl DaeFormulation for IdDae {
+    fn len(&self) -> usize {
+        self.dae.n
+    }
+    fn id(&self) -> &[f64] {
+        &self.id
+    }
+    fn workspace(&self) -> Workspace {
+        self.dae.workspace()
+    }
+    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+        self.dae.residual(ws, t, y, yp, r);
+    }
+    fn jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        put: &mut dyn FnMut(usize, usize, f64),
+    ) {
+        self.dae.jacobian(ws, t, cj, y, yp, put);
+    }
+    fn structure(&self) -> Vec<(usize, usize)> {
+        self.dae.structure().collect()
+    }
+}
