@@ -26,9 +26,7 @@ use crate::bond::model::{BondGraph, ElementKind, Parameter};
 use crate::dae::ImplicitDae;
 use crate::expr::Tape;
 use crate::scene::{Formulation, Scene};
-use crate::sundials::{
-    Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverStats,
-};
+use crate::sundials::{Cvode, CvodeOptions, DenseMatrixMut, Multistep, SolverStats};
 use crate::Error;
 
 fn bond_error(e: impl std::fmt::Display) -> Error {
@@ -332,38 +330,9 @@ fn solve_from_first_output(
             .iter()
             .map(|&d| if d > 0.5 { opts.atol } else { alg_atol })
             .collect();
-        let ida_opts = IdaOptions {
-            rtol: opts.rtol,
-            atol,
-            max_steps: Some(u64::MAX),
-            max_total_steps: opts.max_steps,
-            max_wall_clock: opts.max_wall_clock,
-            id: Some(id),
-            suppress_alg: true,
-            stop_time: opts.output_times.last().copied(),
-            init_step: Some(match opts.output_times.get(1) {
-                Some(t1) => 1e-4f64.min(0.1 * (t1 - t0).abs()),
-                None => 1e-4,
-            }),
-            ..IdaOptions::default()
-        };
-        let dae = Arc::new(dae);
-        let (d1, d2) = (dae.clone(), dae.clone());
-        let mut ws1 = d1.workspace();
-        let mut ws2 = d2.workspace();
-        let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-            d1.residual(&mut ws1, t, y, yp, r);
-            Ok(())
-        });
-        let jacobian = Box::new(
-            move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
-                jm.fill_zero();
-                d2.jacobian(&mut ws2, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
-                Ok(())
-            },
-        );
+        let dae = crate::dae::IdDae { dae, id };
         let run = ThreadTime::now();
-        let mut ida = Ida::new(t0, &y0, &yp0, residual, Some(jacobian), &ida_opts)?;
+        let mut ida = super::ida_setup::make_ida(Arc::new(dae), atol, t0, &y0, &yp0, opts)?;
         let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
         for &t in &opts.output_times[1..] {
             if stop {

@@ -19,17 +19,18 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
+use super::ida_setup::{ida_options, make_ida};
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
     joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation,
-    GglFormulation, ImplicitDae, Index1Formulation, MechanicsTapes,
+    GglFormulation, Index1Formulation, MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
 use crate::sundials::{
-    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SolverError,
-    SolverStats, SparseMatrixMut, StepEvent,
+    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, Multistep, SolverError, SolverStats,
+    SparseMatrixMut, StepEvent,
 };
 use crate::Error;
 
@@ -553,72 +554,6 @@ fn fill_stats(summary: &mut Summary, s: &SolverStats) {
 }
 
 /// An implicit DAE ready for IDA.
-struct IdaSetup {
-    dae: Arc<ImplicitDae>,
-    id: Vec<f64>,
-    atol: Vec<f64>,
-}
-
-fn make_ida(
-    setup: &IdaSetup,
-    t0: f64,
-    y0: &[f64],
-    yp0: &[f64],
-    opts: &SolveOptions,
-) -> Result<Ida, Error> {
-    let ida_opts = ida_options(setup.atol.clone(), setup.id.clone(), opts);
-    let (d1, d2) = (setup.dae.clone(), setup.dae.clone());
-    let mut ws1 = d1.workspace();
-    let mut ws2 = d2.workspace();
-    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-        d1.residual(&mut ws1, t, y, yp, r);
-        Ok(())
-    });
-    if let Some(kind) = opts.linear_solver.resolve(setup.dae.n) {
-        let pattern = CscPattern::new(setup.dae.n, setup.dae.structure())?;
-        let jacobian = Box::new(
-            move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
-                d2.jacobian(&mut ws2, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
-                Ok(())
-            },
-        );
-        return Ok(Ida::new_sparse(
-            t0, y0, yp0, residual, jacobian, pattern, kind, &ida_opts,
-        )?);
-    }
-    let jacobian = Box::new(
-        move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
-            jm.fill_zero();
-            d2.jacobian(&mut ws2, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
-            Ok(())
-        },
-    );
-    Ok(Ida::new(t0, y0, yp0, residual, Some(jacobian), &ida_opts)?)
-}
-
-/// IDA options shared by the formulations.
-fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions {
-    IdaOptions {
-        rtol: opts.rtol,
-        atol,
-        max_steps: Some(u64::MAX),
-        max_total_steps: opts.max_steps,
-        max_wall_clock: opts.max_wall_clock,
-        id: Some(id),
-        suppress_alg: true,
-        stop_time: opts.output_times.last().copied(),
-        // IDA's own first-step guess divides by ‖y'₀‖ weighted with atol; with tight atol and
-        // states starting at zero it falls to ~1e-15 s, where the index-2 Newton matrix (which
-        // scales like 1/h²) is numerically singular and the first step fails (measured:
-        // slider-crank at rtol 1e-11). A modest first step is cut by the error test if too big.
-        init_step: Some(match opts.output_times.get(1) {
-            Some(t1) => 1e-4f64.min(0.1 * (t1 - opts.output_times[0]).abs()),
-            None => 1e-4,
-        }),
-        ..IdaOptions::default()
-    }
-}
-
 fn multiplier_atol(opts: &SolveOptions) -> f64 {
     opts.multiplier_atol.unwrap_or(1e-2)
 }
@@ -1183,12 +1118,7 @@ fn run_index1(
         let mut atol = vec![opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(opts.atol, nc));
         atol.extend(std::iter::repeat_n(multiplier_atol(opts), nc));
-        let setup = IdaSetup {
-            dae: Arc::new(f.dae),
-            id: f.id,
-            atol,
-        };
-        let mut ida = make_ida(&setup, t_start, &y0, &yp0, opts)?;
+        let mut ida = make_ida(Arc::new(f), atol, t_start, &y0, &yp0, opts)?;
         set_ida_events(&mut ida, &events)?;
         // The wall-clock and step budgets cover the whole solve, earlier segments included.
         ida.charge_wall_clock(wall_start.elapsed());
