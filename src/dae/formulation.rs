@@ -111,34 +111,43 @@ impl DaeFormulation for GglDae {
     }
 }
 
-impl DaeFormulation for Index1Formulation {
-    fn len(&self) -> usize {
-        self.dae.n
-    }
-    fn id(&self) -> &[f64] {
-        &self.id
-    }
-    fn workspace(&self) -> Workspace {
-        self.dae.workspace()
-    }
-    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
-        self.dae.residual(ws, t, y, yp, r);
-    }
-    fn jacobian(
-        &self,
-        ws: &mut Workspace,
-        t: f64,
-        cj: f64,
-        y: &[f64],
-        yp: &[f64],
-        put: &mut dyn FnMut(usize, usize, f64),
-    ) {
-        self.dae.jacobian(ws, t, cj, y, yp, put);
-    }
-    fn structure(&self) -> Vec<(usize, usize)> {
-        self.dae.structure().collect()
-    }
+/// `DaeFormulation` for a type holding a compiled residual `dae: ImplicitDae` and its id vector
+/// `id: Vec<f64>`.
+macro_rules! compiled_with_id {
+    ($t:ty) => {
+        impl DaeFormulation for $t {
+            fn len(&self) -> usize {
+                self.dae.n
+            }
+            fn id(&self) -> &[f64] {
+                &self.id
+            }
+            fn workspace(&self) -> Workspace {
+                self.dae.workspace()
+            }
+            fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
+                self.dae.residual(ws, t, y, yp, r);
+            }
+            fn jacobian(
+                &self,
+                ws: &mut Workspace,
+                t: f64,
+                cj: f64,
+                y: &[f64],
+                yp: &[f64],
+                put: &mut dyn FnMut(usize, usize, f64),
+            ) {
+                self.dae.jacobian(ws, t, cj, y, yp, put);
+            }
+            fn structure(&self) -> Vec<(usize, usize)> {
+                self.dae.structure().collect()
+            }
+        }
+    };
 }
+
+compiled_with_id!(Index1Formulation);
+compiled_with_id!(IdDae);
 
 /// A compiled DAE with its id vector (a raw bond graph's velocity-level or index-1 DAE).
 #[derive(Clone, Debug)]
@@ -147,33 +156,4 @@ pub struct IdDae {
     pub dae: ImplicitDae,
     /// 1 for differential unknowns, 0 for algebraic.
     pub id: Vec<f64>,
-}
-
-impl DaeFormulation for IdDae {
-    fn len(&self) -> usize {
-        self.dae.n
-    }
-    fn id(&self) -> &[f64] {
-        &self.id
-    }
-    fn workspace(&self) -> Workspace {
-        self.dae.workspace()
-    }
-    fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
-        self.dae.residual(ws, t, y, yp, r);
-    }
-    fn jacobian(
-        &self,
-        ws: &mut Workspace,
-        t: f64,
-        cj: f64,
-        y: &[f64],
-        yp: &[f64],
-        put: &mut dyn FnMut(usize, usize, f64),
-    ) {
-        self.dae.jacobian(ws, t, cj, y, yp, put);
-    }
-    fn structure(&self) -> Vec<(usize, usize)> {
-        self.dae.structure().collect()
-    }
 }
