@@ -1,7 +1,9 @@
 //! The bond graph of a scene, its causality report and its drawing.
 //!
-//! A scene with `bodies`/`joints` is expanded with the chapter's fragments
-//! ([`crate::mech::bondgraph`]); a scene with a raw `"bond_graph"` is read as it is.
+//! A scene with `bodies`/`joints` gets the complete graph its equations are read from
+//! ([`crate::mech::build`]: the chapter's fragments completed with closures and displacements),
+//! or that graph's decoupled twin ([`crate::bond::decouple`]); a scene with a raw
+//! `"bond_graph"` is read as it is.
 
 use crate::bond::causality::{assign_causality, assign_causality_at, Causality, CausalityReport};
 use crate::bond::dot::to_dot;
@@ -48,24 +50,16 @@ impl SceneGraph {
             None => {
                 // the graph the solver reads: the complete pinned graph (closures, sliders,
                 // springs), or its decoupled twin (each constraint junction opened, a spring
-                // put in); the seed's drawing where the scene's graph cannot be read yet
-                let sys = crate::mech::build(scene)?;
-                let complete = sys.bond_graph.as_deref().cloned();
-                let complete = match (complete, variant) {
-                    (Some(g), Variant::Decoupled) => Some(
-                        crate::bond::decouple::decouple(
-                            &g,
-                            scene.solve.joint_stiffness,
-                            scene.solve.joint_damping,
-                        )
-                        .map_err(|e| Error::BondGraph(e.to_string()))?
-                        .graph,
-                    ),
-                    (g, _) => g,
-                };
-                let graph = match complete {
-                    Some(g) => g,
-                    None => scene_bond_graph(scene, variant)?,
+                // put in)
+                let graph = match variant {
+                    Variant::Pinned => crate::mech::build(scene)?
+                        .bond_graph
+                        .as_deref()
+                        .cloned()
+                        .ok_or_else(|| {
+                            Error::BondGraph("the mechanism has no bond graph".into())
+                        })?,
+                    Variant::Decoupled => scene_bond_graph(scene, variant)?,
                 };
                 let values = initial_values(scene);
                 let causality =

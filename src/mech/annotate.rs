@@ -19,7 +19,7 @@
 //! and those are the equations every formulation solves.
 
 use super::body::BodyKinematics;
-use super::bondgraph::{planar_rest_length, scene_bond_graph_with, Variant};
+use super::bondgraph::{planar_rest_length, scene_bond_graph_with};
 use super::columns::Columns;
 use super::geometry::Geometry;
 use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
@@ -228,7 +228,7 @@ fn planar_bodies(
     scene: &Scene,
     sys: &MultibodySystem,
 ) -> Result<(BondGraph, Vec<String>, Vec<ElementId>), AnnotateError> {
-    let mut g = scene_bond_graph_with(scene, Variant::Pinned, true)?;
+    let mut g = scene_bond_graph_with(scene, true)?;
     let find = |g: &BondGraph, n: &str| {
         g.element_by_name(n)
             .ok_or_else(|| AnnotateError::MissingElement(n.to_string()))

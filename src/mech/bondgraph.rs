@@ -6,8 +6,9 @@
 //! the global axes, loads as effort sources. Joints, springs and forces meet body-fixed bars
 //! (16.3) through the frame change of 16.4 (an MTF pair modulated by the relative angle
 //! between two body-fixed bars, or by −α towards the global frame), so their 1-junctions
-//! always equate components along the same axes. The *decoupled* variant replaces every joint by the
-//! springs of 16.6 (Fig. 17–18, 21), so every inertia gets integral causality.
+//! always equate components along the same axes. The *decoupled* variant (16.6, Fig. 17–18, 21)
+//! is not drawn here: it is the complete pinned graph with every constraint junction opened
+//! and a spring put in ([`crate::bond::decouple`]), exactly what CVODE solves.
 //!
 //! Spatial scenes use the rigid body of 16.1 with the Cardan frame change of 16.2 carried as
 //! MTF moduli (the rotation entries as signals), point velocities `V_P = V + Ω × R r`, and one
@@ -20,10 +21,10 @@
 use std::collections::HashMap;
 
 use crate::bond::fragments::{
-    change_frame, coupling, decoupled_revolute, equate_flows, force, linear_expression,
-    pin_to_ground, planar_body_fixed_frame, planar_body_translating, point_mass_3d, prismatic,
-    projection, revolute, rigid_body_3d, spatial_point, spring_damper, torque, weld, zero_flow,
-    Axis, PlanarBody, PlanarBodySpec, Point3, PointJunctions, RigidBody3Spec,
+    change_frame, coupling, equate_flows, force, linear_expression, pin_to_ground,
+    planar_body_fixed_frame, planar_body_translating, point_mass_3d, prismatic, projection,
+    revolute, rigid_body_3d, spatial_point, spring_damper, torque, weld, zero_flow, Axis,
+    PlanarBody, PlanarBodySpec, Point3, PointJunctions, RigidBody3Spec,
 };
 use crate::bond::model::{BondGraph, ElementId, Parameter};
 use crate::scene::{
@@ -41,24 +42,37 @@ pub enum Variant {
     Decoupled,
 }
 
-/// Builds the bond graph of a scene (its drawing: joints, springs and loads in the seed's
-/// fragments; [`crate::mech::annotate`] completes the pinned graph of a mechanism it can read).
+/// Builds the bond graph of a scene: for [`Variant::Pinned`] its drawing (joints, springs and
+/// loads in the seed's fragments; [`crate::mech::annotate`] completes it into the graph the
+/// solver reads), for [`Variant::Decoupled`] the complete graph with its joints opened
+/// ([`crate::bond::decouple`], the stiffness and damping of `scene.solve`).
 pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
-    scene_bond_graph_with(scene, variant, false)
+    match variant {
+        Variant::Pinned => scene_bond_graph_with(scene, false),
+        Variant::Decoupled => {
+            let sys = super::build(scene)?;
+            let pinned = sys.bond_graph.ok_or_else(|| {
+                MechError::at("bodies", "the mechanism has no bond graph to decouple")
+            })?;
+            crate::bond::decouple::decouple(
+                &pinned,
+                scene.solve.joint_stiffness,
+                scene.solve.joint_damping,
+            )
+            .map(|d| d.graph)
+            .map_err(|e| MechError::at("solve.joint_stiffness", e.to_string()))
+        }
+    }
 }
 
 /// [`scene_bond_graph`]; with `open` the planar pinned graph leaves out what
 /// [`crate::mech::annotate`] adds from the joints' closures: prismatic joints, a weld's
 /// angle row and springs of non-zero rest length.
-pub(crate) fn scene_bond_graph_with(
-    scene: &Scene,
-    variant: Variant,
-    open: bool,
-) -> Result<BondGraph, MechError> {
+pub(crate) fn scene_bond_graph_with(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
     let mut g = if matches!(scene.dimension, Dimension::Spatial) {
-        spatial(scene, variant)?
+        spatial(scene)?
     } else {
-        planar(scene, variant, open && matches!(variant, Variant::Pinned))?
+        planar(scene, open)?
     };
     g.annotate_joints(scene.joints.iter().map(|j| j.name.as_str()));
     Ok(g)
@@ -99,7 +113,7 @@ pub(crate) fn planar_rest_length(scene: &Scene, si: usize) -> f64 {
 }
 
 /// The bond graph of a planar scene (seed 16.3–16.8).
-fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, MechError> {
+fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
     let mut g = BondGraph::default();
     let gy = -scene.gravity.get(1).copied().unwrap_or(0.0);
     // points each body needs: its named points plus coordinate points used by joints, springs
@@ -189,8 +203,6 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
             .filter(|_| has_rotation(scene, body))
             .map(|b| b.omega)
     };
-    let k = scene.solve.joint_stiffness;
-    let c = (scene.solve.joint_damping > 0.0).then_some(scene.solve.joint_damping);
     // the solver's graph writes the joints of body-fixed bars as modulated sums of the bodies'
     // flows in the global axes (crate::mech::annotate), where their closures live
     let body_fixed = scene
@@ -205,8 +217,7 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
         let pa = point(&j.bodies[0], &joint_points[ji][0], &path)?;
         let pb = point(&j.bodies[1], &joint_points[ji][1], &path)?;
         // a pin or weld to ground is Sf = 0 in any frame; otherwise both points in one frame
-        let to_ground_pin = matches!(variant, Variant::Pinned)
-            && matches!(j.kind, JointKind::Revolute | JointKind::Weld);
+        let to_ground_pin = matches!(j.kind, JointKind::Revolute | JointKind::Weld);
         let (pa, pb) = if to_ground_pin && (pa.is_none() || pb.is_none()) {
             (pa, pb)
         } else {
@@ -227,22 +238,17 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
             (Some(a), Some(b)) => (a, Some(b), &j.bodies[0], Some(&j.bodies[1])),
             (None, None) => return Err(MechError::at(&path, "a joint between ground and ground")),
         };
-        match (&j.kind, variant) {
-            (JointKind::Revolute, Variant::Pinned) => match p2 {
+        match &j.kind {
+            JointKind::Revolute => match p2 {
                 None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
                 Some(p2) => revolute(&mut g, &j.name, p1, p2),
             },
-            (JointKind::Revolute, Variant::Decoupled)
-            | (JointKind::Weld, Variant::Decoupled)
-            | (JointKind::Prismatic { .. }, Variant::Decoupled) => {
-                decoupled_revolute(&mut g, &j.name, p1, p2, k, c);
-            }
-            (JointKind::Weld, Variant::Pinned) if open => match p2 {
+            JointKind::Weld if open => match p2 {
                 None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
                 Some(p2) => revolute(&mut g, &j.name, p1, p2),
             },
-            (JointKind::Prismatic { .. }, Variant::Pinned) if open => {}
-            (JointKind::Weld, Variant::Pinned) => {
+            JointKind::Prismatic { .. } if open => {}
+            JointKind::Weld => {
                 let w1 = omega(b1).ok_or_else(|| {
                     MechError::at(&path, format!("weld: body '{b1}' has no modelled rotation"))
                 })?;
@@ -263,7 +269,7 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
                     }
                 }
             }
-            (JointKind::Prismatic { axis }, Variant::Pinned) => {
+            JointKind::Prismatic { axis } => {
                 let ax = if axis[0].abs() < 1e-12 {
                     Axis::Y
                 } else if axis[1].abs() < 1e-12 {
@@ -281,13 +287,13 @@ fn planar(scene: &Scene, variant: Variant, open: bool) -> Result<BondGraph, Mech
                 };
                 prismatic(&mut g, &j.name, (p1, w1), other, ax);
             }
-            (JointKind::Hinge { .. }, _) => {
+            JointKind::Hinge { .. } => {
                 return Err(MechError::at(
                     &format!("{path}.axis"),
                     "a revolute joint with an axis (hinge) exists only in 3D scenes",
                 ))
             }
-            (JointKind::Spherical, _) => {
+            JointKind::Spherical => {
                 return Err(MechError::at(
                     &format!("{path}.type"),
                     "spherical joints exist only in 3D scenes",
@@ -557,10 +563,7 @@ fn perpendicular_pair(u: [f64; 3]) -> ([f64; 3], [f64; 3]) {
 ///   coincide and changes no causality), and `rx, ry, rz`, the global components of `Ω_a − Ω_b`
 ///   (left out when body b is a point mass);
 /// - weld: `x, y, z, rx, ry, rz`.
-///
-/// The decoupled variant puts a spring of stiffness `joint_stiffness` (and damper
-/// `joint_damping`) on every row instead ([`coupling`]), so every inertia is integral.
-fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
+fn spatial(scene: &Scene) -> Result<BondGraph, MechError> {
     let mut g = BondGraph::default();
     let mut bodies: HashMap<String, Body3> = HashMap::new();
     for (bi, b) in scene.bodies.iter().enumerate() {
@@ -681,21 +684,17 @@ fn spatial(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
             )?,
         ))
     };
-    let k = scene.solve.joint_stiffness;
-    let c = (scene.solve.joint_damping > 0.0).then_some(scene.solve.joint_damping);
     // one constraint row between flows `a` and `b` (None = ground)
     let row = |g: &mut BondGraph, name: String, a: Option<ElementId>, b: Option<ElementId>| match (
-        variant, a, b,
+        a, b,
     ) {
-        (_, None, None) => {}
-        (Variant::Pinned, Some(a), Some(b)) => {
+        (None, None) => {}
+        (Some(a), Some(b)) => {
             equate_flows(g, name, a, b);
         }
-        (Variant::Pinned, Some(x), None) | (Variant::Pinned, None, Some(x)) => {
+        (Some(x), None) | (None, Some(x)) => {
             zero_flow(g, &name, x);
         }
-        (Variant::Decoupled, Some(a), b) => coupling(g, &name, a, b, Some(k), c),
-        (Variant::Decoupled, None, Some(b)) => coupling(g, &name, b, None, Some(k), c),
     };
     for (ji, j) in scene.joints.iter().enumerate() {
         let path = format!("joints[{ji}]");
