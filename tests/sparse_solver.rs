@@ -453,23 +453,27 @@ fn runs_within_tolerance_bound(
     }
 }
 
-/// GGL on every bundled mechanism scene, 0.5 s at rtol 1e-9. `K = 1000`: a BDF run's global
-/// error is the local errors (each ≲ rtol per step, relative to the state) carried by the
-/// motion; over half a second of these mechanisms the dense runs measure 3 … 400 rtol, so
-/// `K = 1000` leaves each solver the same factor ~2.5 over the worst dense run.
+/// GGL on every bundled mechanism scene, 0.5 s at rtol 1e-9. A BDF run's global error is the
+/// local errors (each ≲ rtol per step, relative to the state) carried by the motion; over half
+/// a second of these mechanisms the dense runs measured 2.5 (two bars) … 605 rtol (the
+/// slider-crank, 4800 steps). `K` is three times the worst dense run, rounded: 2000 rtol, the
+/// same for dense, faer and KLU (the sparse runs measured 2.5 … 772 rtol).
 #[test]
 fn dense_faer_and_klu_ggl_runs_of_every_bundled_scene_are_within_the_same_tolerance_bound() {
     let mut compared = 0;
     for (name, scene) in mechanism_scenes() {
         let m = Model::new(&scene).unwrap();
-        runs_within_tolerance_bound(&name, &m, FormulationKind::Ggl, 1e-9, 0.5, 1000.0);
+        runs_within_tolerance_bound(&name, &m, FormulationKind::Ggl, 1e-9, 0.5, 2000.0);
         compared += 1;
     }
     assert!(compared >= 10, "only {compared} mechanism scenes");
 }
 
 /// The other formulations (compliant GGL, index 1 on IDA; the decoupled twin on CVODE) on a
-/// planar open chain and a closed loop, with the bound above.
+/// planar open chain and a closed loop. `K` as above, three times the worst dense run: the
+/// twin's stiff joint springs (k = 1e8) make its dense runs the least accurate (207 and 943
+/// rtol; compliant GGL 49 and 126, index 1 85 and 181), so `K` = 3000 rtol, again one bound
+/// for dense, faer and KLU.
 #[test]
 fn dense_faer_and_klu_runs_of_compliant_ggl_index1_and_the_twin_are_within_the_same_tolerance_bound(
 ) {
@@ -483,7 +487,7 @@ fn dense_faer_and_klu_runs_of_compliant_ggl_index1_and_the_twin_are_within_the_s
         let path = format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
         let m = Model::new(&Scene::from_path(&path).unwrap()).unwrap();
         for (f, rtol, end) in cases {
-            runs_within_tolerance_bound(name, &m, f, rtol, end, 1000.0);
+            runs_within_tolerance_bound(name, &m, f, rtol, end, 3000.0);
         }
     }
 }
