@@ -19,7 +19,7 @@
 //! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
 //! solve per solver at N = 64 and `Model::new` at N = 32, 128, 512. Run with
 //! `cargo bench --bench sparse` (`BONDMECH_SPARSE_BENCH=build|n_link|chain|crossover` for one
-//! table only).
+//! table only; `chain_sparse`: the chain without its minutes-long dense run).
 
 #[allow(unused_imports)]
 #[path = "../tests/common/mod.rs"]
@@ -146,7 +146,7 @@ fn chain_error(n: usize, s: &Solution) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn chain_table() {
+fn chain_table(with_dense: bool) {
     let n = 40;
     println!(
         "\nChain of {n} four-bars, GGL (compliant at the passages), 20 s, outputs every 0.05 s"
@@ -165,6 +165,9 @@ fn chain_table() {
         (LinearSolverKind::Dense, "dense", 1e-8),
     ];
     for (ls, label, rtol) in runs {
+        if ls == LinearSolverKind::Dense && !with_dense {
+            continue;
+        }
         let mut o = model.default_options();
         o.formulation = FormulationKind::Ggl;
         o.rtol = rtol;
@@ -249,8 +252,8 @@ fn main() {
     if only.is_empty() || only == "n_link" {
         n_link_table();
     }
-    if only.is_empty() || only == "chain" {
-        chain_table();
+    if only.is_empty() || only == "chain" || only == "chain_sparse" {
+        chain_table(only != "chain_sparse");
     }
     let scene = n_link_pendulum(64, 1.0, 0.01).expect("generated scene is valid");
     let model = Model::new(&scene).expect("model builds");

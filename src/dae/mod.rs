@@ -7,11 +7,13 @@
 //! * [`singular`]: conditioning of the joints (how near `G_v` is to losing rank).
 //! * [`partitioned`]: the degrees of freedom as ODE states (dependent coordinates by Newton).
 //! * [`decoupled`]: the stiff-spring twin (seed 16.6), an ODE for CVODE.
+//! * [`gram`]: sparse `G W Gᵀ` with its Cholesky factor (the consistent start of large mechanisms).
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
 pub mod compiled;
 pub mod decoupled;
 pub mod ggl;
+pub mod gram;
 pub mod index1;
 pub mod init;
 pub mod mechanics;
