@@ -546,8 +546,10 @@ fn regression_model_far_beyond_the_machine_is_refused_by_model_new() {
 /// `n` free spatial bodies (7 coordinates, 6 velocities each, no joints).
 fn free_spatial_bodies(n: usize) -> Scene {
     let bodies: Vec<Value> = (0..n)
-        .map(|i| json!({ "name": format!("b{i}"), "mass": 1.0, "inertia": [1.0, 2.0, 3.0],
-                         "position": [i as f64, 0.0, 0.0] }))
+        .map(|i| {
+            json!({ "name": format!("b{i}"), "mass": 1.0, "inertia": [1.0, 2.0, 3.0],
+                         "position": [i as f64, 0.0, 0.0] })
+        })
         .collect();
     Scene::from_json_str(
         &json!({ "dimension": 3, "gravity": [0.0, 0.0, -9.81], "bodies": bodies,
@@ -573,7 +575,10 @@ fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_so
     // a machine with 25 GiB available (limit 80 % = 21.5e9 bytes) refuses it dense …
     let available = Some(25u64 << 30);
     let e = check_memory(&dense, available).unwrap_err().to_string();
-    assert!(e.contains("the dense Newton matrix of the DAE on IDA"), "{e}");
+    assert!(
+        e.contains("the dense Newton matrix of the DAE on IDA"),
+        "{e}"
+    );
     // … and accepts it with faer or KLU, whose Newton matrix grows linearly: the start's
     // dense SVD (24 000 unknowns) is now the largest term
     for ls in [
@@ -582,7 +587,11 @@ fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_so
         LinearSolverKind::Auto,
     ] {
         let sparse = estimate_memory_with(&scene, Formulation::Dae, ls);
-        assert_eq!(sparse.bytes, 4.0 * 8.0 * 24_000f64.powi(2) + 4096.0 * n, "{ls:?}");
+        assert_eq!(
+            sparse.bytes,
+            4.0 * 8.0 * 24_000f64.powi(2) + 4096.0 * n,
+            "{ls:?}"
+        );
         assert!(sparse.what.contains("SVD"), "{sparse:?}");
         check_memory(&sparse, available).unwrap_or_else(|e| panic!("{ls:?}: {e}"));
         // the sparse Newton matrix itself: linear in the unknowns
@@ -597,10 +606,8 @@ fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_so
         dense
     );
     // the decoupled twin likewise: two dense 52 000² matrices, or a sparse one
-    let twin_dense =
-        estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
+    let twin_dense = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
     assert!(check_memory(&twin_dense, available).is_err());
-    let twin_sparse =
-        estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Klu);
+    let twin_sparse = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Klu);
     check_memory(&twin_sparse, available).unwrap();
 }

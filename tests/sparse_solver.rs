@@ -138,7 +138,9 @@ fn check_system(scene: &str, m: &NewtonMatrix) -> f64 {
     let skeel = inf_norm_mat(&(&abs_inv * &abs_a));
     // a right-hand side with every unknown in play: b = A x*, x*_i = cos(i) + 2
     let xs: Vec<f64> = (0..n).map(|i| (i as f64).cos() + 2.0).collect();
-    let b: Vec<f64> = (0..n).map(|i| (0..n).map(|j| a[(i, j)] * xs[j]).sum()).collect();
+    let b: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| a[(i, j)] * xs[j]).sum())
+        .collect();
     let norm_b = inf_norm_vec(&b);
     // (x̂, normwise η, componentwise ω, relative forward-error bound f)
     let solve = |kind: DirectSolver| -> (Vec<f64>, f64, f64, f64) {
@@ -264,7 +266,12 @@ fn ggl_states(
     for t in [0.1, 0.2, 0.3] {
         ida.solve_to(t)
             .unwrap_or_else(|e| panic!("{scene}: dense GGL run: {e}"));
-        out.push((t, ida.y().to_vec(), ida.yp().to_vec(), ida.stats().last_step));
+        out.push((
+            t,
+            ida.y().to_vec(),
+            ida.yp().to_vec(),
+            ida.stats().last_step,
+        ));
     }
     out
 }
@@ -317,8 +324,11 @@ fn newton_matrices(scene: &str, model: &Model) -> Vec<NewtonMatrix> {
         y0,
         yp0,
     );
-    let index1 = dependent
-        .and_then(|d| Index1Formulation::build(&mut sys, &c, &d).ok().map(|f| (d, f)));
+    let index1 = dependent.and_then(|d| {
+        Index1Formulation::build(&mut sys, &c, &d)
+            .ok()
+            .map(|f| (d, f))
+    });
     let opts = model.default_options();
     let twin = DecoupledFormulation::build(&mut sys, &c, opts.joint_stiffness, 0.0).ok();
     let mut out = Vec::new();

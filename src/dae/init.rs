@@ -276,7 +276,7 @@ pub fn consistent_state_from(
 /// Size `nv + nc` from which the velocity and acceleration steps use sparse Cholesky
 /// factorisations instead of dense SVDs (below it the SVDs cost little and keep every small
 /// scene's start bit for bit as it was).
-pub const SPARSE_START_UNKNOWNS: usize = 400;
+pub const SPARSE_START_UNKNOWNS: usize = 200;
 
 /// Largest `κ(G_v G_vᵀ)` (estimated) for which the sparse path trusts `G_v` to have full row
 /// rank; beyond it the SVD decides the rank (redundant joints).
@@ -313,12 +313,14 @@ fn sparse_start(
     if b.condition_estimate(20) > SPARSE_START_CONDITION {
         return Ok(None);
     }
-    let Some(a) = SparseGram::new(gv, &sys.mass.iter().map(|m| 1.0 / m).collect::<Vec<_>>())
-    else {
+    let Some(a) = SparseGram::new(gv, &sys.mass.iter().map(|m| 1.0 / m).collect::<Vec<_>>()) else {
         return Ok(None);
     };
     // velocities
-    let mut r: Vec<f64> = (gv * DVector::from_column_slice(&x[nq..])).iter().copied().collect();
+    let mut r: Vec<f64> = (gv * DVector::from_column_slice(&x[nq..]))
+        .iter()
+        .copied()
+        .collect();
     b.solve_in_place(&mut r);
     let dv = gv.transpose() * DVector::from_vec(r);
     for j in 0..nv {
@@ -347,7 +349,9 @@ fn sparse_start(
     let mut lambda: Vec<f64> = rhs.iter().copied().collect();
     a.solve_in_place(&mut lambda);
     let gt_lambda = gv.transpose() * DVector::from_column_slice(&lambda);
-    let vdot = (0..nv).map(|j| (q[j] - gt_lambda[j]) / sys.mass[j]).collect();
+    let vdot = (0..nv)
+        .map(|j| (q[j] - gt_lambda[j]) / sys.mass[j])
+        .collect();
     Ok(Some(ConsistentState {
         q: x[..nq].to_vec(),
         v: x[nq..].to_vec(),

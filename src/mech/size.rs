@@ -18,7 +18,10 @@
 //! [`LinearSolverKind::AUTO_SPARSE_UNKNOWNS`] unknowns on) the Newton matrix is stored in
 //! compressed sparse columns: its term is [`SPARSE_BYTES_PER_UNKNOWN`] per unknown (entries,
 //! their row indices and the LU factors' fill), linear in the size instead of quadratic. The
-//! consistent start's SVD stays dense, so it then bounds the size accepted: for planar chains
+//! consistent start of a large mechanism takes sparse Cholesky factorisations when its joints
+//! have full rank ([`crate::dae::init::SPARSE_START_UNKNOWNS`]), but falls back to the dense
+//! SVD with redundant joints, which the scene does not tell; the estimate keeps that dense
+//! fallback, so it then bounds the size accepted: for planar chains
 //! (`nv + nc = 5 N`, `n = 10 N`) its `4 (nv + nc)²` equals the dense Newton matrix's `n²`, for
 //! spatial hinge chains (`nv + nc = 11 N`, `n = 23 N`) it is 9 % less. Chains of a few hundred
 //! bodies (a 500-link pendulum needs about 0.2 GiB) are far from the limit either way.
@@ -123,7 +126,11 @@ pub fn estimate_memory_with(
     let ggl = nq + nv + 2 * nc;
     let raw = scene.bond_graph.is_some();
     let sparse = |n: usize| !raw && linear_solver.resolve(n).is_some();
-    let newton = match (formulation == Formulation::Decoupled, sparse(nq + nv), sparse(ggl)) {
+    let newton = match (
+        formulation == Formulation::Decoupled,
+        sparse(nq + nv),
+        sparse(ggl),
+    ) {
         (true, true, _) => (
             nq + nv,
             SPARSE_BYTES_PER_UNKNOWN * (nq + nv) as f64,

@@ -156,7 +156,9 @@ impl SolveParams {
             Some(l) => Some(LinearSolverKind::parse(l).ok_or_else(|| {
                 invalid_value(
                     "linear_solver",
-                    format!("linear_solver: unknown '{l}' (expected auto, dense, sparse, faer or klu)"),
+                    format!(
+                        "linear_solver: unknown '{l}' (expected auto, dense, sparse, faer or klu)"
+                    ),
                 )
             })?),
         };

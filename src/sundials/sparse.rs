@@ -521,8 +521,9 @@ pub fn solve_direct(
             let mut view = unsafe { super::matrix::DenseMatrixMut::from_raw(a.raw()) };
             view.fill_zero();
             for j in 0..n {
-                for k in pattern.colptr()[j]..pattern.colptr()[j + 1] {
-                    view.add(pattern.rowidx()[k], j, values[k]);
+                let (a, b) = (pattern.colptr()[j], pattern.colptr()[j + 1]);
+                for (&r, &v) in pattern.rowidx()[a..b].iter().zip(&values[a..b]) {
+                    view.add(r, j, v);
                 }
             }
             let ls = LinearSolver::dense(&ctx, &rhs, &a)?;
