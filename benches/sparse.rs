@@ -9,8 +9,17 @@
 //!    rtol 5e-9, atol 5e-11 as `tests/singular_fourbar_chain.rs`, with the error of the first
 //!    crank's top against the exact 1-DOF model (`tests/common/four_bar_chain.rs`).
 //!
+//! 3. The model build of the N-link pendulum at N = 32 … 512, phase by phase: scene → `Model`
+//!    (`Model::new`: the bond graph and its equations), then what a solve builds before its
+//!    first step — the constraint derivatives (`ConstraintExprs::derive`), the numeric tapes
+//!    (`MechanicsTapes::new`), the consistent start and the GGL residual with its Jacobian
+//!    tapes (`GglFormulation::build`) — each with its growth against N = 32 (linear: 2×, 4×,
+//!    8×, 16×).
+//!
 //! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
-//! solve per solver at N = 64. Run with `cargo bench --bench sparse`.
+//! solve per solver at N = 64 and `Model::new` at N = 32, 128, 512. Run with
+//! `cargo bench --bench sparse` (`BONDMECH_SPARSE_BENCH=build|n_link|chain|crossover` for one
+//! table only; `chain_sparse`: the chain without its minutes-long dense run).
 
 #[allow(unused_imports)]
 #[path = "../tests/common/mod.rs"]
@@ -137,7 +146,7 @@ fn chain_error(n: usize, s: &Solution) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn chain_table() {
+fn chain_table(with_dense: bool) {
     let n = 40;
     println!(
         "\nChain of {n} four-bars, GGL (compliant at the passages), 20 s, outputs every 0.05 s"
@@ -156,6 +165,9 @@ fn chain_table() {
         (LinearSolverKind::Dense, "dense", 1e-8),
     ];
     for (ls, label, rtol) in runs {
+        if ls == LinearSolverKind::Dense && !with_dense {
+            continue;
+        }
         let mut o = model.default_options();
         o.formulation = FormulationKind::Ggl;
         o.rtol = rtol;
@@ -180,16 +192,68 @@ fn chain_table() {
     }
 }
 
+/// CPU seconds of `f` on this thread.
+fn cpu<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = cpu_time::ThreadTime::now();
+    let v = f();
+    (v, t.elapsed().as_secs_f64())
+}
+
+fn build_table() {
+    use bondmech::dae::{consistent_state, ConstraintExprs, GglFormulation, MechanicsTapes};
+    println!("\nModel build of the N-link pendulum, CPU seconds by phase (one build per cell)");
+    let phases = [
+        "Model::new",
+        "derive",
+        "tapes",
+        "consistent start",
+        "GGL build",
+        "total",
+    ];
+    print!("{:>4}", "N");
+    for p in phases {
+        print!(" {p:>16}");
+    }
+    println!();
+    let mut base: Option<Vec<f64>> = None;
+    for n in [32usize, 64, 128, 256, 512] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        let (model, t_model) = cpu(|| Model::new(&scene).expect("model builds"));
+        let mut sys = model.system().clone();
+        let (c, t_derive) = cpu(|| ConstraintExprs::derive(&mut sys));
+        let (tapes, t_tapes) = cpu(|| MechanicsTapes::new(&mut sys, &c, None));
+        let (_, t_init) = cpu(|| consistent_state(&sys, &tapes, 0.0).expect("consistent start"));
+        let (_, t_ggl) = cpu(|| GglFormulation::build(&mut sys, &c, 0.0));
+        let t = [
+            t_model,
+            t_derive,
+            t_tapes,
+            t_init,
+            t_ggl,
+            t_model + t_derive + t_tapes + t_init + t_ggl,
+        ];
+        let b = base.get_or_insert_with(|| t.to_vec()).clone();
+        print!("{n:>4}");
+        for (x, x0) in t.iter().zip(&b) {
+            print!(" {:>8.3} {:>6.1}×", x, x / x0.max(1e-9));
+        }
+        println!();
+    }
+}
+
 fn main() {
     let only = std::env::var("BONDMECH_SPARSE_BENCH").unwrap_or_default();
+    if only.is_empty() || only == "build" {
+        build_table();
+    }
     if only.is_empty() || only == "crossover" {
         crossover_table();
     }
     if only.is_empty() || only == "n_link" {
         n_link_table();
     }
-    if only.is_empty() || only == "chain" {
-        chain_table();
+    if only.is_empty() || only == "chain" || only == "chain_sparse" {
+        chain_table(only != "chain_sparse");
     }
     let scene = n_link_pendulum(64, 1.0, 0.01).expect("generated scene is valid");
     let model = Model::new(&scene).expect("model builds");
@@ -201,6 +265,14 @@ fn main() {
     let mut g = crit.benchmark_group("n_link_64");
     for (ls, label) in SOLVERS {
         g.bench_function(label, |b| b.iter(|| n_link_solve(&model, ls)));
+    }
+    g.finish();
+    let mut g = crit.benchmark_group("model_new");
+    for n in [32usize, 128, 512] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        g.bench_function(format!("n_link_{n}"), |b| {
+            b.iter(|| Model::new(&scene).expect("model builds"))
+        });
     }
     g.finish();
     crit.final_summary();

@@ -493,11 +493,12 @@ fn chain(n: usize) -> Scene {
 
 #[test]
 fn regression_6000_free_bodies_are_refused_on_a_4_gib_machine_naming_the_limit() {
-    use bondmech::mech::size::{check_memory, estimate_memory};
+    use bondmech::mech::size::{check_memory, estimate_memory, estimate_memory_with};
     use bondmech::scene::Formulation;
+    use bondmech::LinearSolverKind;
     const GIB: u64 = 1 << 30;
     let scene = free_bodies(6000);
-    let est = estimate_memory(&scene, Formulation::Dae);
+    let est = estimate_memory_with(&scene, Formulation::Dae, LinearSolverKind::Dense);
     // 18 000 coordinates and velocities: the GGL Newton matrix (36 000²) and the start's SVD
     // (4 × 18 000²) are both 9.7 GiB
     assert_eq!(
@@ -511,7 +512,7 @@ fn regression_6000_free_bodies_are_refused_on_a_4_gib_machine_naming_the_limit()
         "{e}"
     );
     // the decoupled twin keeps two dense matrices of 36 000²
-    let twin = estimate_memory(&scene, Formulation::Decoupled);
+    let twin = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
     assert!(
         twin.bytes > 1.9 * est.bytes && twin.what.contains("CVODE"),
         "{twin:?}"
@@ -532,10 +533,81 @@ fn regression_model_far_beyond_the_machine_is_refused_by_model_new() {
     let e = bondmech::Model::new(&scene).unwrap_err();
     assert!(matches!(e, bondmech::Error::TooLarge(_)), "{e:?}");
     let text = e.to_string();
+    // (the default linear solver is sparse at this size: the start's dense SVD is what is
+    // too large)
     assert!(
         text.contains("MemAvailable")
             && text.contains("60000 coordinates")
-            && text.contains("GiB for the dense"),
+            && text.contains("GiB for the SVD of the dense mass–constraint matrix"),
         "{text}"
     );
+}
+
+/// `n` free spatial bodies (7 coordinates, 6 velocities each, no joints).
+fn free_spatial_bodies(n: usize) -> Scene {
+    let bodies: Vec<Value> = (0..n)
+        .map(|i| {
+            json!({ "name": format!("b{i}"), "mass": 1.0, "inertia": [1.0, 2.0, 3.0],
+                         "position": [i as f64, 0.0, 0.0] })
+        })
+        .collect();
+    Scene::from_json_str(
+        &json!({ "dimension": 3, "gravity": [0.0, 0.0, -9.81], "bodies": bodies,
+                 "solve": { "t_end": 0.01 } })
+        .to_string(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_solver() {
+    use bondmech::mech::size::{check_memory, estimate_memory_with, SPARSE_BYTES_PER_UNKNOWN};
+    use bondmech::scene::Formulation;
+    use bondmech::LinearSolverKind;
+    // 4000 free spatial bodies: 52 000 GGL unknowns. Dense Newton matrix 8 · 52 000² bytes
+    // = 21.6e9; the consistent start's SVD 4 · 8 · 24 000² = 18.4e9; symbolic part 4096 B
+    // per unknown = 0.21e9.
+    let scene = free_spatial_bodies(4000);
+    let n = 52_000.0;
+    let dense = estimate_memory_with(&scene, Formulation::Dae, LinearSolverKind::Dense);
+    assert_eq!(dense.unknowns, 52_000);
+    assert_eq!(dense.bytes, 8.0 * n * n + 4096.0 * n);
+    // a machine with 25 GiB available (limit 80 % = 21.5e9 bytes) refuses it dense …
+    let available = Some(25u64 << 30);
+    let e = check_memory(&dense, available).unwrap_err().to_string();
+    assert!(
+        e.contains("the dense Newton matrix of the DAE on IDA"),
+        "{e}"
+    );
+    // … and accepts it with faer or KLU, whose Newton matrix grows linearly: the start's
+    // dense SVD (24 000 unknowns) is now the largest term
+    for ls in [
+        LinearSolverKind::Sparse,
+        LinearSolverKind::Klu,
+        LinearSolverKind::Auto,
+    ] {
+        let sparse = estimate_memory_with(&scene, Formulation::Dae, ls);
+        assert_eq!(
+            sparse.bytes,
+            4.0 * 8.0 * 24_000f64.powi(2) + 4096.0 * n,
+            "{ls:?}"
+        );
+        assert!(sparse.what.contains("SVD"), "{sparse:?}");
+        check_memory(&sparse, available).unwrap_or_else(|e| panic!("{ls:?}: {e}"));
+        // the sparse Newton matrix itself: linear in the unknowns
+        let newton = SPARSE_BYTES_PER_UNKNOWN * n;
+        assert!(newton < 0.03 * 8.0 * n * n);
+    }
+    // the scene's own solve.linear_solver decides the estimate of Model::new
+    let mut dense_scene = scene.clone();
+    dense_scene.solve.linear_solver = LinearSolverKind::Dense;
+    assert_eq!(
+        bondmech::mech::size::estimate_memory(&dense_scene, Formulation::Dae),
+        dense
+    );
+    // the decoupled twin likewise: two dense 52 000² matrices, or a sparse one
+    let twin_dense = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
+    assert!(check_memory(&twin_dense, available).is_err());
+    let twin_sparse = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Klu);
+    check_memory(&twin_sparse, available).unwrap();
 }

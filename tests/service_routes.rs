@@ -104,6 +104,47 @@ fn run_json_equals_cli_csv_decoupled_and_index1() {
 }
 
 #[test]
+fn run_linear_solver_parameter_is_the_cli_flag_and_reaches_the_summary() {
+    // same rows and summary as `--linear-solver klu` on the command line (a double pendulum
+    // has 10 unknowns, so auto would pick dense: the parameter is what makes it KLU)
+    assert_run_equals_cli(
+        "double_pendulum.json",
+        "t_end=0.3&linear_solver=klu",
+        &["--t-end", "0.3", "--linear-solver", "klu"],
+    );
+    let server = start(Config::default());
+    let scene = scene_text("double_pendulum.json");
+    for (value, used) in [
+        ("klu", "klu"),
+        ("sparse", "faer"),
+        ("faer", "faer"),
+        ("dense", "dense"),
+        ("auto", "dense"),
+    ] {
+        let r = post(
+            server.addr(),
+            &format!("/v1/run?t_end=0.1&linear_solver={value}"),
+            scene.as_bytes(),
+        );
+        assert_eq!(r.status, 200, "{value}: {}", r.text());
+        assert_eq!(r.json()["summary"]["linear_solver"], used, "{value}");
+    }
+    let p = post(
+        server.addr(),
+        "/v1/run?linear_solver=superlu",
+        scene.as_bytes(),
+    )
+    .problem(422);
+    assert_eq!(p["parameter"], "linear_solver");
+    let detail = p["detail"].as_str().unwrap();
+    assert!(
+        detail.contains("linear_solver") && detail.contains("superlu") && detail.contains("klu"),
+        "{detail}"
+    );
+    server.shutdown().unwrap();
+}
+
+#[test]
 fn run_json_equals_cli_csv_raw_bond_graph() {
     assert_run_equals_cli("bg_mass_spring_damper.json", "", &[]);
 }
@@ -369,6 +410,7 @@ fn bad_query_parameters_name_the_parameter() {
         ("t_end=nan", 422, "t_end"),
         ("joint_stiffness=inf", 422, "joint_stiffness"),
         ("formulation=magic", 422, "formulation"),
+        ("linear_solver=lu", 422, "linear_solver"),
         // the scene's own bounds, as the command line's flags meet them (issue 12): these
         // were accepted by the service when it set the options beside the scene
         ("rtol=1e308", 422, "rtol"),

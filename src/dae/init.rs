@@ -5,9 +5,15 @@
 //! 2. Velocities: the least change with `G_v v = 0`: `v ← v − G_v⁺ G_v v`.
 //! 3. Accelerations and multipliers: `[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`, solved in the
 //!    least-squares sense; the rank of `G_v` tells which joints are redundant.
+//!
+//! Steps 2 and 3 take dense SVDs (cubic in the size). From [`SPARSE_START_UNKNOWNS`] on, a
+//! mechanism whose joints have full rank and whose coordinates all have inertia takes sparse
+//! Cholesky factorisations of `G_v G_vᵀ` and `G_v M⁻¹ G_vᵀ` instead, which give the same
+//! least-change velocities and the same multipliers there ([`SparseGram`]).
 
 use nalgebra::{DMatrix, DVector};
 
+use super::gram::SparseGram;
 use super::mechanics::MechanicsTapes;
 use crate::mech::{ConstraintRow, MultibodySystem};
 
@@ -191,6 +197,13 @@ pub fn consistent_state_from(
     let gv = matrix(&tapes.gv, t0, &x, nc, nv);
     finite(gv.as_slice(), "the velocity constraint Jacobian")?;
     let v0 = DVector::from_column_slice(&x[nq..]);
+    if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv)? {
+        let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
+        return Ok(ConsistentState {
+            position_correction,
+            ..sparse
+        });
+    }
     let (dv, rank) = pinv_apply(&gv, &(&gv * &v0));
     for j in 0..nv {
         x[nq + j] -= dv[j];
@@ -258,4 +271,95 @@ pub fn consistent_state_from(
         rank,
         redundant_joints,
     })
+}
+
+/// Size `nv + nc` from which the velocity and acceleration steps use sparse Cholesky
+/// factorisations instead of dense SVDs (below it the SVDs cost little and keep every small
+/// scene's start bit for bit as it was).
+pub const SPARSE_START_UNKNOWNS: usize = 200;
+
+/// Largest `κ(G_v G_vᵀ)` (estimated) for which the sparse path trusts `G_v` to have full row
+/// rank; beyond it the SVD decides the rank (redundant joints).
+const SPARSE_START_CONDITION: f64 = 1e12;
+
+/// Steps 2 and 3 of [`consistent_state_from`] for a large mechanism with full-rank joints and
+/// an inertia on every coordinate, linear in its size: with `B = G_v G_vᵀ` and
+/// `A = G_v M⁻¹ G_vᵀ` (both SPD, [`SparseGram`]),
+///
+/// ```text
+///   v ← v − G_vᵀ B⁻¹ G_v v                   (the least change with G_v v = 0)
+///   λ = A⁻¹ (G_v M⁻¹ Q + γ),  v' = M⁻¹ (Q − G_vᵀ λ)
+/// ```
+///
+/// which is what the pseudo-inverses of the dense path give when `G_v` has full row rank.
+/// `None` (the caller takes the dense path) below [`SPARSE_START_UNKNOWNS`], with a massless
+/// coordinate, or when `B` is not safely positive definite (κ estimate over
+/// [`SPARSE_START_CONDITION`]: possibly redundant joints, which the SVD names).
+/// `position_correction` is left 0 for the caller.
+fn sparse_start(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+    x: &mut [f64],
+    gv: &DMatrix<f64>,
+) -> Result<Option<ConsistentState>, InitError> {
+    let (nq, nv, nc) = tapes.dims;
+    if nv + nc < SPARSE_START_UNKNOWNS || nc == 0 || sys.mass.iter().any(|&m| m <= 0.0) {
+        return Ok(None);
+    }
+    let Some(b) = SparseGram::new(gv, &vec![1.0; nv]) else {
+        return Ok(None);
+    };
+    if b.condition_estimate(20) > SPARSE_START_CONDITION {
+        return Ok(None);
+    }
+    let Some(a) = SparseGram::new(gv, &sys.mass.iter().map(|m| 1.0 / m).collect::<Vec<_>>()) else {
+        return Ok(None);
+    };
+    // velocities
+    let mut r: Vec<f64> = (gv * DVector::from_column_slice(&x[nq..]))
+        .iter()
+        .copied()
+        .collect();
+    b.solve_in_place(&mut r);
+    let dv = gv.transpose() * DVector::from_vec(r);
+    for j in 0..nv {
+        x[nq + j] -= dv[j];
+    }
+    // accelerations and multipliers
+    let q = MechanicsTapes::eval(&tapes.forces, t0, x);
+    if !q.iter().all(|f| f.is_finite()) {
+        if let Some(culprit) = sys.non_finite_source(t0, x) {
+            return Err(InitError::NonFiniteSource(culprit));
+        }
+        return Err(InitError::NonFinite {
+            t: t0,
+            what: "the generalized forces".into(),
+        });
+    }
+    let gamma = MechanicsTapes::eval(&tapes.gamma, t0, x);
+    if !gamma.iter().all(|f| f.is_finite()) {
+        return Err(InitError::NonFinite {
+            t: t0,
+            what: "the constraint acceleration terms".into(),
+        });
+    }
+    let minv_q = DVector::from_iterator(nv, (0..nv).map(|j| q[j] / sys.mass[j]));
+    let rhs = gv * &minv_q + DVector::from_column_slice(&gamma);
+    let mut lambda: Vec<f64> = rhs.iter().copied().collect();
+    a.solve_in_place(&mut lambda);
+    let gt_lambda = gv.transpose() * DVector::from_column_slice(&lambda);
+    let vdot = (0..nv)
+        .map(|j| (q[j] - gt_lambda[j]) / sys.mass[j])
+        .collect();
+    Ok(Some(ConsistentState {
+        q: x[..nq].to_vec(),
+        v: x[nq..].to_vec(),
+        vdot,
+        lambda,
+        position_correction: 0.0,
+        velocity_correction: dv.norm(),
+        rank: nc,
+        redundant_joints: vec![],
+    }))
 }

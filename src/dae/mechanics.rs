@@ -7,7 +7,7 @@
 //!
 //! plus numeric tapes of all of them for initialisation, diagnostics and outputs.
 
-use crate::expr::{Expr, Tape};
+use crate::expr::{Expr, ExprGraph, Tape};
 use crate::mech::MultibodySystem;
 
 /// Symbolic constraint quantities (see the module documentation).
@@ -27,38 +27,42 @@ pub struct ConstraintExprs {
 
 impl ConstraintExprs {
     /// Derives every constraint quantity from the system's `g` and `K`.
+    ///
+    /// Linear in the size of the mechanism: each row is differentiated only by the variables
+    /// it mentions (a joint's rows mention the coordinates of its two bodies), and every other
+    /// entry of `G_q`, `G_v` is the zero expression without being derived.
     pub fn derive(sys: &mut MultibodySystem) -> Self {
-        let nq = sys.nq();
+        let (nq, nv) = (sys.nq(), sys.nv());
         let g = sys.constraints.clone();
-        // the flows the bond graph's constraint junctions impose, or d/dt g
+        let q_slots: Vec<u32> = (0..nq).map(|k| sys.q_slot(k)).collect();
+        let v_slots: Vec<u32> = (0..nv).map(|j| sys.v_slot(j)).collect();
+        // the flows the bond graph's constraint junctions impose, or d/dt g = Σ_k ∂g/∂q_k (K v)_k
         let gvv = if sys.flow_rows.len() == g.len() && !g.is_empty() {
             sys.flow_rows.clone()
         } else {
-            sys.velocity_constraints()
-        };
-        let gv = sys.velocity_jacobian(&gvv);
-        let mut gq = Vec::with_capacity(g.len());
-        for &gi in &g {
-            let row = (0..nq)
-                .map(|k| {
-                    let s = sys.q_slot(k);
-                    sys.graph.diff(gi, s)
+            g.iter()
+                .map(|&gi| {
+                    let terms: Vec<Expr> = sparse_row(&mut sys.graph, gi, &q_slots)
+                        .into_iter()
+                        .map(|(k, d)| sys.graph.mul(d, sys.kinematics[k]))
+                        .collect();
+                    sys.graph.sum(&terms)
                 })
-                .collect();
-            gq.push(row);
-        }
-        let mut gamma = Vec::with_capacity(g.len());
-        for &e in &gvv {
-            let mut terms = Vec::new();
-            for k in 0..nq {
-                let s = sys.q_slot(k);
-                if sys.graph.depends_on(e, s) {
-                    let d = sys.graph.diff(e, s);
-                    terms.push(sys.graph.mul(d, sys.kinematics[k]));
-                }
-            }
-            gamma.push(sys.graph.sum(&terms));
-        }
+                .collect()
+        };
+        let gv = dense_rows(&mut sys.graph, &gvv, &v_slots);
+        let gq = dense_rows(&mut sys.graph, &g, &q_slots);
+        // γ = Σ_k ∂(G_v v)/∂q_k · (K v)_k
+        let gamma = gvv
+            .iter()
+            .map(|&e| {
+                let terms: Vec<Expr> = sparse_row(&mut sys.graph, e, &q_slots)
+                    .into_iter()
+                    .map(|(k, d)| sys.graph.mul(d, sys.kinematics[k]))
+                    .collect();
+                sys.graph.sum(&terms)
+            })
+            .collect();
         ConstraintExprs {
             g,
             gq,
@@ -67,6 +71,34 @@ impl ConstraintExprs {
             gamma,
         }
     }
+}
+
+/// `(k, ∂e/∂x_{slots[k]})` for every `k` whose slot `e` mentions, `k` ascending (derivatives
+/// that simplify to zero included, as a dense loop over all `k` would give them). `slots` is
+/// ascending.
+fn sparse_row(graph: &mut ExprGraph, e: Expr, slots: &[u32]) -> Vec<(usize, Expr)> {
+    debug_assert!(slots.windows(2).all(|w| w[0] < w[1]));
+    graph
+        .vars(e)
+        .into_iter()
+        .filter_map(|v| slots.binary_search(&v).ok())
+        .map(|k| (k, graph.diff(e, slots[k])))
+        .collect()
+}
+
+/// The Jacobian `∂rows/∂x_slots` as dense rows: the zero expression wherever a row does not
+/// mention the slot (which is what differentiating it would give), derived only where it does.
+fn dense_rows(graph: &mut ExprGraph, rows: &[Expr], slots: &[u32]) -> Vec<Vec<Expr>> {
+    let zero = graph.zero();
+    rows.iter()
+        .map(|&e| {
+            let mut row = vec![zero; slots.len()];
+            for (k, d) in sparse_row(graph, e, slots) {
+                row[k] = d;
+            }
+            row
+        })
+        .collect()
 }
 
 /// Numeric tapes over the state layout `[t, q, v]`.

@@ -9,12 +9,14 @@
 //! * [`partitioned`]: the degrees of freedom as ODE states (dependent coordinates by Newton).
 //! * [`decoupled`]: the stiff-spring twin (seed 16.6), an ODE for CVODE.
 //! * [`raw_graph`]: the velocity-level index-2 and index-1 DAEs (or the ODE) of a raw bond graph.
+//! * [`gram`]: sparse `G W Gᵀ` with its Cholesky factor (the consistent start of large mechanisms).
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
 pub mod compiled;
 pub mod decoupled;
 pub mod formulation;
 pub mod ggl;
+pub mod gram;
 pub mod index1;
 pub mod init;
 pub mod mechanics;

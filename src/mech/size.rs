@@ -2,8 +2,9 @@
 //! model far beyond the machine (6000 free bodies) is refused with a message naming the limit
 //! instead of aborting out of memory halfway through.
 //!
-//! Today every formulation factors a **dense** Newton matrix, and the consistent start solves
-//! the dense `[M G_vᵀ; G_v 0]` by an SVD; both grow as the square of the unknowns:
+//! With the dense linear solver every formulation factors a **dense** Newton matrix, and the
+//! consistent start always solves the dense `[M G_vᵀ; G_v 0]` by an SVD; both grow as the
+//! square of the unknowns:
 //!
 //! | what | unknowns | dense copies |
 //! |---|---|---|
@@ -12,17 +13,34 @@
 //! | consistent start (SVD) | `nv + nc` | 4 (matrix, its copy, `U`, `Vᵀ`) |
 //!
 //! The estimate is the larger of the start and the chosen formulation's matrices, plus about
-//! 4 KiB per unknown for the symbolic equations and tapes. When a sparse linear solver comes,
-//! the dense terms become its fill; chains of a few hundred bodies (a 500-link pendulum needs
-//! about 0.2 GiB) are far from the limit either way.
+//! 4 KiB per unknown for the symbolic equations and tapes. With a sparse linear solver
+//! (`solve.linear_solver` `sparse`/`klu`, or `auto` from
+//! [`LinearSolverKind::AUTO_SPARSE_UNKNOWNS`] unknowns on) the Newton matrix is stored in
+//! compressed sparse columns: its term is [`SPARSE_BYTES_PER_UNKNOWN`] per unknown (entries,
+//! their row indices and the LU factors' fill), linear in the size instead of quadratic. The
+//! consistent start of a large mechanism takes sparse Cholesky factorisations when its joints
+//! have full rank ([`crate::dae::init::SPARSE_START_UNKNOWNS`]), but falls back to the dense
+//! SVD with redundant joints, which the scene does not tell; the estimate keeps that dense
+//! fallback, so it then bounds the size accepted: for planar chains
+//! (`nv + nc = 5 N`, `n = 10 N`) its `4 (nv + nc)²` equals the dense Newton matrix's `n²`, for
+//! spatial hinge chains (`nv + nc = 11 N`, `n = 23 N`) it is 9 % less. Chains of a few hundred
+//! bodies (a 500-link pendulum needs about 0.2 GiB) are far from the limit either way.
 
 use crate::scene::{Dimension, Formulation, JointKind, Scene};
+use crate::solve::LinearSolverKind;
 
 /// Fraction of the available memory a model may plan to use.
 pub const MEMORY_FRACTION: f64 = 0.8;
 
 /// Bytes per unknown assumed for the symbolic equations, their derivatives and the tapes.
 pub const SYMBOLIC_BYTES_PER_UNKNOWN: f64 = 4096.0;
+
+/// Bytes per unknown of a sparse Newton matrix: its entries (≤ 16 per row on the mechanisms'
+/// GGL matrices: a coordinate row holds `q'`, `K(q) v` and `G_qᵀ μ` of the joints at its body;
+/// a velocity row `v'`, the force's dependencies and `G_vᵀ λ`) at 8 bytes of value and 8 of
+/// row index, twice (SUNDIALS' CSC matrix and the solver's copy), and the LU factors with a
+/// fill up to 16 times the matrix's: `16 · 16 · (2 + 16) ≈ 4.6 KiB`, rounded up to 8 KiB.
+pub const SPARSE_BYTES_PER_UNKNOWN: f64 = 8192.0;
 
 /// The sizes of a scene's model and the memory its largest dense matrices need.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,7 +65,7 @@ pub struct MemoryEstimate {
 #[non_exhaustive]
 pub enum SizeError {
     /// The estimate exceeds [`MEMORY_FRACTION`] of the memory available.
-    #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this machine has {} available (/proc/meminfo MemAvailable); limit: {:.0} % of it (the linear solver is dense: memory grows as the square of the unknowns)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), MEMORY_FRACTION * 100.0)]
+    #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this machine has {} available (/proc/meminfo MemAvailable); limit: {:.0} % of it (dense matrices grow as the square of the unknowns; solve.linear_solver \"sparse\" stores the Newton matrix sparse, the consistent start stays dense)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), MEMORY_FRACTION * 100.0)]
     TooLarge {
         /// The estimate.
         estimate: Box<MemoryEstimate>,
@@ -60,10 +78,23 @@ fn gib(bytes: f64) -> String {
     format!("{:.1} GiB", bytes / (1u64 << 30) as f64)
 }
 
-/// Estimates the memory a scene needs when solved with `formulation` (see the module
-/// documentation): the consistent start and the Newton matrix of that formulation. A raw bond
-/// graph is estimated from its element count (at most two unknowns per element).
+/// Estimates the memory a scene needs when solved with `formulation` and the scene's own
+/// `solve.linear_solver` (see [`estimate_memory_with`]).
 pub fn estimate_memory(scene: &Scene, formulation: Formulation) -> MemoryEstimate {
+    estimate_memory_with(scene, formulation, scene.solve.linear_solver)
+}
+
+/// Estimates the memory a scene needs when solved with `formulation` and `linear_solver` (see
+/// the module documentation): the consistent start and the Newton matrix of that formulation,
+/// dense (`8 n²` bytes, twice for CVODE's saved Jacobian) or sparse
+/// ([`SPARSE_BYTES_PER_UNKNOWN`]` · n`) as `linear_solver` resolves for its `n` unknowns. A
+/// raw bond graph is estimated from its element count (at most two unknowns per element) and
+/// always dense (raw bond graphs use the dense solver).
+pub fn estimate_memory_with(
+    scene: &Scene,
+    formulation: Formulation,
+    linear_solver: LinearSolverKind,
+) -> MemoryEstimate {
     let spatial = scene.dimension == Dimension::Spatial;
     let nb = scene.bodies.len();
     let (mut nq, mut nv) = if spatial {
@@ -93,14 +124,29 @@ pub fn estimate_memory(scene: &Scene, formulation: Formulation) -> MemoryEstimat
     }
     let sq = |n: usize| (n as f64) * (n as f64) * 8.0;
     let ggl = nq + nv + 2 * nc;
-    let newton = if formulation == Formulation::Decoupled {
-        (
+    let raw = scene.bond_graph.is_some();
+    let sparse = |n: usize| !raw && linear_solver.resolve(n).is_some();
+    let newton = match (
+        formulation == Formulation::Decoupled,
+        sparse(nq + nv),
+        sparse(ggl),
+    ) {
+        (true, true, _) => (
+            nq + nv,
+            SPARSE_BYTES_PER_UNKNOWN * (nq + nv) as f64,
+            "the sparse Newton matrix and its LU of the decoupled twin on CVODE",
+        ),
+        (true, false, _) => (
             nq + nv,
             2.0 * sq(nq + nv),
             "the dense Newton matrix and saved Jacobian of the decoupled twin on CVODE",
-        )
-    } else {
-        (ggl, sq(ggl), "the dense Newton matrix of the DAE on IDA")
+        ),
+        (false, _, true) => (
+            ggl,
+            SPARSE_BYTES_PER_UNKNOWN * ggl as f64,
+            "the sparse Newton matrix and its LU of the DAE on IDA",
+        ),
+        (false, _, false) => (ggl, sq(ggl), "the dense Newton matrix of the DAE on IDA"),
     };
     let candidates = [
         newton,
@@ -145,8 +191,8 @@ pub fn check_memory(estimate: &MemoryEstimate, available: Option<u64>) -> Result
     }
 }
 
-/// [`check_memory`] of the scene's [`estimate_memory`] with `formulation` against this
-/// machine's [`available_memory`]. [`Model::new`](crate::Model::new) calls it with the scene's
+/// [`check_memory`] of the scene's [`estimate_memory`] with `formulation` (and the scene's
+/// `solve.linear_solver`) against this machine's [`available_memory`]. [`Model::new`](crate::Model::new) calls it with the scene's
 /// own `solve.formulation`; a caller that solves with another (`--formulation decoupled`) calls
 /// it again with that one.
 pub fn check_scene_memory(scene: &Scene, formulation: Formulation) -> Result<(), SizeError> {

@@ -59,6 +59,11 @@ fn solve_params() -> Vec<Value> {
             json!({"type": "number", "exclusiveMinimum": 0}),
         ),
         query(
+            "linear_solver",
+            "Linear solver of the Newton iterations (solve.linear_solver): auto (dense below 30 unknowns, faer's sparse LU from there), dense, sparse (alias faer) or klu.",
+            json!({"type": "string", "enum": ["auto", "dense", "sparse", "faer", "klu"]}),
+        ),
+        query(
             "reactions",
             "Add every joint's reaction columns (as \"outputs\": [\"reactions\"]).",
             json!({"type": "boolean", "default": false}),

@@ -18,7 +18,7 @@ use super::pool::StopFlags;
 use super::problem::Problem;
 use crate::scene::{Formulation, Scene, SolveOverrides};
 use crate::sundials::SolverError;
-use crate::{Error, Model, Solution, SolveOptions};
+use crate::{Error, LinearSolverKind, Model, Solution, SolveOptions};
 
 /// Query parameters, each at most once, from a fixed list per route.
 pub struct Params(BTreeMap<String, String>);
@@ -107,14 +107,15 @@ pub fn invalid_value(parameter: &str, detail: impl Into<String>) -> Problem {
 #[derive(Clone, Debug, Default)]
 pub struct SolveParams {
     /// `formulation`, `rtol`, `atol`, `t_end`, `joint_stiffness`, `max_steps`,
-    /// `max_wall_seconds` (the server's limit still applies when it is smaller).
+    /// `max_wall_seconds` (the server's limit still applies when it is smaller),
+    /// `linear_solver` (`auto`, `dense`, `sparse` or `faer`, `klu`).
     pub overrides: SolveOverrides,
     /// `reactions=true`: every joint's reaction columns, as `"outputs": ["reactions"]`.
     pub reactions: bool,
 }
 
 /// Query parameters shared by `/v1/run` and `/v1/compare` (the command line's solve flags).
-pub const SOLVE_PARAMS: [&str; 8] = [
+pub const SOLVE_PARAMS: [&str; 9] = [
     "rtol",
     "atol",
     "t_end",
@@ -122,12 +123,13 @@ pub const SOLVE_PARAMS: [&str; 8] = [
     "joint_stiffness",
     "max_steps",
     "max_wall_seconds",
+    "linear_solver",
     "reactions",
 ];
 
 impl SolveParams {
     /// Reads the solve parameters (400 when a number does not parse; 422 for an unknown
-    /// formulation or a `max_steps` that is not a whole number). Their ranges are the scene's,
+    /// formulation or linear solver, or a `max_steps` that is not a whole number). Their ranges are the scene's,
     /// checked by [`SolveParams::apply_to_scene`].
     pub fn from(p: &Params) -> Result<SolveParams, Problem> {
         let max_steps = match p.number("max_steps")? {
@@ -149,6 +151,17 @@ impl SolveParams {
                 )
             })?),
         };
+        let linear_solver = match p.text("linear_solver") {
+            None => None,
+            Some(l) => Some(LinearSolverKind::parse(l).ok_or_else(|| {
+                invalid_value(
+                    "linear_solver",
+                    format!(
+                        "linear_solver: unknown '{l}' (expected auto, dense, sparse, faer or klu)"
+                    ),
+                )
+            })?),
+        };
         Ok(SolveParams {
             overrides: SolveOverrides {
                 formulation,
@@ -158,7 +171,7 @@ impl SolveParams {
                 joint_stiffness: p.number("joint_stiffness")?,
                 max_steps,
                 max_wall_seconds: p.number("max_wall_seconds")?,
-                linear_solver: None,
+                linear_solver,
             },
             reactions: p.flag("reactions")?.unwrap_or(false),
         })

@@ -48,6 +48,8 @@ pub use error::{CallbackError, CallbackResult, SolverError};
 pub use ida::Ida;
 pub use matrix::DenseMatrixMut;
 pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
-pub use sparse::{CscPattern, FaerCounters, SparseMatrixMut, SparseSolver};
+pub use sparse::{
+    solve_direct, CscPattern, DirectSolver, FaerCounters, SparseMatrixMut, SparseSolver,
+};
 pub use stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 pub use version::{header_version, version};

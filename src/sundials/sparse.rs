@@ -477,3 +477,107 @@ pub(crate) fn faer_counters(ls: &LinearSolver) -> Option<FaerCounters> {
         Some((*((*s).content as *const FaerLu)).counters)
     }
 }
+
+// --- one-off solves -------------------------------------------------------------------------
+
+/// A direct solver for [`solve_direct`]: SUNDIALS' dense LU, or one of the sparse LUs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectSolver {
+    /// `SUNLinSol_Dense` (LAPACK-style partial-pivoting LU on the full `n × n` matrix).
+    Dense,
+    /// A sparse LU on the CSC matrix.
+    Sparse(SparseSolver),
+}
+
+/// Solves `A x = b` once with the same `SUNLinearSolver` the integrators use for `kind`
+/// (`SUNLinSol_Dense`, our faer wrapper or `SUNLinSol_KLU`), calling its `initialize`,
+/// `setup` (the factorisation `P A Q = L U`) and `solve` ops as IDA and CVODE do. `A` has the
+/// sparsity `pattern` and the entries `values` (in pattern order); the dense solver receives
+/// the same entries scattered into a zeroed `n × n` matrix. Used by the tests to compare the
+/// three factorisations of one Newton matrix.
+pub fn solve_direct(
+    kind: DirectSolver,
+    pattern: &CscPattern,
+    values: &[f64],
+    b: &[f64],
+) -> Result<Vec<f64>, SolverError> {
+    let n = pattern.n();
+    if values.len() != pattern.nnz() || b.len() != n || n == 0 {
+        return Err(SolverError::InvalidInput(format!(
+            "solve_direct: {} values and {} right-hand sides for a {n} × {n} pattern with {} entries",
+            values.len(),
+            b.len(),
+            pattern.nnz()
+        )));
+    }
+    // Drop order (reverse of declaration): solver, matrix, vectors, then the context.
+    let ctx = Context::new()?;
+    let rhs = NVector::from_slice(&ctx, b)?;
+    let mut x = NVector::from_slice(&ctx, b)?;
+    let (matrix, solver): (Box<dyn AsRawMatrix>, LinearSolver) = match kind {
+        DirectSolver::Dense => {
+            let a = super::matrix::DenseMatrix::square(&ctx, n)?;
+            // SAFETY: `a` is a live n × n dense matrix owned here; the view ends in this block.
+            let mut view = unsafe { super::matrix::DenseMatrixMut::from_raw(a.raw()) };
+            view.fill_zero();
+            for j in 0..n {
+                let (a, b) = (pattern.colptr()[j], pattern.colptr()[j + 1]);
+                for (&r, &v) in pattern.rowidx()[a..b].iter().zip(&values[a..b]) {
+                    view.add(r, j, v);
+                }
+            }
+            let ls = LinearSolver::dense(&ctx, &rhs, &a)?;
+            (Box::new(a), ls)
+        }
+        DirectSolver::Sparse(s) => {
+            let a = SparseMatrix::new(&ctx, pattern)?;
+            // SAFETY: `a` is a live CSC matrix holding `pattern`; the view ends in this block.
+            unsafe { values_of(a.raw(), pattern) }.copy_from_slice(values);
+            let ls = new_sparse_solver(&ctx, &rhs, &a, s)?;
+            (Box::new(a), ls)
+        }
+    };
+    let flag_error = |function: &'static str, flag: c_int| SolverError::Flag {
+        function,
+        flag,
+        name: format!("SUNLS flag {flag}"),
+        t: f64::NAN,
+    };
+    // SAFETY: solver, matrix and vectors are live, of size n and built on `ctx`; `x` and
+    // `rhs` are distinct vectors; the ops are called in the order the integrators use.
+    unsafe {
+        let flag = sys::SUNLinSolInitialize(solver.raw());
+        if flag != 0 {
+            return Err(flag_error("SUNLinSolInitialize", flag));
+        }
+        let flag = sys::SUNLinSolSetup(solver.raw(), matrix.raw_matrix());
+        if flag != 0 {
+            return Err(flag_error("SUNLinSolSetup", flag));
+        }
+        let flag = sys::SUNLinSolSolve(solver.raw(), matrix.raw_matrix(), x.raw(), rhs.raw(), 0.0);
+        if flag != 0 {
+            return Err(flag_error("SUNLinSolSolve", flag));
+        }
+    }
+    let out = x.as_mut_slice().to_vec();
+    drop(solver);
+    drop(matrix);
+    Ok(out)
+}
+
+/// The raw `SUNMatrix` of an owned dense or sparse matrix.
+trait AsRawMatrix {
+    fn raw_matrix(&self) -> sys::SUNMatrix;
+}
+
+impl AsRawMatrix for SparseMatrix {
+    fn raw_matrix(&self) -> sys::SUNMatrix {
+        self.raw
+    }
+}
+
+impl AsRawMatrix for super::matrix::DenseMatrix {
+    fn raw_matrix(&self) -> sys::SUNMatrix {
+        self.raw()
+    }
+}
