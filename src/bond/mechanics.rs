@@ -761,11 +761,12 @@ fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations) -> Res<()> {
         let mut terms = Vec::new();
         let t = eg.diff(e, 0);
         terms.push(t);
-        for k in 0..nq {
-            let s = (1 + k) as u32;
-            if eg.depends_on(e, s) {
+        // only the coordinates the expression mentions (linear in the mechanism's size)
+        for s in eg.vars(e) {
+            let k = s as usize;
+            if (1..=nq).contains(&k) {
                 let d = eg.diff(e, s);
-                terms.push(eg.mul(d, eqs.kinematics[k]));
+                terms.push(eg.mul(d, eqs.kinematics[k - 1]));
             }
         }
         eg.sum(&terms)

@@ -509,11 +509,12 @@ fn rate_terms(
     text: &dyn Fn(&ExprGraph, Expr) -> String,
 ) -> Vec<(ElementId, String)> {
     let mut terms = Vec::new();
-    for i in 0..nq {
-        let s = (1 + i) as u32;
-        if eg.depends_on(h, s) {
+    // the coordinates `h` mentions, in slot order (linear in the mechanism's size)
+    for s in eg.vars(h) {
+        let i = s as usize;
+        if (1..=nq).contains(&i) {
             let d = eg.diff(h, s);
-            terms.push(eg.mul(d, sys.kinematics[i]));
+            terms.push(eg.mul(d, sys.kinematics[i - 1]));
         }
     }
     let rate = eg.sum(&terms);
@@ -530,9 +531,12 @@ fn velocity_terms(
     text: &dyn Fn(&ExprGraph, Expr) -> String,
 ) -> Vec<(ElementId, String)> {
     let mut out = Vec::new();
-    for (j, &junction) in junctions.iter().enumerate() {
-        let s = (1 + nq + j) as u32;
-        if eg.depends_on(rate, s) {
+    // the velocities `rate` mentions, in slot order
+    for s in eg.vars(rate) {
+        let Some(j) = (s as usize).checked_sub(1 + nq) else {
+            continue;
+        };
+        if let Some(&junction) = junctions.get(j) {
             let m = eg.diff(rate, s);
             out.push((junction, text(eg, m)));
         }
