@@ -4,8 +4,10 @@
 # at rtol 1e-6 … 1e-10 (atol = rtol/100). The errors at those tolerances (deterministic: the
 # same solves) and the limit (the minimal-coordinate model on CVODE BDF, timed in a hot loop of
 # repeated solves in one process) come from `cargo bench --bench partitioned_speed`.
+# Usage: partitioned_hard_way.sh [auto|adams|bdf|erk]   (solve.integrator, default auto)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+integrator="${1:-auto}"
 cargo build --release --bin bondmech
 summary=$(mktemp)
 for scene in double_pendulum slider_crank; do
@@ -15,7 +17,8 @@ for scene in double_pendulum slider_crank; do
     cpus=()
     for _ in 1 2 3 4 5; do
       ./target/release/bondmech run "scenes/$scene.json" --formulation partitioned \
-        --rtol "$rtol" --atol "$atol" --out /dev/null --summary "$summary"
+        --rtol "$rtol" --atol "$atol" --set "solve.integrator=\"$integrator\"" \
+        --out /dev/null --summary "$summary"
       cpus+=("$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['cpu_seconds'])" "$summary")")
     done
     median=$(printf '%s\n' "${cpus[@]}" | sort -g | sed -n 3p)
