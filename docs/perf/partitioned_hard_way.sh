@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 integrator="${1:-auto}"
-cargo build --release --bin bondmech
+[ -n "${SKIP_BUILD:-}" ] || nice -n 10 cargo build --release --bin bondmech
 summary=$(mktemp)
 for scene in double_pendulum slider_crank; do
   for e in 6 7 8 9 10; do

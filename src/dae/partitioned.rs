@@ -277,6 +277,8 @@ pub struct PartitionedRhs {
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
     have_prev: bool,
+    /// `bv` holds `B = G_D⁻¹ G_I` of the last completed call (else the raw `G_v[:, I]`).
+    b_ready: bool,
     mhat: Vec<f64>,
     pm: Vec<usize>,
     tmp: Vec<f64>,
@@ -313,6 +315,7 @@ impl PartitionedRhs {
             bv: vec![0.0; nc * niv],
             qi_prev: vec![0.0; niq],
             have_prev: false,
+            b_ready: false,
             mhat: vec![0.0; niv * niv],
             pm: vec![0; niv],
             tmp: vec![0.0; nc.max(niv)],
@@ -356,15 +359,28 @@ impl PartitionedRhs {
             }
         }
         if self.have_prev && nc > 0 {
-            // tangent predictor with the last factorisation
-            for k in 0..nc {
-                let mut s = 0.0;
-                for l in 0..niq {
-                    s += self.bq[k * niq + l] * (y[l] - self.qi_prev[l]);
+            // tangent predictor Δq_D = −G_D⁻¹ G_I Δq_I: with `B = G_D⁻¹ G_I` of the last call
+            // when G_v = G_q (no solve), else with the last factorisation of G_q[:, D]
+            if self.sys.gv_is_gq && self.b_ready && self.part.dep_q == self.part.dep_v {
+                for k in 0..nc {
+                    let row = &self.bv[k * niq..(k + 1) * niq];
+                    self.tmp[k] = row
+                        .iter()
+                        .zip(&y[..niq])
+                        .zip(&self.qi_prev)
+                        .map(|((b, yl), pl)| b * (yl - pl))
+                        .sum();
                 }
-                self.tmp[k] = s;
+            } else {
+                for k in 0..nc {
+                    let mut s = 0.0;
+                    for l in 0..niq {
+                        s += self.bq[k * niq + l] * (y[l] - self.qi_prev[l]);
+                    }
+                    self.tmp[k] = s;
+                }
+                lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             }
-            lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             for (k, &i) in dq.iter().enumerate() {
                 self.vars[1 + i] -= self.tmp[k];
                 predicted = predicted.max(self.tmp[k].abs());
@@ -460,16 +476,7 @@ impl PartitionedRhs {
         let (gamma, kv) = rest.split_at(nc);
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
         let m = &self.sys.mass;
-        // B = G_D⁻¹ G_I (column by column), c = G_D⁻¹ γ
-        for l in 0..niv {
-            for k in 0..nc {
-                self.tmp[k] = self.bv[k * niv + l];
-            }
-            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
-            for k in 0..nc {
-                self.bv[k * niv + l] = self.tmp[k];
-            }
-        }
+        // B = G_D⁻¹ G_I is ready (`complete`); c = G_D⁻¹ γ
         self.c.copy_from_slice(gamma);
         lu_solve(&self.jv, nc, &self.pv, &mut self.c);
         // M̂ = M_I + Bᵀ M_D B,  r = Q_I − Bᵀ (Q_D + M_D c)
@@ -527,10 +534,11 @@ impl PartitionedRhs {
         if nc == 0 {
             return Ok(());
         }
+        self.b_ready = false;
         if self.sys.gv_is_gq && self.part.dep_q == self.part.dep_v {
-            // G_v = G_q, and Newton's last factorisation of G_q[:, D] (at a point
-            // within the Newton tolerance of the converged q) serves the velocity level too,
-            // without the G_v tape and a second LU
+            // G_v = G_q, and Newton's last factorisation of G_q[:, D] (at a point within the
+            // Newton tolerance of the converged q) serves the velocity level too, without the
+            // G_v tape and a second LU
             self.jv.copy_from_slice(&self.jq);
             self.pv.copy_from_slice(&self.pq);
             self.bv.copy_from_slice(&self.bq);
@@ -556,6 +564,18 @@ impl PartitionedRhs {
                 condition: self.condition_estimate,
             });
         }
+        // B = G_D⁻¹ G_I (column by column): the velocities v_D = −B v_I, the reduced equations
+        // and the next call's tangent predictor
+        for l in 0..niv {
+            for k in 0..nc {
+                self.tmp[k] = self.bv[k * niv + l];
+            }
+            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
+            for k in 0..nc {
+                self.bv[k * niv + l] = self.tmp[k];
+            }
+        }
+        self.b_ready = true;
         for k in 0..nc {
             let mut s = 0.0;
             for (l, &j) in iv.iter().enumerate() {
@@ -563,7 +583,6 @@ impl PartitionedRhs {
             }
             self.tmp[k] = -s;
         }
-        lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
         for (k, &j) in dv.iter().enumerate() {
             self.vars[1 + nq + j] = self.tmp[k];
         }

@@ -1069,9 +1069,7 @@ fn run_ggl(
             if emit(&mut sol, observer, step.t, row) {
                 break;
             }
-            if error_test.active
-                && error_test.check(&gv_at(step.t, solver.ida.y()), solver.eps())
-            {
+            if error_test.active && error_test.check(&gv_at(step.t, solver.ida.y()), solver.eps()) {
                 solver.ida.set_id(&error_test.id())?;
             }
             // while compliant, every further singular passage shows as a peak of κ
