@@ -121,8 +121,13 @@ pub struct PartitionedSystem {
     dynamics: Tape,
     /// Diagonal of `M`.
     mass: Vec<f64>,
-    /// `q' = v` (then `G_q = G_v` and one block serves both levels).
+    /// `q' = v` (then the dependent coordinates are the dependent velocities).
     identity_kinematics: bool,
+    /// `q' = v` and the velocity rows are `G_q v` term by term (the same expressions: `G_v`
+    /// is `G_q`, the velocity rows `d/dt g`): one factorisation of `G_q[:, D]` serves both
+    /// levels. Flow rows written otherwise (e.g. in a body's axes, `T(q) G_q v`) have their own
+    /// `G_v` and `γ`, and keep their own tape.
+    gv_is_gq: bool,
     /// Coordinates preferred as dependent (translations, as the seed's causality picks them).
     preferred_q: Vec<bool>,
     /// Velocities preferred as dependent.
@@ -139,6 +144,7 @@ impl PartitionedSystem {
                 let v = sys.graph.var(s);
                 sys.kinematics[i] == v
             });
+        let gv_is_gq = identity_kinematics && c.gq == c.gv;
         let mut pos: Vec<Expr> = c.g.clone();
         pos.extend(c.gq.iter().flatten().copied());
         let gv: Vec<Expr> = c.gv.iter().flatten().copied().collect();
@@ -153,6 +159,7 @@ impl PartitionedSystem {
             dynamics: sys.graph.compile(&dynamics),
             mass: sys.mass.clone(),
             identity_kinematics,
+            gv_is_gq,
             preferred_q: sys
                 .coords
                 .iter()
@@ -270,6 +277,8 @@ pub struct PartitionedRhs {
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
     have_prev: bool,
+    /// `bv` holds `B = G_D⁻¹ G_I` of the last completed call (else the raw `G_v[:, I]`).
+    b_ready: bool,
     mhat: Vec<f64>,
     pm: Vec<usize>,
     tmp: Vec<f64>,
@@ -280,6 +289,8 @@ pub struct PartitionedRhs {
     pub newton_iterations: u64,
     /// Condition estimate of the last `G_v[:, D]` factorised.
     pub condition_estimate: f64,
+    /// Condition estimate of the last `G_q[:, D]` factorised (Newton's last iteration).
+    condition_q: f64,
 }
 
 impl PartitionedRhs {
@@ -304,6 +315,7 @@ impl PartitionedRhs {
             bv: vec![0.0; nc * niv],
             qi_prev: vec![0.0; niq],
             have_prev: false,
+            b_ready: false,
             mhat: vec![0.0; niv * niv],
             pm: vec![0; niv],
             tmp: vec![0.0; nc.max(niv)],
@@ -311,6 +323,7 @@ impl PartitionedRhs {
             acc: vec![0.0; nv],
             newton_iterations: 0,
             condition_estimate: 1.0,
+            condition_q: 1.0,
             repartition_above: f64::INFINITY,
             max_newton: MAX_NEWTON_ITERATIONS,
             warm: WarmStart::Own,
@@ -346,15 +359,28 @@ impl PartitionedRhs {
             }
         }
         if self.have_prev && nc > 0 {
-            // tangent predictor with the last factorisation
-            for k in 0..nc {
-                let mut s = 0.0;
-                for l in 0..niq {
-                    s += self.bq[k * niq + l] * (y[l] - self.qi_prev[l]);
+            // tangent predictor Δq_D = −G_D⁻¹ G_I Δq_I: with `B = G_D⁻¹ G_I` of the last call
+            // when G_v = G_q (no solve), else with the last factorisation of G_q[:, D]
+            if self.sys.gv_is_gq && self.b_ready && self.part.dep_q == self.part.dep_v {
+                for k in 0..nc {
+                    let row = &self.bv[k * niq..(k + 1) * niq];
+                    self.tmp[k] = row
+                        .iter()
+                        .zip(&y[..niq])
+                        .zip(&self.qi_prev)
+                        .map(|((b, yl), pl)| b * (yl - pl))
+                        .sum();
                 }
-                self.tmp[k] = s;
+            } else {
+                for k in 0..nc {
+                    let mut s = 0.0;
+                    for l in 0..niq {
+                        s += self.bq[k * niq + l] * (y[l] - self.qi_prev[l]);
+                    }
+                    self.tmp[k] = s;
+                }
+                lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             }
-            lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             for (k, &i) in dq.iter().enumerate() {
                 self.vars[1 + i] -= self.tmp[k];
                 predicted = predicted.max(self.tmp[k].abs());
@@ -386,10 +412,11 @@ impl PartitionedRhs {
                 }
                 self.tmp[k] = g[k];
             }
-            if lu_factor(&mut self.jq, nc, &mut self.pq).is_none() {
+            let Some((big, small)) = lu_factor(&mut self.jq, nc, &mut self.pq) else {
                 self.have_prev = false;
                 return Err(PartitionError::SingularBlock { t });
-            }
+            };
+            self.condition_q = big / small;
             lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
             let mut step = 0.0f64;
             for (k, &i) in dq.iter().enumerate() {
@@ -449,16 +476,7 @@ impl PartitionedRhs {
         let (gamma, kv) = rest.split_at(nc);
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
         let m = &self.sys.mass;
-        // B = G_D⁻¹ G_I (column by column), c = G_D⁻¹ γ
-        for l in 0..niv {
-            for k in 0..nc {
-                self.tmp[k] = self.bv[k * niv + l];
-            }
-            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
-            for k in 0..nc {
-                self.bv[k * niv + l] = self.tmp[k];
-            }
-        }
+        // B = G_D⁻¹ G_I is ready (`complete`); c = G_D⁻¹ γ
         self.c.copy_from_slice(gamma);
         lu_solve(&self.jv, nc, &self.pv, &mut self.c);
         // M̂ = M_I + Bᵀ M_D B,  r = Q_I − Bᵀ (Q_D + M_D c)
@@ -516,25 +534,48 @@ impl PartitionedRhs {
         if nc == 0 {
             return Ok(());
         }
-        self.sys.gv.eval(&self.vars, &mut self.w_gv, &mut self.o_gv);
-        for k in 0..nc {
-            for (a, &j) in dv.iter().enumerate() {
-                self.jv[k * nc + a] = self.o_gv[k * nv + j];
+        self.b_ready = false;
+        if self.sys.gv_is_gq && self.part.dep_q == self.part.dep_v {
+            // G_v = G_q, and Newton's last factorisation of G_q[:, D] (at a point within the
+            // Newton tolerance of the converged q) serves the velocity level too, without the
+            // G_v tape and a second LU
+            self.jv.copy_from_slice(&self.jq);
+            self.pv.copy_from_slice(&self.pq);
+            self.bv.copy_from_slice(&self.bq);
+            self.condition_estimate = self.condition_q;
+        } else {
+            self.sys.gv.eval(&self.vars, &mut self.w_gv, &mut self.o_gv);
+            for k in 0..nc {
+                for (a, &j) in dv.iter().enumerate() {
+                    self.jv[k * nc + a] = self.o_gv[k * nv + j];
+                }
+                for (l, &j) in iv.iter().enumerate() {
+                    self.bv[k * niv + l] = self.o_gv[k * nv + j];
+                }
             }
-            for (l, &j) in iv.iter().enumerate() {
-                self.bv[k * niv + l] = self.o_gv[k * nv + j];
-            }
+            let Some((big, small)) = lu_factor(&mut self.jv, nc, &mut self.pv) else {
+                return Err(PartitionError::SingularBlock { t });
+            };
+            self.condition_estimate = big / small;
         }
-        let Some((big, small)) = lu_factor(&mut self.jv, nc, &mut self.pv) else {
-            return Err(PartitionError::SingularBlock { t });
-        };
-        self.condition_estimate = big / small;
         if self.condition_estimate > self.repartition_above {
             return Err(PartitionError::Repartition {
                 t,
                 condition: self.condition_estimate,
             });
         }
+        // B = G_D⁻¹ G_I (column by column): the velocities v_D = −B v_I, the reduced equations
+        // and the next call's tangent predictor
+        for l in 0..niv {
+            for k in 0..nc {
+                self.tmp[k] = self.bv[k * niv + l];
+            }
+            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
+            for k in 0..nc {
+                self.bv[k * niv + l] = self.tmp[k];
+            }
+        }
+        self.b_ready = true;
         for k in 0..nc {
             let mut s = 0.0;
             for (l, &j) in iv.iter().enumerate() {
@@ -542,7 +583,6 @@ impl PartitionedRhs {
             }
             self.tmp[k] = -s;
         }
-        lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
         for (k, &j) in dv.iter().enumerate() {
             self.vars[1 + nq + j] = self.tmp[k];
         }
@@ -576,6 +616,7 @@ impl PartitionedRhs {
 /// with row `k`. Returns the largest and smallest |pivot|, or `None` when a pivot is zero or
 /// not finite.
 pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Option<(f64, f64)> {
+    let a = &mut a[..n * n];
     let (mut big, mut small) = (0.0f64, f64::INFINITY);
     for k in 0..n {
         let mut p = k;
@@ -599,12 +640,15 @@ pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Option<(f64, f64
         let d = a[k * n + k];
         big = big.max(best);
         small = small.min(best);
-        for i in k + 1..n {
-            let f = a[i * n + k] / d;
-            a[i * n + k] = f;
+        // rows below k minus multiples of row k (slices: no bounds checks in the inner loop)
+        let (top, below) = a.split_at_mut((k + 1) * n);
+        let pivot_row = &top[k * n + k + 1..];
+        for row in below.chunks_exact_mut(n) {
+            let f = row[k] / d;
+            row[k] = f;
             if f != 0.0 {
-                for j in k + 1..n {
-                    a[i * n + j] -= f * a[k * n + j];
+                for (x, &p) in row[k + 1..].iter_mut().zip(pivot_row) {
+                    *x -= f * p;
                 }
             }
         }
@@ -617,19 +661,15 @@ pub fn lu_solve(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
     for k in 0..n {
         b.swap(k, piv[k]);
     }
-    for i in 0..n {
-        let mut s = b[i];
-        for j in 0..i {
-            s -= a[i * n + j] * b[j];
-        }
-        b[i] = s;
+    for i in 1..n {
+        let row = &a[i * n..i * n + i];
+        let s: f64 = row.iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
+        b[i] -= s;
     }
     for i in (0..n).rev() {
-        let mut s = b[i];
-        for j in i + 1..n {
-            s -= a[i * n + j] * b[j];
-        }
-        b[i] = s / a[i * n + i];
+        let row = &a[i * n + i + 1..(i + 1) * n];
+        let s: f64 = row.iter().zip(&b[i + 1..n]).map(|(x, y)| x * y).sum();
+        b[i] = (b[i] - s) / a[i * n + i];
     }
 }
 

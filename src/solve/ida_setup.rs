@@ -69,6 +69,7 @@ pub(crate) fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> 
             Some(t1) => 1e-4f64.min(0.1 * (t1 - opts.output_times[0]).abs()),
             None => 1e-4,
         }),
+        delta_cj_lsetup: opts.ida_delta_cj,
         ..IdaOptions::default()
     }
 }

@@ -206,17 +206,23 @@ pub struct SolveOptions {
     /// BDF stability limit detection for the decoupled twin (`CVodeSetStabLimDet`).
     pub twin_stab_lim_det: bool,
     /// GGL: keep the *dependent* velocities (the index-2 components that `G_v v = 0` fixes,
-    /// chosen at the start as the index-1 formulation chooses them) in IDA's error test.
-    /// Default `true`. `false` leaves them out (id 0 with suppressed algebraic error test):
-    /// on smooth runs that measured fewer steps *and* smaller position and velocity errors at
-    /// the same tolerance (`cargo bench --bench ggl_error_test`, rtol 1e-8: double pendulum
-    /// 2161 steps / 1.2e-6 against 2724 / 2.0e-6, slider-crank 5447 / 3.6e-6 against
-    /// 12 386 / 9.2e-5), but the set is chosen once, at the start, and where the mechanism
-    /// moves far from it (singular passages of four-bar chains, a spherical pendulum) step
-    /// control degrades and runs fail; with `false` the constraints also hold less tightly at
-    /// interpolated output times (double pendulum, rtol 1e-8: max |g| 2.3e-9 against 7.2e-10).
-    /// Opt-in for smooth, regular mechanisms.
+    /// chosen as the index-1 formulation chooses them) in IDA's error test. Default `true`.
+    /// `false` leaves them out (id 0 with suppressed algebraic error test), the set re-chosen
+    /// at the output times when its block `G_v[:, D]` degrades, and every velocity put back in
+    /// where no set is well conditioned and while the compliant GGL runs (see
+    /// `solve::run::GGL_ERROR_TEST_SINGULAR`; `summary.ggl_error_test_reselections` counts the
+    /// changes). Measured (`cargo bench --bench ggl_speed`, README): about half the steps at
+    /// the same tolerance on the double pendulum and the slider-crank, and 1.7× less CPU at
+    /// matched error. Not the default: plain GGL finds singular passages by failing near them,
+    /// and without the dependent velocities in its error test it steps through a four-bar
+    /// alignment without failing (tests/singular_fourbar_chain.rs: the first alignment, at
+    /// 0.7 s, went unnoticed and the error grew to 4e-4), and the Andrews squeezer misses its
+    /// 1e-7 reference at rtol 1e-10 (2e-7). Opt-in for smooth, regular mechanisms.
     pub ggl_dependent_velocity_error_test: bool,
+    /// IDA formulations (GGL, index 1): the relative change of `c_j = α/h` (IDA's Newton
+    /// matrix `∂F/∂y + c_j ∂F/∂y'`) beyond which IDA evaluates and factors a new Jacobian
+    /// (`IDASetDeltaCjLSetup`); `None` keeps SUNDIALS' 0.25.
+    pub ida_delta_cj: Option<f64>,
     /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
     pub linear_solver: LinearSolverKind,
     /// Integrator of the partitioned formulation (ignored by the others).
@@ -240,6 +246,7 @@ impl Default for SolveOptions {
             twin_max_order: None,
             twin_stab_lim_det: false,
             ggl_dependent_velocity_error_test: true,
+            ida_delta_cj: None,
             linear_solver: LinearSolverKind::Auto,
             integrator: Integrator::Auto,
         }

@@ -103,6 +103,9 @@ pub struct Summary {
     /// Times the partitioned formulation re-chose its dependent coordinates and velocities
     /// (its dependent block had degraded).
     pub partition_rechoices: u64,
+    /// Times the GGL re-chose the dependent velocities it leaves out of IDA's error test
+    /// (including switches to and from keeping every velocity in it).
+    pub ggl_error_test_reselections: u64,
     /// Integrator of the partitioned formulation (`adams`, `bdf` or `erk`; empty otherwise).
     pub integrator: String,
     /// Joint stiffness of the decoupled twin (0 otherwise).
@@ -607,6 +610,113 @@ fn preferred_dependent(sys: &MultibodySystem) -> Vec<bool> {
         .collect()
 }
 
+/// Which velocities the GGL leaves out of IDA's local error test
+/// (`SolveOptions::ggl_dependent_velocity_error_test = false`).
+///
+/// The velocity rows `G_v(q) v = 0` fix the dependent velocities `v_D` in terms of the others,
+/// `v_D = −G_v[:, D]⁻¹ G_v[:, I] v_I`: they are index-2 components, whose BDF error estimate
+/// measures the constraint's differentiation rather than the dynamics, so the error test
+/// weights them with 0 (IDA's `id` mask with suppressed algebraic error test). `D` is chosen as
+/// the index-1 formulation chooses it ([`select_dependent`]), and re-chosen at output times
+/// when `κ(G_v[:, D])` ([`dependent_condition`]) exceeds [`INDEX1_CHECK_CONDITION`] and a fresh
+/// choice is [`INDEX1_RESELECT_GAIN`] times better conditioned. Where no set is well
+/// conditioned (`κ(G_v[:, D]) >` [`GGL_ERROR_TEST_SINGULAR`], or no set exists), and while the
+/// compliant GGL runs (there `G_v v = ε λ`: the velocities are no longer fixed by the joints
+/// alone), every velocity is kept in the error test.
+struct DependentErrorTest {
+    /// Whether the exclusion was asked for.
+    active: bool,
+    /// The `id` of the formulation with every velocity in the error test.
+    base_id: Vec<f64>,
+    nq: usize,
+    preferred: Vec<bool>,
+    /// The velocities out of the error test (`None`: all in).
+    dependent: Option<Vec<usize>>,
+    /// Changes of the set after the first choice.
+    reselections: u64,
+    chosen_once: bool,
+}
+
+/// `κ(G_v[:, D])` above which the GGL keeps every velocity in its error test: the dependent
+/// velocities are then ill-determined by the joints (near a singular configuration), and
+/// leaving them out lets the step grow past what the independent ones can tell.
+pub const GGL_ERROR_TEST_SINGULAR: f64 = 1e3;
+
+impl DependentErrorTest {
+    fn new(active: bool, base_id: Vec<f64>, nq: usize, preferred: Vec<bool>) -> Self {
+        DependentErrorTest {
+            active,
+            base_id,
+            nq,
+            preferred,
+            dependent: None,
+            reselections: 0,
+            chosen_once: false,
+        }
+    }
+
+    /// The `id` vector for the current set.
+    fn id(&self) -> Vec<f64> {
+        let mut id = self.base_id.clone();
+        for &j in self.dependent.iter().flatten() {
+            id[self.nq + j] = 0.0;
+        }
+        id
+    }
+
+    /// A fresh choice at `G_v` with compliance `eps`; returns whether the set changed.
+    fn choose(&mut self, gv: &DMatrix<f64>, eps: f64) -> bool {
+        let fresh = if eps > 0.0 {
+            None
+        } else {
+            select_dependent(gv, &self.preferred)
+                .filter(|d| dependent_condition(gv, d) < GGL_ERROR_TEST_SINGULAR)
+        };
+        self.set(fresh)
+    }
+
+    fn set(&mut self, fresh: Option<Vec<usize>>) -> bool {
+        let changed = fresh != self.dependent;
+        if changed && self.chosen_once {
+            self.reselections += 1;
+        }
+        self.chosen_once = true;
+        self.dependent = fresh;
+        changed
+    }
+
+    /// The check at an output time: re-chooses when the current set has degraded (or is empty
+    /// and a set may exist again); returns whether the set changed.
+    fn check(&mut self, gv: &DMatrix<f64>, eps: f64) -> bool {
+        if eps > 0.0 {
+            return self.set(None);
+        }
+        match &self.dependent {
+            Some(d) => {
+                let cond = dependent_condition(gv, d);
+                if cond <= INDEX1_CHECK_CONDITION {
+                    return false;
+                }
+                match select_dependent(gv, &self.preferred) {
+                    Some(b) if b != *d => {
+                        let cb = dependent_condition(gv, &b);
+                        if cb * INDEX1_RESELECT_GAIN < cond && cb < GGL_ERROR_TEST_SINGULAR {
+                            self.set(Some(b))
+                        } else if cond > GGL_ERROR_TEST_SINGULAR {
+                            self.set(None)
+                        } else {
+                            false
+                        }
+                    }
+                    _ if cond > GGL_ERROR_TEST_SINGULAR => self.set(None),
+                    _ => false,
+                }
+            }
+            None => self.choose(gv, eps),
+        }
+    }
+}
+
 /// The GGL residual on IDA, with the compliance ε changeable between steps.
 struct GglIda {
     ida: Ida,
@@ -766,17 +876,18 @@ fn run_ggl(
     summary.solver = "IDA".into();
     summary.unknowns = ggl.dae.n;
     summary.linear_solver = opts.linear_solver.resolved_name(ggl.dae.n).into();
+    let mut error_test = DependentErrorTest::new(
+        !opts.ggl_dependent_velocity_error_test && nc > 0,
+        ggl.id.clone(),
+        nq,
+        preferred_dependent(sys),
+    );
     let mut ggl = ggl;
-    if !opts.ggl_dependent_velocity_error_test && nc > 0 {
-        // the index-2 components: out of the error test (see the option's documentation);
-        // with redundant rows there is no square dependent block, and all v stay in
+    if error_test.active {
         let gv =
             DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t0, &y0[..nq + nv]));
-        if let Some(dependent) = select_dependent(&gv, &preferred_dependent(sys)) {
-            for j in dependent {
-                ggl.id[nq + j] = 0.0;
-            }
-        }
+        error_test.choose(&gv, eps_start);
+        ggl.id = error_test.id();
     }
     let ggl = Arc::new(ggl);
     let clock = ThreadTime::now();
@@ -850,6 +961,9 @@ fn run_ggl(
                     let (y, yp) = restart_state(sys, &tapes, eps_switch, tr, &xr[..nq + nv])?;
                     total.accumulate(&solver.ida.stats());
                     solver.restart(eps_switch, tr, &y, &yp)?;
+                    if error_test.active && error_test.choose(&gv_at(tr, &y), eps_switch) {
+                        solver.ida.set_id(&error_test.id())?;
+                    }
                     compliant_since = Some(tr);
                     summary.warnings.push(format!(
                         "singular configuration at t = {tf:.6}: joints [{}] lose independence (κ = {:.1e}, {name}); continued with the compliant GGL (ε = {eps_switch:.1e}) from t = {tr}",
@@ -884,6 +998,9 @@ fn run_ggl(
             let row = out.row(step.t, solver.ida.y());
             if emit(&mut sol, observer, step.t, row) {
                 break;
+            }
+            if error_test.active && error_test.check(&gv_at(step.t, solver.ida.y()), solver.eps()) {
+                solver.ida.set_id(&error_test.id())?;
             }
             // while compliant, every further singular passage shows as a peak of κ
             if monitor && solver.eps() > 0.0 {
@@ -935,6 +1052,7 @@ fn run_ggl(
     total.accumulate(&solver.ida.stats());
     fill_stats(summary, &total);
     summary.recovered_failures = solver.ida.recovered_failures().to_vec();
+    summary.ggl_error_test_reselections = error_test.reselections;
     finish_ggl_summary(summary, &out, eps_start, eps_switch, compliant_time);
     set_completed(summary, &sol);
     sol.summary = summary.clone();

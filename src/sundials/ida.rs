@@ -446,6 +446,14 @@ impl Ida {
                     t0,
                 )?;
             }
+            if let Some(v) = opts.delta_cj_lsetup {
+                check(
+                    P,
+                    "IDASetDeltaCjLSetup",
+                    sys::IDASetDeltaCjLSetup(raw, v),
+                    t0,
+                )?;
+            }
         }
         Ok(Ida {
             mem,
@@ -639,6 +647,22 @@ impl Ida {
         // IDAReInit zeroes SUNDIALS' counters
         self.failures.conv = 0;
         self.failures.etf = 0;
+        Ok(())
+    }
+
+    /// Replaces the differential/algebraic marks `id` (1 differential, 0 algebraic) between
+    /// steps, without a restart: with `suppress_alg` set, IDA's local error test is the
+    /// weighted RMS norm masked by `id`, so this changes which components the next steps'
+    /// error test sees (IDA copies the vector).
+    pub fn set_id(&mut self, id: &[f64]) -> Result<(), SolverError> {
+        check_vector("id", id, self.data.n)?;
+        self.tmp.as_mut_slice().copy_from_slice(id);
+        // SAFETY: live IDA memory; `tmp` is an owned vector of length n, which IDASetId copies
+        // into IDA's own id vector (cloned on first use) before returning.
+        let flag = unsafe { sys::IDASetId(self.raw(), self.tmp.raw()) };
+        if flag < 0 {
+            return Err(self.fail("IDASetId", flag));
+        }
         Ok(())
     }
 

@@ -38,6 +38,11 @@ pub struct IdaOptions {
     pub max_conv_fails: Option<i32>,
     /// Maximum error test failures per step.
     pub max_err_test_fails: Option<i32>,
+    /// `IDASetDeltaCjLSetup`: IDA calls the linear solver setup (a new Jacobian and its
+    /// factorisation) when `|c_j/c_j,old − 1|` exceeds this (SUNDIALS default 0.25); between
+    /// setups the Newton iteration runs on the old matrix, its steps scaled by
+    /// `2/(1 + c_j/c_j,old)` (linear solution scaling).
+    pub delta_cj_lsetup: Option<f64>,
 }
 
 impl Default for IdaOptions {
@@ -58,6 +63,7 @@ impl Default for IdaOptions {
             max_nonlin_iters: None,
             max_conv_fails: None,
             max_err_test_fails: None,
+            delta_cj_lsetup: None,
         }
     }
 }

@@ -253,6 +253,8 @@ pub(super) fn run_partitioned(
     let newton_tol = newton_tolerance(opts, qscale);
     let multipliers = Multipliers::Unknowns(nq + nv);
     let mut out = OutputEval::new(&sys, tapes.clone(), &multipliers);
+    // output rows read the multipliers only for the reaction columns
+    let with_multipliers = sys.reaction_outputs;
     let events = event_eval(&sys, &tapes, &multipliers);
     let mut sol = Solution {
         columns: out.columns.clone(),
@@ -478,7 +480,15 @@ pub(super) fn run_partitioned(
                     return Err(stopped(e, sol, summary.clone(), last));
                 }
             };
-            let full = oc.full_with_multipliers(step.t, integ.y()).map_err(|e| {
+            // the multipliers (a full right-hand side and a transposed solve) only where the
+            // rows show them (reaction columns); otherwise positions and velocities suffice
+            let completed = if with_multipliers {
+                oc.full_with_multipliers(step.t, integ.y())
+            } else {
+                oc.complete(step.t, integ.y())
+                    .map(|()| oc.full_state().to_vec())
+            };
+            let full = completed.map_err(|e| {
                 Error::Solver(SolverError::InvalidInput(format!(
                     "partitioned: completing the output row: {e}"
                 )))

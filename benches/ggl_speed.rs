@@ -1,0 +1,253 @@
+//! Where GGL's time goes, change by change: the GGL DAE on the double pendulum and the
+//! slider-crank at matched error (the loosest rtol on a half-decade grid whose error against the
+//! minimal-coordinate reference, and that of every tighter grid point, is ≤ 1e-6), each variant
+//! against the hand-written minimal-coordinate model on CVODE BDF (the limit) in the same run:
+//!
+//! * `before` — every q and v in IDA's error test, SUNDIALS' Jacobian policy;
+//! * `no dependent v` — the dependent velocities out of the error test, re-chosen along the run
+//!   (`SolveOptions::ggl_dependent_velocity_error_test = false`);
+//! * `... + ΔcJ x` — and a new Jacobian only when `c_j` changes by more than `x`
+//!   (`SolveOptions::ida_delta_cj`, `IDASetDeltaCjLSetup`; SUNDIALS' default 0.25, and values
+//!   outside (0, 1) fall back to it).
+//!
+//! Prints rtol, error, steps, Jacobian evaluations, residual evaluations, CPU (median of 9) and
+//! the ratio to the limit; then criterion's timings of the same solves.
+//!
+//! Run with `cargo bench --bench ggl_speed`.
+
+#[path = "common/minimal.rs"]
+mod minimal;
+
+use std::time::Duration;
+
+use bondmech::report::sweep::median;
+use bondmech::sundials::Multistep;
+use bondmech::{FormulationKind, Model, Scene, SolveOptions};
+use criterion::Criterion;
+use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
+
+const TARGET: f64 = 1e-6;
+const REPEATS: usize = 9;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Variant {
+    Limit,
+    Ggl {
+        dependent_out: bool,
+        delta_cj: Option<f64>,
+    },
+}
+
+impl Variant {
+    fn label(self) -> String {
+        match self {
+            Variant::Limit => "minimal CVODE BDF".into(),
+            Variant::Ggl {
+                dependent_out: false,
+                delta_cj: None,
+            } => "ggl before".into(),
+            Variant::Ggl {
+                dependent_out,
+                delta_cj,
+            } => {
+                let mut s = String::from("ggl");
+                if dependent_out {
+                    s.push_str(" no dependent v");
+                }
+                if let Some(d) = delta_cj {
+                    s.push_str(&format!(" + ΔcJ {d}"));
+                }
+                s
+            }
+        }
+    }
+}
+
+struct Case {
+    name: &'static str,
+    model: Model,
+    minimal: MinimalModel,
+    times: Vec<f64>,
+    reference: Vec<Vec<f64>>,
+}
+
+struct Run {
+    error: f64,
+    cpu: f64,
+    steps: u64,
+    jac: u64,
+    res: u64,
+}
+
+fn options(case: &Case, dependent_out: bool, delta_cj: Option<f64>, rtol: f64) -> SolveOptions {
+    let mut o = case.model.default_options();
+    o.formulation = FormulationKind::Ggl;
+    o.rtol = rtol;
+    o.atol = rtol * 1e-2;
+    o.output_times = case.times.clone();
+    o.max_steps = Some(10_000_000);
+    o.ggl_dependent_velocity_error_test = !dependent_out;
+    o.ida_delta_cj = delta_cj;
+    o
+}
+
+fn run(case: &Case, v: Variant, rtol: f64) -> Option<Run> {
+    match v {
+        Variant::Limit => {
+            let r = solve_minimal(
+                &case.minimal,
+                Multistep::Bdf,
+                rtol,
+                rtol * 1e-2,
+                &case.times,
+            );
+            Some(Run {
+                error: max_difference(&r.rows, &case.reference),
+                cpu: r.cpu_seconds,
+                steps: r.steps,
+                jac: r.jacobian_evals,
+                res: 0,
+            })
+        }
+        Variant::Ggl {
+            dependent_out,
+            delta_cj,
+        } => {
+            let s = case
+                .model
+                .solve(&options(case, dependent_out, delta_cj, rtol))
+                .ok()?;
+            Some(Run {
+                error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
+                cpu: s.summary.cpu_seconds,
+                steps: s.summary.steps,
+                jac: s.summary.jacobian_evals,
+                res: s.summary.residual_evals,
+            })
+        }
+    }
+}
+
+/// The loosest rtol on a half-decade grid whose error, and that of every tighter grid point,
+/// is ≤ TARGET.
+fn matched_rtol(case: &Case, v: Variant) -> Option<f64> {
+    let grid: Vec<f64> = (0..=14)
+        .map(|i| 10f64.powf(-4.0 - 0.5 * i as f64))
+        .collect();
+    let errors: Vec<f64> = grid
+        .iter()
+        .map(|&r| run(case, v, r).map_or(f64::INFINITY, |x| x.error))
+        .collect();
+    let mut best = None;
+    for i in (0..grid.len()).rev() {
+        if errors[i] <= TARGET {
+            best = Some(grid[i]);
+        } else {
+            break;
+        }
+    }
+    best
+}
+
+fn case(name: &'static str, minimal: MinimalModel) -> Case {
+    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
+    let model = Model::new(&scene).expect("model builds");
+    let times = scene.output_times();
+    let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
+    Case {
+        name,
+        model,
+        minimal,
+        times,
+        reference: r.rows,
+    }
+}
+
+const VARIANTS: [Variant; 6] = [
+    Variant::Limit,
+    Variant::Ggl {
+        dependent_out: false,
+        delta_cj: None,
+    },
+    Variant::Ggl {
+        dependent_out: true,
+        delta_cj: None,
+    },
+    Variant::Ggl {
+        dependent_out: true,
+        delta_cj: Some(0.5),
+    },
+    Variant::Ggl {
+        dependent_out: true,
+        delta_cj: Some(0.9),
+    },
+    Variant::Ggl {
+        dependent_out: false,
+        delta_cj: Some(0.9),
+    },
+];
+
+fn table(case: &Case) -> Vec<(Variant, f64)> {
+    println!(
+        "\n{}: error target {TARGET:e}, CPU median of {REPEATS} runs",
+        case.name
+    );
+    println!(
+        "{:<28} {:>8} {:>10} {:>7} {:>6} {:>7} {:>10} {:>7}",
+        "variant", "rtol", "error", "steps", "jac", "res", "CPU (µs)", "ratio"
+    );
+    let mut limit = f64::NAN;
+    let mut chosen = Vec::new();
+    for v in VARIANTS {
+        let Some(rtol) = matched_rtol(case, v) else {
+            println!("{:<28} never within {TARGET:e}", v.label());
+            continue;
+        };
+        let mut cpu = Vec::new();
+        let mut last = None;
+        for _ in 0..REPEATS {
+            let r = run(case, v, rtol).expect("matched run solves");
+            cpu.push(r.cpu);
+            last = Some(r);
+        }
+        let r = last.expect("REPEATS > 0");
+        let med = median(&mut cpu);
+        if v == Variant::Limit {
+            limit = med;
+        }
+        println!(
+            "{:<28} {:>8.1e} {:>10.2e} {:>7} {:>6} {:>7} {:>10.0} {:>7.2}",
+            v.label(),
+            rtol,
+            r.error,
+            r.steps,
+            r.jac,
+            r.res,
+            med * 1e6,
+            med / limit
+        );
+        chosen.push((v, rtol));
+    }
+    chosen
+}
+
+fn main() {
+    let cases = [
+        case("double_pendulum", minimal::DOUBLE_PENDULUM),
+        case("slider_crank", minimal::SLIDER_CRANK),
+    ];
+    let chosen: Vec<_> = cases.iter().map(table).collect();
+    let mut crit = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .configure_from_args();
+    for (c, ch) in cases.iter().zip(&chosen) {
+        let mut g = crit.benchmark_group(format!("ggl_{}", c.name));
+        for &(v, rtol) in ch {
+            g.bench_function(v.label(), |b| b.iter(|| run(c, v, rtol)));
+        }
+        g.finish();
+    }
+    crit.final_summary();
+}

@@ -1,0 +1,221 @@
+//! The partitioned formulation at matched error, integrator by integrator, against the
+//! hand-written minimal-coordinate model on CVODE BDF (the limit) and on ARKODE's explicit
+//! Runge–Kutta, in one run: double pendulum (3 s, 301 outputs) and slider-crank (1 s, 1001
+//! outputs). Each method at the loosest rtol of 1e-4 … 1e-11 (half decades, atol = rtol/100)
+//! whose error against the minimal model on CVODE Adams at rtol 1e-12, and that of every
+//! tighter grid point, is ≤ 1e-6; CPU the median of 9 solves (`summary.cpu_seconds`:
+//! integration and output rows). Also the error at each decade rtol 1e-6 … 1e-10 of the
+//! automatic choice, for the process-level measurement (`docs/perf/partitioned_hard_way.sh`).
+//!
+//! Run with `cargo bench --bench partitioned_speed`.
+
+#[path = "common/minimal.rs"]
+mod minimal;
+
+use std::time::Duration;
+
+use bondmech::report::sweep::median;
+use bondmech::sundials::Multistep;
+use bondmech::{FormulationKind, Integrator, Model, Scene, SolveOptions};
+use criterion::Criterion;
+use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
+
+const TARGET: f64 = 1e-6;
+const REPEATS: usize = 9;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Method {
+    Limit,
+    MinimalErk,
+    Partitioned(Integrator),
+}
+
+impl Method {
+    fn label(self) -> String {
+        match self {
+            Method::Limit => "minimal CVODE BDF".into(),
+            Method::MinimalErk => "minimal ARKODE ERK".into(),
+            Method::Partitioned(i) => format!("partitioned {}", i.name()),
+        }
+    }
+}
+
+struct Case {
+    name: &'static str,
+    model: Model,
+    minimal: MinimalModel,
+    times: Vec<f64>,
+    reference: Vec<Vec<f64>>,
+}
+
+struct Run {
+    error: f64,
+    cpu: f64,
+    steps: u64,
+    evals: u64,
+    integrator: String,
+}
+
+fn options(case: &Case, i: Integrator, rtol: f64) -> SolveOptions {
+    let mut o = case.model.default_options();
+    o.formulation = FormulationKind::Partitioned;
+    o.integrator = i;
+    o.rtol = rtol;
+    o.atol = rtol * 1e-2;
+    o.output_times = case.times.clone();
+    o.max_steps = Some(10_000_000);
+    o
+}
+
+fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
+    match m {
+        Method::Limit | Method::MinimalErk => {
+            let r = if m == Method::Limit {
+                solve_minimal(
+                    &case.minimal,
+                    Multistep::Bdf,
+                    rtol,
+                    rtol * 1e-2,
+                    &case.times,
+                )
+            } else {
+                minimal::solve_minimal_erk(&case.minimal, rtol, rtol * 1e-2, &case.times)
+            };
+            Some(Run {
+                error: max_difference(&r.rows, &case.reference),
+                cpu: r.cpu_seconds,
+                steps: r.steps,
+                evals: 0,
+                integrator: String::new(),
+            })
+        }
+        Method::Partitioned(i) => {
+            let s = case.model.solve(&options(case, i, rtol)).ok()?;
+            Some(Run {
+                error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
+                cpu: s.summary.cpu_seconds,
+                steps: s.summary.steps,
+                evals: s.summary.residual_evals,
+                integrator: s.summary.integrator.clone(),
+            })
+        }
+    }
+}
+
+fn matched_rtol(case: &Case, m: Method) -> Option<f64> {
+    let grid: Vec<f64> = (0..=14)
+        .map(|i| 10f64.powf(-4.0 - 0.5 * i as f64))
+        .collect();
+    let errors: Vec<f64> = grid
+        .iter()
+        .map(|&r| run(case, m, r).map_or(f64::INFINITY, |x| x.error))
+        .collect();
+    let mut best = None;
+    for i in (0..grid.len()).rev() {
+        if errors[i] <= TARGET {
+            best = Some(grid[i]);
+        } else {
+            break;
+        }
+    }
+    best
+}
+
+fn case(name: &'static str, minimal: MinimalModel) -> Case {
+    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
+    let model = Model::new(&scene).expect("model builds");
+    let times = scene.output_times();
+    let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
+    Case {
+        name,
+        model,
+        minimal,
+        times,
+        reference: r.rows,
+    }
+}
+
+fn table(case: &Case) -> Vec<(Method, f64)> {
+    println!(
+        "\n{}: error target {TARGET:e}, CPU median of {REPEATS} runs",
+        case.name
+    );
+    println!(
+        "{:<24} {:>8} {:>10} {:>7} {:>7} {:>10} {:>7} {:>9}",
+        "method", "rtol", "error", "steps", "f evals", "CPU (µs)", "ratio", "/ min ERK"
+    );
+    let (mut limit, mut erk) = (f64::NAN, f64::NAN);
+    let mut chosen = Vec::new();
+    for m in [
+        Method::Limit,
+        Method::MinimalErk,
+        Method::Partitioned(Integrator::Auto),
+        Method::Partitioned(Integrator::Erk),
+        Method::Partitioned(Integrator::Adams),
+        Method::Partitioned(Integrator::Bdf),
+    ] {
+        let Some(rtol) = matched_rtol(case, m) else {
+            println!("{:<24} never within {TARGET:e}", m.label());
+            continue;
+        };
+        let mut cpu = Vec::new();
+        let mut last = None;
+        for _ in 0..REPEATS {
+            let r = run(case, m, rtol).expect("matched run solves");
+            cpu.push(r.cpu);
+            last = Some(r);
+        }
+        let r = last.expect("REPEATS > 0");
+        let med = median(&mut cpu);
+        match m {
+            Method::Limit => limit = med,
+            Method::MinimalErk => erk = med,
+            _ => {}
+        }
+        println!(
+            "{:<24} {:>8.1e} {:>10.2e} {:>7} {:>7} {:>10.0} {:>7.2} {:>9.2} {}",
+            m.label(),
+            rtol,
+            r.error,
+            r.steps,
+            r.evals,
+            med * 1e6,
+            med / limit,
+            med / erk,
+            r.integrator
+        );
+        chosen.push((m, rtol));
+    }
+    println!("partitioned auto, error at each decade (for the process-level measurement):");
+    for e in 6..=10 {
+        let rtol = 10f64.powi(-e);
+        if let Some(r) = run(case, Method::Partitioned(Integrator::Auto), rtol) {
+            println!(
+                "  rtol {rtol:.0e}: error {:.2e}, {} ({} steps)",
+                r.error, r.integrator, r.steps
+            );
+        }
+    }
+    chosen
+}
+
+fn main() {
+    let cases = [
+        case("double_pendulum", minimal::DOUBLE_PENDULUM),
+        case("slider_crank", minimal::SLIDER_CRANK),
+    ];
+    let chosen: Vec<_> = cases.iter().map(table).collect();
+    let mut crit = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .configure_from_args();
+    for (c, ch) in cases.iter().zip(&chosen) {
+        let mut g = crit.benchmark_group(format!("partitioned_{}", c.name));
+        for &(m, rtol) in ch {
+            g.bench_function(m.label(), |b| b.iter(|| run(c, m, rtol)));
+        }
+        g.finish();
+    }
+    crit.final_summary();
+}
