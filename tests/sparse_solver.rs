@@ -330,7 +330,7 @@ fn newton_matrices(scene: &str, model: &Model) -> Vec<NewtonMatrix> {
             .map(|f| (d, f))
     });
     let opts = model.default_options();
-    let twin = DecoupledFormulation::build(&mut sys, &c, opts.joint_stiffness, 0.0).ok();
+    let twin = DecoupledFormulation::build(&mut sys, opts.joint_stiffness, 0.0).ok();
     let mut out = Vec::new();
     for (t, y, yp, h) in &states {
         let cj = 1.0 / h;

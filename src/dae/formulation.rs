@@ -70,6 +70,13 @@ impl GglDae {
             compliance: AtomicU64::new(eps.to_bits()),
         }
     }
+    /// The GGL DAE of a shared formulation at compliance `eps`.
+    pub fn shared(formulation: Arc<GglFormulation>, eps: f64) -> Self {
+        GglDae {
+            formulation,
+            compliance: AtomicU64::new(eps.to_bits()),
+        }
+    }
     /// The current compliance `ε`.
     pub fn compliance(&self) -> f64 {
         f64::from_bits(self.compliance.load(Ordering::Relaxed))

@@ -10,7 +10,6 @@
 mod partitioned;
 
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use cpu_time::ThreadTime;
@@ -19,12 +18,12 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
-use super::ida_setup::{ida_options, make_ida};
+use super::ida_setup::make_ida;
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
     joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation,
-    GglFormulation, Index1Formulation, MechanicsTapes,
+    GglDae, GglFormulation, Index1Formulation, MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
@@ -718,9 +717,10 @@ impl DependentErrorTest {
 }
 
 /// The GGL residual on IDA, with the compliance ε changeable between steps.
+/// IDA on the GGL DAE whose compliance ε the runner switches at singular passages.
 struct GglIda {
     ida: Ida,
-    eps: Arc<AtomicU64>,
+    dae: Arc<GglDae>,
 }
 
 fn make_ggl_ida(
@@ -732,53 +732,21 @@ fn make_ggl_ida(
     yp0: &[f64],
     opts: &SolveOptions,
 ) -> Result<GglIda, Error> {
-    let cell = Arc::new(AtomicU64::new(eps.to_bits()));
-    let (f1, f2) = (ggl.clone(), ggl.clone());
-    let (e1, e2) = (cell.clone(), cell.clone());
-    let mut ws1 = f1.dae.workspace();
-    let mut ws2 = f2.dae.workspace();
-    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-        let eps = f64::from_bits(e1.load(Ordering::Relaxed));
-        f1.residual(&mut ws1, eps, t, y, yp, r);
-        Ok(())
-    });
-    let ida_opts = ida_options(atol, ggl.id.clone(), opts);
-    if let Some(kind) = opts.linear_solver.resolve(ggl.dae.n) {
-        let pattern = CscPattern::new(ggl.dae.n, ggl.structure())?;
-        let jacobian = Box::new(
-            move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
-                let eps = f64::from_bits(e2.load(Ordering::Relaxed));
-                f2.jacobian(&mut ws2, eps, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
-                Ok(())
-            },
-        );
-        return Ok(GglIda {
-            ida: Ida::new_sparse(t0, y0, yp0, residual, jacobian, pattern, kind, &ida_opts)?,
-            eps: cell,
-        });
-    }
-    let jacobian = Box::new(
-        move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
-            jm.fill_zero();
-            let eps = f64::from_bits(e2.load(Ordering::Relaxed));
-            f2.jacobian(&mut ws2, eps, t, cj, y, yp, |r, c, v| jm.add(r, c, v));
-            Ok(())
-        },
-    );
+    let dae = Arc::new(GglDae::shared(ggl.clone(), eps));
     Ok(GglIda {
-        ida: Ida::new(t0, y0, yp0, residual, Some(jacobian), &ida_opts)?,
-        eps: cell,
+        ida: make_ida(dae.clone(), atol, t0, y0, yp0, opts)?,
+        dae,
     })
 }
 
 impl GglIda {
     fn eps(&self) -> f64 {
-        f64::from_bits(self.eps.load(Ordering::Relaxed))
+        self.dae.compliance()
     }
 
     /// Restarts at `(t, y, y')` with compliance `eps` (IDA restarts at order 1).
     fn restart(&mut self, eps: f64, t: f64, y: &[f64], yp: &[f64]) -> Result<(), Error> {
-        self.eps.store(eps.to_bits(), Ordering::Relaxed);
+        self.dae.set_compliance(eps);
         self.ida.reinit(t, y, yp)?;
         Ok(())
     }
