@@ -418,7 +418,7 @@ impl BondGraph {
     /// Records the constraint junctions of the joints `joints`: every 1-junction or Sf named
     /// `<joint>.<direction>` (direction without a `.`), as the mechanism builder names them.
     pub fn annotate_joints<'a>(&mut self, joints: impl IntoIterator<Item = &'a str>) {
-        let joints: Vec<&str> = joints.into_iter().collect();
+        let joints: std::collections::HashSet<&str> = joints.into_iter().collect();
         for (i, el) in self.elements.iter().enumerate() {
             if !matches!(el.kind, ElementKind::One | ElementKind::Sf) {
                 continue;

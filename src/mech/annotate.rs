@@ -18,6 +18,8 @@
 //! Then [`crate::bond::mechanics`] reads `M`, `K(x) v`, `Q` and the rows `G_v v` off the graph,
 //! and those are the equations every formulation solves.
 
+use std::collections::HashMap;
+
 use super::body::BodyKinematics;
 use super::bondgraph::{planar_rest_length, scene_bond_graph_with};
 use super::columns::Columns;
@@ -81,14 +83,16 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
             .unwrap_or_else(|| "…".into())
     };
     // joints: closures on the drawn junctions, modulated sums for the others
+    let drawn: HashMap<(String, String), usize> = g
+        .constraint_junctions
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ((c.joint.clone(), c.direction.clone()), i))
+        .collect();
     for (k, row) in sys.rows.iter().enumerate() {
         let closure = text(&eg, sys.constraints[k]);
-        if let Some(cj) = g
-            .constraint_junctions
-            .iter_mut()
-            .find(|c| c.joint == row.joint && c.direction == row.direction)
-        {
-            cj.closure = Some(closure);
+        if let Some(&i) = drawn.get(&(row.joint.clone(), row.direction.clone())) {
+            g.constraint_junctions[i].closure = Some(closure);
             continue;
         }
         let name = format!("{}.{}", row.joint, row.direction);
@@ -114,6 +118,7 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
         });
     }
     // springs
+    let mut index = ElementIndex::default();
     for (si, s) in scene.springs.iter().enumerate() {
         let pa = point(&mut eg, scene, sys, &s.bodies[0], &s.points[0])?;
         let pb = point(&mut eg, scene, sys, &s.bodies[1], &s.points[1])?;
@@ -175,10 +180,7 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
             };
             for (axis, (a, b)) in ["x", "y"].iter().zip(p1.iter().zip(&p2)) {
                 let d = eg.sub(*a, *b);
-                let n = format!("{}.{axis}.k", s.name);
-                let c = g
-                    .element_by_name(&n)
-                    .ok_or(AnnotateError::MissingElement(n))?;
+                let c = index.get(&g, &format!("{}.{axis}.k", s.name))?;
                 g.elements[c.0].displacement = Some(text(&eg, d));
             }
             continue;
@@ -229,10 +231,8 @@ fn planar_bodies(
     sys: &MultibodySystem,
 ) -> Result<(BondGraph, Vec<String>, Vec<ElementId>), AnnotateError> {
     let mut g = scene_bond_graph_with(scene, true)?;
-    let find = |g: &BondGraph, n: &str| {
-        g.element_by_name(n)
-            .ok_or_else(|| AnnotateError::MissingElement(n.to_string()))
-    };
+    let mut index = ElementIndex::default();
+    let mut find = |g: &BondGraph, n: &str| index.get(g, n);
     // a body-fixed bar (16.3) moves its centre along R(α)(u, w): the frame change of 16.4
     // brings the centre's velocity into the global axes, whose junctions integrate to x, y
     let fixed: Vec<&str> = scene
@@ -542,6 +542,28 @@ fn velocity_terms(
         }
     }
     out
+}
+
+/// Element ids by name for a graph that only grows (a name lookup in the graph itself scans
+/// every element: quadratic over a large mechanism's bodies).
+#[derive(Default)]
+struct ElementIndex {
+    ids: HashMap<String, ElementId>,
+    seen: usize,
+}
+
+impl ElementIndex {
+    /// The first element named `name`, indexing the elements added since the last call.
+    fn get(&mut self, g: &BondGraph, name: &str) -> Result<ElementId, AnnotateError> {
+        for (i, e) in g.elements.iter().enumerate().skip(self.seen) {
+            self.ids.entry(e.name.clone()).or_insert(ElementId(i));
+        }
+        self.seen = g.elements.len();
+        self.ids
+            .get(name)
+            .copied()
+            .ok_or_else(|| AnnotateError::MissingElement(name.to_string()))
+    }
 }
 
 /// Position of a point of `body` (ground: global coordinates).
