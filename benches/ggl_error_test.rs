@@ -60,7 +60,7 @@ fn run_ggl(
     let mut id = ggl.id.clone();
     let mut at = vec![atol; nq + nv];
     at.extend(std::iter::repeat_n(1e-2, 2 * nc));
-    let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t0, &y0[..nq + nv]));
+    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t0, &y0[..nq + nv]));
     let preferred: Vec<bool> = sys
         .velocities
         .iter()

@@ -103,7 +103,7 @@ fn check_scene(name: &str, seed: u64) {
             let tapes = MechanicsTapes::new(&mut sys, &c, None);
             let (nq, nv, nc) = tapes.dims;
             let x = rng.vec(nq + nv);
-            let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, 0.0, &x));
+            let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(0.0, &x));
             let dep = select_dependent(&gv, &vec![false; nv]).expect("full rank here");
             let f = Index1Formulation::build(&mut sys, &c, &dep).unwrap();
             let n = f.dae.n;

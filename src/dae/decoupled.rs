@@ -132,11 +132,7 @@ pub fn prestressed_positions(
         if r.iter().all(|e| e.abs() <= 1e-12 * scale + 1e-15) {
             break;
         }
-        let gq = nalgebra::DMatrix::from_row_slice(
-            nc,
-            nq,
-            &super::MechanicsTapes::eval(&tapes.gq, t0, &x),
-        );
+        let gq = nalgebra::DMatrix::from_row_slice(nc, nq, &tapes.gq.eval(t0, &x));
         let Some(dq) = gq
             .svd(true, true)
             .solve(&nalgebra::DVector::from_vec(r), 1e-12)

@@ -108,10 +108,10 @@ pub struct MechanicsTapes {
     pub dims: (usize, usize, usize),
     /// `g(q)`
     pub g: Tape,
-    /// `∂g/∂q`, row-major `nc × nq`
-    pub gq: Tape,
-    /// `G_v`, row-major `nc × nv`
-    pub gv: Tape,
+    /// `∂g/∂q`, `nc × nq`
+    pub gq: MatrixTape,
+    /// `G_v`, `nc × nv`
+    pub gv: MatrixTape,
     /// `Q(t, q, v)`
     pub forces: Tape,
     /// `K(q) v`
@@ -131,7 +131,6 @@ impl MechanicsTapes {
             None => sys.energy,
         };
         let gr = &sys.graph;
-        let flat = |m: &Vec<Vec<Expr>>| m.iter().flatten().copied().collect::<Vec<_>>();
         let mut outs: Vec<Expr> = sys
             .outputs
             .iter()
@@ -142,8 +141,8 @@ impl MechanicsTapes {
         MechanicsTapes {
             dims: (sys.nq(), sys.nv(), sys.nc()),
             g: gr.compile(&c.g),
-            gq: gr.compile(&flat(&c.gq)),
-            gv: gr.compile(&flat(&c.gv)),
+            gq: MatrixTape::new(gr, &c.gq, sys.nq()),
+            gv: MatrixTape::new(gr, &c.gv, sys.nv()),
             forces: gr.compile(&sys.forces),
             kinematics: gr.compile(&sys.kinematics),
             gamma: gr.compile(&c.gamma),
@@ -159,6 +158,74 @@ impl MechanicsTapes {
         let mut work = tape.workspace();
         let mut out = vec![0.0; tape.n_outputs()];
         tape.eval(&vars, &mut work, &mut out);
+        out
+    }
+}
+
+/// A matrix of expressions compiled by its structural non-zeros only, so `∂g/∂q` and `G_v` of
+/// a large mechanism cost what their non-zeros cost (a chain's rows touch two bodies each),
+/// and evaluated into a dense row-major array.
+#[derive(Clone, Debug)]
+pub struct MatrixTape {
+    /// Number of rows.
+    pub rows: usize,
+    /// Number of columns.
+    pub cols: usize,
+    tape: Tape,
+    /// Row-major position of each compiled entry.
+    position: Vec<usize>,
+}
+
+impl MatrixTape {
+    /// Compiles the entries of `m` (`rows × cols`, one `Vec` per row) that are not
+    /// structurally zero.
+    pub fn new(graph: &ExprGraph, m: &[Vec<Expr>], cols: usize) -> Self {
+        let mut position = Vec::new();
+        let mut entries = Vec::new();
+        for (i, row) in m.iter().enumerate() {
+            for (j, &e) in row.iter().enumerate() {
+                if !graph.is_zero(e) {
+                    position.push(i * cols + j);
+                    entries.push(e);
+                }
+            }
+        }
+        MatrixTape {
+            rows: m.len(),
+            cols,
+            tape: graph.compile(&entries),
+            position,
+        }
+    }
+
+    /// Number of structural non-zeros.
+    pub fn nnz(&self) -> usize {
+        self.position.len()
+    }
+
+    /// Work buffers for [`MatrixTape::eval_into`]: the tape's, and one value per non-zero.
+    pub fn workspace(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.tape.workspace(), vec![0.0; self.nnz()])
+    }
+
+    /// Evaluates at the slots `vars = [t, q, v]` into the dense row-major `out`
+    /// (`rows · cols`, zero where the matrix is structurally zero).
+    pub fn eval_into(&self, vars: &[f64], work: &mut (Vec<f64>, Vec<f64>), out: &mut [f64]) {
+        self.tape.eval(vars, &mut work.0, &mut work.1);
+        out.fill(0.0);
+        for (&k, &v) in self.position.iter().zip(&work.1) {
+            out[k] = v;
+        }
+    }
+
+    /// The dense row-major matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
+    pub fn eval(&self, t: f64, x: &[f64]) -> Vec<f64> {
+        let mut vars = Vec::with_capacity(1 + x.len());
+        vars.push(t);
+        vars.extend_from_slice(x);
+        let mut work = self.workspace();
+        let mut out = vec![0.0; self.rows * self.cols];
+        self.eval_into(&vars, &mut work, &mut out);
         out
     }
 }

@@ -30,6 +30,6 @@ pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
-pub use mechanics::{ConstraintExprs, MechanicsTapes};
+pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart};
 pub use singular::{joint_condition_number, joint_conditioning, JointConditioning};

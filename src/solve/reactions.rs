@@ -6,6 +6,7 @@
 //! spring-dampers `k g + c G_v v` ([`crate::dae::DecoupledFormulation::row_force`]).
 //! [`EventEval`] evaluates the scene's event functions over `[t, q, v, reactions]`.
 
+use crate::dae::mechanics::MatrixTape;
 use crate::expr::{Expr, Tape};
 use crate::mech::{EventFunction, JointReaction, MultibodySystem};
 use crate::sundials::{CallbackError, CallbackResult};
@@ -25,13 +26,13 @@ pub(crate) struct ReactionEval {
     joints: Vec<JointReaction>,
     /// `B` then the lever of every joint, concatenated, over `[t, q, v]`.
     tape: Tape,
-    gv: Tape,
+    gv: MatrixTape,
     source: Multipliers,
     dims: (usize, usize, usize),
     vars: Vec<f64>,
     work: Vec<f64>,
     vals: Vec<f64>,
-    gv_work: Vec<f64>,
+    gv_work: (Vec<f64>, Vec<f64>),
     gv_vals: Vec<f64>,
     lambda: Vec<f64>,
     lambda_work: Vec<f64>,
@@ -40,8 +41,8 @@ pub(crate) struct ReactionEval {
 }
 
 impl ReactionEval {
-    /// Compiles the evaluator; `gv` is the tape of `G_v` (row-major `nc × nv`).
-    pub(crate) fn new(sys: &MultibodySystem, gv: &Tape, source: Multipliers) -> Self {
+    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`).
+    pub(crate) fn new(sys: &MultibodySystem, gv: &MatrixTape, source: Multipliers) -> Self {
         let exprs: Vec<Expr> = sys
             .reactions
             .iter()
@@ -58,7 +59,7 @@ impl ReactionEval {
             work: tape.workspace(),
             vals: vec![0.0; tape.n_outputs()],
             gv_work: gv.workspace(),
-            gv_vals: vec![0.0; gv.n_outputs()],
+            gv_vals: vec![0.0; gv.rows * gv.cols],
             tape,
             gv: gv.clone(),
             source,
@@ -77,7 +78,7 @@ impl ReactionEval {
         self.vars[1..].copy_from_slice(&y[..nq + nv]);
         self.tape.eval(&self.vars, &mut self.work, &mut self.vals);
         self.gv
-            .eval(&self.vars, &mut self.gv_work, &mut self.gv_vals);
+            .eval_into(&self.vars, &mut self.gv_work, &mut self.gv_vals);
         match &self.source {
             Multipliers::Unknowns(off) => self.lambda.copy_from_slice(&y[*off..*off + nc]),
             Multipliers::Springs(tape) => {

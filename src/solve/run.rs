@@ -779,7 +779,7 @@ fn compliant_velocities(
     if nc == 0 {
         return;
     }
-    let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, &y[..nq + nv]));
+    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, &y[..nq + nv]));
     let v = nalgebra::DVector::from_column_slice(&y[nq..nq + nv]);
     let lam = nalgebra::DVector::from_column_slice(&y[nq + nv..nq + nv + nc]);
     let defect = &lam * eps - &gv * &v;
@@ -852,8 +852,7 @@ fn run_ggl(
     );
     let mut ggl = ggl;
     if error_test.active {
-        let gv =
-            DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t0, &y0[..nq + nv]));
+        let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t0, &y0[..nq + nv]));
         error_test.choose(&gv, eps_start);
         ggl.id = error_test.id();
     }
@@ -876,9 +875,8 @@ fn run_ggl(
     // a passage, and at a peak of κ (the PeakFinder keeps `G_v` of its samples for that).
     // Measured on the 40-four-bar chain (242 joint rows, κ above PASSAGE_CONDITION at most
     // outputs): full eigen-decompositions at the 400 outputs took 40 % of the solve.
-    let gv_at = |t: f64, y: &[f64]| {
-        DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, &y[..nq + nv]))
-    };
+    let gv_at =
+        |t: f64, y: &[f64]| DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, &y[..nq + nv]));
     let conditioning = |t: f64, y: &[f64]| joint_conditioning(&gv_at(t, y), &sys.mass, &sys.rows);
     let joints_of = |gv: &DMatrix<f64>| joint_conditioning(gv, &sys.mass, &sys.rows).joints;
     let resume_plain = RESUME_PLAIN_GGL;
@@ -1146,7 +1144,7 @@ fn run_index1(
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let t0 = opts.output_times[0];
     let gv_at = |tapes: &MechanicsTapes, t: f64, x: &[f64]| {
-        DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t, x))
+        DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, x))
     };
     let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let preferred = preferred_dependent(&sys);

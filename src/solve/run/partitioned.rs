@@ -319,7 +319,7 @@ pub(super) fn run_partitioned(
                     g
                 }
             };
-            let gv = DMatrix::from_row_slice(nc, nv, &MechanicsTapes::eval(&tapes.gv, t_start, &x));
+            let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t_start, &x));
             let cond = joint_conditioning(&gv, &sys.mass, &sys.rows);
             summary.warnings.push(format!(
                 "partitioned: no well-conditioned partition at t = {t_start:.6} (joints [{}], κ = {:.1e}); the compliant GGL (ε = {eps:.1e}) carries the passage",
