@@ -28,8 +28,8 @@
 //! then `q_<C>` of integral capacitors, element order, then the referenced displacements `x_…`),
 //! `p_d` the momenta/displacements of the differential storages, `λ` one multiplier per
 //! differential storage (`lambda_<name>`), `z` the loop variables (`z_e_<bond>`, `z_f_<bond>`).
-//! Expression slots as in [`ImplicitDae`]: `0 = t`, `1..=n` is `y`, `n+1..=2n` is `y'`; declared
-//! signals come after, at `2n+1+k`.
+//! Expression slots as in [`ImplicitDae`](crate::dae::ImplicitDae): `0 = t`, `1..=n` is `y`,
+//! `n+1..=2n` is `y'`; declared signals come after, at `2n+1+k`.
 //!
 //! Velocity-level index-2 residual (raw bond graphs carry no position constraint):
 //! `x' − f(x, λ, z, t) = 0`, `p_d' − λ = 0`, `φ_d(x, t) − p_d/m_d = 0`, `z − h = 0`;
