@@ -26,7 +26,7 @@ use crate::bond::model::{BondGraph, ElementKind, Parameter};
 use crate::dae::ImplicitDae;
 use crate::expr::Tape;
 use crate::scene::{Formulation, Scene};
-use crate::sundials::{Cvode, CvodeOptions, DenseMatrixMut, Multistep, SolverStats};
+use crate::sundials::{CvodeOptions, SolverStats};
 use crate::Error;
 
 fn bond_error(e: impl std::fmt::Display) -> Error {
@@ -246,21 +246,6 @@ fn solve_from_first_output(
         summary.solver = "CVODE".into();
         summary.build_cpu_seconds = clock.elapsed().as_secs_f64();
         let y0 = eq.initial.clone();
-        let ode = Arc::new(ode);
-        let (o1, o2) = (ode.clone(), ode.clone());
-        let mut ws1 = o1.workspace();
-        let mut ws2 = o2.workspace();
-        let rhs = Box::new(move |t: f64, y: &[f64], yd: &mut [f64]| {
-            o1.rhs(&mut ws1, t, y, yd);
-            Ok(())
-        });
-        let jac = Box::new(
-            move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
-                jm.fill_zero();
-                o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
-                Ok(())
-            },
-        );
         let cv_opts = CvodeOptions {
             rtol: opts.rtol,
             atol: vec![opts.atol],
@@ -271,7 +256,7 @@ fn solve_from_first_output(
             ..CvodeOptions::default()
         };
         let run = ThreadTime::now();
-        let mut cv = Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?;
+        let mut cv = super::integrators::make_cvode(Arc::new(ode), t0, &y0, &cv_opts, opts)?;
         let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
         for &t in &opts.output_times[1..] {
             if stop {
@@ -332,7 +317,7 @@ fn solve_from_first_output(
             .collect();
         let dae = crate::dae::IdDae { dae, id };
         let run = ThreadTime::now();
-        let mut ida = super::ida_setup::make_ida(Arc::new(dae), atol, t0, &y0, &yp0, opts)?;
+        let mut ida = super::integrators::make_ida(Arc::new(dae), atol, t0, &y0, &yp0, opts)?;
         let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
         for &t in &opts.output_times[1..] {
             if stop {

@@ -2,7 +2,7 @@
 //! (decoupled twin), with consistent initial values, output rows, energy and constraint error.
 
 pub mod bond_run;
-mod ida_setup;
+mod integrators;
 pub(crate) mod non_finite;
 pub mod options;
 mod reactions;

@@ -18,7 +18,7 @@ use serde::Serialize;
 use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
-use super::ida_setup::make_ida;
+use super::integrators::{make_cvode, make_ida};
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
@@ -27,10 +27,7 @@ use crate::dae::{
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
-use crate::sundials::{
-    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, Multistep, SolverError, SolverStats,
-    SparseMatrixMut, StepEvent,
-};
+use crate::sundials::{CvodeOptions, Ida, SolverError, SolverStats, StepEvent};
 use crate::Error;
 
 /// Statistics and quality figures of one solve (the `--summary` JSON).
@@ -1310,39 +1307,11 @@ fn run_decoupled(
         ..CvodeOptions::default()
     };
     let ode = Arc::new(dec.ode);
-    let (o1, o2) = (ode.clone(), ode.clone());
-    let mut ws1 = o1.workspace();
-    let mut ws2 = o2.workspace();
-    let rhs = Box::new(move |t: f64, y: &[f64], yd: &mut [f64]| {
-        o1.rhs(&mut ws1, t, y, yd);
-        Ok(())
-    });
     summary.solver = "CVODE".into();
     summary.unknowns = ode.n;
     summary.linear_solver = opts.linear_solver.resolved_name(ode.n).into();
     let clock = ThreadTime::now();
-    let mut cv = match opts.linear_solver.resolve(ode.n) {
-        Some(kind) => {
-            let pattern = CscPattern::new(ode.n, ode.structure())?;
-            let jac = Box::new(
-                move |t: f64, y: &[f64], _fy: &[f64], jm: &mut SparseMatrixMut<'_>| {
-                    o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
-                    Ok(())
-                },
-            );
-            Cvode::new_sparse(Multistep::Bdf, t0, &y0, rhs, jac, pattern, kind, &cv_opts)?
-        }
-        None => {
-            let jac = Box::new(
-                move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
-                    jm.fill_zero();
-                    o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
-                    Ok(())
-                },
-            );
-            Cvode::new(Multistep::Bdf, t0, &y0, rhs, Some(jac), &cv_opts)?
-        }
-    };
+    let mut cv = make_cvode(ode, t0, &y0, &cv_opts, opts)?;
     let events = event_eval(sys, &tapes, &multipliers);
     if events.len() > 0 {
         let mut ev = events.clone();

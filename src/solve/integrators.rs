@@ -1,13 +1,17 @@
-//! IDA set up once for every implicit formulation ([`DaeFormulation`]): the residual and the
-//! exact Jacobian `∂F/∂y + c_j ∂F/∂y'` as callbacks, a dense or sparse (faer, KLU) linear
-//! solver as [`SolveOptions::linear_solver`] resolves for the size, and the options the
+//! The SUNDIALS integrators set up once: IDA for every implicit formulation
+//! ([`DaeFormulation`]: the residual and the exact Jacobian `∂F/∂y + c_j ∂F/∂y'` as callbacks)
+//! and CVODE BDF for every explicit ODE with its exact Jacobian ([`ExplicitOde`]: the decoupled
+//! twin, a raw graph without differential storages), each with a dense or sparse (faer, KLU)
+//! linear solver as [`SolveOptions::linear_solver`] resolves for the size, and the options the
 //! formulations share.
 
 use std::sync::Arc;
 
-use crate::dae::DaeFormulation;
+use crate::dae::{DaeFormulation, ExplicitOde};
 use crate::solve::SolveOptions;
-use crate::sundials::{CscPattern, DenseMatrixMut, Ida, IdaOptions, SparseMatrixMut};
+use crate::sundials::{
+    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SparseMatrixMut,
+};
 use crate::Error;
 
 /// IDA on formulation `f` from `(t0, y0, y0')`, with per-unknown absolute tolerances `atol`.
@@ -72,4 +76,48 @@ pub(crate) fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> 
         delta_cj_lsetup: opts.ida_delta_cj,
         ..IdaOptions::default()
     }
+}
+
+/// CVODE BDF (Newton, exact Jacobian) on `y' = f(t, y)` from `(t0, y0)`.
+pub(crate) fn make_cvode(
+    ode: Arc<ExplicitOde>,
+    t0: f64,
+    y0: &[f64],
+    cv_opts: &CvodeOptions,
+    opts: &SolveOptions,
+) -> Result<Cvode, Error> {
+    let (o1, o2) = (ode.clone(), ode.clone());
+    let mut ws1 = o1.workspace();
+    let mut ws2 = o2.workspace();
+    let rhs = Box::new(move |t: f64, y: &[f64], yd: &mut [f64]| {
+        o1.rhs(&mut ws1, t, y, yd);
+        Ok(())
+    });
+    if let Some(kind) = opts.linear_solver.resolve(ode.n) {
+        let pattern = CscPattern::new(ode.n, ode.structure())?;
+        let jac = Box::new(
+            move |t: f64, y: &[f64], _fy: &[f64], jm: &mut SparseMatrixMut<'_>| {
+                o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
+                Ok(())
+            },
+        );
+        return Ok(Cvode::new_sparse(
+            Multistep::Bdf,
+            t0,
+            y0,
+            rhs,
+            jac,
+            pattern,
+            kind,
+            cv_opts,
+        )?);
+    }
+    let jac = Box::new(
+        move |t: f64, y: &[f64], _fy: &[f64], jm: &mut DenseMatrixMut<'_>| {
+            jm.fill_zero();
+            o2.jacobian(&mut ws2, t, y, |r, c, v| jm.add(r, c, v));
+            Ok(())
+        },
+    );
+    Ok(Cvode::new(Multistep::Bdf, t0, y0, rhs, Some(jac), cv_opts)?)
 }
