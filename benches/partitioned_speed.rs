@@ -102,23 +102,9 @@ fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
     }
 }
 
+/// [`minimal::matched_rtol`] of this method on this case, at TARGET.
 fn matched_rtol(case: &Case, m: Method) -> Option<f64> {
-    let grid: Vec<f64> = (0..=14)
-        .map(|i| 10f64.powf(-4.0 - 0.5 * i as f64))
-        .collect();
-    let errors: Vec<f64> = grid
-        .iter()
-        .map(|&r| run(case, m, r).map_or(f64::INFINITY, |x| x.error))
-        .collect();
-    let mut best = None;
-    for i in (0..grid.len()).rev() {
-        if errors[i] <= TARGET {
-            best = Some(grid[i]);
-        } else {
-            break;
-        }
-    }
-    best
+    minimal::matched_rtol(TARGET, |r| run(case, m, r).map(|x| x.error)).map(|(r, _)| r)
 }
 
 fn case(name: &'static str, minimal: MinimalModel) -> Case {

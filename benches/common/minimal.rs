@@ -358,3 +358,25 @@ pub fn bondmech_rows(sol: &bondmech::Solution, columns: &[&str]) -> Vec<Vec<f64>
         .map(|r| idx.iter().map(|&i| r[i]).collect())
         .collect()
 }
+
+/// The loosest rtol of the half-decade grid 1e-4 … 1e-11 whose error, and that of every
+/// tighter grid point, is ≤ `target`, with its error; `None` if even 1e-11 misses. `error(rtol)`
+/// runs the method (`None`: the run failed).
+pub fn matched_rtol(target: f64, error: impl Fn(f64) -> Option<f64>) -> Option<(f64, f64)> {
+    let grid: Vec<f64> = (0..=14)
+        .map(|i| 10f64.powf(-4.0 - 0.5 * i as f64))
+        .collect();
+    let errors: Vec<f64> = grid
+        .iter()
+        .map(|&r| error(r).unwrap_or(f64::INFINITY))
+        .collect();
+    let mut best = None;
+    for i in (0..grid.len()).rev() {
+        if errors[i] <= target {
+            best = Some((grid[i], errors[i]));
+        } else {
+            break;
+        }
+    }
+    best
+}
