@@ -182,6 +182,11 @@ fn chain_of_40_four_bars_has_one_dof_in_near_linear_time() {
     assert_eq!((r.dof, r.differential.len()), (1, 242));
     assert_eq!((r.generic_rank, r.numeric_rank), (242, 242));
     assert!(r.conflicts.is_empty() && r.redundant.is_empty());
+    // and on the complete graph `graph --causality` shows, the one the solver reads
+    let full = bondmech::graph::SceneGraph::new(&s, Variant::Pinned)
+        .unwrap()
+        .report();
+    assert_eq!((full.dof, full.differential.len()), (1, 242));
     let d = Model::new(&s).unwrap().dof().unwrap();
     assert_eq!((d.velocities, d.constraint_rows, d.rank), (243, 242, 242));
 }
