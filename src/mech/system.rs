@@ -220,13 +220,14 @@ impl MultibodySystem {
         for i in 0..self.nc() {
             let gi = self.constraints[i];
             let mut terms = Vec::new();
-            for k in 0..nq {
-                let slot = self.q_slot(k);
-                if !self.graph.depends_on(gi, slot) {
+            // the coordinates the row mentions, in slot order (linear in the mechanism's size)
+            for slot in self.graph.vars(gi) {
+                let k = slot as usize;
+                if !(1..=nq).contains(&k) {
                     continue;
                 }
                 let d = self.graph.diff(gi, slot);
-                terms.push(self.graph.mul(d, self.kinematics[k]));
+                terms.push(self.graph.mul(d, self.kinematics[k - 1]));
             }
             out.push(self.graph.sum(&terms));
         }
@@ -238,11 +239,15 @@ impl MultibodySystem {
         let nv = self.nv();
         let mut rows = Vec::with_capacity(gv.len());
         for &e in gv {
-            let mut row = Vec::with_capacity(nv);
-            for j in 0..nv {
-                let slot = self.v_slot(j);
-                let d = self.graph.diff(e, slot);
-                row.push(d);
+            // zero except at the velocities the row mentions
+            let mut row = vec![self.graph.zero(); nv];
+            for slot in self.graph.vars(e) {
+                let Some(j) = (slot as usize).checked_sub(1 + self.nq()) else {
+                    continue;
+                };
+                if j < nv {
+                    row[j] = self.graph.diff(e, slot);
+                }
             }
             rows.push(row);
         }
