@@ -25,7 +25,6 @@ use bondmech::sundials::{DenseMatrixMut, Ida, IdaOptions, Multistep};
 use bondmech::{FormulationKind, Model, Scene};
 use cpu_time::ThreadTime;
 use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
-use nalgebra::DMatrix;
 
 struct Outcome {
     steps: u64,
@@ -60,7 +59,7 @@ fn run_ggl(
     let mut id = ggl.id.clone();
     let mut at = vec![atol; nq + nv];
     at.extend(std::iter::repeat_n(1e-2, 2 * nc));
-    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t0, &y0[..nq + nv]));
+    let gv = tapes.gv.matrix(t0, &y0[..nq + nv]);
     let preferred: Vec<bool> = sys
         .velocities
         .iter()

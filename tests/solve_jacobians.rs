@@ -101,9 +101,9 @@ fn check_scene(name: &str, seed: u64) {
             let mut sys = build(&scene(name)).unwrap();
             let c = ConstraintExprs::derive(&mut sys);
             let tapes = MechanicsTapes::new(&mut sys, &c, None);
-            let (nq, nv, nc) = tapes.dims;
+            let (nq, nv, _) = tapes.dims;
             let x = rng.vec(nq + nv);
-            let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(0.0, &x));
+            let gv = tapes.gv.matrix(0.0, &x);
             let dep = select_dependent(&gv, &vec![false; nv]).expect("full rank here");
             let f = Index1Formulation::build(&mut sys, &c, &dep).unwrap();
             let n = f.dae.n;

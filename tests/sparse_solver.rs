@@ -299,7 +299,7 @@ fn newton_matrices(scene: &str, model: &Model) -> Vec<NewtonMatrix> {
     y0.extend(std::iter::repeat_n(0.0, nc));
     if eps > 0.0 {
         // compliant GGL: velocities with G_v v = ε λ (least change), as the solver starts
-        let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(0.0, &x0));
+        let gv = tapes.gv.matrix(0.0, &x0);
         let v = nalgebra::DVector::from_column_slice(&init.v);
         let lam = nalgebra::DVector::from_column_slice(&init.lambda);
         let defect = &lam * eps - &gv * &v;
@@ -314,7 +314,7 @@ fn newton_matrices(scene: &str, model: &Model) -> Vec<NewtonMatrix> {
     let mut yp0 = MechanicsTapes::eval(&tapes.kinematics, 0.0, &x0);
     yp0.extend(&init.vdot);
     yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
-    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(0.0, &x0));
+    let gv = tapes.gv.matrix(0.0, &x0);
     let dependent = select_dependent(&gv, &vec![false; nv]);
     let states = ggl_states(
         scene,

@@ -39,7 +39,7 @@ fn sparse_start_of_a_60_link_pendulum_is_the_least_change_projection_and_solves_
     assert_eq!(st.rank, nc);
     let mut x = st.q.clone();
     x.extend(&st.v);
-    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(0.0, &x));
+    let gv = tapes.gv.matrix(0.0, &x);
     let v = DVector::from_column_slice(&st.v);
     let v0 = DVector::from_column_slice(&x0[nq..]);
     // the joints hold: G_v v = 0 (to rounding of |G_v| |v|, entries and velocities O(1))

@@ -122,7 +122,7 @@ pub fn prestressed_positions(
     lambda: &[f64],
     stiffness: f64,
 ) -> Vec<f64> {
-    let (nq, _, nc) = tapes.dims;
+    let (nq, _, _) = tapes.dims;
     let target: Vec<f64> = lambda.iter().map(|l| l / stiffness).collect();
     let mut x: Vec<f64> = q.iter().chain(v).copied().collect();
     for _ in 0..10 {
@@ -132,7 +132,7 @@ pub fn prestressed_positions(
         if r.iter().all(|e| e.abs() <= 1e-12 * scale + 1e-15) {
             break;
         }
-        let gq = nalgebra::DMatrix::from_row_slice(nc, nq, &tapes.gq.eval(t0, &x));
+        let gq = tapes.gq.matrix(t0, &x);
         let Some(dq) = gq
             .svd(true, true)
             .solve(&nalgebra::DVector::from_vec(r), 1e-12)

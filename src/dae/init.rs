@@ -82,10 +82,6 @@ pub enum InitError {
 /// Relative threshold below which a singular value counts as zero.
 const RANK_TOL: f64 = 1e-9;
 
-fn matrix(tape: &super::mechanics::MatrixTape, t: f64, x: &[f64]) -> DMatrix<f64> {
-    DMatrix::from_row_slice(tape.rows, tape.cols, &tape.eval(t, x))
-}
-
 fn pinv_apply(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize) {
     if a.nrows() == 0 || a.ncols() == 0 {
         return (DVector::zeros(a.ncols()), 0);
@@ -183,7 +179,7 @@ pub fn consistent_state_from(
                 direction: r.direction.clone(),
             });
         }
-        let gq = matrix(&tapes.gq, t0, &x);
+        let gq = tapes.gq.matrix(t0, &x);
         finite(gq.as_slice(), "the constraint Jacobian")?;
         let (dq, _) = pinv_apply(&gq, &DVector::from_vec(g));
         for i in 0..nq {
@@ -193,7 +189,7 @@ pub fn consistent_state_from(
     }
     let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
     // 2. velocities
-    let gv = matrix(&tapes.gv, t0, &x);
+    let gv = tapes.gv.matrix(t0, &x);
     finite(gv.as_slice(), "the velocity constraint Jacobian")?;
     let v0 = DVector::from_column_slice(&x[nq..]);
     if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv)? {

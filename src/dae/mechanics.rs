@@ -218,6 +218,11 @@ impl MatrixTape {
         }
     }
 
+    /// The matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
+    pub fn matrix(&self, t: f64, x: &[f64]) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::from_row_slice(self.rows, self.cols, &self.eval(t, x))
+    }
+
     /// The dense row-major matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
     pub fn eval(&self, t: f64, x: &[f64]) -> Vec<f64> {
         let mut vars = Vec::with_capacity(1 + x.len());

@@ -28,7 +28,7 @@ use std::sync::{Arc, Mutex};
 use nalgebra::DMatrix;
 
 use super::index1::{dependent_condition, select_dependent};
-use super::mechanics::ConstraintExprs;
+use super::mechanics::{ConstraintExprs, MatrixTape};
 use crate::expr::{Expr, Tape};
 use crate::mech::MultibodySystem;
 
@@ -115,8 +115,8 @@ pub struct PartitionedSystem {
     pub dims: (usize, usize, usize),
     /// `[g, G_q]` (row-major `nc × nq`) over `[t, q, v]`.
     pos: Tape,
-    /// `G_v`, row-major `nc × nv`.
-    gv: Tape,
+    /// `G_v` (its structural non-zeros), evaluated row-major `nc × nv`.
+    gv: MatrixTape,
     /// `[Q, γ, K(q) v]`.
     dynamics: Tape,
     /// Diagonal of `M`.
@@ -147,7 +147,6 @@ impl PartitionedSystem {
         let gv_is_gq = identity_kinematics && c.gq == c.gv;
         let mut pos: Vec<Expr> = c.g.clone();
         pos.extend(c.gq.iter().flatten().copied());
-        let gv: Vec<Expr> = c.gv.iter().flatten().copied().collect();
         let mut dynamics = sys.forces.clone();
         dynamics.extend(&c.gamma);
         dynamics.extend(&sys.kinematics);
@@ -155,7 +154,7 @@ impl PartitionedSystem {
         PartitionedSystem {
             dims: (nq, nv, nc),
             pos: sys.graph.compile(&pos),
-            gv: sys.graph.compile(&gv),
+            gv: MatrixTape::new(&sys.graph, &c.gv, nv),
             dynamics: sys.graph.compile(&dynamics),
             mass: sys.mass.clone(),
             identity_kinematics,
@@ -182,14 +181,12 @@ impl PartitionedSystem {
 
     /// `G_q` and `G_v` at `(t, x = [q, v])`.
     pub fn jacobians(&self, t: f64, x: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
-        let (nq, nv, nc) = self.dims;
+        let (nq, _, nc) = self.dims;
         let vars = self.vars(t, x);
         let mut out = vec![0.0; self.pos.n_outputs()];
         self.pos.eval(&vars, &mut self.pos.workspace(), &mut out);
         let gq = DMatrix::from_row_slice(nc, nq, &out[nc..]);
-        let mut out = vec![0.0; self.gv.n_outputs()];
-        self.gv.eval(&vars, &mut self.gv.workspace(), &mut out);
-        (gq, DMatrix::from_row_slice(nc, nv, &out))
+        (gq, self.gv.matrix(t, x))
     }
 
     /// The numeric causality choice at `(t, x)`: dependent columns of `G_q` and `G_v` by
@@ -262,7 +259,7 @@ pub struct PartitionedRhs {
     vars: Vec<f64>,
     w_pos: Vec<f64>,
     o_pos: Vec<f64>,
-    w_gv: Vec<f64>,
+    w_gv: (Vec<f64>, Vec<f64>),
     o_gv: Vec<f64>,
     w_dyn: Vec<f64>,
     o_dyn: Vec<f64>,
@@ -304,7 +301,7 @@ impl PartitionedRhs {
             w_pos: sys.pos.workspace(),
             o_pos: vec![0.0; sys.pos.n_outputs()],
             w_gv: sys.gv.workspace(),
-            o_gv: vec![0.0; sys.gv.n_outputs()],
+            o_gv: vec![0.0; nc * nv],
             w_dyn: sys.dynamics.workspace(),
             o_dyn: vec![0.0; sys.dynamics.n_outputs()],
             jq: vec![0.0; nc * nc],
@@ -544,7 +541,9 @@ impl PartitionedRhs {
             self.bv.copy_from_slice(&self.bq);
             self.condition_estimate = self.condition_q;
         } else {
-            self.sys.gv.eval(&self.vars, &mut self.w_gv, &mut self.o_gv);
+            self.sys
+                .gv
+                .eval_into(&self.vars, &mut self.w_gv, &mut self.o_gv);
             for k in 0..nc {
                 for (a, &j) in dv.iter().enumerate() {
                     self.jv[k * nc + a] = self.o_gv[k * nv + j];
@@ -594,7 +593,7 @@ impl PartitionedRhs {
     pub fn full_with_multipliers(&mut self, t: f64, y: &[f64]) -> Result<Vec<f64>, PartitionError> {
         let mut yd = vec![0.0; y.len()];
         self.rhs(t, y, &mut yd)?;
-        let (_, nv, nc) = self.sys.dims;
+        let nc = self.sys.dims.2;
         let mut out = self.full_state().to_vec();
         let mut lam: Vec<f64> = self
             .part
@@ -605,7 +604,6 @@ impl PartitionedRhs {
         if nc > 0 {
             lu_solve_transposed(&self.jv, nc, &self.pv, &mut lam);
         }
-        let _ = nv;
         out.extend(lam);
         Ok(out)
     }

@@ -55,7 +55,7 @@ pub(crate) fn make_ida(
 
 /// IDA options shared by the formulations: the algebraic unknowns (id 0) are suppressed from
 /// the error test, and the first step is bounded.
-pub(crate) fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions {
+fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions {
     IdaOptions {
         rtol: opts.rtol,
         atol,

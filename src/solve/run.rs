@@ -409,8 +409,7 @@ fn solve_from_first_output(
         }
         FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let t = ThreadTime::now();
-            let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
-            let eps_default = opts.compliance.unwrap_or(1e-10 / mref);
+            let eps_default = default_compliance(&sys, opts);
             let eps = if opts.formulation == FormulationKind::CompliantGgl
                 || !init.redundant_joints.is_empty()
             {
@@ -553,6 +552,13 @@ fn fill_stats(summary: &mut Summary, s: &SolverStats) {
 }
 
 /// An implicit DAE ready for IDA.
+/// The compliant GGL's `ε`: `solve.compliance`, or `1e-10 / M_max` (a joint force of 1 N moves
+/// the joint by 1e-10 m on the heaviest inertia's scale).
+pub(super) fn default_compliance(sys: &MultibodySystem, opts: &SolveOptions) -> f64 {
+    let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
+    opts.compliance.unwrap_or(1e-10 / mref)
+}
+
 fn multiplier_atol(opts: &SolveOptions) -> f64 {
     opts.multiplier_atol.unwrap_or(1e-2)
 }
@@ -776,7 +782,7 @@ fn compliant_velocities(
     if nc == 0 {
         return;
     }
-    let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, &y[..nq + nv]));
+    let gv = tapes.gv.matrix(t, &y[..nq + nv]);
     let v = nalgebra::DVector::from_column_slice(&y[nq..nq + nv]);
     let lam = nalgebra::DVector::from_column_slice(&y[nq + nv..nq + nv + nc]);
     let defect = &lam * eps - &gv * &v;
@@ -849,7 +855,7 @@ fn run_ggl(
     );
     let mut ggl = ggl;
     if error_test.active {
-        let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t0, &y0[..nq + nv]));
+        let gv = tapes.gv.matrix(t0, &y0[..nq + nv]);
         error_test.choose(&gv, eps_start);
         ggl.id = error_test.id();
     }
@@ -872,8 +878,7 @@ fn run_ggl(
     // a passage, and at a peak of κ (the PeakFinder keeps `G_v` of its samples for that).
     // Measured on the 40-four-bar chain (242 joint rows, κ above PASSAGE_CONDITION at most
     // outputs): full eigen-decompositions at the 400 outputs took 40 % of the solve.
-    let gv_at =
-        |t: f64, y: &[f64]| DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, &y[..nq + nv]));
+    let gv_at = |t: f64, y: &[f64]| tapes.gv.matrix(t, &y[..nq + nv]);
     let conditioning = |t: f64, y: &[f64]| joint_conditioning(&gv_at(t, y), &sys.mass, &sys.rows);
     let joints_of = |gv: &DMatrix<f64>| joint_conditioning(gv, &sys.mass, &sys.rows).joints;
     let resume_plain = RESUME_PLAIN_GGL;
@@ -1140,9 +1145,7 @@ fn run_index1(
 ) -> Result<Solution, Error> {
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let t0 = opts.output_times[0];
-    let gv_at = |tapes: &MechanicsTapes, t: f64, x: &[f64]| {
-        DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t, x))
-    };
+    let gv_at = |tapes: &MechanicsTapes, t: f64, x: &[f64]| tapes.gv.matrix(t, x);
     let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let preferred = preferred_dependent(&sys);
     let mut state = init.clone();

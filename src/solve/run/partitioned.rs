@@ -8,7 +8,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use cpu_time::ThreadTime;
-use nalgebra::DMatrix;
 
 use super::{
     budget_row_ida, emit, event_eval, events_fired, fill_stats, is_budget, joint_conditioning,
@@ -242,8 +241,7 @@ pub(super) fn run_partitioned(
     if !init.redundant_joints.is_empty() {
         // redundant everywhere: no partition exists at any time; the compliant GGL solves it
         // (the caller has named the joints in a warning)
-        let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
-        let eps = opts.compliance.unwrap_or(1e-10 / mref);
+        let eps = super::default_compliance(&sys, opts);
         let ggl = GglFormulation::build(&mut sys, c, eps);
         return super::run_ggl(&sys, ggl, tapes, init, eps, eps, opts, summary, observer);
     }
@@ -309,8 +307,7 @@ pub(super) fn run_partitioned(
             .filter(|(_, k)| *k <= SINGULAR_PARTITION * scale && stalls < MAX_RETRIES);
         let Some((part, _)) = choice else {
             // no well-conditioned partition: the compliant GGL carries the passage
-            let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
-            let eps = opts.compliance.unwrap_or(1e-10 / mref);
+            let eps = super::default_compliance(&sys, opts);
             let ggl = match &ggl {
                 Some(g) => g.clone(),
                 None => {
@@ -319,7 +316,7 @@ pub(super) fn run_partitioned(
                     g
                 }
             };
-            let gv = DMatrix::from_row_slice(nc, nv, &tapes.gv.eval(t_start, &x));
+            let gv = tapes.gv.matrix(t_start, &x);
             let cond = joint_conditioning(&gv, &sys.mass, &sys.rows);
             summary.warnings.push(format!(
                 "partitioned: no well-conditioned partition at t = {t_start:.6} (joints [{}], κ = {:.1e}); the compliant GGL (ε = {eps:.1e}) carries the passage",
