@@ -15,16 +15,20 @@
 //!
 //! Run with `cargo bench --bench ggl_speed`.
 
+#[path = "common/case.rs"]
+mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
+use bench_case::case;
+use bench_case::Case;
 
 use std::time::Duration;
 
 use bondmech::report::sweep::median;
 use bondmech::sundials::Multistep;
-use bondmech::{FormulationKind, Model, Scene, SolveOptions};
+use bondmech::{FormulationKind, SolveOptions};
 use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
+use minimal::{bondmech_rows, max_difference, solve_minimal};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -61,14 +65,6 @@ impl Variant {
             }
         }
     }
-}
-
-struct Case {
-    name: &'static str,
-    model: Model,
-    minimal: MinimalModel,
-    times: Vec<f64>,
-    reference: Vec<Vec<f64>>,
 }
 
 struct Run {
@@ -131,20 +127,6 @@ fn run(case: &Case, v: Variant, rtol: f64) -> Option<Run> {
 /// [`minimal::matched_rtol`] of this method on this case, at TARGET.
 fn matched_rtol(case: &Case, v: Variant) -> Option<f64> {
     minimal::matched_rtol(TARGET, |r| run(case, v, r).map(|x| x.error)).map(|(r, _)| r)
-}
-
-fn case(name: &'static str, minimal: MinimalModel) -> Case {
-    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
-    let model = Model::new(&scene).expect("model builds");
-    let times = scene.output_times();
-    let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
-    Case {
-        name,
-        model,
-        minimal,
-        times,
-        reference: r.rows,
-    }
 }
 
 const VARIANTS: [Variant; 6] = [

@@ -10,15 +10,18 @@
 //!
 //! Run with `cargo bench --bench mechanisms` (prints the tables, then criterion's timings).
 
+#[path = "common/case.rs"]
+mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
+use bench_case::Case;
 
 use std::time::Duration;
 
 use bondmech::report::generate::n_link_pendulum;
 use bondmech::report::sweep::median;
 use bondmech::sundials::Multistep;
-use bondmech::{FormulationKind, Model, Scene, SolveOptions};
+use bondmech::{FormulationKind, Model, SolveOptions};
 use criterion::Criterion;
 use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
 
@@ -46,14 +49,6 @@ impl Method {
             Method::Bondmech(f) => format!("bondmech {}", f.name()),
         }
     }
-}
-
-struct Case {
-    name: &'static str,
-    model: Model,
-    minimal: MinimalModel,
-    times: Vec<f64>,
-    reference: Vec<Vec<f64>>,
 }
 
 struct Run {
@@ -118,17 +113,7 @@ fn matched_rtol(case: &Case, m: Method) -> Option<(f64, f64)> {
 }
 
 fn case(name: &'static str, minimal: MinimalModel) -> Case {
-    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
-    let model = Model::new(&scene).expect("model builds");
-    let times = scene.output_times();
-    let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
-    let case = Case {
-        name,
-        model,
-        minimal,
-        times,
-        reference: r.rows,
-    };
+    let case = bench_case::case(name, minimal);
     // Guard against the hand-written model drifting from the scene (it happened once: the
     // slider-crank's loads changed and the bench went on comparing two different mechanisms).
     let check = run(&case, Method::Bondmech(FormulationKind::Ggl), 1e-10)

@@ -9,16 +9,20 @@
 //!
 //! Run with `cargo bench --bench partitioned_speed`.
 
+#[path = "common/case.rs"]
+mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
+use bench_case::case;
+use bench_case::Case;
 
 use std::time::Duration;
 
 use bondmech::report::sweep::median;
 use bondmech::sundials::Multistep;
-use bondmech::{FormulationKind, Integrator, Model, Scene, SolveOptions};
+use bondmech::{FormulationKind, Integrator, SolveOptions};
 use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
+use minimal::{bondmech_rows, max_difference, solve_minimal};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -38,14 +42,6 @@ impl Method {
             Method::Partitioned(i) => format!("partitioned {}", i.name()),
         }
     }
-}
-
-struct Case {
-    name: &'static str,
-    model: Model,
-    minimal: MinimalModel,
-    times: Vec<f64>,
-    reference: Vec<Vec<f64>>,
 }
 
 struct Run {
@@ -105,20 +101,6 @@ fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
 /// [`minimal::matched_rtol`] of this method on this case, at TARGET.
 fn matched_rtol(case: &Case, m: Method) -> Option<f64> {
     minimal::matched_rtol(TARGET, |r| run(case, m, r).map(|x| x.error)).map(|(r, _)| r)
-}
-
-fn case(name: &'static str, minimal: MinimalModel) -> Case {
-    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
-    let model = Model::new(&scene).expect("model builds");
-    let times = scene.output_times();
-    let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);
-    Case {
-        name,
-        model,
-        minimal,
-        times,
-        reference: r.rows,
-    }
 }
 
 fn table(case: &Case) -> Vec<(Method, f64)> {
