@@ -198,6 +198,18 @@ impl MatrixTape {
         }
     }
 
+    /// Row-major positions (`row · cols + col`) of the structural non-zeros, in the order
+    /// [`MatrixTape::eval_nonzeros`] returns their values.
+    pub fn positions(&self) -> &[usize] {
+        &self.position
+    }
+
+    /// The values of the structural non-zeros at the slots `vars = [t, q, v]` (in `work.1`).
+    pub fn eval_nonzeros<'w>(&self, vars: &[f64], work: &'w mut (Vec<f64>, Vec<f64>)) -> &'w [f64] {
+        self.tape.eval(vars, &mut work.0, &mut work.1);
+        &work.1
+    }
+
     /// Number of structural non-zeros.
     pub fn nnz(&self) -> usize {
         self.position.len()

@@ -12,6 +12,7 @@
 //! * [`gram`]: sparse `G W Gᵀ` with its Cholesky factor (the consistent start of large mechanisms).
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
+pub mod block_lu;
 pub mod compiled;
 pub mod decoupled;
 pub mod formulation;
@@ -31,5 +32,5 @@ pub use ggl::GglFormulation;
 pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
-pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart};
+pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
 pub use singular::{joint_condition_number, joint_conditioning, JointConditioning};

@@ -17,16 +17,19 @@
 //!
 //! which are the reduced (Maggi/Kane) equations `Rᵀ(M v' − Q) = 0` with `G_v v' + γ = 0`; one LU
 //! factorisation of `G_D` serves the velocities, `B`, `c` and the multipliers
-//! `G_Dᵀ λ = Q_D − M_D a_D`. The small dense LU below is hand-written (no allocation per call;
-//! nalgebra's decompositions take their matrix by value).
+//! `G_Dᵀ λ = Q_D − M_D a_D`. `G_D` is factorised along its sparsity pattern with a pivot order
+//! kept between calls ([`super::block_lu`]); the reduced mass matrix (`|v_I|` square, dense) by
+//! the small dense LU below, hand-written (no allocation per call; nalgebra's decompositions
+//! take their matrix by value).
 
 // the dense kernels index row-major matrices and several vectors with the same loop variable
 #![allow(clippy::needless_range_loop)]
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
+use super::block_lu::BlockLu;
 use super::index1::{dependent_condition, select_dependent};
 use super::mechanics::{ConstraintExprs, MatrixTape};
 use crate::expr::{Expr, Tape};
@@ -113,8 +116,10 @@ impl Partition {
 pub struct PartitionedSystem {
     /// `(nq, nv, nc)`.
     pub dims: (usize, usize, usize),
-    /// `[g, G_q]` (row-major `nc × nq`) over `[t, q, v]`.
+    /// `[g, G_q's structural non-zeros]` over `[t, q, v]`.
     pos: Tape,
+    /// `(row, coordinate)` of each compiled entry of `G_q` (they follow the `nc` values of `g`).
+    gq_entries: Vec<(usize, usize)>,
     /// `G_v` (its structural non-zeros), evaluated row-major `nc × nv`.
     gv: MatrixTape,
     /// `[Q, γ, K(q) v]`.
@@ -146,7 +151,15 @@ impl PartitionedSystem {
             });
         let gv_is_gq = identity_kinematics && c.gq == c.gv;
         let mut pos: Vec<Expr> = c.g.clone();
-        pos.extend(c.gq.iter().flatten().copied());
+        let mut gq_entries = Vec::new();
+        for (k, row) in c.gq.iter().enumerate() {
+            for (i, &e) in row.iter().enumerate() {
+                if !sys.graph.is_zero(e) {
+                    gq_entries.push((k, i));
+                    pos.push(e);
+                }
+            }
+        }
         let mut dynamics = sys.forces.clone();
         dynamics.extend(&c.gamma);
         dynamics.extend(&sys.kinematics);
@@ -154,6 +167,7 @@ impl PartitionedSystem {
         PartitionedSystem {
             dims: (nq, nv, nc),
             pos: sys.graph.compile(&pos),
+            gq_entries,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
             dynamics: sys.graph.compile(&dynamics),
             mass: sys.mass.clone(),
@@ -185,7 +199,10 @@ impl PartitionedSystem {
         let vars = self.vars(t, x);
         let mut out = vec![0.0; self.pos.n_outputs()];
         self.pos.eval(&vars, &mut self.pos.workspace(), &mut out);
-        let gq = DMatrix::from_row_slice(nc, nq, &out[nc..]);
+        let mut gq = DMatrix::zeros(nc, nq);
+        for (&(k, i), &v) in self.gq_entries.iter().zip(&out[nc..]) {
+            gq[(k, i)] = v;
+        }
         (gq, self.gv.matrix(t, x))
     }
 
@@ -219,24 +236,16 @@ impl PartitionedSystem {
     }
 }
 
-/// Where a [`PartitionedRhs`] takes its Newton warm start from.
-#[derive(Clone, Debug, Default)]
-pub enum WarmStart {
-    /// Its own last converged point.
-    #[default]
-    Own,
-    /// Its own, and it publishes each converged `q` here.
-    Publish(Arc<Mutex<Vec<f64>>>),
-    /// The `q` last published here (by the integrator's right-hand side).
-    Follow(Arc<Mutex<Vec<f64>>>),
-}
-
 /// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
 /// that a right-hand side accepts (see [`PartitionError::Branch`]).
 pub const BRANCH_FRACTION: f64 = 0.5;
 
 /// Largest Newton iterations per right-hand side.
 pub const MAX_NEWTON_ITERATIONS: usize = 8;
+
+/// Newton iterations allowed when completing an output row (an output between two accepted
+/// steps may lie further from the last evaluation than the integrator's stages do).
+pub const OUTPUT_NEWTON_ITERATIONS: usize = 30;
 
 /// The right-hand side of the partitioned ODE for one partition, with its workspace and the
 /// warm start of the dependent coordinates.
@@ -252,30 +261,37 @@ pub struct PartitionedRhs {
     pub repartition_above: f64,
     /// Newton iterations allowed per evaluation ([`MAX_NEWTON_ITERATIONS`] by default).
     pub max_newton: usize,
-    /// Where the converged coordinates are published after each evaluation (the integrator's
-    /// right-hand side), or read from before each one (an evaluator of output rows, whose own
-    /// last point may be an output interval away): see [`WarmStart`].
-    pub warm: WarmStart,
+    /// `(t, y)` of the last completed evaluation (whose full state `vars` holds), when valid.
+    last_t: f64,
+    last_y: Vec<f64>,
+    last_valid: bool,
     vars: Vec<f64>,
     w_pos: Vec<f64>,
     o_pos: Vec<f64>,
     w_gv: (Vec<f64>, Vec<f64>),
-    o_gv: Vec<f64>,
     w_dyn: Vec<f64>,
     o_dyn: Vec<f64>,
-    /// LU of `G_q[:, D]` and its pivots, `G_q[:, I]`.
-    jq: Vec<f64>,
-    pq: Vec<usize>,
+    /// LU of `G_q[:, D]` (its entries read from `o_pos`).
+    jq: BlockLu,
+    /// `G_q[:, I]` (row-major `nc × |q_I|`), gathered by `bq_map` (`(o_pos index, bq index)`).
     bq: Vec<f64>,
-    /// LU of `G_v[:, D]` and its pivots, `G_v[:, I]` then overwritten by `B = G_D⁻¹ G_I`.
-    jv: Vec<f64>,
-    pv: Vec<usize>,
+    bq_map: Vec<(usize, usize)>,
+    /// LU of `G_v[:, D]` (its entries read from `G_v`'s non-zeros), unless `share`.
+    jv: BlockLu,
+    /// `G_v[:, I]` (gathered by `bv_map`), then overwritten by `B = G_D⁻¹ G_I`.
     bv: Vec<f64>,
+    bv_map: Vec<(usize, usize)>,
+    /// The velocity level uses `jq` (`G_v = G_q` and the same dependent columns).
+    share: bool,
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
     have_prev: bool,
     /// `bv` holds `B = G_D⁻¹ G_I` of the last completed call (else the raw `G_v[:, I]`).
     b_ready: bool,
+    /// `c = G_D⁻¹ γ` was formed at the same point as `B` (the last call was a right-hand side).
+    c_ready: bool,
+    /// Predicted dependent coordinates (the branch check's reference).
+    pred: Vec<f64>,
     mhat: Vec<f64>,
     pm: Vec<usize>,
     tmp: Vec<f64>,
@@ -297,22 +313,52 @@ impl PartitionedRhs {
         let (niq, niv) = (part.ind_q.len(), part.ind_v.len());
         let mut vars = vec![0.0; 1 + nq + nv];
         vars[1..].copy_from_slice(&x[..nq + nv]);
+        // where each column sits in the dependent (Ok) or independent (Err) list
+        let place = |n: usize, dep: &[usize], ind: &[usize]| {
+            let mut at = vec![Ok(0); n];
+            for (a, &i) in dep.iter().enumerate() {
+                at[i] = Ok(a);
+            }
+            for (l, &i) in ind.iter().enumerate() {
+                at[i] = Err(l);
+            }
+            at
+        };
+        let at_q = place(nq, &part.dep_q, &part.ind_q);
+        let (mut jq_entries, mut bq_map) = (Vec::new(), Vec::new());
+        for (e, &(k, i)) in sys.gq_entries.iter().enumerate() {
+            match at_q[i] {
+                Ok(a) => jq_entries.push((k, a, nc + e)),
+                Err(l) => bq_map.push((nc + e, k * niq + l)),
+            }
+        }
+        let at_v = place(nv, &part.dep_v, &part.ind_v);
+        let (mut jv_entries, mut bv_map) = (Vec::new(), Vec::new());
+        for (e, &p) in sys.gv.positions().iter().enumerate() {
+            let (k, j) = (p / nv, p % nv);
+            match at_v[j] {
+                Ok(a) => jv_entries.push((k, a, e)),
+                Err(l) => bv_map.push((e, k * niv + l)),
+            }
+        }
         PartitionedRhs {
             w_pos: sys.pos.workspace(),
             o_pos: vec![0.0; sys.pos.n_outputs()],
             w_gv: sys.gv.workspace(),
-            o_gv: vec![0.0; nc * nv],
             w_dyn: sys.dynamics.workspace(),
             o_dyn: vec![0.0; sys.dynamics.n_outputs()],
-            jq: vec![0.0; nc * nc],
-            pq: vec![0; nc],
+            jq: BlockLu::new(nc, jq_entries),
             bq: vec![0.0; nc * niq],
-            jv: vec![0.0; nc * nc],
-            pv: vec![0; nc],
+            bq_map,
+            jv: BlockLu::new(nc, jv_entries),
             bv: vec![0.0; nc * niv],
+            bv_map,
+            share: sys.gv_is_gq && part.dep_q == part.dep_v,
             qi_prev: vec![0.0; niq],
             have_prev: false,
             b_ready: false,
+            c_ready: false,
+            pred: vec![0.0; nc],
             mhat: vec![0.0; niv * niv],
             pm: vec![0; niv],
             tmp: vec![0.0; nc.max(niv)],
@@ -323,7 +369,9 @@ impl PartitionedRhs {
             condition_q: 1.0,
             repartition_above: f64::INFINITY,
             max_newton: MAX_NEWTON_ITERATIONS,
-            warm: WarmStart::Own,
+            last_t: f64::NAN,
+            last_y: vec![0.0; niq + niv],
+            last_valid: false,
             vars,
             part,
             newton_tol,
@@ -347,18 +395,10 @@ impl PartitionedRhs {
         // size of the tangent prediction, and whether the Newton correction is checked against it
         let mut predicted = 0.0f64;
         let mut checked = false;
-        if let WarmStart::Follow(w) = &self.warm {
-            if let Ok(q) = w.lock() {
-                if q.len() == nq {
-                    self.vars[1..=nq].copy_from_slice(&q);
-                    self.have_prev = false;
-                }
-            }
-        }
         if self.have_prev && nc > 0 {
             // tangent predictor Δq_D = −G_D⁻¹ G_I Δq_I: with `B = G_D⁻¹ G_I` of the last call
             // when G_v = G_q (no solve), else with the last factorisation of G_q[:, D]
-            if self.sys.gv_is_gq && self.b_ready && self.part.dep_q == self.part.dep_v {
+            if self.share && self.b_ready {
                 for k in 0..nc {
                     let row = &self.bv[k * niq..(k + 1) * niq];
                     self.tmp[k] = row
@@ -368,6 +408,23 @@ impl PartitionedRhs {
                         .map(|((b, yl), pl)| b * (yl - pl))
                         .sum();
                 }
+                if self.c_ready {
+                    // the curvature term −½ G_D⁻¹ H(Δq, Δq): along the last velocity v,
+                    // Δq ≈ δ v and H(Δq, Δq) ≈ δ² H(v, v) = δ² γ, with G_D⁻¹ γ = c of the last
+                    // call and δ the step along v that moves q_I by Δq_I (least squares)
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for (l, &j) in self.part.ind_v.iter().enumerate() {
+                        let v = self.vars[1 + nq + j];
+                        num += (y[l] - self.qi_prev[l]) * v;
+                        den += v * v;
+                    }
+                    if den > 0.0 {
+                        let d = num / den;
+                        for k in 0..nc {
+                            self.tmp[k] += 0.5 * d * d * self.c[k];
+                        }
+                    }
+                }
             } else {
                 for k in 0..nc {
                     let mut s = 0.0;
@@ -376,14 +433,14 @@ impl PartitionedRhs {
                     }
                     self.tmp[k] = s;
                 }
-                lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
+                self.jq.solve(&mut self.tmp[..nc]);
             }
             for (k, &i) in dq.iter().enumerate() {
                 self.vars[1 + i] -= self.tmp[k];
                 predicted = predicted.max(self.tmp[k].abs());
             }
             for (k, &i) in dq.iter().enumerate() {
-                self.c[k] = self.vars[1 + i];
+                self.pred[k] = self.vars[1 + i];
             }
             checked = true;
         }
@@ -399,22 +456,16 @@ impl PartitionedRhs {
             self.sys
                 .pos
                 .eval(&self.vars, &mut self.w_pos, &mut self.o_pos);
-            let (g, gq) = self.o_pos.split_at(nc);
-            for k in 0..nc {
-                for (a, &i) in dq.iter().enumerate() {
-                    self.jq[k * nc + a] = gq[k * nq + i];
-                }
-                for (l, &i) in iq.iter().enumerate() {
-                    self.bq[k * niq + l] = gq[k * nq + i];
-                }
-                self.tmp[k] = g[k];
+            self.tmp[..nc].copy_from_slice(&self.o_pos[..nc]);
+            for &(s, d) in &self.bq_map {
+                self.bq[d] = self.o_pos[s];
             }
-            let Some((big, small)) = lu_factor(&mut self.jq, nc, &mut self.pq) else {
+            let Ok(ratio) = self.jq.factor(&self.o_pos, self.repartition_above) else {
                 self.have_prev = false;
                 return Err(PartitionError::SingularBlock { t });
             };
-            self.condition_q = big / small;
-            lu_solve(&self.jq, nc, &self.pq, &mut self.tmp[..nc]);
+            self.condition_q = ratio;
+            self.jq.solve(&mut self.tmp[..nc]);
             let mut step = 0.0f64;
             for (k, &i) in dq.iter().enumerate() {
                 self.vars[1 + i] -= self.tmp[k];
@@ -430,7 +481,7 @@ impl PartitionedRhs {
                     // the prediction itself means the step crossed to another branch of the
                     // joints' solutions (near a bifurcation): retry with a smaller step
                     let corr = dq.iter().enumerate().fold(0.0f64, |a, (k, &i)| {
-                        a.max((self.vars[1 + i] - self.c[k]).abs())
+                        a.max((self.vars[1 + i] - self.pred[k]).abs())
                     });
                     if corr > BRANCH_FRACTION * predicted + 1e3 * self.newton_tol {
                         self.have_prev = false;
@@ -443,12 +494,6 @@ impl PartitionedRhs {
                 }
                 self.qi_prev.copy_from_slice(&y[..niq]);
                 self.have_prev = true;
-                if let WarmStart::Publish(w) = &self.warm {
-                    if let Ok(mut q) = w.lock() {
-                        q.clear();
-                        q.extend_from_slice(&self.vars[1..=nq]);
-                    }
-                }
                 return Ok(());
             }
         }
@@ -475,7 +520,9 @@ impl PartitionedRhs {
         let m = &self.sys.mass;
         // B = G_D⁻¹ G_I is ready (`complete`); c = G_D⁻¹ γ
         self.c.copy_from_slice(gamma);
-        lu_solve(&self.jv, nc, &self.pv, &mut self.c);
+        let lu = if self.share { &self.jq } else { &self.jv };
+        lu.solve(&mut self.c);
+        self.c_ready = true;
         // M̂ = M_I + Bᵀ M_D B,  r = Q_I − Bᵀ (Q_D + M_D c)
         for a in 0..niv {
             for b in 0..niv {
@@ -520,8 +567,9 @@ impl PartitionedRhs {
     /// Completes `y = [q_I, v_I]` to the full state `[q, v]` (Newton for `q_D`, then
     /// `G_D v_D = −G_I v_I`), left in [`Self::full_state`]; factorises `G_v[:, D]`.
     pub fn complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        self.last_valid = false;
         self.positions(t, y)?;
-        let (nq, nv, nc) = self.sys.dims;
+        let (nq, _, nc) = self.sys.dims;
         let niq = self.part.ind_q.len();
         let niv = self.part.ind_v.len();
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
@@ -532,30 +580,23 @@ impl PartitionedRhs {
             return Ok(());
         }
         self.b_ready = false;
-        if self.sys.gv_is_gq && self.part.dep_q == self.part.dep_v {
+        self.c_ready = false;
+        if self.share {
             // G_v = G_q, and Newton's last factorisation of G_q[:, D] (at a point within the
             // Newton tolerance of the converged q) serves the velocity level too, without the
             // G_v tape and a second LU
-            self.jv.copy_from_slice(&self.jq);
-            self.pv.copy_from_slice(&self.pq);
             self.bv.copy_from_slice(&self.bq);
             self.condition_estimate = self.condition_q;
         } else {
-            self.sys
-                .gv
-                .eval_into(&self.vars, &mut self.w_gv, &mut self.o_gv);
-            for k in 0..nc {
-                for (a, &j) in dv.iter().enumerate() {
-                    self.jv[k * nc + a] = self.o_gv[k * nv + j];
-                }
-                for (l, &j) in iv.iter().enumerate() {
-                    self.bv[k * niv + l] = self.o_gv[k * nv + j];
-                }
+            let vals = self.sys.gv.eval_nonzeros(&self.vars, &mut self.w_gv);
+            self.bv.fill(0.0);
+            for &(s, d) in &self.bv_map {
+                self.bv[d] = vals[s];
             }
-            let Some((big, small)) = lu_factor(&mut self.jv, nc, &mut self.pv) else {
+            let Ok(ratio) = self.jv.factor(vals, self.repartition_above) else {
                 return Err(PartitionError::SingularBlock { t });
             };
-            self.condition_estimate = big / small;
+            self.condition_estimate = ratio;
         }
         if self.condition_estimate > self.repartition_above {
             return Err(PartitionError::Repartition {
@@ -565,11 +606,12 @@ impl PartitionedRhs {
         }
         // B = G_D⁻¹ G_I (column by column): the velocities v_D = −B v_I, the reduced equations
         // and the next call's tangent predictor
+        let lu = if self.share { &self.jq } else { &self.jv };
         for l in 0..niv {
             for k in 0..nc {
                 self.tmp[k] = self.bv[k * niv + l];
             }
-            lu_solve(&self.jv, nc, &self.pv, &mut self.tmp[..nc]);
+            lu.solve(&mut self.tmp[..nc]);
             for k in 0..nc {
                 self.bv[k * niv + l] = self.tmp[k];
             }
@@ -585,7 +627,37 @@ impl PartitionedRhs {
         for (k, &j) in dv.iter().enumerate() {
             self.vars[1 + nq + j] = self.tmp[k];
         }
+        self.last_t = t;
+        self.last_y.copy_from_slice(y);
+        self.last_valid = true;
         Ok(())
+    }
+
+    /// [`Self::complete`] for an output row (or an event function) at `(t, y)` between the
+    /// integrator's evaluations: no partition re-choice, [`OUTPUT_NEWTON_ITERATIONS`] Newton
+    /// iterations, and nothing to do when `(t, y)` is the last completed evaluation (an
+    /// explicit Runge–Kutta step whose last stage is the step's end, landing on an output).
+    pub fn complete_for_output(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        if self.last_valid && self.last_t == t && self.last_y == y {
+            return Ok(());
+        }
+        self.relaxed(|s| s.complete(t, y))
+    }
+
+    /// [`Self::full_with_multipliers`] for an output row or an event function (see
+    /// [`Self::complete_for_output`]).
+    pub fn full_for_output(&mut self, t: f64, y: &[f64]) -> Result<Vec<f64>, PartitionError> {
+        self.relaxed(|s| s.full_with_multipliers(t, y))
+    }
+
+    fn relaxed<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
+        let (above, newton) = (self.repartition_above, self.max_newton);
+        self.repartition_above = f64::INFINITY;
+        self.max_newton = OUTPUT_NEWTON_ITERATIONS;
+        let r = f(self);
+        self.repartition_above = above;
+        self.max_newton = newton;
+        r
     }
 
     /// The full state with the multipliers, `[q, v, λ]`, at `(t, y)`: `λ` from
@@ -602,7 +674,8 @@ impl PartitionedRhs {
             .map(|&d| self.o_dyn[d] - self.sys.mass[d] * self.acc[d])
             .collect();
         if nc > 0 {
-            lu_solve_transposed(&self.jv, nc, &self.pv, &mut lam);
+            let lu = if self.share { &self.jq } else { &self.jv };
+            lu.solve_transposed(&mut lam);
         }
         out.extend(lam);
         Ok(out)
@@ -671,33 +744,12 @@ pub fn lu_solve(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
     }
 }
 
-/// Solves `Aᵀ x = b` in place with the factors of [`lu_factor`] (`Aᵀ = Uᵀ Lᵀ P`).
-pub fn lu_solve_transposed(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
-    for i in 0..n {
-        let mut s = b[i];
-        for j in 0..i {
-            s -= a[j * n + i] * b[j];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for j in i + 1..n {
-            s -= a[j * n + i] * b[j];
-        }
-        b[i] = s;
-    }
-    for k in (0..n).rev() {
-        b.swap(k, piv[k]);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn lu_solves_a_pivoting_system_and_its_transpose() {
+    fn lu_solves_a_pivoting_system() {
         // A = [[0, 2, 1], [1, 1, 0], [3, 0, 1]]
         let a0 = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
         let mut a = a0;
@@ -710,13 +762,6 @@ mod tests {
         lu_solve(&a, 3, &p, &mut b);
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-14, "{b:?}");
-        }
-        let mut bt: Vec<f64> = (0..3)
-            .map(|i| (0..3).map(|j| a0[j * 3 + i] * x[j]).sum())
-            .collect();
-        lu_solve_transposed(&a, 3, &p, &mut bt);
-        for i in 0..3 {
-            assert!((bt[i] - x[i]).abs() < 1e-14, "{bt:?}");
         }
     }
 

@@ -52,6 +52,8 @@ pub(crate) mod ffi {
     pub const DORMAND_PRINCE_7_4_5: c_int = 8;
     /// `ARKODE_FEHLBERG_13_7_8`.
     pub const FEHLBERG_13_7_8: c_int = 11;
+    /// `ARK_INTERP_MAX_DEGREE` (ERKStep lowers it to the method's order − 1).
+    pub const ARK_INTERP_MAX_DEGREE: c_int = 5;
 
     #[link(name = "sundials_arkode")]
     extern "C" {
@@ -65,6 +67,7 @@ pub(crate) mod ffi {
         pub fn ERKStepSStolerances(mem: *mut c_void, rtol: f64, atol: f64) -> c_int;
         pub fn ERKStepSetUserData(mem: *mut c_void, ud: *mut c_void) -> c_int;
         pub fn ERKStepSetTableNum(mem: *mut c_void, table: c_int) -> c_int;
+        pub fn ERKStepSetInterpolantDegree(mem: *mut c_void, degree: c_int) -> c_int;
         pub fn ERKStepSetMaxNumSteps(mem: *mut c_void, mxsteps: c_long) -> c_int;
         pub fn ERKStepSetStopTime(mem: *mut c_void, tstop: f64) -> c_int;
         pub fn ERKStepSetErrHandlerFn(
@@ -109,6 +112,9 @@ pub struct ErkOptions {
     /// Do not integrate past this time.
     pub stop_time: Option<f64>,
 }
+
+/// Degree of the Hermite interpolant when no root functions are registered.
+const CUBIC: c_int = 3;
 
 /// The Butcher table for a relative tolerance: Dormand–Prince 5(4) down to 1e-7, Fehlberg
 /// 8(7) below (the high order pays where the steps are accuracy-bound).
@@ -264,6 +270,16 @@ impl Erk {
                 ffi::ERKStepSetTableNum(raw, table_for(opts.rtol).0),
                 t0,
             )?;
+            // outputs are reached exactly (stop times), so the interpolant only serves root
+            // finding and `dky`: a cubic Hermite needs no right-hand side beyond the step's
+            // own, where ARKODE's default (degree q − 1, quartic for Dormand–Prince) spends one
+            // more per step; `set_roots` asks for the default again
+            check(
+                P,
+                "ERKStepSetInterpolantDegree",
+                ffi::ERKStepSetInterpolantDegree(raw, CUBIC),
+                t0,
+            )?;
             // the driver counts steps; ARKODE's own per-call limit is one step in ONE_STEP mode
             check(
                 P,
@@ -320,6 +336,13 @@ impl Erk {
     pub fn set_roots(&mut self, n: usize, f: CvodeRootFn) -> Result<(), SolverError> {
         self.data.roots = Some(f);
         self.data.nroots = n;
+        // root finding interpolates within the step: ARKODE's default (most accurate) degree
+        // SAFETY: live ARKODE memory.
+        let flag =
+            unsafe { ffi::ERKStepSetInterpolantDegree(self.raw(), ffi::ARK_INTERP_MAX_DEGREE) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepSetInterpolantDegree", flag));
+        }
         // SAFETY: live ARKODE memory; the trampoline reads closures from the user data.
         let flag = unsafe { ffi::ERKStepRootInit(self.raw(), n as c_int, Some(root_trampoline)) };
         if flag < 0 {

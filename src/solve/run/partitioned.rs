@@ -5,7 +5,7 @@
 
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use cpu_time::ThreadTime;
 
@@ -16,7 +16,7 @@ use super::{
 };
 use crate::dae::{
     consistent_state_from, ConsistentState, ConstraintExprs, GglFormulation, MechanicsTapes,
-    Partition, PartitionError, PartitionedRhs, PartitionedSystem, WarmStart,
+    Partition, PartitionError, PartitionedRhs, PartitionedSystem,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::options::{Integrator, SolveOptions};
@@ -60,10 +60,6 @@ pub const STIFFNESS_LIMIT: f64 = 500.0;
 
 /// Failed segments from the same output after which the compliant GGL takes the passage.
 const MAX_RETRIES: usize = 2;
-
-/// Newton iterations allowed when completing an output row (the warm start is one output
-/// interval old there, not one step).
-const OUTPUT_NEWTON_ITERATIONS: usize = 30;
 
 /// One integrator of the independent states.
 enum Integ {
@@ -118,20 +114,31 @@ impl Integ {
 
 type RootFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> crate::sundials::CallbackResult + Send>;
 
+/// The right-hand side shared by the integrator and the output rows and event functions, which
+/// complete their states from its last evaluation (its Newton warm start and tangent
+/// predictor are then at most a step away).
+type SharedRhs = Arc<Mutex<PartitionedRhs>>;
+
+/// The shared right-hand side (a panic caught in an earlier callback leaves it usable: every
+/// evaluation starts from its own inputs).
+fn lock(core: &SharedRhs) -> MutexGuard<'_, PartitionedRhs> {
+    core.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Builds the integrator of one segment.
 fn make_integ(
     kind: Integrator,
-    core: &PartitionedRhs,
+    core: &SharedRhs,
     flag: &Arc<AtomicBool>,
     t0: f64,
     y0: &[f64],
     opts: &SolveOptions,
     roots: Option<(usize, RootFn)>,
 ) -> Result<Integ, Error> {
-    let mut c1 = core.clone();
+    let c1 = core.clone();
     let f1 = flag.clone();
     let rhs = Box::new(
-        move |t: f64, y: &[f64], yd: &mut [f64]| match c1.rhs(t, y, yd) {
+        move |t: f64, y: &[f64], yd: &mut [f64]| match lock(&c1).rhs(t, y, yd) {
             Ok(()) => Ok(()),
             Err(e @ PartitionError::Repartition { .. }) => {
                 f1.store(true, Ordering::Relaxed);
@@ -426,24 +433,19 @@ pub(super) fn run_partitioned(
         };
         summary.unknowns = y0.len();
         let flag = Arc::new(AtomicBool::new(false));
-        let shared = Arc::new(std::sync::Mutex::new(Vec::new()));
-        core.warm = WarmStart::Publish(shared.clone());
-        let mut oc = core.clone();
-        oc.warm = WarmStart::Follow(shared);
-        oc.repartition_above = f64::INFINITY;
-        oc.max_newton = OUTPUT_NEWTON_ITERATIONS;
+        let oc: SharedRhs = Arc::new(Mutex::new(core));
         let roots = (events.len() > 0).then(|| {
             let mut ev = events.clone();
-            let mut rc = oc.clone();
+            let rc = oc.clone();
             let f: RootFn = Box::new(move |t: f64, y: &[f64], g: &mut [f64]| {
-                let full = rc
-                    .full_with_multipliers(t, y)
+                let full = lock(&rc)
+                    .full_for_output(t, y)
                     .map_err(|e| CallbackError::Recoverable(e.to_string()))?;
                 ev.roots(t, &full, g)
             });
             (ev_len(&events), f)
         });
-        let mut integ = make_integ(kind, &core, &flag, t_start, &y0, opts, roots)?;
+        let mut integ = make_integ(kind, &oc, &flag, t_start, &y0, opts, roots)?;
         integ.charge(wall_start.elapsed(), total.steps);
         while k_next < n_out {
             let step = match integ.solve_to(opts.output_times[k_next]) {
@@ -469,7 +471,7 @@ pub(super) fn run_partitioned(
                     let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
                         let mut y = vec![0.0; y0.len()];
                         integ.dky(tr, &mut y).ok()?;
-                        let full = oc.full_with_multipliers(tr, &y).ok()?;
+                        let full = lock(&oc).full_for_output(tr, &y).ok()?;
                         Some((tr, out.row(tr, &full)))
                     });
                     finish(summary, &out, &total, compliant_time);
@@ -479,11 +481,14 @@ pub(super) fn run_partitioned(
             };
             // the multipliers (a full right-hand side and a transposed solve) only where the
             // rows show them (reaction columns); otherwise positions and velocities suffice
-            let completed = if with_multipliers {
-                oc.full_with_multipliers(step.t, integ.y())
-            } else {
-                oc.complete(step.t, integ.y())
-                    .map(|()| oc.full_state().to_vec())
+            let completed = {
+                let mut oc = lock(&oc);
+                if with_multipliers {
+                    oc.full_for_output(step.t, integ.y())
+                } else {
+                    oc.complete_for_output(step.t, integ.y())
+                        .map(|()| oc.full_state().to_vec())
+                }
             };
             let full = completed.map_err(|e| {
                 Error::Solver(SolverError::InvalidInput(format!(
