@@ -43,8 +43,8 @@ pub struct SingularBlock;
 #[derive(Clone, Debug)]
 pub struct LuPlan {
     n: usize,
-    /// Original row of permuted row `k`.
-    row_of: Vec<usize>,
+    /// The row swapped with row `k` at step `k` (applied in order, `P b`).
+    swap: Vec<usize>,
     /// For each original row, its permuted position.
     pos_of_row: Vec<usize>,
     /// `lower[lo[k]..lo[k + 1]]`: permuted rows `i > k` with `L[i][k]` structurally non-zero.
@@ -68,6 +68,7 @@ impl LuPlan {
         let mut s = pattern[..n * n].to_vec();
         // perm[k]: original row at permuted position k (rows are swapped as they are chosen)
         let mut perm: Vec<usize> = (0..n).collect();
+        let mut swap = vec![0; n];
         let (mut big, mut small) = (0.0f64, f64::INFINITY);
         for k in 0..n {
             let mut p = k;
@@ -82,6 +83,7 @@ impl LuPlan {
             if best == 0.0 || !best.is_finite() {
                 return None;
             }
+            swap[k] = p;
             if p != k {
                 for j in 0..n {
                     a.swap(k * n + j, p * n + j);
@@ -123,7 +125,7 @@ impl LuPlan {
             .collect();
         Some(LuPlan {
             n,
-            row_of: perm,
+            swap,
             pos_of_row,
             lower,
             lo,
@@ -291,17 +293,10 @@ impl BlockLu {
         let Some(plan) = &self.plan else { return };
         let n = self.n;
         let a = &self.a;
-        // c = P b, then L c' = c (unit lower), then U x = c'
-        let mut c = [0.0f64; 64];
-        let mut heap;
-        let c: &mut [f64] = if n <= 64 {
-            &mut c[..n]
-        } else {
-            heap = vec![0.0; n];
-            &mut heap
-        };
-        for k in 0..n {
-            c[k] = b[plan.row_of[k]];
+        // c = P b (in place), then L c' = c (unit lower), then U x = c'
+        let c = &mut b[..n];
+        for (k, &p) in plan.swap.iter().enumerate() {
+            c.swap(k, p);
         }
         for k in 0..n {
             let ck = c[k];
@@ -318,7 +313,6 @@ impl BlockLu {
             }
             c[k] = s / a[k * n + k];
         }
-        b[..n].copy_from_slice(c);
     }
 
     /// Solves `Aᵀ x = b` in place with the last factorisation (`Aᵀ = Uᵀ Lᵀ P`).
@@ -326,7 +320,7 @@ impl BlockLu {
         let Some(plan) = &self.plan else { return };
         let n = self.n;
         let a = &self.a;
-        let mut c = b[..n].to_vec();
+        let c = &mut b[..n];
         for k in 0..n {
             c[k] /= a[k * n + k];
             let ck = c[k];
@@ -341,8 +335,8 @@ impl BlockLu {
             }
             c[k] = s;
         }
-        for k in 0..n {
-            b[plan.row_of[k]] = c[k];
+        for (k, &p) in plan.swap.iter().enumerate().rev() {
+            c.swap(k, p);
         }
     }
 }

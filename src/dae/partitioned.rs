@@ -120,6 +120,8 @@ pub struct PartitionedSystem {
     pos: Tape,
     /// `(row, coordinate)` of each compiled entry of `G_q` (they follow the `nc` values of `g`).
     gq_entries: Vec<(usize, usize)>,
+    /// The variables (slots of `[t, q, v]`) each entry of `gq_entries` mentions.
+    gq_vars: Vec<Vec<u32>>,
     /// `G_v` (its structural non-zeros), evaluated row-major `nc × nv`.
     gv: MatrixTape,
     /// `[Q, γ, K(q) v]`.
@@ -152,10 +154,12 @@ impl PartitionedSystem {
         let gv_is_gq = identity_kinematics && c.gq == c.gv;
         let mut pos: Vec<Expr> = c.g.clone();
         let mut gq_entries = Vec::new();
+        let mut gq_vars = Vec::new();
         for (k, row) in c.gq.iter().enumerate() {
             for (i, &e) in row.iter().enumerate() {
                 if !sys.graph.is_zero(e) {
                     gq_entries.push((k, i));
+                    gq_vars.push(sys.graph.vars(e));
                     pos.push(e);
                 }
             }
@@ -168,6 +172,7 @@ impl PartitionedSystem {
             dims: (nq, nv, nc),
             pos: sys.graph.compile(&pos),
             gq_entries,
+            gq_vars,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
             dynamics: sys.graph.compile(&dynamics),
             mass: sys.mass.clone(),
@@ -283,6 +288,18 @@ pub struct PartitionedRhs {
     bv_map: Vec<(usize, usize)>,
     /// The velocity level uses `jq` (`G_v = G_q` and the same dependent columns).
     share: bool,
+    /// The joints are affine in the dependent coordinates: `G_q[:, D]` is constant and
+    /// `G_q[:, I]` does not mention `q_D` (translations dependent, as the seed's causality
+    /// picks them, on pin joints). One Newton step from any point is then exact, and `G_D`
+    /// is factorised once.
+    linear: bool,
+    /// `jq` holds the factorisation of the constant `G_D` (`linear`).
+    linear_ready: bool,
+    /// `G_D⁻¹` (row-major) when `G_D` is constant and shared by both levels: its solves are
+    /// then products (empty otherwise).
+    dep_inverse: Vec<f64>,
+    /// Scratch of `nc` values for the products.
+    scratch: Vec<f64>,
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
     have_prev: bool,
@@ -325,6 +342,15 @@ impl PartitionedRhs {
             at
         };
         let at_q = place(nq, &part.dep_q, &part.ind_q);
+        let dep_slot: Vec<u32> = part.dep_q.iter().map(|&i| 1 + i as u32).collect();
+        let linear = sys
+            .gq_entries
+            .iter()
+            .zip(&sys.gq_vars)
+            .all(|(&(_, i), vars)| match at_q[i] {
+                Ok(_) => vars.is_empty(),
+                Err(_) => !vars.iter().any(|v| dep_slot.contains(v)),
+            });
         let (mut jq_entries, mut bq_map) = (Vec::new(), Vec::new());
         for (e, &(k, i)) in sys.gq_entries.iter().enumerate() {
             match at_q[i] {
@@ -354,6 +380,10 @@ impl PartitionedRhs {
             bv: vec![0.0; nc * niv],
             bv_map,
             share: sys.gv_is_gq && part.dep_q == part.dep_v,
+            linear,
+            linear_ready: false,
+            dep_inverse: Vec::new(),
+            scratch: vec![0.0; nc],
             qi_prev: vec![0.0; niq],
             have_prev: false,
             b_ready: false,
@@ -395,6 +425,9 @@ impl PartitionedRhs {
         // size of the tangent prediction, and whether the Newton correction is checked against it
         let mut predicted = 0.0f64;
         let mut checked = false;
+        if self.linear && nc > 0 {
+            return self.linear_positions(t, y);
+        }
         if self.have_prev && nc > 0 {
             // tangent predictor Δq_D = −G_D⁻¹ G_I Δq_I: with `B = G_D⁻¹ G_I` of the last call
             // when G_v = G_q (no solve), else with the last factorisation of G_q[:, D]
@@ -455,7 +488,7 @@ impl PartitionedRhs {
             self.newton_iterations += 1;
             self.sys
                 .pos
-                .eval(&self.vars, &mut self.w_pos, &mut self.o_pos);
+                .eval_prepared(&self.vars, &mut self.w_pos, &mut self.o_pos);
             self.tmp[..nc].copy_from_slice(&self.o_pos[..nc]);
             for &(s, d) in &self.bq_map {
                 self.bq[d] = self.o_pos[s];
@@ -504,6 +537,66 @@ impl PartitionedRhs {
         })
     }
 
+    /// [`Self::positions`] for joints affine in `q_D`: `g(q_I, q_D + Δ) = g + G_D Δ`, so one
+    /// Newton step `Δ = −G_D⁻¹ g` from the last point is the solution (to rounding), and
+    /// `G_q` there equals `G_q` at the last point (`G_D` constant, `G_I` free of `q_D`).
+    fn linear_positions(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        let nc = self.sys.dims.2;
+        let niq = self.part.ind_q.len();
+        for (l, &i) in self.part.ind_q.iter().enumerate() {
+            self.vars[1 + i] = y[l];
+        }
+        self.newton_iterations += 1;
+        self.sys
+            .pos
+            .eval_prepared(&self.vars, &mut self.w_pos, &mut self.o_pos);
+        self.tmp[..nc].copy_from_slice(&self.o_pos[..nc]);
+        for &(s, d) in &self.bq_map {
+            self.bq[d] = self.o_pos[s];
+        }
+        if !self.linear_ready {
+            let Ok(ratio) = self.jq.factor(&self.o_pos, f64::INFINITY) else {
+                return Err(PartitionError::SingularBlock { t });
+            };
+            self.condition_q = ratio;
+            self.linear_ready = true;
+            if self.share {
+                // the constant block's inverse, column by column
+                let mut inv = vec![0.0; nc * nc];
+                for j in 0..nc {
+                    let e = &mut self.scratch;
+                    e.fill(0.0);
+                    e[j] = 1.0;
+                    self.jq.solve(e);
+                    for k in 0..nc {
+                        inv[k * nc + j] = e[k];
+                    }
+                }
+                self.dep_inverse = inv;
+            }
+        }
+        dep_solve(
+            &self.jq,
+            &self.dep_inverse,
+            &mut self.tmp[..nc],
+            &mut self.scratch,
+        );
+        let mut step = 0.0f64;
+        for (k, &i) in self.part.dep_q.iter().enumerate() {
+            self.vars[1 + i] -= self.tmp[k];
+            step = step.max(self.tmp[k].abs());
+        }
+        if !step.is_finite() {
+            return Err(PartitionError::Newton {
+                t,
+                correction: step,
+            });
+        }
+        self.qi_prev.copy_from_slice(&y[..niq]);
+        self.have_prev = true;
+        Ok(())
+    }
+
     /// Evaluates `y' = f(t, y)` (see the module documentation); `y = [q_I, v_I]`.
     pub fn rhs(&mut self, t: f64, y: &[f64], yd: &mut [f64]) -> Result<(), PartitionError> {
         self.complete(t, y)?;
@@ -513,7 +606,7 @@ impl PartitionedRhs {
         // [Q, γ, Kv] at the full state
         self.sys
             .dynamics
-            .eval(&self.vars, &mut self.w_dyn, &mut self.o_dyn);
+            .eval_prepared(&self.vars, &mut self.w_dyn, &mut self.o_dyn);
         let (qf, rest) = self.o_dyn.split_at(nv);
         let (gamma, kv) = rest.split_at(nc);
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
@@ -521,7 +614,7 @@ impl PartitionedRhs {
         // B = G_D⁻¹ G_I is ready (`complete`); c = G_D⁻¹ γ
         self.c.copy_from_slice(gamma);
         let lu = if self.share { &self.jq } else { &self.jv };
-        lu.solve(&mut self.c);
+        dep_solve(lu, &self.dep_inverse, &mut self.c, &mut self.scratch);
         self.c_ready = true;
         // M̂ = M_I + Bᵀ M_D B,  r = Q_I − Bᵀ (Q_D + M_D c)
         for a in 0..niv {
@@ -611,7 +704,12 @@ impl PartitionedRhs {
             for k in 0..nc {
                 self.tmp[k] = self.bv[k * niv + l];
             }
-            lu.solve(&mut self.tmp[..nc]);
+            dep_solve(
+                lu,
+                &self.dep_inverse,
+                &mut self.tmp[..nc],
+                &mut self.scratch,
+            );
             for k in 0..nc {
                 self.bv[k * niv + l] = self.tmp[k];
             }
@@ -679,6 +777,26 @@ impl PartitionedRhs {
         }
         out.extend(lam);
         Ok(out)
+    }
+}
+
+/// `b ← G_D⁻¹ b`: the product with `inverse` when it is given (a constant block), else the
+/// solve with the block's LU.
+fn dep_solve(lu: &BlockLu, inverse: &[f64], b: &mut [f64], scratch: &mut [f64]) {
+    if inverse.is_empty() {
+        lu.solve(b);
+        return;
+    }
+    let n = b.len();
+    for (s, &x) in scratch.iter_mut().zip(b.iter()) {
+        *s = x;
+    }
+    for (k, out) in b.iter_mut().enumerate() {
+        *out = inverse[k * n..(k + 1) * n]
+            .iter()
+            .zip(&scratch[..n])
+            .map(|(a, x)| a * x)
+            .sum();
     }
 }
 
@@ -762,6 +880,59 @@ mod tests {
         lu_solve(&a, 3, &p, &mut b);
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-14, "{b:?}");
+        }
+    }
+
+    /// The double pendulum's partition (translations dependent) and its right-hand side.
+    fn double_pendulum_rhs() -> (PartitionedRhs, Vec<f64>) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/double_pendulum.json");
+        let scene = crate::scene::Scene::from_path(path).expect("scene loads");
+        let model = crate::Model::new(&scene).expect("model builds");
+        let mut sys = model.system().clone();
+        let c = ConstraintExprs::derive(&mut sys);
+        let tapes = crate::dae::MechanicsTapes::new(&mut sys, &c, None);
+        let init = crate::dae::consistent_state(&sys, &tapes, 0.0).expect("consistent start");
+        let psys = Arc::new(PartitionedSystem::new(&mut sys, &c));
+        let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+        let part = psys.choose(0.0, &x).expect("a partition");
+        let y0 = part.states_of(psys.dims.0, &x);
+        (PartitionedRhs::new(psys, part, &x, 1e-13), y0)
+    }
+
+    #[test]
+    fn pin_joints_with_translations_dependent_take_one_newton_step_and_agree_with_newton() {
+        let (mut fast, y0) = double_pendulum_rhs();
+        assert!(fast.linear, "pins are affine in the translations");
+        let mut newton = fast.clone();
+        newton.linear = false;
+        let mut seed = 3u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let (mut a, mut b) = (vec![0.0; y0.len()], vec![0.0; y0.len()]);
+        for _ in 0..50 {
+            // states a step apart and far apart (angles up to ±0.5 rad, rates ±3 rad/s)
+            let y: Vec<f64> = y0
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| v + if i < 2 { 0.5 } else { 3.0 } * rnd())
+                .collect();
+            let before = fast.newton_iterations;
+            fast.rhs(0.0, &y, &mut a).unwrap();
+            assert_eq!(fast.newton_iterations - before, 1, "one step");
+            // plain Newton from the last point (no tangent predictor, so no branch check
+            // against these large jumps)
+            newton.have_prev = false;
+            newton.rhs(0.0, &y, &mut b).unwrap();
+            for (p, q) in a.iter().zip(&b) {
+                assert!((p - q).abs() <= 1e-10 * (1.0 + q.abs()), "{a:?} vs {b:?}");
+            }
+            for (p, q) in fast.full_state().iter().zip(newton.full_state()) {
+                assert!((p - q).abs() <= 1e-12 * (1.0 + q.abs()));
+            }
         }
     }
 

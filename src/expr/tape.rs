@@ -251,6 +251,33 @@ impl Tape {
     fn run(&self, work: &mut [f64], out: &mut [f64]) {
         let nv = self.n_vars;
         work[nv..nv + self.consts.len()].copy_from_slice(&self.consts);
+        self.run_prepared(work, out);
+    }
+
+    /// Like [`Tape::eval`] for a `work` that came from this tape's [`Tape::workspace`] and
+    /// is used with no other tape: its constants are in place (no instruction writes them),
+    /// so only the variables are copied in. For small tapes evaluated very often (the
+    /// partitioned right-hand side), where the copy of the constants is a visible cost.
+    ///
+    /// # Panics
+    /// As [`Tape::eval`].
+    pub fn eval_prepared(&self, vars: &[f64], work: &mut [f64], out: &mut [f64]) {
+        assert!(
+            vars.len() >= self.n_vars && work.len() >= self.work_len,
+            "tape needs {} variables and {} workspace slots, got {} and {}",
+            self.n_vars,
+            self.work_len,
+            vars.len(),
+            work.len()
+        );
+        assert_eq!(out.len(), self.outputs.len(), "tape output length");
+        for (w, &v) in work[..self.n_vars].iter_mut().zip(vars) {
+            *w = v;
+        }
+        self.run_prepared(work, out);
+    }
+
+    fn run_prepared(&self, work: &mut [f64], out: &mut [f64]) {
         for ins in &self.instrs {
             match *ins {
                 Instr::Un { op, dst, a } => work[dst as usize] = apply_un(op, work[a as usize]),
