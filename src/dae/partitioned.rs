@@ -32,7 +32,7 @@ use nalgebra::DMatrix;
 use super::block_lu::BlockLu;
 use super::index1::{dependent_condition, select_dependent};
 use super::mechanics::{ConstraintExprs, MatrixTape};
-use crate::expr::{Expr, Tape};
+use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 use crate::mech::MultibodySystem;
 
 /// Why a right-hand side of the partitioned ODE could not be evaluated.
@@ -124,8 +124,10 @@ pub struct PartitionedSystem {
     gq_vars: Vec<Vec<u32>>,
     /// `G_v` (its structural non-zeros), evaluated row-major `nc × nv`.
     gv: MatrixTape,
-    /// `[Q, γ, K(q) v]`.
-    dynamics: Tape,
+    /// The expressions every partition's staged tape compiles: `[g, G_q's non-zeros]` then
+    /// `[Q, γ, K(q) v]`, over the system's expression graph.
+    graph: ExprGraph,
+    all: Vec<Expr>,
     /// Diagonal of `M`.
     mass: Vec<f64>,
     /// `q' = v` (then the dependent coordinates are the dependent velocities).
@@ -164,9 +166,10 @@ impl PartitionedSystem {
                 }
             }
         }
-        let mut dynamics = sys.forces.clone();
-        dynamics.extend(&c.gamma);
-        dynamics.extend(&sys.kinematics);
+        let mut all = pos.clone();
+        all.extend(&sys.forces);
+        all.extend(&c.gamma);
+        all.extend(&sys.kinematics);
         let last = |n: &str| n.rsplit('.').next().unwrap_or("").to_string();
         PartitionedSystem {
             dims: (nq, nv, nc),
@@ -174,7 +177,8 @@ impl PartitionedSystem {
             gq_entries,
             gq_vars,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
-            dynamics: sys.graph.compile(&dynamics),
+            graph: sys.graph.clone(),
+            all,
             mass: sys.mass.clone(),
             identity_kinematics,
             gv_is_gq,
@@ -271,11 +275,16 @@ pub struct PartitionedRhs {
     last_y: Vec<f64>,
     last_valid: bool,
     vars: Vec<f64>,
-    w_pos: Vec<f64>,
-    o_pos: Vec<f64>,
+    /// `[g, G_q's non-zeros, Q, γ, K(q) v]` on one tape in three stages: `(t, q_I)` (fixed
+    /// during a call: the independent angles' sines and cosines once), `q_D` (each Newton
+    /// iteration), `v`; its outputs, and the offset of `[Q, γ, Kv]` in them.
+    staged: Arc<StagedTape>,
+    w_st: Vec<f64>,
+    o_st: Vec<f64>,
+    n_pos: usize,
+    /// Stage 0 of `staged` is current for this call's `(t, q_I)`.
+    stage0_valid: bool,
     w_gv: (Vec<f64>, Vec<f64>),
-    w_dyn: Vec<f64>,
-    o_dyn: Vec<f64>,
     /// LU of `G_q[:, D]` (its entries read from `o_pos`).
     jq: BlockLu,
     /// `G_q[:, I]` (row-major `nc × |q_I|`), gathered by `bq_map` (`(o_pos index, bq index)`).
@@ -343,6 +352,12 @@ impl PartitionedRhs {
         };
         let at_q = place(nq, &part.dep_q, &part.ind_q);
         let dep_slot: Vec<u32> = part.dep_q.iter().map(|&i| 1 + i as u32).collect();
+        let stage_of = |v: u32| match v as usize {
+            0 => 0,
+            k if k <= nq => usize::from(at_q[k - 1].is_ok()),
+            _ => 2,
+        };
+        let staged = Arc::new(sys.graph.compile_staged(&sys.all, &stage_of, 3));
         let linear = sys
             .gq_entries
             .iter()
@@ -368,11 +383,12 @@ impl PartitionedRhs {
             }
         }
         PartitionedRhs {
-            w_pos: sys.pos.workspace(),
-            o_pos: vec![0.0; sys.pos.n_outputs()],
+            w_st: staged.workspace(),
+            o_st: vec![0.0; staged.tape().n_outputs()],
+            n_pos: sys.pos.n_outputs(),
+            stage0_valid: false,
+            staged,
             w_gv: sys.gv.workspace(),
-            w_dyn: sys.dynamics.workspace(),
-            o_dyn: vec![0.0; sys.dynamics.n_outputs()],
             jq: BlockLu::new(nc, jq_entries),
             bq: vec![0.0; nc * niq],
             bq_map,
@@ -422,6 +438,7 @@ impl PartitionedRhs {
         let (dq, iq) = (&self.part.dep_q, &self.part.ind_q);
         let niq = iq.len();
         self.vars[0] = t;
+        self.stage0_valid = false;
         // size of the tangent prediction, and whether the Newton correction is checked against it
         let mut predicted = 0.0f64;
         let mut checked = false;
@@ -484,16 +501,18 @@ impl PartitionedRhs {
             return Ok(());
         }
         let mut last = f64::INFINITY;
-        for _ in 0..self.max_newton {
+        for it in 0..self.max_newton {
             self.newton_iterations += 1;
-            self.sys
-                .pos
-                .eval_prepared(&self.vars, &mut self.w_pos, &mut self.o_pos);
-            self.tmp[..nc].copy_from_slice(&self.o_pos[..nc]);
+            // (t, q_I) is fixed over the iterations: stage 0 once
+            let first = if it == 0 { 0 } else { 1 };
+            self.staged
+                .eval_stages(&self.vars, &mut self.w_st, &mut self.o_st, first..2);
+            self.stage0_valid = true;
+            self.tmp[..nc].copy_from_slice(&self.o_st[..nc]);
             for &(s, d) in &self.bq_map {
-                self.bq[d] = self.o_pos[s];
+                self.bq[d] = self.o_st[s];
             }
-            let Ok(ratio) = self.jq.factor(&self.o_pos, self.repartition_above) else {
+            let Ok(ratio) = self.jq.factor(&self.o_st, self.repartition_above) else {
                 self.have_prev = false;
                 return Err(PartitionError::SingularBlock { t });
             };
@@ -547,15 +566,15 @@ impl PartitionedRhs {
             self.vars[1 + i] = y[l];
         }
         self.newton_iterations += 1;
-        self.sys
-            .pos
-            .eval_prepared(&self.vars, &mut self.w_pos, &mut self.o_pos);
-        self.tmp[..nc].copy_from_slice(&self.o_pos[..nc]);
+        self.staged
+            .eval_stages(&self.vars, &mut self.w_st, &mut self.o_st, 0..2);
+        self.stage0_valid = true;
+        self.tmp[..nc].copy_from_slice(&self.o_st[..nc]);
         for &(s, d) in &self.bq_map {
-            self.bq[d] = self.o_pos[s];
+            self.bq[d] = self.o_st[s];
         }
         if !self.linear_ready {
-            let Ok(ratio) = self.jq.factor(&self.o_pos, f64::INFINITY) else {
+            let Ok(ratio) = self.jq.factor(&self.o_st, f64::INFINITY) else {
                 return Err(PartitionError::SingularBlock { t });
             };
             self.condition_q = ratio;
@@ -603,11 +622,11 @@ impl PartitionedRhs {
         let (nq, nv, nc) = self.sys.dims;
         let niq = self.part.ind_q.len();
         let niv = self.part.ind_v.len();
-        // [Q, γ, Kv] at the full state
-        self.sys
-            .dynamics
-            .eval_prepared(&self.vars, &mut self.w_dyn, &mut self.o_dyn);
-        let (qf, rest) = self.o_dyn.split_at(nv);
+        // [Q, γ, Kv] at the full state (stage 0 is this call's, unless Newton did not run)
+        let first = if self.stage0_valid { 1 } else { 0 };
+        self.staged
+            .eval_stages(&self.vars, &mut self.w_st, &mut self.o_st, first..3);
+        let (qf, rest) = self.o_st[self.n_pos..].split_at(nv);
         let (gamma, kv) = rest.split_at(nc);
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
         let m = &self.sys.mass;
@@ -769,7 +788,7 @@ impl PartitionedRhs {
             .part
             .dep_v
             .iter()
-            .map(|&d| self.o_dyn[d] - self.sys.mass[d] * self.acc[d])
+            .map(|&d| self.o_st[self.n_pos + d] - self.sys.mass[d] * self.acc[d])
             .collect();
         if nc > 0 {
             let lu = if self.share { &self.jq } else { &self.jv };

@@ -31,4 +31,4 @@ pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
 pub use excerpt::{excerpt, EXCERPT_CONTEXT, EXCERPT_MAX_CHARS};
 pub use graph::{Expr, ExprGraph};
 pub use parse::ParseError;
-pub use tape::Tape;
+pub use tape::{StagedTape, Tape};

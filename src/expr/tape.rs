@@ -33,6 +33,23 @@ impl ExprGraph {
     /// Compiles `outputs` into a [`Tape`]: only nodes reachable from them, shared
     /// subexpressions once, registers reused after their last use.
     pub fn compile(&self, outputs: &[Expr]) -> Tape {
+        self.compile_staged(outputs, &|_| 0, 1).tape
+    }
+
+    /// Compiles `outputs` into a [`StagedTape`]: each computed node belongs to the latest
+    /// stage of the variables it mentions (`var_stage`, clamped below `n_stages`; constants
+    /// are stage 0), the instructions run stage by stage, and a stage can be run again after
+    /// its variables changed without re-running the earlier ones (their values stay live,
+    /// and no register is shared between stages). For evaluations where some variables stay
+    /// fixed over several evaluations: the independent coordinates of a Newton iteration on
+    /// the dependent ones, whose sines and cosines are then computed once.
+    pub fn compile_staged(
+        &self,
+        outputs: &[Expr],
+        var_stage: &dyn Fn(u32) -> usize,
+        n_stages: usize,
+    ) -> StagedTape {
+        let n_stages = n_stages.max(1);
         let order = self.reachable(outputs);
         let n_vars = order
             .iter()
@@ -51,27 +68,44 @@ impl ExprGraph {
                 .expect("child of a reachable node is reachable")
         };
         const NONE: u32 = u32::MAX;
+        const LIVE_TO_END: u32 = u32::MAX - 1;
         let mut slot: Vec<u32> = vec![NONE; order.len()];
         let mut last_use: Vec<u32> = vec![NONE; order.len()]; // instruction index of last read
+        let mut stage: Vec<usize> = vec![0; order.len()];
         let mut consts = Vec::new();
-        let mut n_instr = 0u32;
+        // the computed nodes in evaluation order: by stage, topologically within one (a
+        // node's stage is at least its children's, so children still come first)
+        let mut seq: Vec<usize> = Vec::new();
         for (p, &i) in order.iter().enumerate() {
             match self.nodes[i as usize] {
-                Node::Var(k) => slot[p] = k,
+                Node::Var(k) => {
+                    slot[p] = k;
+                    stage[p] = var_stage(k).min(n_stages - 1);
+                }
                 Node::Const(b) => {
                     slot[p] = (n_vars + consts.len()) as u32;
                     consts.push(f64::from_bits(b));
                 }
                 n => {
                     let (ch, m) = n.children();
-                    for c in &ch[..m] {
-                        last_use[pos_of(*c)] = n_instr;
-                    }
-                    n_instr += 1;
+                    stage[p] = ch[..m].iter().map(|c| stage[pos_of(*c)]).max().unwrap_or(0);
+                    seq.push(p);
                 }
             }
         }
-        const LIVE_TO_END: u32 = u32::MAX - 1;
+        seq.sort_by_key(|&p| stage[p]);
+        for (n_instr, &p) in seq.iter().enumerate() {
+            let (ch, m) = self.nodes[order[p] as usize].children();
+            for c in &ch[..m] {
+                let cp = pos_of(*c);
+                // a value read by a later stage must survive re-runs of that stage
+                last_use[cp] = if stage[cp] < stage[p] || last_use[cp] == LIVE_TO_END {
+                    LIVE_TO_END
+                } else {
+                    n_instr as u32
+                };
+            }
+        }
         for o in outputs {
             last_use[pos_of(*o)] = LIVE_TO_END;
         }
@@ -81,11 +115,18 @@ impl ExprGraph {
         let mut n_regs = 0u32;
         let mut tables: Vec<TableData> = Vec::new();
         let mut table_map: Vec<(u32, u32)> = Vec::new();
-        let mut instrs = Vec::with_capacity(n_instr as usize);
-        for (p, &i) in order.iter().enumerate() {
-            let node = self.nodes[i as usize];
-            if matches!(node, Node::Var(_) | Node::Const(_)) {
-                continue;
+        let mut instrs = Vec::with_capacity(seq.len());
+        let mut bounds = vec![0; n_stages + 1];
+        let mut current = 0;
+        for &p in &seq {
+            let node = self.nodes[order[p] as usize];
+            if stage[p] != current {
+                // registers are never shared between stages
+                free.clear();
+                for b in &mut bounds[current + 1..=stage[p]] {
+                    *b = instrs.len();
+                }
+                current = stage[p];
             }
             let here = instrs.len() as u32;
             let (ch, m) = node.children();
@@ -142,14 +183,82 @@ impl ExprGraph {
             instrs.push(ins);
             slot[p] = dst;
         }
+        for b in &mut bounds[current + 1..] {
+            *b = instrs.len();
+        }
         let outputs = outputs.iter().map(|o| slot[pos_of(*o)]).collect();
-        Tape {
-            n_vars,
-            work_len: base as usize + n_regs as usize,
-            consts,
-            instrs,
-            outputs,
-            tables,
+        StagedTape {
+            tape: Tape {
+                n_vars,
+                work_len: base as usize + n_regs as usize,
+                consts,
+                instrs,
+                outputs,
+                tables,
+            },
+            bounds,
+        }
+    }
+}
+
+/// A [`Tape`] whose instructions run in stages ([`ExprGraph::compile_staged`]).
+#[derive(Clone, Debug)]
+pub struct StagedTape {
+    tape: Tape,
+    /// Instruction index where each stage starts (and the end).
+    bounds: Vec<usize>,
+}
+
+impl StagedTape {
+    /// The whole tape (all stages at once).
+    pub fn tape(&self) -> &Tape {
+        &self.tape
+    }
+
+    /// Number of stages.
+    pub fn n_stages(&self) -> usize {
+        self.bounds.len() - 1
+    }
+
+    /// Instructions of stage `s`.
+    pub fn stage_len(&self, s: usize) -> usize {
+        self.bounds[s + 1] - self.bounds[s]
+    }
+
+    /// Scratch space with the constants preloaded (as [`Tape::workspace`]).
+    pub fn workspace(&self) -> Vec<f64> {
+        self.tape.workspace()
+    }
+
+    /// Copies `vars` in and runs the stages `stages` (e.g. `0..2`), then writes every output
+    /// into `out`. An output is current when its stage and every earlier one have run since
+    /// the variables they mention last changed. `work` as for [`Tape::eval_prepared`].
+    ///
+    /// # Panics
+    /// As [`Tape::eval_prepared`], or if `stages` runs past the last stage.
+    pub fn eval_stages(
+        &self,
+        vars: &[f64],
+        work: &mut [f64],
+        out: &mut [f64],
+        stages: std::ops::Range<usize>,
+    ) {
+        let t = &self.tape;
+        assert!(
+            vars.len() >= t.n_vars && work.len() >= t.work_len,
+            "tape needs {} variables and {} workspace slots, got {} and {}",
+            t.n_vars,
+            t.work_len,
+            vars.len(),
+            work.len()
+        );
+        assert_eq!(out.len(), t.outputs.len(), "tape output length");
+        for (w, &v) in work[..t.n_vars].iter_mut().zip(vars) {
+            *w = v;
+        }
+        t.run_instrs(self.bounds[stages.start]..self.bounds[stages.end], work);
+        for (o, &s) in out.iter_mut().zip(&t.outputs) {
+            *o = work[s as usize];
         }
     }
 }
@@ -278,7 +387,14 @@ impl Tape {
     }
 
     fn run_prepared(&self, work: &mut [f64], out: &mut [f64]) {
-        for ins in &self.instrs {
+        self.run_instrs(0..self.instrs.len(), work);
+        for (o, &s) in out.iter_mut().zip(&self.outputs) {
+            *o = work[s as usize];
+        }
+    }
+
+    fn run_instrs(&self, range: std::ops::Range<usize>, work: &mut [f64]) {
+        for ins in &self.instrs[range] {
             match *ins {
                 Instr::Un { op, dst, a } => work[dst as usize] = apply_un(op, work[a as usize]),
                 Instr::Bin { op, dst, a, b } => {
@@ -295,9 +411,6 @@ impl Tape {
                     work[dst as usize] = self.tables[table as usize].slope(work[a as usize])
                 }
             }
-        }
-        for (o, &s) in out.iter_mut().zip(&self.outputs) {
-            *o = work[s as usize];
         }
     }
 }
