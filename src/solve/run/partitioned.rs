@@ -261,10 +261,11 @@ pub(super) fn run_partitioned(
     // output rows read the multipliers only for the reaction columns
     let with_multipliers = sys.reaction_outputs;
     let events = event_eval(&sys, &tapes, &multipliers);
+    // room for every output row up front (no reallocation inside the timed integration)
     let mut sol = Solution {
         columns: out.columns.clone(),
-        times: Vec::new(),
-        rows: Vec::new(),
+        times: Vec::with_capacity(opts.output_times.len()),
+        rows: Vec::with_capacity(opts.output_times.len()),
         summary: Summary::default(),
     };
     summary.solver = "CVODE".into();
