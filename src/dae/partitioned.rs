@@ -18,9 +18,9 @@
 //! which are the reduced (Maggi/Kane) equations `Rᵀ(M v' − Q) = 0` with `G_v v' + γ = 0`; one LU
 //! factorisation of `G_D` serves the velocities, `B`, `c` and the multipliers
 //! `G_Dᵀ λ = Q_D − M_D a_D`. `G_D` is factorised along its sparsity pattern with a pivot order
-//! kept between calls ([`super::block_lu`]); the reduced mass matrix (`|v_I|` square, dense) by
-//! the small dense LU below, hand-written (no allocation per call; nalgebra's decompositions
-//! take their matrix by value).
+//! kept between calls ([`super::block_lu`]), and so is the reduced mass matrix (`|v_I|`
+//! square, dense pattern): no allocation per call, where nalgebra's decompositions take their
+//! matrix by value.
 
 // the dense kernels index row-major matrices and several vectors with the same loop variable
 #![allow(clippy::needless_range_loop)]
@@ -318,8 +318,9 @@ pub struct PartitionedRhs {
     c_ready: bool,
     /// Predicted dependent coordinates (the branch check's reference).
     pred: Vec<f64>,
+    /// `M̂ = M_I + Bᵀ M_D B` (dense row-major) and its LU.
     mhat: Vec<f64>,
-    pm: Vec<usize>,
+    mhat_lu: BlockLu,
     tmp: Vec<f64>,
     c: Vec<f64>,
     /// Accelerations `v'` of the last call (all velocities).
@@ -406,7 +407,7 @@ impl PartitionedRhs {
             c_ready: false,
             pred: vec![0.0; nc],
             mhat: vec![0.0; niv * niv],
-            pm: vec![0; niv],
+            mhat_lu: BlockLu::new(niv, (0..niv * niv).map(|k| (k / niv, k % niv, k)).collect()),
             tmp: vec![0.0; nc.max(niv)],
             c: vec![0.0; nc],
             acc: vec![0.0; nv],
@@ -654,10 +655,10 @@ impl PartitionedRhs {
             ya[a] = s;
         }
         if niv > 0 {
-            if lu_factor(&mut self.mhat, niv, &mut self.pm).is_none() {
+            if self.mhat_lu.factor(&self.mhat, f64::INFINITY).is_err() {
                 return Err(PartitionError::SingularMass { t });
             }
-            lu_solve(&self.mhat, niv, &self.pm, ya);
+            self.mhat_lu.solve(ya);
         }
         for (a, &j) in iv.iter().enumerate() {
             self.acc[j] = ya[a];
@@ -819,88 +820,9 @@ fn dep_solve(lu: &BlockLu, inverse: &[f64], b: &mut [f64], scratch: &mut [f64]) 
     }
 }
 
-/// In-place LU factorisation with partial pivoting of the row-major `n × n` matrix `a`
-/// (`P a = L U`, unit `L` below the diagonal, `U` on and above it); `piv[k]` is the row swapped
-/// with row `k`. Returns the largest and smallest |pivot|, or `None` when a pivot is zero or
-/// not finite.
-pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Option<(f64, f64)> {
-    let a = &mut a[..n * n];
-    let (mut big, mut small) = (0.0f64, f64::INFINITY);
-    for k in 0..n {
-        let mut p = k;
-        let mut best = a[k * n + k].abs();
-        for i in k + 1..n {
-            let v = a[i * n + k].abs();
-            if v > best {
-                best = v;
-                p = i;
-            }
-        }
-        if best == 0.0 || !best.is_finite() {
-            return None;
-        }
-        piv[k] = p;
-        if p != k {
-            for j in 0..n {
-                a.swap(k * n + j, p * n + j);
-            }
-        }
-        let d = a[k * n + k];
-        big = big.max(best);
-        small = small.min(best);
-        // rows below k minus multiples of row k (slices: no bounds checks in the inner loop)
-        let (top, below) = a.split_at_mut((k + 1) * n);
-        let pivot_row = &top[k * n + k + 1..];
-        for row in below.chunks_exact_mut(n) {
-            let f = row[k] / d;
-            row[k] = f;
-            if f != 0.0 {
-                for (x, &p) in row[k + 1..].iter_mut().zip(pivot_row) {
-                    *x -= f * p;
-                }
-            }
-        }
-    }
-    Some((big, if n == 0 { 1.0 } else { small }))
-}
-
-/// Solves `A x = b` in place with the factors of [`lu_factor`].
-pub fn lu_solve(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
-    for k in 0..n {
-        b.swap(k, piv[k]);
-    }
-    for i in 1..n {
-        let row = &a[i * n..i * n + i];
-        let s: f64 = row.iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
-        b[i] -= s;
-    }
-    for i in (0..n).rev() {
-        let row = &a[i * n + i + 1..(i + 1) * n];
-        let s: f64 = row.iter().zip(&b[i + 1..n]).map(|(x, y)| x * y).sum();
-        b[i] = (b[i] - s) / a[i * n + i];
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn lu_solves_a_pivoting_system() {
-        // A = [[0, 2, 1], [1, 1, 0], [3, 0, 1]]
-        let a0 = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
-        let mut a = a0;
-        let mut p = [0; 3];
-        lu_factor(&mut a, 3, &mut p).unwrap();
-        let x = [1.0, -2.0, 0.5];
-        let mut b: Vec<f64> = (0..3)
-            .map(|i| (0..3).map(|j| a0[i * 3 + j] * x[j]).sum())
-            .collect();
-        lu_solve(&a, 3, &p, &mut b);
-        for i in 0..3 {
-            assert!((b[i] - x[i]).abs() < 1e-14, "{b:?}");
-        }
-    }
 
     /// The double pendulum's partition (translations dependent) and its right-hand side.
     fn double_pendulum_rhs() -> (PartitionedRhs, Vec<f64>) {
@@ -953,11 +875,5 @@ mod tests {
                 assert!((p - q).abs() <= 1e-12 * (1.0 + q.abs()));
             }
         }
-    }
-
-    #[test]
-    fn singular_matrix_has_no_factorisation() {
-        let mut a = [1.0, 2.0, 2.0, 4.0];
-        assert!(lu_factor(&mut a, 2, &mut [0; 2]).is_none());
     }
 }

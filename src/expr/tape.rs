@@ -244,22 +244,9 @@ impl StagedTape {
         stages: std::ops::Range<usize>,
     ) {
         let t = &self.tape;
-        assert!(
-            vars.len() >= t.n_vars && work.len() >= t.work_len,
-            "tape needs {} variables and {} workspace slots, got {} and {}",
-            t.n_vars,
-            t.work_len,
-            vars.len(),
-            work.len()
-        );
-        assert_eq!(out.len(), t.outputs.len(), "tape output length");
-        for (w, &v) in work[..t.n_vars].iter_mut().zip(vars) {
-            *w = v;
-        }
+        t.load_vars(vars, work, out);
         t.run_instrs(self.bounds[stages.start]..self.bounds[stages.end], work);
-        for (o, &s) in out.iter_mut().zip(&t.outputs) {
-            *o = work[s as usize];
-        }
+        t.write_outputs(work, out);
     }
 }
 
@@ -371,6 +358,12 @@ impl Tape {
     /// # Panics
     /// As [`Tape::eval`].
     pub fn eval_prepared(&self, vars: &[f64], work: &mut [f64], out: &mut [f64]) {
+        self.load_vars(vars, work, out);
+        self.run_prepared(work, out);
+    }
+
+    /// Checks the slices' lengths and copies the variables into `work` (constants in place).
+    fn load_vars(&self, vars: &[f64], work: &mut [f64], out: &[f64]) {
         assert!(
             vars.len() >= self.n_vars && work.len() >= self.work_len,
             "tape needs {} variables and {} workspace slots, got {} and {}",
@@ -383,11 +376,14 @@ impl Tape {
         for (w, &v) in work[..self.n_vars].iter_mut().zip(vars) {
             *w = v;
         }
-        self.run_prepared(work, out);
     }
 
     fn run_prepared(&self, work: &mut [f64], out: &mut [f64]) {
         self.run_instrs(0..self.instrs.len(), work);
+        self.write_outputs(work, out);
+    }
+
+    fn write_outputs(&self, work: &[f64], out: &mut [f64]) {
         for (o, &s) in out.iter_mut().zip(&self.outputs) {
             *o = work[s as usize];
         }
