@@ -19,7 +19,8 @@
 //! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
 //! solve per solver at N = 64 and `Model::new` at N = 32, 128, 512. Run with
 //! `cargo bench --bench sparse` (`BONDMECH_SPARSE_BENCH=build|n_link|chain|crossover` for one
-//! table only; `chain_sparse`: the chain without its minutes-long dense run).
+//! table only; `chain_sparse`: the chain without its minutes-long dense run; `monitor`: the
+//! singular-passage monitor's κ, dense against sparse).
 
 #[allow(unused_imports)]
 #[path = "../tests/common/mod.rs"]
@@ -29,7 +30,7 @@ use std::time::Duration;
 
 use bondmech::report::generate::n_link_pendulum;
 use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
-use common::four_bar_chain::{chain_json, simulate_four_bar_chain, FourBarChain};
+use common::four_bar_chain::{chain_json, chain_json_at, simulate_four_bar_chain, FourBarChain};
 use criterion::Criterion;
 
 /// CPU seconds of one dense solve beyond which the dense column stops.
@@ -192,6 +193,55 @@ fn chain_table(with_dense: bool) {
     }
 }
 
+/// The singular-passage monitor's κ on four-bar chains of N loops (2 + 6 N joint rows), dense
+/// eigenvalues against the sparse Lanczos path: µs per call (median of 21 calls), upright (φ = 1) and near an alignment (φ = 0.01).
+fn monitor_table() {
+    use bondmech::dae::{
+        dense_joint_condition_number, sparse_joint_condition_number, ConstraintExprs,
+        MechanicsTapes,
+    };
+    println!("\nMonitor κ(G_v M⁺ G_vᵀ), four-bar chains: µs per call (median of 21)");
+    println!(
+        "{:>4} {:>5} {:>6} {:>12} {:>12} {:>12} {:>14}",
+        "N", "rows", "φ", "κ", "dense µs", "sparse µs", "dense/sparse"
+    );
+    for n in [3usize, 5, 8, 10, 15, 20, 40] {
+        for phi in [1.0, 0.01] {
+            let scene = Scene::from_json_str(&chain_json_at(n, phi, 1.0)).unwrap();
+            let model = Model::new(&scene).unwrap();
+            let mut sys = model.system().clone();
+            let c = ConstraintExprs::derive(&mut sys);
+            let tapes = MechanicsTapes::new(&mut sys, &c, None);
+            let x = sys.initial_state();
+            let median = |f: &dyn Fn() -> f64| {
+                let mut t: Vec<f64> = (0..21)
+                    .map(|_| {
+                        let c = cpu_time::ThreadTime::now();
+                        std::hint::black_box(f());
+                        c.elapsed().as_secs_f64()
+                    })
+                    .collect();
+                t.sort_by(f64::total_cmp);
+                t[10]
+            };
+            let gv = tapes.gv.matrix(0.0, &x);
+            let kappa = dense_joint_condition_number(&gv, &sys.mass);
+            let td = median(&|| dense_joint_condition_number(&gv, &sys.mass));
+            let ts = median(&|| sparse_joint_condition_number(&gv, &sys.mass).unwrap_or(f64::NAN));
+            println!(
+                "{:>4} {:>5} {:>6} {:>12.3e} {:>12.1} {:>12.1} {:>14.2}",
+                n,
+                gv.nrows(),
+                phi,
+                kappa,
+                td * 1e6,
+                ts * 1e6,
+                td / ts
+            );
+        }
+    }
+}
+
 /// CPU seconds of `f` on this thread.
 fn cpu<T>(f: impl FnOnce() -> T) -> (T, f64) {
     let t = cpu_time::ThreadTime::now();
@@ -245,6 +295,9 @@ fn main() {
     let only = std::env::var("BONDMECH_SPARSE_BENCH").unwrap_or_default();
     if only.is_empty() || only == "build" {
         build_table();
+    }
+    if only.is_empty() || only == "monitor" {
+        monitor_table();
     }
     if only.is_empty() || only == "crossover" {
         crossover_table();

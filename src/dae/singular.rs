@@ -10,6 +10,7 @@
 
 use nalgebra::DMatrix;
 
+use super::gram::SparseGram;
 use crate::mech::ConstraintRow;
 
 /// The conditioning of the joints at one state.
@@ -82,16 +83,66 @@ fn mass_weighted_gram(gv: &DMatrix<f64>, mass: &[f64]) -> DMatrix<f64> {
     &a * a.transpose()
 }
 
-/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` alone, from the eigenvalues without the eigenvectors
-/// (several times cheaper than [`joint_conditioning`] for many joint rows: the solver
-/// monitors it at every output and asks for the joints only where κ is large).
+/// Joint rows from which [`joint_condition_number`] takes the sparse path
+/// ([`sparse_joint_condition_number`]); below it the dense eigenvalues cost little.
+pub const SPARSE_CONDITION_ROWS: usize = 64;
+
+/// Relative accuracy of `λ_min` and `λ_max` on the sparse path (Lanczos residual bound).
+pub const SPARSE_CONDITION_TOL: f64 = 1e-10;
+
+/// Lanczos steps for each extreme eigenvalue on the sparse path before it gives up (and the
+/// dense eigenvalues decide).
+const SPARSE_CONDITION_ITERATIONS: usize = 200;
+
+/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` alone (no eigenvectors: the solver monitors it at every
+/// output and asks for the joints, [`joint_conditioning`], only where κ is large).
+///
+/// From [`SPARSE_CONDITION_ROWS`] joint rows on, the two extreme eigenvalues come from
+/// Lanczos iterations on the sparse Gram matrix and on its inverse through a sparse Cholesky
+/// factor ([`sparse_joint_condition_number`]: linear in the size of a chain-like mechanism);
+/// where that factorisation fails (`G_v M⁺ G_vᵀ` not numerically positive definite, e.g. a
+/// massless coordinate or a rank loss) or the iterations do not converge, and below that
+/// size, from all eigenvalues of the dense Gram matrix ([`dense_joint_condition_number`]).
+pub fn joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
+    if gv.nrows() == 0 {
+        return 1.0;
+    }
+    if gv.nrows() >= SPARSE_CONDITION_ROWS {
+        if let Some(kappa) = sparse_joint_condition_number(gv, mass) {
+            return kappa;
+        }
+    }
+    dense_joint_condition_number(gv, mass)
+}
+
+/// `κ(A) = λ_max / λ_min` of `A = G_v M⁺ G_vᵀ` from its extreme eigenvalues only: `A` sparse
+/// (`O(nnz)`), factored `A = L Lᵀ` by faer's sparse Cholesky, `λ_max` the largest eigenvalue
+/// of `A` and `1 / λ_min` that of `A⁻¹ = L⁻ᵀ L⁻¹`, each by Lanczos to the relative accuracy
+/// [`SPARSE_CONDITION_TOL`] ([`crate::dae::gram::lanczos_largest`]). `None` when the
+/// Cholesky factorisation fails (`A` not numerically positive definite) or an iteration does
+/// not converge.
+pub fn sparse_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> Option<f64> {
+    if gv.nrows() == 0 {
+        return Some(1.0);
+    }
+    let w: Vec<f64> = mass
+        .iter()
+        .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+        .collect();
+    let gram = SparseGram::new(gv, &w)?;
+    let (lmin, lmax) =
+        gram.extreme_eigenvalues(SPARSE_CONDITION_TOL, SPARSE_CONDITION_ITERATIONS)?;
+    Some(ratio(lmax, lmin))
+}
+
+/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` from all eigenvalues of the dense Gram matrix.
 ///
 /// The Gram matrix is accumulated from the nonzeros of `G_v` column by column (a joint row
 /// touches the velocities of two bodies, so this costs `O(nnz)` instead of the dense product's
 /// `O(nc² nv)`), and its eigenvalues come from faer's blocked symmetric tridiagonalisation on
 /// this thread (measured on the 40-four-bar chain, 242 rows: the monitor took a quarter of
 /// the solve with nalgebra's unblocked eigenvalues and dense product).
-pub fn joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
+pub fn dense_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
     let (nc, nv) = gv.shape();
     if nc == 0 {
         return 1.0;
