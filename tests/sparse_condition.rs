@@ -2,7 +2,9 @@
 //! sparse path (Lanczos on the sparse Gram matrix and, through its sparse Cholesky factor, on
 //! its inverse; `dae::singular::sparse_joint_condition_number`) against all eigenvalues of the
 //! dense Gram matrix computed here by nalgebra (an independent symmetric eigensolver), on every
-//! bundled scene and on the 40-four-bar chain along its motion, up to and at its alignments.
+//! bundled scene and on the 40-four-bar chain along its motion, up to and at its alignments;
+//! and the κ `joint_conditioning` reports with the joints (faer's dense eigen-decomposition)
+//! against the same reference on the bundled scenes.
 //!
 //! The bound: the Lanczos iterations stop at a relative residual of
 //! `SPARSE_CONDITION_TOL = 1e-10` for each extreme eigenvalue; the dense reference has an
@@ -14,7 +16,8 @@ mod common;
 
 use bondmech::dae::singular::SPARSE_CONDITION_ROWS;
 use bondmech::dae::{
-    joint_condition_number, sparse_joint_condition_number, ConstraintExprs, MechanicsTapes,
+    joint_condition_number, joint_conditioning, sparse_joint_condition_number, ConstraintExprs,
+    MechanicsTapes,
 };
 use bondmech::{Model, Scene};
 use common::four_bar_chain::chain_json_at;
@@ -112,7 +115,21 @@ fn sparse_condition_number_matches_dense_eigenvalues_on_every_bundled_scene() {
                 *q += amp * ((j + 1) as f64).sin();
             }
             let gv = tapes.gv.matrix(0.0, &x);
-            check(&format!("{name}, state {k}"), &gv, &sys.mass);
+            let (reference, _) = check(&format!("{name}, state {k}"), &gv, &sys.mass);
+            // the κ reported with the joints at a passage (faer's eigen-decomposition)
+            let full = joint_conditioning(&gv, &sys.mass, &sys.rows).condition;
+            if reference < NUMERICALLY_SINGULAR {
+                let rel = (full - reference).abs() / reference;
+                assert!(
+                    rel <= 1e-6 + 1e3 * f64::EPSILON * reference,
+                    "{name}, state {k}: joint_conditioning κ {full:e} against {reference:e}"
+                );
+            } else {
+                assert!(
+                    full > NUMERICALLY_SINGULAR / 10.0,
+                    "{name}, state {k}: {full:e}"
+                );
+            }
             checked += 1;
         }
     }

@@ -42,21 +42,28 @@ pub fn joint_conditioning(
             joints: vec![],
         };
     }
-    let eig = mass_weighted_gram(gv, mass).symmetric_eigen();
-    let lmax = eig.eigenvalues.max();
-    let lmin = eig.eigenvalues.min();
-    let condition = if lmin > 0.0 && lmax > 0.0 {
-        lmax / lmin
-    } else {
-        f64::INFINITY
+    // faer's blocked eigensolver on this thread (nalgebra's unblocked one took 4 % of the
+    // 40-four-bar chain's solve at its 20 passages); nalgebra where faer does not converge
+    let (eigenvalues, eigenvectors) = match lower_evd(gram_lower(gv, mass).as_ref()) {
+        Some((s, u)) => (s, DMatrix::from_fn(nc, nc, |i, k| u[(i, k)])),
+        None => {
+            let eig = mass_weighted_gram(gv, mass).symmetric_eigen();
+            (eig.eigenvalues.iter().copied().collect(), eig.eigenvectors)
+        }
     };
+    let lmax = eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let lmin = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let condition = ratio(lmax, lmin);
     let floor = lmin.max(lmax * f64::EPSILON) * NEAR_NULL_RATIO;
     let mut involved = vec![false; nc];
-    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+    for (k, &l) in eigenvalues.iter().enumerate() {
         if l > floor {
             continue;
         }
-        let col = eig.eigenvectors.column(k);
+        let col = eigenvectors.column(k);
         let big = col.amax();
         for (i, &c) in col.iter().enumerate() {
             if c.abs() > INVOLVED_SHARE * big {
@@ -145,10 +152,33 @@ pub fn sparse_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> Option<
 /// this thread (measured on the 40-four-bar chain, 242 rows: the monitor took a quarter of
 /// the solve with nalgebra's unblocked eigenvalues and dense product).
 pub fn dense_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
-    let (nc, nv) = gv.shape();
+    let nc = gv.nrows();
     if nc == 0 {
         return 1.0;
     }
+    let a = gram_lower(gv, mass);
+    let Some(ev) = lower_eigenvalues(a.as_ref()) else {
+        // faer's iteration did not converge: the dense reference path
+        let ev = mass_weighted_gram(gv, mass).symmetric_eigenvalues();
+        return ratio(ev.max(), ev.min());
+    };
+    let lmax = ev.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let lmin = ev.iter().copied().fold(f64::INFINITY, f64::min);
+    ratio(lmax, lmin)
+}
+
+fn ratio(lmax: f64, lmin: f64) -> f64 {
+    if lmin > 0.0 && lmax > 0.0 {
+        lmax / lmin
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The lower triangle of `A = G_v M⁺ G_vᵀ`, accumulated from the nonzeros of `G_v` column by
+/// column: `A_ik += G_ij G_kj / m_j` for `i ≥ k` (massless coordinates skipped).
+fn gram_lower(gv: &DMatrix<f64>, mass: &[f64]) -> faer::Mat<f64> {
+    let (nc, nv) = gv.shape();
     let mut a = faer::Mat::<f64>::zeros(nc, nc);
     let mut col: Vec<(usize, f64)> = Vec::new();
     for j in 0..nv {
@@ -169,22 +199,34 @@ pub fn dense_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
             }
         }
     }
-    let Some(ev) = lower_eigenvalues(a.as_ref()) else {
-        // faer's iteration did not converge: the dense reference path
-        let ev = mass_weighted_gram(gv, mass).symmetric_eigenvalues();
-        return ratio(ev.max(), ev.min());
-    };
-    let lmax = ev.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let lmin = ev.iter().copied().fold(f64::INFINITY, f64::min);
-    ratio(lmax, lmin)
+    a
 }
 
-fn ratio(lmax: f64, lmin: f64) -> f64 {
-    if lmin > 0.0 && lmax > 0.0 {
-        lmax / lmin
-    } else {
-        f64::INFINITY
-    }
+/// Eigenvalues and eigenvectors (columns) of the symmetric matrix whose lower triangle `a`
+/// holds, sequentially.
+fn lower_evd(a: faer::MatRef<'_, f64>) -> Option<(Vec<f64>, faer::Mat<f64>)> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::evd;
+    let n = a.nrows();
+    let par = faer::Par::Seq;
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let mut u = faer::Mat::<f64>::zeros(n, n);
+    let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
+        n,
+        evd::ComputeEigenvectors::Yes,
+        par,
+        Default::default(),
+    ));
+    evd::self_adjoint_evd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    Some((s.column_vector().iter().copied().collect(), u))
 }
 
 /// Eigenvalues of the symmetric matrix whose lower triangle `a` holds, sequentially.
