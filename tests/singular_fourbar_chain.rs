@@ -354,7 +354,7 @@ fn check_passages_at_reference_alignments(n: usize) {
 #[test]
 fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
     // 20 joint rows: the monitor takes the dense eigenvalues
-    assert!(2 + 6 * 3 < SPARSE_CONDITION_ROWS);
+    const { assert!(2 + 6 * 3 < SPARSE_CONDITION_ROWS) };
     check_passages_at_reference_alignments(3);
 }
 
@@ -362,7 +362,7 @@ fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
 fn chain_of_10_reports_every_singular_passage_at_the_reference_alignments_with_the_sparse_monitor()
 {
     // 62 joint rows: the monitor's κ comes from the sparse Lanczos path
-    assert!(2 + 6 * 10 >= SPARSE_CONDITION_ROWS);
+    const { assert!(2 + 6 * 10 >= SPARSE_CONDITION_ROWS) };
     check_passages_at_reference_alignments(10);
 }
 
