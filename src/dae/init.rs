@@ -317,7 +317,7 @@ fn sparse_start(
         .copied()
         .collect();
     b.solve_in_place(&mut r);
-    let dv = gv.transpose() * DVector::from_vec(r);
+    let dv = gv.tr_mul(&DVector::from_vec(r));
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }
@@ -343,7 +343,7 @@ fn sparse_start(
     let rhs = gv * &minv_q + DVector::from_column_slice(&gamma);
     let mut lambda: Vec<f64> = rhs.iter().copied().collect();
     a.solve_in_place(&mut lambda);
-    let gt_lambda = gv.transpose() * DVector::from_column_slice(&lambda);
+    let gt_lambda = gv.tr_mul(&DVector::from_column_slice(&lambda));
     let vdot = (0..nv)
         .map(|j| (q[j] - gt_lambda[j]) / sys.mass[j])
         .collect();
