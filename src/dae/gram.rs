@@ -34,15 +34,32 @@ impl SparseGram {
     /// fails.
     pub fn new(g: &DMatrix<f64>, w: &[f64]) -> Option<SparseGram> {
         let (m, n) = g.shape();
-        debug_assert_eq!(w.len(), n);
-        // rows with an entry in each column of G
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        let mut entries = Vec::new();
         for j in 0..n {
             for i in 0..m {
                 let v = g[(i, j)];
                 if v != 0.0 {
-                    cols[j].push((i, v));
+                    entries.push((i, j, v));
                 }
+            }
+        }
+        Self::from_entries(m, n, &entries, w)
+    }
+
+    /// As [`SparseGram::new`], from the entries `(row, column, value)` of the `m × n` matrix
+    /// `G` (each position at most once; zero values are skipped): linear in their number.
+    pub fn from_entries(
+        m: usize,
+        n: usize,
+        g: &[(usize, usize, f64)],
+        w: &[f64],
+    ) -> Option<SparseGram> {
+        debug_assert_eq!(w.len(), n);
+        // rows with an entry in each column of G
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for &(i, j, v) in g {
+            if v != 0.0 {
+                cols[j].push((i, v));
             }
         }
         // A_ik = Σ_j G_ij w_j G_kj, lower triangle (i ≥ k), summed in a sorted list
