@@ -93,7 +93,7 @@ fn mass_weighted_gram(gv: &DMatrix<f64>, mass: &[f64]) -> DMatrix<f64> {
 /// Joint rows from which [`joint_condition_number`] takes the sparse path
 /// ([`sparse_joint_condition_number`]); below it the dense eigenvalues cost little. Measured
 /// on four-bar chains (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=monitor`): the
-/// sparse path costs 0.9× the dense one at 50 rows, 1.2× less at 62, 5.6× less at 242.
+/// sparse path breaks even between 32 and 50 rows, is 1.4× cheaper at 62 and 5× at 242.
 pub const SPARSE_CONDITION_ROWS: usize = 60;
 
 /// Relative accuracy of `λ_min` and `λ_max` on the sparse path (Lanczos residual bound).
