@@ -5,6 +5,7 @@
 
 mod common;
 
+use bondmech::dae::singular::SPARSE_CONDITION_ROWS;
 use bondmech::solve::run::SINGULAR_CONDITION;
 use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
 use common::four_bar_chain::{chain_json, simulate_four_bar_chain, FourBarChain};
@@ -322,16 +323,16 @@ fn reference_alignment_times(n: usize, t_end: f64) -> Vec<f64> {
         .collect()
 }
 
-#[test]
-fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
-    // the bundled scene's own tolerances (rtol 1e-8) and output step (0.05 s)
-    let m = model(&chain_json(3));
+/// The chain of `n` four-bars at the bundled scene's tolerances (rtol 1e-8) and output step
+/// (0.05 s) reports one singular passage per alignment of the reference, within an output step.
+fn check_passages_at_reference_alignments(n: usize) {
+    let m = model(&chain_json(n));
     let mut o = m.default_options();
     o.max_steps = Some(1_000_000);
     let s = m.solve(&o).expect("the chain solves");
-    let want = reference_alignment_times(3, 20.0);
+    let want = reference_alignment_times(n, 20.0);
     let got: Vec<f64> = s.summary.singular_passages.iter().map(|p| p.t).collect();
-    eprintln!("reference {want:.3?}\nreported {got:.3?}");
+    eprintln!("N = {n}: reference {want:.3?}\nreported {got:.3?}");
     assert!(want.len() >= 15, "{want:?}");
     assert_eq!(got.len(), want.len(), "one passage per alignment");
     for (g, w) in got.iter().zip(&want) {
@@ -348,6 +349,21 @@ fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
             s.summary.warnings
         );
     }
+}
+
+#[test]
+fn chain_of_3_reports_every_singular_passage_at_the_reference_alignments() {
+    // 20 joint rows: the monitor takes the dense eigenvalues
+    const { assert!(2 + 6 * 3 < SPARSE_CONDITION_ROWS) };
+    check_passages_at_reference_alignments(3);
+}
+
+#[test]
+fn chain_of_10_reports_every_singular_passage_at_the_reference_alignments_with_the_sparse_monitor()
+{
+    // 62 joint rows: the monitor's κ comes from the sparse Lanczos path
+    const { assert!(2 + 6 * 10 >= SPARSE_CONDITION_ROWS) };
+    check_passages_at_reference_alignments(10);
 }
 
 /// `scenes/four_bar_chain_3.json` is the N = 3 chain of these tests.

@@ -188,17 +188,24 @@ pub fn consistent_state_from(
         iterations += 1;
     }
     let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
-    // 2. velocities
-    let gv = tapes.gv.matrix(t0, &x);
-    finite(gv.as_slice(), "the velocity constraint Jacobian")?;
+    // 2. velocities (the sparse path from G_v's non-zeros, linear in the size; the dense
+    // G_v only where it is not taken)
+    let gv_entries = tapes.gv.entries(t0, &x);
+    if !gv_entries.iter().all(|e| e.2.is_finite()) {
+        return Err(InitError::NonFinite {
+            t: t0,
+            what: "the velocity constraint Jacobian".into(),
+        });
+    }
     let v0 = DVector::from_column_slice(&x[nq..]);
-    if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv)? {
+    if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv_entries)? {
         let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
         return Ok(ConsistentState {
             position_correction,
             ..sparse
         });
     }
+    let gv = tapes.gv.matrix(t0, &x);
     let (dv, rank) = pinv_apply(&gv, &(&gv * &v0));
     for j in 0..nv {
         x[nq + j] -= dv[j];
@@ -290,34 +297,48 @@ const SPARSE_START_CONDITION: f64 = 1e12;
 /// `None` (the caller takes the dense path) below [`SPARSE_START_UNKNOWNS`], with a massless
 /// coordinate, or when `B` is not safely positive definite (κ estimate over
 /// [`SPARSE_START_CONDITION`]: possibly redundant joints, which the SVD names).
-/// `position_correction` is left 0 for the caller.
+/// `position_correction` is left 0 for the caller. `gv`: the non-zeros of `G_v` as
+/// `(row, column, value)`; every product with `G_v` runs over them.
 fn sparse_start(
     sys: &MultibodySystem,
     tapes: &MechanicsTapes,
     t0: f64,
     x: &mut [f64],
-    gv: &DMatrix<f64>,
+    gv: &[(usize, usize, f64)],
 ) -> Result<Option<ConsistentState>, InitError> {
     let (nq, nv, nc) = tapes.dims;
     if nv + nc < SPARSE_START_UNKNOWNS || nc == 0 || sys.mass.iter().any(|&m| m <= 0.0) {
         return Ok(None);
     }
-    let Some(b) = SparseGram::new(gv, &vec![1.0; nv]) else {
+    let Some(b) = SparseGram::from_entries(nc, nv, gv, &vec![1.0; nv]) else {
         return Ok(None);
     };
     if b.condition_estimate(20) > SPARSE_START_CONDITION {
         return Ok(None);
     }
-    let Some(a) = SparseGram::new(gv, &sys.mass.iter().map(|m| 1.0 / m).collect::<Vec<_>>()) else {
+    let w: Vec<f64> = sys.mass.iter().map(|m| 1.0 / m).collect();
+    let Some(a) = SparseGram::from_entries(nc, nv, gv, &w) else {
         return Ok(None);
     };
+    // y = G_v x and y = G_vᵀ x over the non-zeros
+    let g_times = |x: &[f64]| {
+        let mut y = vec![0.0; nc];
+        for &(i, j, g) in gv {
+            y[i] += g * x[j];
+        }
+        y
+    };
+    let gt_times = |x: &[f64]| {
+        let mut y = vec![0.0; nv];
+        for &(i, j, g) in gv {
+            y[j] += g * x[i];
+        }
+        y
+    };
     // velocities
-    let mut r: Vec<f64> = (gv * DVector::from_column_slice(&x[nq..]))
-        .iter()
-        .copied()
-        .collect();
+    let mut r = g_times(&x[nq..]);
     b.solve_in_place(&mut r);
-    let dv = gv.transpose() * DVector::from_vec(r);
+    let dv = gt_times(&r);
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }
@@ -339,11 +360,13 @@ fn sparse_start(
             what: "the constraint acceleration terms".into(),
         });
     }
-    let minv_q = DVector::from_iterator(nv, (0..nv).map(|j| q[j] / sys.mass[j]));
-    let rhs = gv * &minv_q + DVector::from_column_slice(&gamma);
-    let mut lambda: Vec<f64> = rhs.iter().copied().collect();
+    let minv_q: Vec<f64> = (0..nv).map(|j| q[j] / sys.mass[j]).collect();
+    let mut lambda = g_times(&minv_q);
+    for (l, g) in lambda.iter_mut().zip(&gamma) {
+        *l += g;
+    }
     a.solve_in_place(&mut lambda);
-    let gt_lambda = gv.transpose() * DVector::from_column_slice(&lambda);
+    let gt_lambda = gt_times(&lambda);
     let vdot = (0..nv)
         .map(|j| (q[j] - gt_lambda[j]) / sys.mass[j])
         .collect();
@@ -353,7 +376,7 @@ fn sparse_start(
         vdot,
         lambda,
         position_correction: 0.0,
-        velocity_correction: dv.norm(),
+        velocity_correction: dv.iter().map(|d| d * d).sum::<f64>().sqrt(),
         rank: nc,
         redundant_joints: vec![],
     }))

@@ -235,6 +235,21 @@ impl MatrixTape {
         nalgebra::DMatrix::from_row_slice(self.rows, self.cols, &self.eval(t, x))
     }
 
+    /// The structural non-zeros at `(t, x)`, `x = [q, v]`, as `(row, column, value)` in
+    /// row-major order (allocating; linear in the non-zeros, for large mechanisms).
+    pub fn entries(&self, t: f64, x: &[f64]) -> Vec<(usize, usize, f64)> {
+        let mut vars = Vec::with_capacity(1 + x.len());
+        vars.push(t);
+        vars.extend_from_slice(x);
+        let (mut work, mut values) = self.workspace();
+        self.tape.eval(&vars, &mut work, &mut values);
+        self.position
+            .iter()
+            .zip(values)
+            .map(|(&k, v)| (k / self.cols, k % self.cols, v))
+            .collect()
+    }
+
     /// The dense row-major matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
     pub fn eval(&self, t: f64, x: &[f64]) -> Vec<f64> {
         let mut vars = Vec::with_capacity(1 + x.len());

@@ -33,4 +33,7 @@ pub use index1::{dependent_condition, select_dependent, Index1Formulation};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
-pub use singular::{joint_condition_number, joint_conditioning, JointConditioning};
+pub use singular::{
+    dense_joint_condition_number, joint_condition_number, joint_conditioning,
+    sparse_joint_condition_number, JointConditioning,
+};

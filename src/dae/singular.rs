@@ -10,6 +10,7 @@
 
 use nalgebra::DMatrix;
 
+use super::gram::SparseGram;
 use crate::mech::ConstraintRow;
 
 /// The conditioning of the joints at one state.
@@ -41,21 +42,28 @@ pub fn joint_conditioning(
             joints: vec![],
         };
     }
-    let eig = mass_weighted_gram(gv, mass).symmetric_eigen();
-    let lmax = eig.eigenvalues.max();
-    let lmin = eig.eigenvalues.min();
-    let condition = if lmin > 0.0 && lmax > 0.0 {
-        lmax / lmin
-    } else {
-        f64::INFINITY
+    // faer's blocked eigensolver on this thread (nalgebra's unblocked one took 4 % of the
+    // 40-four-bar chain's solve at its 20 passages); nalgebra where faer does not converge
+    let (eigenvalues, eigenvectors) = match lower_evd(gram_lower(gv, mass).as_ref()) {
+        Some((s, u)) => (s, DMatrix::from_fn(nc, nc, |i, k| u[(i, k)])),
+        None => {
+            let eig = mass_weighted_gram(gv, mass).symmetric_eigen();
+            (eig.eigenvalues.iter().copied().collect(), eig.eigenvectors)
+        }
     };
+    let lmax = eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let lmin = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let condition = ratio(lmax, lmin);
     let floor = lmin.max(lmax * f64::EPSILON) * NEAR_NULL_RATIO;
     let mut involved = vec![false; nc];
-    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+    for (k, &l) in eigenvalues.iter().enumerate() {
         if l > floor {
             continue;
         }
-        let col = eig.eigenvectors.column(k);
+        let col = eigenvectors.column(k);
         let big = col.amax();
         for (i, &c) in col.iter().enumerate() {
             if c.abs() > INVOLVED_SHARE * big {
@@ -82,20 +90,95 @@ fn mass_weighted_gram(gv: &DMatrix<f64>, mass: &[f64]) -> DMatrix<f64> {
     &a * a.transpose()
 }
 
-/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` alone, from the eigenvalues without the eigenvectors
-/// (several times cheaper than [`joint_conditioning`] for many joint rows: the solver
-/// monitors it at every output and asks for the joints only where κ is large).
+/// Joint rows from which [`joint_condition_number`] takes the sparse path
+/// ([`sparse_joint_condition_number`]); below it the dense eigenvalues cost little. Measured
+/// on four-bar chains (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=monitor`): the
+/// sparse path breaks even between 32 and 50 rows, is 1.4× cheaper at 62 and 5× at 242.
+pub const SPARSE_CONDITION_ROWS: usize = 60;
+
+/// Relative accuracy of `λ_min` and `λ_max` on the sparse path (Lanczos residual bound).
+pub const SPARSE_CONDITION_TOL: f64 = 1e-10;
+
+/// Lanczos steps for each extreme eigenvalue on the sparse path before it gives up (and the
+/// dense eigenvalues decide).
+const SPARSE_CONDITION_ITERATIONS: usize = 200;
+
+/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` alone (no eigenvectors: the solver monitors it at every
+/// output and asks for the joints, [`joint_conditioning`], only where κ is large).
+///
+/// From [`SPARSE_CONDITION_ROWS`] joint rows on, the two extreme eigenvalues come from
+/// Lanczos iterations on the sparse Gram matrix and on its inverse through a sparse Cholesky
+/// factor ([`sparse_joint_condition_number`]: linear in the size of a chain-like mechanism);
+/// where that factorisation fails (`G_v M⁺ G_vᵀ` not numerically positive definite, e.g. a
+/// massless coordinate or a rank loss) or the iterations do not converge, and below that
+/// size, from all eigenvalues of the dense Gram matrix ([`dense_joint_condition_number`]).
+pub fn joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
+    if gv.nrows() == 0 {
+        return 1.0;
+    }
+    if gv.nrows() >= SPARSE_CONDITION_ROWS {
+        if let Some(kappa) = sparse_joint_condition_number(gv, mass) {
+            return kappa;
+        }
+    }
+    dense_joint_condition_number(gv, mass)
+}
+
+/// `κ(A) = λ_max / λ_min` of `A = G_v M⁺ G_vᵀ` from its extreme eigenvalues only: `A` sparse
+/// (`O(nnz)`), factored `A = L Lᵀ` by faer's sparse Cholesky, `λ_max` the largest eigenvalue
+/// of `A` and `1 / λ_min` that of `A⁻¹ = L⁻ᵀ L⁻¹`, each by Lanczos to the relative accuracy
+/// [`SPARSE_CONDITION_TOL`] ([`crate::dae::gram::lanczos_largest`]). `None` when the
+/// Cholesky factorisation fails (`A` not numerically positive definite) or an iteration does
+/// not converge.
+pub fn sparse_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> Option<f64> {
+    if gv.nrows() == 0 {
+        return Some(1.0);
+    }
+    let w: Vec<f64> = mass
+        .iter()
+        .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+        .collect();
+    let gram = SparseGram::new(gv, &w)?;
+    let (lmin, lmax) =
+        gram.extreme_eigenvalues(SPARSE_CONDITION_TOL, SPARSE_CONDITION_ITERATIONS)?;
+    Some(ratio(lmax, lmin))
+}
+
+/// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` from all eigenvalues of the dense Gram matrix.
 ///
 /// The Gram matrix is accumulated from the nonzeros of `G_v` column by column (a joint row
 /// touches the velocities of two bodies, so this costs `O(nnz)` instead of the dense product's
 /// `O(nc² nv)`), and its eigenvalues come from faer's blocked symmetric tridiagonalisation on
 /// this thread (measured on the 40-four-bar chain, 242 rows: the monitor took a quarter of
 /// the solve with nalgebra's unblocked eigenvalues and dense product).
-pub fn joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
-    let (nc, nv) = gv.shape();
+pub fn dense_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
+    let nc = gv.nrows();
     if nc == 0 {
         return 1.0;
     }
+    let a = gram_lower(gv, mass);
+    let Some(ev) = lower_eigenvalues(a.as_ref()) else {
+        // faer's iteration did not converge: the dense reference path
+        let ev = mass_weighted_gram(gv, mass).symmetric_eigenvalues();
+        return ratio(ev.max(), ev.min());
+    };
+    let lmax = ev.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let lmin = ev.iter().copied().fold(f64::INFINITY, f64::min);
+    ratio(lmax, lmin)
+}
+
+fn ratio(lmax: f64, lmin: f64) -> f64 {
+    if lmin > 0.0 && lmax > 0.0 {
+        lmax / lmin
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The lower triangle of `A = G_v M⁺ G_vᵀ`, accumulated from the nonzeros of `G_v` column by
+/// column: `A_ik += G_ij G_kj / m_j` for `i ≥ k` (massless coordinates skipped).
+fn gram_lower(gv: &DMatrix<f64>, mass: &[f64]) -> faer::Mat<f64> {
+    let (nc, nv) = gv.shape();
     let mut a = faer::Mat::<f64>::zeros(nc, nc);
     let mut col: Vec<(usize, f64)> = Vec::new();
     for j in 0..nv {
@@ -116,22 +199,34 @@ pub fn joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
             }
         }
     }
-    let Some(ev) = lower_eigenvalues(a.as_ref()) else {
-        // faer's iteration did not converge: the dense reference path
-        let ev = mass_weighted_gram(gv, mass).symmetric_eigenvalues();
-        return ratio(ev.max(), ev.min());
-    };
-    let lmax = ev.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let lmin = ev.iter().copied().fold(f64::INFINITY, f64::min);
-    ratio(lmax, lmin)
+    a
 }
 
-fn ratio(lmax: f64, lmin: f64) -> f64 {
-    if lmin > 0.0 && lmax > 0.0 {
-        lmax / lmin
-    } else {
-        f64::INFINITY
-    }
+/// Eigenvalues and eigenvectors (columns) of the symmetric matrix whose lower triangle `a`
+/// holds, sequentially.
+fn lower_evd(a: faer::MatRef<'_, f64>) -> Option<(Vec<f64>, faer::Mat<f64>)> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::evd;
+    let n = a.nrows();
+    let par = faer::Par::Seq;
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let mut u = faer::Mat::<f64>::zeros(n, n);
+    let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
+        n,
+        evd::ComputeEigenvectors::Yes,
+        par,
+        Default::default(),
+    ));
+    evd::self_adjoint_evd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    Some((s.column_vector().iter().copied().collect(), u))
 }
 
 /// Eigenvalues of the symmetric matrix whose lower triangle `a` holds, sequentially.

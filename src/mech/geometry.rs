@@ -56,6 +56,9 @@ pub(super) struct Geometry<'a> {
     pub(super) warnings: Vec<String>,
     /// Loads given as expressions, one term per component.
     pub(super) load_terms: Vec<LoadTerm>,
+    /// Index in `scene.bodies` of each body name (the first body of that name), so that
+    /// looking a joint's bodies up is not a scan of all bodies (quadratic in a chain's size).
+    body_by_name: HashMap<&'a str, usize>,
 }
 
 /// The system of a scene's geometry, its forces still zero, and the names expressions may use.
@@ -63,6 +66,10 @@ pub(super) type GeometrySystem = (MultibodySystem, HashMap<String, Expr>);
 
 impl<'a> Geometry<'a> {
     pub(super) fn new(scene: &'a Scene) -> Self {
+        let mut body_by_name = HashMap::new();
+        for (i, b) in scene.bodies.iter().enumerate() {
+            body_by_name.entry(b.name.as_str()).or_insert(i);
+        }
         Geometry {
             scene,
             spatial: matches!(scene.dimension, Dimension::Spatial),
@@ -73,6 +80,7 @@ impl<'a> Geometry<'a> {
             kin: Vec::new(),
             warnings: Vec::new(),
             load_terms: Vec::new(),
+            body_by_name,
         }
     }
 
@@ -95,10 +103,9 @@ impl<'a> Geometry<'a> {
             PointRef::Coords(c) => Ok(c.clone()),
             PointRef::Named(n) => {
                 let b = self
-                    .scene
-                    .bodies
-                    .iter()
-                    .find(|b| b.name == body)
+                    .body_by_name
+                    .get(body)
+                    .map(|&i| &self.scene.bodies[i])
                     .ok_or_else(|| MechError::at(path, format!("unknown body '{body}'")))?;
                 b.points
                     .iter()
@@ -113,10 +120,9 @@ impl<'a> Geometry<'a> {
         if name == "ground" {
             return Ok(None);
         }
-        self.scene
-            .bodies
-            .iter()
-            .position(|b| b.name == name)
+        self.body_by_name
+            .get(name)
+            .copied()
             .map(Some)
             .ok_or_else(|| MechError::at(path, format!("unknown body '{name}'")))
     }

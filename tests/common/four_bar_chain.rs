@@ -133,3 +133,47 @@ pub fn chain_json(n: usize) -> String {
         joints.join(",\n")
     )
 }
+
+/// The chain of `n` parallelogram four-bars with every crank at angle `phi` (from +X) turning
+/// at `phi_dot`: crank `i` pinned at `(i, 0)`, coupler `i` joining the tops of cranks `i` and
+/// `i + 1` (the configuration of [`chain_json`] at another angle; a 1 s horizon).
+pub fn chain_json_at(n: usize, phi: f64, phi_dot: f64) -> String {
+    let bar = r#""mass":1.0,"inertia":0.08333333333333333,"points":{"O":[-0.5,0],"A":[0.5,0]}"#;
+    let (s, c) = phi.sin_cos();
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    for i in 0..=n {
+        bodies.push(format!(
+            r#"{{"name":"crank{i}",{bar},"position":[{x},{y}],"angle":{phi},"velocity":[{vx},{vy}],"angular_velocity":{phi_dot}}}"#,
+            x = i as f64 + 0.5 * c,
+            y = 0.5 * s,
+            vx = -0.5 * s * phi_dot,
+            vy = 0.5 * c * phi_dot,
+        ));
+        joints.push(format!(
+            r#"{{"name":"pivot{i}","type":"revolute","bodies":["ground","crank{i}"],"points":[[{i},0],"O"]}}"#
+        ));
+    }
+    for i in 0..n {
+        bodies.push(format!(
+            r#"{{"name":"coupler{i}",{bar},"position":[{x},{y}],"angle":0,"velocity":[{vx},{vy}],"angular_velocity":0}}"#,
+            x = i as f64 + 0.5 + c,
+            y = s,
+            vx = -s * phi_dot,
+            vy = c * phi_dot,
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}l","type":"revolute","bodies":["crank{i}","coupler{i}"],"points":["A","O"]}}"#
+        ));
+        joints.push(format!(
+            r#"{{"name":"pin{i}r","type":"revolute","bodies":["crank{j}","coupler{i}"],"points":["A","A"]}}"#,
+            j = i + 1
+        ));
+    }
+    format!(
+        r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-9.81],
+        "bodies":[{}],"joints":[{}],"solve":{{"formulation":"dae","t_end":1.0}}}}"#,
+        bodies.join(",\n"),
+        joints.join(",\n")
+    )
+}
