@@ -271,10 +271,13 @@ impl OutputEval {
         self.vars[0] = t;
         let n = self.vars.len() - 1;
         self.vars[1..].copy_from_slice(&x[..n]);
+        // the work buffers are these tapes' own (constants in place)
         self.tapes
             .outputs
-            .eval(&self.vars, &mut self.work, &mut self.out);
-        self.tapes.g.eval(&self.vars, &mut self.work_g, &mut self.g);
+            .eval_prepared(&self.vars, &mut self.work, &mut self.out);
+        self.tapes
+            .g
+            .eval_prepared(&self.vars, &mut self.work_g, &mut self.g);
         let k = self.out.len();
         let (energy, kinetic) = (self.out[k - 2], self.out[k - 1]);
         let e0 = *self.energy0.get_or_insert(energy);
@@ -310,7 +313,10 @@ impl OutputEval {
                 }
             }
         }
-        self.prev = Some(row.clone());
+        match &mut self.prev {
+            Some(p) => p.clone_from(&row),
+            None => self.prev = Some(row.clone()),
+        }
         if let Some(r) = &mut self.reactions {
             let at = row.len();
             row.resize(at + r.n_columns, 0.0);
