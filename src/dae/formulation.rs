@@ -65,10 +65,7 @@ pub struct GglDae {
 impl GglDae {
     /// The GGL DAE at compliance `eps` (0: plain GGL).
     pub fn new(formulation: GglFormulation, eps: f64) -> Self {
-        GglDae {
-            formulation: Arc::new(formulation),
-            compliance: AtomicU64::new(eps.to_bits()),
-        }
+        Self::shared(Arc::new(formulation), eps)
     }
     /// The GGL DAE of a shared formulation at compliance `eps`.
     pub fn shared(formulation: Arc<GglFormulation>, eps: f64) -> Self {

@@ -302,13 +302,14 @@ pub struct PartitionedRhs {
     /// picks them, on pin joints). One Newton step from any point is then exact, and `G_D`
     /// is factorised once.
     linear: bool,
-    /// `jq` holds the factorisation of the constant `G_D` (`linear`).
-    linear_ready: bool,
     /// `G_D⁻¹` (row-major) when `G_D` is constant and shared by both levels: its solves are
     /// then products (empty otherwise).
     dep_inverse: Vec<f64>,
     /// Scratch of `nc` values for the products.
     scratch: Vec<f64>,
+    /// `[q, v, λ]` of [`Self::full_with_multipliers`], and its right-hand side's buffer.
+    with_multipliers: Vec<f64>,
+    yd: Vec<f64>,
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
     have_prev: bool,
@@ -398,9 +399,10 @@ impl PartitionedRhs {
             bv_map,
             share: sys.gv_is_gq && part.dep_q == part.dep_v,
             linear,
-            linear_ready: false,
             dep_inverse: Vec::new(),
             scratch: vec![0.0; nc],
+            with_multipliers: Vec::with_capacity(nq + nv + nc),
+            yd: vec![0.0; niq + niv],
             qi_prev: vec![0.0; niq],
             have_prev: false,
             b_ready: false,
@@ -574,12 +576,11 @@ impl PartitionedRhs {
         for &(s, d) in &self.bq_map {
             self.bq[d] = self.o_st[s];
         }
-        if !self.linear_ready {
+        if self.jq.plan().is_none() {
             let Ok(ratio) = self.jq.factor(&self.o_st, f64::INFINITY) else {
                 return Err(PartitionError::SingularBlock { t });
             };
             self.condition_q = ratio;
-            self.linear_ready = true;
             if self.share {
                 // the constant block's inverse, column by column
                 let mut inv = vec![0.0; nc * nc];
@@ -764,8 +765,9 @@ impl PartitionedRhs {
 
     /// [`Self::full_with_multipliers`] for an output row or an event function (see
     /// [`Self::complete_for_output`]).
-    pub fn full_for_output(&mut self, t: f64, y: &[f64]) -> Result<Vec<f64>, PartitionError> {
-        self.relaxed(|s| s.full_with_multipliers(t, y))
+    pub fn full_for_output(&mut self, t: f64, y: &[f64]) -> Result<&[f64], PartitionError> {
+        self.relaxed(|s| s.full_with_multipliers(t, y).map(|_| ()))?;
+        Ok(&self.with_multipliers)
     }
 
     fn relaxed<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
@@ -780,23 +782,29 @@ impl PartitionedRhs {
 
     /// The full state with the multipliers, `[q, v, λ]`, at `(t, y)`: `λ` from
     /// `G_Dᵀ λ = Q_D − M_D a_D` with the accelerations of the reduced equations.
-    pub fn full_with_multipliers(&mut self, t: f64, y: &[f64]) -> Result<Vec<f64>, PartitionError> {
-        let mut yd = vec![0.0; y.len()];
-        self.rhs(t, y, &mut yd)?;
-        let nc = self.sys.dims.2;
-        let mut out = self.full_state().to_vec();
-        let mut lam: Vec<f64> = self
-            .part
-            .dep_v
-            .iter()
-            .map(|&d| self.o_st[self.n_pos + d] - self.sys.mass[d] * self.acc[d])
-            .collect();
+    /// (Written into a buffer of the right-hand side: no allocation, as event functions
+    /// call it at every step.)
+    pub fn full_with_multipliers(&mut self, t: f64, y: &[f64]) -> Result<&[f64], PartitionError> {
+        let mut yd = std::mem::take(&mut self.yd);
+        yd.resize(y.len(), 0.0);
+        let r = self.rhs(t, y, &mut yd);
+        self.yd = yd;
+        r?;
+        let (nq, nv, nc) = self.sys.dims;
+        let out = &mut self.with_multipliers;
+        out.clear();
+        out.extend_from_slice(&self.vars[1..=nq + nv]);
+        out.extend(
+            self.part
+                .dep_v
+                .iter()
+                .map(|&d| self.o_st[self.n_pos + d] - self.sys.mass[d] * self.acc[d]),
+        );
         if nc > 0 {
             let lu = if self.share { &self.jq } else { &self.jv };
-            lu.solve_transposed(&mut lam);
+            lu.solve_transposed(&mut out[nq + nv..]);
         }
-        out.extend(lam);
-        Ok(out)
+        Ok(&self.with_multipliers)
     }
 }
 
@@ -817,63 +825,5 @@ fn dep_solve(lu: &BlockLu, inverse: &[f64], b: &mut [f64], scratch: &mut [f64]) 
             .zip(&scratch[..n])
             .map(|(a, x)| a * x)
             .sum();
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The double pendulum's partition (translations dependent) and its right-hand side.
-    fn double_pendulum_rhs() -> (PartitionedRhs, Vec<f64>) {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/double_pendulum.json");
-        let scene = crate::scene::Scene::from_path(path).expect("scene loads");
-        let model = crate::Model::new(&scene).expect("model builds");
-        let mut sys = model.system().clone();
-        let c = ConstraintExprs::derive(&mut sys);
-        let tapes = crate::dae::MechanicsTapes::new(&mut sys, &c, None);
-        let init = crate::dae::consistent_state(&sys, &tapes, 0.0).expect("consistent start");
-        let psys = Arc::new(PartitionedSystem::new(&mut sys, &c));
-        let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
-        let part = psys.choose(0.0, &x).expect("a partition");
-        let y0 = part.states_of(psys.dims.0, &x);
-        (PartitionedRhs::new(psys, part, &x, 1e-13), y0)
-    }
-
-    #[test]
-    fn pin_joints_with_translations_dependent_take_one_newton_step_and_agree_with_newton() {
-        let (mut fast, y0) = double_pendulum_rhs();
-        assert!(fast.linear, "pins are affine in the translations");
-        let mut newton = fast.clone();
-        newton.linear = false;
-        let mut seed = 3u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
-        let (mut a, mut b) = (vec![0.0; y0.len()], vec![0.0; y0.len()]);
-        for _ in 0..50 {
-            // states a step apart and far apart (angles up to ±0.5 rad, rates ±3 rad/s)
-            let y: Vec<f64> = y0
-                .iter()
-                .enumerate()
-                .map(|(i, &v)| v + if i < 2 { 0.5 } else { 3.0 } * rnd())
-                .collect();
-            let before = fast.newton_iterations;
-            fast.rhs(0.0, &y, &mut a).unwrap();
-            assert_eq!(fast.newton_iterations - before, 1, "one step");
-            // plain Newton from the last point (no tangent predictor, so no branch check
-            // against these large jumps)
-            newton.have_prev = false;
-            newton.rhs(0.0, &y, &mut b).unwrap();
-            for (p, q) in a.iter().zip(&b) {
-                assert!((p - q).abs() <= 1e-10 * (1.0 + q.abs()), "{a:?} vs {b:?}");
-            }
-            for (p, q) in fast.full_state().iter().zip(newton.full_state()) {
-                assert!((p - q).abs() <= 1e-12 * (1.0 + q.abs()));
-            }
-        }
     }
 }

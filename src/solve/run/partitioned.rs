@@ -272,6 +272,8 @@ pub(super) fn run_partitioned(
     let clock = ThreadTime::now();
     let wall_start = std::time::Instant::now();
     let mut total = SolverStats::default();
+    // the completed state of each output row (one buffer for the whole run)
+    let mut full: Vec<f64> = Vec::with_capacity(nq + nv + nc);
     let mut first = x.clone();
     first.extend(&init.lambda);
     let row = out.row(t0, &first);
@@ -439,10 +441,11 @@ pub(super) fn run_partitioned(
             let mut ev = events.clone();
             let rc = oc.clone();
             let f: RootFn = Box::new(move |t: f64, y: &[f64], g: &mut [f64]| {
-                let full = lock(&rc)
+                let mut rhs = lock(&rc);
+                let full = rhs
                     .full_for_output(t, y)
                     .map_err(|e| CallbackError::Recoverable(e.to_string()))?;
-                ev.roots(t, &full, g)
+                ev.roots(t, full, g)
             });
             (ev_len(&events), f)
         });
@@ -472,8 +475,9 @@ pub(super) fn run_partitioned(
                     let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
                         let mut y = vec![0.0; y0.len()];
                         integ.dky(tr, &mut y).ok()?;
-                        let full = lock(&oc).full_for_output(tr, &y).ok()?;
-                        Some((tr, out.row(tr, &full)))
+                        let mut rhs = lock(&oc);
+                        let full = rhs.full_for_output(tr, &y).ok()?;
+                        Some((tr, out.row(tr, full)))
                     });
                     finish(summary, &out, &total, compliant_time);
                     summary.partition_rechoices = rechoices;
@@ -484,14 +488,18 @@ pub(super) fn run_partitioned(
             // rows show them (reaction columns); otherwise positions and velocities suffice
             let completed = {
                 let mut oc = lock(&oc);
-                if with_multipliers {
+                let state = if with_multipliers {
                     oc.full_for_output(step.t, integ.y())
                 } else {
                     oc.complete_for_output(step.t, integ.y())
-                        .map(|()| oc.full_state().to_vec())
-                }
+                        .map(|()| oc.full_state())
+                };
+                state.map(|s| {
+                    full.clear();
+                    full.extend_from_slice(s);
+                })
             };
-            let full = completed.map_err(|e| {
+            completed.map_err(|e| {
                 Error::Solver(SolverError::InvalidInput(format!(
                     "partitioned: completing the output row: {e}"
                 )))
