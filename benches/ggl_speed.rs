@@ -19,16 +19,11 @@
 mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
-use bench_case::case;
-use bench_case::Case;
-
-use std::time::Duration;
+use bench_case::{bench_chosen, speed_cases, Case};
 
 use bondmech::report::sweep::median;
-use bondmech::sundials::Multistep;
 use bondmech::{FormulationKind, SolveOptions};
-use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, solve_minimal};
+use minimal::{bondmech_rows, max_difference};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -76,12 +71,8 @@ struct Run {
 }
 
 fn options(case: &Case, dependent_out: bool, delta_cj: Option<f64>, rtol: f64) -> SolveOptions {
-    let mut o = case.model.default_options();
+    let mut o = case.options(rtol);
     o.formulation = FormulationKind::Ggl;
-    o.rtol = rtol;
-    o.atol = rtol * 1e-2;
-    o.output_times = case.times.clone();
-    o.max_steps = Some(10_000_000);
     o.ggl_dependent_velocity_error_test = !dependent_out;
     o.ida_delta_cj = delta_cj;
     o
@@ -90,15 +81,9 @@ fn options(case: &Case, dependent_out: bool, delta_cj: Option<f64>, rtol: f64) -
 fn run(case: &Case, v: Variant, rtol: f64) -> Option<Run> {
     match v {
         Variant::Limit => {
-            let r = solve_minimal(
-                &case.minimal,
-                Multistep::Bdf,
-                rtol,
-                rtol * 1e-2,
-                &case.times,
-            );
+            let (r, error) = case.limit(rtol);
             Some(Run {
-                error: max_difference(&r.rows, &case.reference),
+                error,
                 cpu: r.cpu_seconds,
                 steps: r.steps,
                 jac: r.jacobian_evals,
@@ -198,22 +183,7 @@ fn table(case: &Case) -> Vec<(Variant, f64)> {
 }
 
 fn main() {
-    let cases = [
-        case("double_pendulum", minimal::DOUBLE_PENDULUM),
-        case("slider_crank", minimal::SLIDER_CRANK),
-    ];
+    let cases = speed_cases();
     let chosen: Vec<_> = cases.iter().map(table).collect();
-    let mut crit = Criterion::default()
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .configure_from_args();
-    for (c, ch) in cases.iter().zip(&chosen) {
-        let mut g = crit.benchmark_group(format!("ggl_{}", c.name));
-        for &(v, rtol) in ch {
-            g.bench_function(v.label(), |b| b.iter(|| run(c, v, rtol)));
-        }
-        g.finish();
-    }
-    crit.final_summary();
+    bench_chosen("ggl_", &cases, &chosen, Variant::label, run);
 }

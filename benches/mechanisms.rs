@@ -20,10 +20,9 @@ use std::time::Duration;
 
 use bondmech::report::generate::n_link_pendulum;
 use bondmech::report::sweep::median;
-use bondmech::sundials::Multistep;
 use bondmech::{FormulationKind, Model, SolveOptions};
 use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, solve_minimal, MinimalModel};
+use minimal::{bondmech_rows, max_difference, MinimalModel};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -59,37 +58,27 @@ struct Run {
 }
 
 fn options(case: &Case, f: FormulationKind, rtol: f64) -> SolveOptions {
-    let mut o = case.model.default_options();
+    let mut o = case.options(rtol);
     o.formulation = f;
-    o.rtol = rtol;
-    o.atol = rtol * 1e-2;
     o.joint_stiffness = DECOUPLED_K;
-    o.output_times = case.times.clone();
-    o.max_steps = Some(10_000_000);
     o
 }
 
 fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
     match m {
         Method::Minimal => {
-            let r = solve_minimal(
-                &case.minimal,
-                Multistep::Bdf,
-                rtol,
-                rtol * 1e-2,
-                &case.times,
-            );
+            let (r, error) = case.limit(rtol);
             Some(Run {
-                error: max_difference(&r.rows, &case.reference),
+                error,
                 cpu: r.cpu_seconds,
                 steps: r.steps,
                 jac: r.jacobian_evals,
             })
         }
         Method::MinimalErk => {
-            let r = minimal::solve_minimal_erk(&case.minimal, rtol, rtol * 1e-2, &case.times);
+            let (r, error) = case.minimal_erk(rtol);
             Some(Run {
-                error: max_difference(&r.rows, &case.reference),
+                error,
                 cpu: r.cpu_seconds,
                 steps: r.steps,
                 jac: 0,

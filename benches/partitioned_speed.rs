@@ -13,16 +13,11 @@
 mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
-use bench_case::case;
-use bench_case::Case;
-
-use std::time::Duration;
+use bench_case::{bench_chosen, speed_cases, Case};
 
 use bondmech::report::sweep::median;
-use bondmech::sundials::Multistep;
 use bondmech::{FormulationKind, Integrator, SolveOptions};
-use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, solve_minimal};
+use minimal::{bondmech_rows, max_difference};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -53,32 +48,22 @@ struct Run {
 }
 
 fn options(case: &Case, i: Integrator, rtol: f64) -> SolveOptions {
-    let mut o = case.model.default_options();
+    let mut o = case.options(rtol);
     o.formulation = FormulationKind::Partitioned;
     o.integrator = i;
-    o.rtol = rtol;
-    o.atol = rtol * 1e-2;
-    o.output_times = case.times.clone();
-    o.max_steps = Some(10_000_000);
     o
 }
 
 fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
     match m {
         Method::Limit | Method::MinimalErk => {
-            let r = if m == Method::Limit {
-                solve_minimal(
-                    &case.minimal,
-                    Multistep::Bdf,
-                    rtol,
-                    rtol * 1e-2,
-                    &case.times,
-                )
+            let (r, error) = if m == Method::Limit {
+                case.limit(rtol)
             } else {
-                minimal::solve_minimal_erk(&case.minimal, rtol, rtol * 1e-2, &case.times)
+                case.minimal_erk(rtol)
             };
             Some(Run {
-                error: max_difference(&r.rows, &case.reference),
+                error,
                 cpu: r.cpu_seconds,
                 steps: r.steps,
                 evals: 0,
@@ -168,22 +153,7 @@ fn table(case: &Case) -> Vec<(Method, f64)> {
 }
 
 fn main() {
-    let cases = [
-        case("double_pendulum", minimal::DOUBLE_PENDULUM),
-        case("slider_crank", minimal::SLIDER_CRANK),
-    ];
+    let cases = speed_cases();
     let chosen: Vec<_> = cases.iter().map(table).collect();
-    let mut crit = Criterion::default()
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .configure_from_args();
-    for (c, ch) in cases.iter().zip(&chosen) {
-        let mut g = crit.benchmark_group(format!("partitioned_{}", c.name));
-        for &(m, rtol) in ch {
-            g.bench_function(m.label(), |b| b.iter(|| run(c, m, rtol)));
-        }
-        g.finish();
-    }
-    crit.final_summary();
+    bench_chosen("partitioned_", &cases, &chosen, Method::label, run);
 }

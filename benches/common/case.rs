@@ -1,11 +1,17 @@
 //! One mechanism of the speed benches: the bundled scene's model, its hand-written
 //! minimal-coordinate twin ([`super::minimal`]), the output times, and the reference
-//! trajectory (the minimal model on CVODE Adams at rtol 1e-12).
+//! trajectory (the minimal model on CVODE Adams at rtol 1e-12); and what the speed benches
+//! share: the two cases, the options at a tolerance, the limit's run, the criterion groups.
+//! (Each bench includes this file and uses part of it.)
+#![allow(dead_code)]
+
+use std::time::Duration;
 
 use bondmech::sundials::Multistep;
-use bondmech::{Model, Scene};
+use bondmech::{Model, Scene, SolveOptions};
+use criterion::Criterion;
 
-use crate::minimal::{solve_minimal, MinimalModel};
+use crate::minimal::{self, max_difference, solve_minimal, MinimalModel, MinimalRun};
 
 /// A bench case.
 pub struct Case {
@@ -29,4 +35,68 @@ pub fn case(name: &'static str, minimal: MinimalModel) -> Case {
         times,
         reference: r.rows,
     }
+}
+
+/// The double pendulum and the slider-crank, the mechanisms the speed benches compare.
+pub fn speed_cases() -> [Case; 2] {
+    [
+        case("double_pendulum", minimal::DOUBLE_PENDULUM),
+        case("slider_crank", minimal::SLIDER_CRANK),
+    ]
+}
+
+impl Case {
+    /// The scene's options at `rtol` (atol = rtol / 100) on the case's output times, with a
+    /// step budget none of these solves reaches.
+    pub fn options(&self, rtol: f64) -> SolveOptions {
+        let mut o = self.model.default_options();
+        o.rtol = rtol;
+        o.atol = rtol * 1e-2;
+        o.output_times = self.times.clone();
+        o.max_steps = Some(10_000_000);
+        o
+    }
+
+    /// The limit (the minimal model on CVODE BDF) at `rtol`, and its error.
+    pub fn limit(&self, rtol: f64) -> (MinimalRun, f64) {
+        let r = solve_minimal(
+            &self.minimal,
+            Multistep::Bdf,
+            rtol,
+            rtol * 1e-2,
+            &self.times,
+        );
+        let e = max_difference(&r.rows, &self.reference);
+        (r, e)
+    }
+
+    /// The minimal model on ARKODE's explicit Runge–Kutta at `rtol`, and its error.
+    pub fn minimal_erk(&self, rtol: f64) -> (MinimalRun, f64) {
+        let r = minimal::solve_minimal_erk(&self.minimal, rtol, rtol * 1e-2, &self.times);
+        let e = max_difference(&r.rows, &self.reference);
+        (r, e)
+    }
+}
+
+/// Criterion groups `<prefix><case>`, timing each chosen `(method, rtol)` of each case.
+pub fn bench_chosen<M: Copy, R>(
+    prefix: &str,
+    cases: &[Case],
+    chosen: &[Vec<(M, f64)>],
+    label: impl Fn(M) -> String,
+    run: impl Fn(&Case, M, f64) -> R,
+) {
+    let mut crit = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .configure_from_args();
+    for (c, ch) in cases.iter().zip(chosen) {
+        let mut g = crit.benchmark_group(format!("{prefix}{}", c.name));
+        for &(m, rtol) in ch {
+            g.bench_function(label(m), |b| b.iter(|| run(c, m, rtol)));
+        }
+        g.finish();
+    }
+    crit.final_summary();
 }
