@@ -45,13 +45,7 @@ fn double_pendulum_accelerations_match_lagrange_at_random_states() {
     let names: Vec<String> = sys.coords.iter().map(|c| c.name.clone()).collect();
     let idx = |n: &str| names.iter().position(|x| x == n).unwrap();
     // a small deterministic pseudo-random sequence (no dependence on bondmech)
-    let mut seed = 12345u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = common::uniform(12345);
     for _ in 0..20 {
         let (t1, t2) = (3.0 * rnd(), 3.0 * rnd());
         let (w1, w2) = (4.0 * rnd(), 4.0 * rnd());

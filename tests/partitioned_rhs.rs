@@ -40,13 +40,7 @@ fn double_pendulum_partitioned_rhs_matches_lagrange_with_one_newton_step_per_cal
         g: 9.81,
     };
     let idx = |n: &str| names.iter().position(|x| x == n).unwrap();
-    let mut seed = 3u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = common::uniform(3);
     let mut yd = [0.0; 4];
     for _ in 0..50 {
         let (t1, t2, w1, w2) = (3.0 * rnd(), 3.0 * rnd(), 4.0 * rnd(), 4.0 * rnd());

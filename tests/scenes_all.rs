@@ -6,22 +6,15 @@
 //! bond graph scenes only have to solve here; their closed forms are checked in
 //! tests/bond_solve.rs.
 
+mod common;
+
 use bondmech::solve::bond_run::{raw_bond_graph_options, solve_raw_bond_graph};
 use bondmech::{FormulationKind, Model, Scene, SolveOptions};
 
 /// Short horizon of every solve (s) — keeps the whole file well under 20 s in the test profile.
 const HORIZON: f64 = 0.5;
 
-fn scene_paths() -> Vec<std::path::PathBuf> {
-    let dir = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
-    let mut v: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    v.sort();
-    v
-}
+use common::bundled_scene_paths as scene_paths;
 
 /// Whether the scene conserves mechanical energy: no loads, and no spring with a damper
 /// (undamped springs store energy and keep it conserved).

@@ -75,14 +75,8 @@ fn check(what: &str, gv: &DMatrix<f64>, mass: &[f64]) -> (f64, Option<f64>) {
 }
 
 fn bundled_scenes() -> Vec<(String, Scene)> {
-    let dir = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
-    let mut v: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    v.sort();
-    v.into_iter()
+    common::bundled_scene_paths()
+        .into_iter()
         .map(|p| {
             let name = p.file_stem().unwrap().to_string_lossy().into_owned();
             (name, Scene::from_path(&p).unwrap())

@@ -38,6 +38,8 @@
 //!    column's largest magnitude, at least 1) of a dense run at a 100× tighter tolerance, with
 //!    one `K` for all three solvers — never looser for the sparse ones.
 
+mod common;
+
 use bondmech::dae::{
     consistent_state, select_dependent, ConstraintExprs, DecoupledFormulation, GglFormulation,
     Index1Formulation, MechanicsTapes,
@@ -52,14 +54,8 @@ const ETA_MAX: f64 = 1e-12;
 const U: f64 = f64::EPSILON / 2.0;
 
 fn mechanism_scenes() -> Vec<(String, Scene)> {
-    let dir = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
-    let mut v: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    v.sort();
-    v.into_iter()
+    common::bundled_scene_paths()
+        .into_iter()
         .filter_map(|p| {
             let name = p.file_name().unwrap().to_string_lossy().to_string();
             let scene = Scene::from_path(&p).unwrap();

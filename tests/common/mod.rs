@@ -28,3 +28,26 @@ pub mod slider_crank;
 pub const REFERENCE_RTOL: f64 = 1e-13;
 /// Absolute tolerance used by every reference model.
 pub const REFERENCE_ATOL: f64 = 1e-13;
+
+/// The bundled scenes' files (`scenes/*.json`), sorted by name.
+pub fn bundled_scene_paths() -> Vec<std::path::PathBuf> {
+    let dir = format!("{}/scenes", env!("CARGO_MANIFEST_DIR"));
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .expect("scenes/ is readable")
+        .map(|e| e.expect("a directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// A small deterministic pseudo-random sequence, uniform in [−1, 1) (a 64-bit linear
+/// congruential generator, Knuth's MMIX constants; the top 53 bits).
+pub fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
