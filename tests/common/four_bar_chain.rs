@@ -100,30 +100,8 @@ pub fn simulate_four_bar_chain(
 /// cranks turning at 1 rad/s (couplers translating at the crank tips' velocity (−1, 0)).
 pub fn chain_json(n: usize) -> String {
     let g = 9.81;
-    let mut bodies = Vec::new();
-    let mut joints = Vec::new();
-    let bar = r#""mass":1.0,"inertia":0.08333333333333333,"points":{"O":[-0.5,0],"A":[0.5,0]}"#;
-    for i in 0..=n {
-        bodies.push(format!(
-            r#"{{"name":"crank{i}",{bar},"position":[{i},0.5],"angle":1.5707963267948966,"velocity":[-0.5,0],"angular_velocity":1.0}}"#
-        ));
-        joints.push(format!(
-            r#"{{"name":"pivot{i}","type":"revolute","bodies":["ground","crank{i}"],"points":[[{i},0],"O"]}}"#
-        ));
-    }
-    for i in 0..n {
-        bodies.push(format!(
-            r#"{{"name":"coupler{i}",{bar},"position":[{x},1],"angle":0,"velocity":[-1,0],"angular_velocity":0}}"#,
-            x = i as f64 + 0.5
-        ));
-        joints.push(format!(
-            r#"{{"name":"pin{i}l","type":"revolute","bodies":["crank{i}","coupler{i}"],"points":["A","O"]}}"#
-        ));
-        joints.push(format!(
-            r#"{{"name":"pin{i}r","type":"revolute","bodies":["crank{j}","coupler{i}"],"points":["A","A"]}}"#,
-            j = i + 1
-        ));
-    }
+    // at φ = π/2 exactly: sin 1, cos 0 (not the rounded cos(π/2))
+    let (bodies, joints) = chain_parts(n, std::f64::consts::FRAC_PI_2, (1.0, 0.0), 1.0);
     format!(
         r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-{g}],
         "bodies":[{}],"joints":[{}],
@@ -138,8 +116,19 @@ pub fn chain_json(n: usize) -> String {
 /// at `phi_dot`: crank `i` pinned at `(i, 0)`, coupler `i` joining the tops of cranks `i` and
 /// `i + 1` (the configuration of [`chain_json`] at another angle; a 1 s horizon).
 pub fn chain_json_at(n: usize, phi: f64, phi_dot: f64) -> String {
+    let (bodies, joints) = chain_parts(n, phi, phi.sin_cos(), phi_dot);
+    format!(
+        r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-9.81],
+        "bodies":[{}],"joints":[{}],"solve":{{"formulation":"dae","t_end":1.0}}}}"#,
+        bodies.join(",\n"),
+        joints.join(",\n")
+    )
+}
+
+/// Bodies and joints of the chain of `n` four-bars with every crank at angle `phi`
+/// (`(sin φ, cos φ)` given) turning at `phi_dot`.
+fn chain_parts(n: usize, phi: f64, (s, c): (f64, f64), phi_dot: f64) -> (Vec<String>, Vec<String>) {
     let bar = r#""mass":1.0,"inertia":0.08333333333333333,"points":{"O":[-0.5,0],"A":[0.5,0]}"#;
-    let (s, c) = phi.sin_cos();
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
     for i in 0..=n {
@@ -170,10 +159,5 @@ pub fn chain_json_at(n: usize, phi: f64, phi_dot: f64) -> String {
             j = i + 1
         ));
     }
-    format!(
-        r#"{{"name":"four_bar_chain_{n}","dimension":2,"gravity":[0,-9.81],
-        "bodies":[{}],"joints":[{}],"solve":{{"formulation":"dae","t_end":1.0}}}}"#,
-        bodies.join(",\n"),
-        joints.join(",\n")
-    )
+    (bodies, joints)
 }
