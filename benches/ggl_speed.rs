@@ -19,11 +19,10 @@
 mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
-use bench_case::{bench_chosen, speed_cases, Case};
+use bench_case::{bench_chosen, speed_cases, Case, Run};
 
 use bondmech::report::sweep::median;
 use bondmech::{FormulationKind, SolveOptions};
-use minimal::{bondmech_rows, max_difference};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -62,14 +61,6 @@ impl Variant {
     }
 }
 
-struct Run {
-    error: f64,
-    cpu: f64,
-    steps: u64,
-    jac: u64,
-    res: u64,
-}
-
 fn options(case: &Case, dependent_out: bool, delta_cj: Option<f64>, rtol: f64) -> SolveOptions {
     let mut o = case.options(rtol);
     o.formulation = FormulationKind::Ggl;
@@ -80,32 +71,11 @@ fn options(case: &Case, dependent_out: bool, delta_cj: Option<f64>, rtol: f64) -
 
 fn run(case: &Case, v: Variant, rtol: f64) -> Option<Run> {
     match v {
-        Variant::Limit => {
-            let (r, error) = case.limit(rtol);
-            Some(Run {
-                error,
-                cpu: r.cpu_seconds,
-                steps: r.steps,
-                jac: r.jacobian_evals,
-                res: 0,
-            })
-        }
+        Variant::Limit => Some(Run::minimal(case.limit(rtol))),
         Variant::Ggl {
             dependent_out,
             delta_cj,
-        } => {
-            let s = case
-                .model
-                .solve(&options(case, dependent_out, delta_cj, rtol))
-                .ok()?;
-            Some(Run {
-                error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
-                cpu: s.summary.cpu_seconds,
-                steps: s.summary.steps,
-                jac: s.summary.jacobian_evals,
-                res: s.summary.residual_evals,
-            })
-        }
+        } => Run::bondmech(case, &options(case, dependent_out, delta_cj, rtol)),
     }
 }
 

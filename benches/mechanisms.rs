@@ -14,7 +14,7 @@
 mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
-use bench_case::Case;
+use bench_case::{Case, Run};
 
 use std::time::Duration;
 
@@ -22,7 +22,7 @@ use bondmech::report::generate::n_link_pendulum;
 use bondmech::report::sweep::median;
 use bondmech::{FormulationKind, Model, SolveOptions};
 use criterion::Criterion;
-use minimal::{bondmech_rows, max_difference, MinimalModel};
+use minimal::MinimalModel;
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -50,13 +50,6 @@ impl Method {
     }
 }
 
-struct Run {
-    error: f64,
-    cpu: f64,
-    steps: u64,
-    jac: u64,
-}
-
 fn options(case: &Case, f: FormulationKind, rtol: f64) -> SolveOptions {
     let mut o = case.options(rtol);
     o.formulation = f;
@@ -66,33 +59,9 @@ fn options(case: &Case, f: FormulationKind, rtol: f64) -> SolveOptions {
 
 fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
     match m {
-        Method::Minimal => {
-            let (r, error) = case.limit(rtol);
-            Some(Run {
-                error,
-                cpu: r.cpu_seconds,
-                steps: r.steps,
-                jac: r.jacobian_evals,
-            })
-        }
-        Method::MinimalErk => {
-            let (r, error) = case.minimal_erk(rtol);
-            Some(Run {
-                error,
-                cpu: r.cpu_seconds,
-                steps: r.steps,
-                jac: 0,
-            })
-        }
-        Method::Bondmech(f) => {
-            let s = case.model.solve(&options(case, f, rtol)).ok()?;
-            Some(Run {
-                error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
-                cpu: s.summary.cpu_seconds,
-                steps: s.summary.steps,
-                jac: s.summary.jacobian_evals,
-            })
-        }
+        Method::Minimal => Some(Run::minimal(case.limit(rtol))),
+        Method::MinimalErk => Some(Run::minimal(case.minimal_erk(rtol))),
+        Method::Bondmech(f) => Run::bondmech(case, &options(case, f, rtol)),
     }
 }
 

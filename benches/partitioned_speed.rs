@@ -13,11 +13,10 @@
 mod bench_case;
 #[path = "common/minimal.rs"]
 mod minimal;
-use bench_case::{bench_chosen, speed_cases, Case};
+use bench_case::{bench_chosen, speed_cases, Case, Run};
 
 use bondmech::report::sweep::median;
 use bondmech::{FormulationKind, Integrator, SolveOptions};
-use minimal::{bondmech_rows, max_difference};
 
 const TARGET: f64 = 1e-6;
 const REPEATS: usize = 9;
@@ -39,14 +38,6 @@ impl Method {
     }
 }
 
-struct Run {
-    error: f64,
-    cpu: f64,
-    steps: u64,
-    evals: u64,
-    integrator: String,
-}
-
 fn options(case: &Case, i: Integrator, rtol: f64) -> SolveOptions {
     let mut o = case.options(rtol);
     o.formulation = FormulationKind::Partitioned;
@@ -56,30 +47,9 @@ fn options(case: &Case, i: Integrator, rtol: f64) -> SolveOptions {
 
 fn run(case: &Case, m: Method, rtol: f64) -> Option<Run> {
     match m {
-        Method::Limit | Method::MinimalErk => {
-            let (r, error) = if m == Method::Limit {
-                case.limit(rtol)
-            } else {
-                case.minimal_erk(rtol)
-            };
-            Some(Run {
-                error,
-                cpu: r.cpu_seconds,
-                steps: r.steps,
-                evals: 0,
-                integrator: String::new(),
-            })
-        }
-        Method::Partitioned(i) => {
-            let s = case.model.solve(&options(case, i, rtol)).ok()?;
-            Some(Run {
-                error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
-                cpu: s.summary.cpu_seconds,
-                steps: s.summary.steps,
-                evals: s.summary.residual_evals,
-                integrator: s.summary.integrator.clone(),
-            })
-        }
+        Method::Limit => Some(Run::minimal(case.limit(rtol))),
+        Method::MinimalErk => Some(Run::minimal(case.minimal_erk(rtol))),
+        Method::Partitioned(i) => Run::bondmech(case, &options(case, i, rtol)),
     }
 }
 
@@ -131,7 +101,7 @@ fn table(case: &Case) -> Vec<(Method, f64)> {
             rtol,
             r.error,
             r.steps,
-            r.evals,
+            r.res,
             med * 1e6,
             med / limit,
             med / erk,

@@ -11,7 +11,9 @@ use bondmech::sundials::Multistep;
 use bondmech::{Model, Scene, SolveOptions};
 use criterion::Criterion;
 
-use crate::minimal::{self, max_difference, solve_minimal, MinimalModel, MinimalRun};
+use crate::minimal::{
+    self, bondmech_rows, max_difference, solve_minimal, MinimalModel, MinimalRun,
+};
 
 /// A bench case.
 pub struct Case {
@@ -75,6 +77,46 @@ impl Case {
         let r = minimal::solve_minimal_erk(&self.minimal, rtol, rtol * 1e-2, &self.times);
         let e = max_difference(&r.rows, &self.reference);
         (r, e)
+    }
+}
+
+/// One timed solve of a bench: its error against the case's reference and its counters.
+pub struct Run {
+    pub error: f64,
+    pub cpu: f64,
+    pub steps: u64,
+    /// Jacobian evaluations.
+    pub jac: u64,
+    /// Residual (right-hand side) evaluations; 0 for the minimal model.
+    pub res: u64,
+    /// The integrator the solve reports (empty for the minimal model).
+    pub integrator: String,
+}
+
+impl Run {
+    /// A minimal-model solve with its error.
+    pub fn minimal((r, error): (MinimalRun, f64)) -> Run {
+        Run {
+            error,
+            cpu: r.cpu_seconds,
+            steps: r.steps,
+            jac: r.jacobian_evals,
+            res: 0,
+            integrator: String::new(),
+        }
+    }
+
+    /// A bondmech solve of `case` with `opts` (`None` if it fails).
+    pub fn bondmech(case: &Case, opts: &SolveOptions) -> Option<Run> {
+        let s = case.model.solve(opts).ok()?;
+        Some(Run {
+            error: max_difference(&bondmech_rows(&s, case.minimal.columns), &case.reference),
+            cpu: s.summary.cpu_seconds,
+            steps: s.summary.steps,
+            jac: s.summary.jacobian_evals,
+            res: s.summary.residual_evals,
+            integrator: s.summary.integrator.clone(),
+        })
     }
 }
 
