@@ -208,6 +208,11 @@ impl BlockLu {
         self.pivots.0 / self.pivots.1
     }
 
+    /// Largest and smallest |pivot| of the last factorisation.
+    pub fn pivots(&self) -> (f64, f64) {
+        self.pivots
+    }
+
     fn replan(&mut self, src: &[f64]) -> Result<(), SingularBlock> {
         let n = self.n;
         let mut pattern = vec![false; n * n];

@@ -15,6 +15,7 @@
 pub mod block_lu;
 pub mod compiled;
 pub mod decoupled;
+pub mod elimination;
 pub mod formulation;
 pub mod ggl;
 pub mod gram;

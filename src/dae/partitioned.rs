@@ -30,6 +30,7 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use super::block_lu::BlockLu;
+use super::elimination::{Elimination, EliminationInputs};
 use super::index1::{dependent_condition, select_dependent};
 use super::mechanics::{ConstraintExprs, MatrixTape};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
@@ -202,6 +203,19 @@ impl PartitionedSystem {
         v
     }
 
+    /// What the symbolic elimination needs ([`super::elimination`]), where it applies: one
+    /// factorisation serves both levels (`q' = v`, velocity rows `G_q v`).
+    fn elimination_inputs(&self) -> Option<EliminationInputs<'_>> {
+        let (_, nv, nc) = self.dims;
+        let n_pos = self.pos.n_outputs();
+        self.gv_is_gq.then(|| EliminationInputs {
+            graph: &self.graph,
+            g: &self.all[..nc],
+            forces: &self.all[n_pos..n_pos + nv],
+            mass: &self.mass,
+        })
+    }
+
     /// `G_q` and `G_v` at `(t, x = [q, v])`.
     pub fn jacobians(&self, t: f64, x: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
         let (nq, _, nc) = self.dims;
@@ -332,6 +346,10 @@ pub struct PartitionedRhs {
     pub condition_estimate: f64,
     /// Condition estimate of the last `G_q[:, D]` factorised (Newton's last iteration).
     condition_q: f64,
+    /// The dependent coordinates affine in their rows eliminated symbolically
+    /// ([`super::elimination`]): the right-hand side then runs on the reduced coordinates, and
+    /// the block path above only serves the multipliers.
+    elim: Option<Box<Elimination>>,
 }
 
 impl PartitionedRhs {
@@ -384,7 +402,12 @@ impl PartitionedRhs {
                 Err(l) => bv_map.push((e, k * niv + l)),
             }
         }
+        let elim = sys
+            .elimination_inputs()
+            .and_then(|inp| Elimination::new(&inp, &part, x))
+            .map(Box::new);
         PartitionedRhs {
+            elim,
             w_st: staged.workspace(),
             o_st: vec![0.0; staged.tape().n_outputs()],
             n_pos: sys.pos.n_outputs(),
@@ -431,6 +454,24 @@ impl PartitionedRhs {
     /// The full state `[q, v]` of the last evaluation.
     pub fn full_state(&self) -> &[f64] {
         &self.vars[1..]
+    }
+
+    /// Works on the full dependent block only (no symbolic elimination): the reference the
+    /// elimination is checked against, and the `partitioned_elimination = false` option.
+    pub fn without_elimination(mut self) -> Self {
+        self.elim = None;
+        self
+    }
+
+    /// `(|z|, |q_R|)`: the reduced coordinates and the loop closures left implicit, when the
+    /// symbolic elimination applies ([`super::elimination`]).
+    pub fn elimination(&self) -> Option<(usize, usize)> {
+        self.elim.as_ref().map(|e| e.sizes())
+    }
+
+    /// Newton iterations so far (on the full block and on the loop closures).
+    pub fn newton_iterations(&self) -> u64 {
+        self.newton_iterations + self.elim.as_ref().map_or(0, |e| e.newton_iterations)
     }
 
     /// Solves `g(q) = 0` for the dependent coordinates with `q_I = y[..|q_I|]`, from the warm
@@ -620,7 +661,25 @@ impl PartitionedRhs {
 
     /// Evaluates `y' = f(t, y)` (see the module documentation); `y = [q_I, v_I]`.
     pub fn rhs(&mut self, t: f64, y: &[f64], yd: &mut [f64]) -> Result<(), PartitionError> {
-        self.complete(t, y)?;
+        if let Some(e) = self.elim.as_deref_mut() {
+            self.last_valid = false;
+            let r = e.rhs(
+                t,
+                y,
+                yd,
+                self.newton_tol,
+                self.max_newton,
+                self.repartition_above,
+            );
+            self.condition_estimate = e.condition_estimate;
+            return r;
+        }
+        self.block_rhs(t, y, yd)
+    }
+
+    /// [`Self::rhs`] on the full dependent block.
+    fn block_rhs(&mut self, t: f64, y: &[f64], yd: &mut [f64]) -> Result<(), PartitionError> {
+        self.block_complete(t, y)?;
         let (nq, nv, nc) = self.sys.dims;
         let niq = self.part.ind_q.len();
         let niv = self.part.ind_v.len();
@@ -681,6 +740,33 @@ impl PartitionedRhs {
     /// Completes `y = [q_I, v_I]` to the full state `[q, v]` (Newton for `q_D`, then
     /// `G_D v_D = −G_I v_I`), left in [`Self::full_state`]; factorises `G_v[:, D]`.
     pub fn complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        if let Some(e) = self.elim.as_deref_mut() {
+            self.last_valid = false;
+            let n = self.vars.len();
+            e.complete(
+                t,
+                y,
+                &mut self.vars[1..n],
+                self.newton_tol,
+                self.max_newton,
+                self.repartition_above,
+            )?;
+            self.condition_estimate = e.condition_estimate;
+            // the block path starts from this exact state when it runs (multipliers)
+            self.have_prev = false;
+            self.stage0_valid = false;
+            self.b_ready = false;
+            self.c_ready = false;
+            self.last_t = t;
+            self.last_y.copy_from_slice(y);
+            self.last_valid = true;
+            return Ok(());
+        }
+        self.block_complete(t, y)
+    }
+
+    /// [`Self::complete`] on the full dependent block.
+    fn block_complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
         self.last_valid = false;
         self.positions(t, y)?;
         let (nq, _, nc) = self.sys.dims;
@@ -787,7 +873,13 @@ impl PartitionedRhs {
     pub fn full_with_multipliers(&mut self, t: f64, y: &[f64]) -> Result<&[f64], PartitionError> {
         let mut yd = std::mem::take(&mut self.yd);
         yd.resize(y.len(), 0.0);
-        let r = self.rhs(t, y, &mut yd);
+        let r = if self.elim.is_some() {
+            // the multipliers come from the full block, started at the reduced solution
+            self.complete(t, y)
+                .and_then(|()| self.block_rhs(t, y, &mut yd))
+        } else {
+            self.rhs(t, y, &mut yd)
+        };
         self.yd = yd;
         r?;
         let (nq, nv, nc) = self.sys.dims;

@@ -25,6 +25,7 @@ mod graph;
 mod hash;
 mod ops;
 mod parse;
+mod subst;
 mod tape;
 
 pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
