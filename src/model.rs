@@ -233,6 +233,7 @@ impl Model {
             joint_damping: s.joint_damping,
             linear_solver: s.linear_solver,
             integrator: s.integrator,
+            switching_functions: s.switching_functions,
             ..SolveOptions::default()
         }
     }

@@ -54,6 +54,11 @@ pub(crate) struct EliminationInputs<'a> {
     pub forces: &'a [Expr],
     /// Diagonal of `M`.
     pub mass: &'a [f64],
+    /// Mode variables after `[t, q, v]` (`expr::switches`).
+    pub n_modes: usize,
+    /// The switching functions of the loads (over `[t, q, v, modes]`), evaluated with every
+    /// right-hand side so that root functions at its point cost nothing more.
+    pub switching: &'a [Expr],
 }
 
 /// The partitioned right-hand side with the dependent coordinates affine in their rows
@@ -68,18 +73,24 @@ pub(crate) struct Elimination {
     elim: Vec<usize>,
     /// Largest and smallest |coefficient| of the eliminated coordinates in their rows.
     elim_pivots: (f64, f64),
-    /// `[g̃_R, G̃ (|R| × |z| row-major), M̃ (|z| × |z|), Q̃ (|z|), γ̃ (|R|)]` in three stages:
-    /// `(t, q_I)`, `q_R`, `ż`.
-    tape: Arc<StagedTape>,
+    /// `[g̃_R, G̃ (|R| × |z| row-major)]` in two stages, `(t, q_I)` and `q_R` (Newton).
+    newton: Arc<StagedTape>,
+    w_n: Vec<f64>,
+    o_n: Vec<f64>,
+    /// `[M̃ (|z| × |z|), Q̃ (|z|), γ̃ (|R|), switching functions]` over `[t, z, ż, modes]`.
+    tape: Arc<Tape>,
     w: Vec<f64>,
     o: Vec<f64>,
+    /// `(t, y)` of the last right-hand side (whose outputs `o` holds), when valid.
+    last_t: f64,
+    last_y: Vec<f64>,
+    last_valid: bool,
     /// `[q_E, q̇_E]` over `[t, z, ż]` (output rows only).
     full: Arc<Tape>,
     w_full: Vec<f64>,
     o_full: Vec<f64>,
-    /// `[t, q, v]` (only `t`, `z` and `ż` are read by the tapes).
+    /// `[t, q, v, modes]` (only `t`, `z`, `ż` and the modes are read by the tapes).
     vars: Vec<f64>,
-    stage0_valid: bool,
     /// LU of `G̃_R` (entries read from the tape's outputs).
     lu: BlockLu,
     /// `G̃_I`, then `B = G̃_R⁻¹ G̃_I` (row-major `|R| × |q_I|`).
@@ -108,17 +119,19 @@ struct Layout {
 }
 
 impl Layout {
+    /// `G̃` in the Newton tape's outputs.
     fn gq(&self) -> usize {
         self.nr
     }
-    fn mass(&self) -> usize {
-        self.nr + self.nr * self.nz
-    }
+    /// `Q̃` in the dynamics tape's outputs (after `M̃`).
     fn forces(&self) -> usize {
-        self.mass() + self.nz * self.nz
+        self.nz * self.nz
     }
     fn gamma(&self) -> usize {
         self.forces() + self.nz
+    }
+    fn switching(&self) -> usize {
+        self.gamma() + self.nr
     }
 }
 
@@ -244,15 +257,16 @@ impl Elimination {
             map.push((vs(i), qdot[i]));
         }
         let forces = g.substitute_all(inp.forces, &map);
-        // outputs: g̃_R, G̃, M̃, Q̃, γ̃
-        let mut outs: Vec<Expr> = rrows.clone();
+        // Newton: g̃_R, G̃; dynamics: M̃, Q̃, γ̃, switching functions
+        let mut newton_outs: Vec<Expr> = rrows.clone();
         let mut gt: Vec<Expr> = Vec::with_capacity(nr * nz);
         for &r in &rrows {
             for &a in &z {
                 gt.push(g.diff(r, qs(a)));
             }
         }
-        outs.extend(&gt);
+        newton_outs.extend(&gt);
+        let mut outs: Vec<Expr> = Vec::new();
         for a in 0..nz {
             for b in 0..nz {
                 let rows: Vec<usize> = (0..nq)
@@ -292,6 +306,9 @@ impl Elimination {
                 .collect();
             outs.push(g.sum(&terms));
         }
+        let switching = g.substitute_all(inp.switching, &map);
+        outs.extend(&switching);
+        // Newton's stages: t and q_I (0), q_R (1)
         let mut at = vec![2usize; 1 + 2 * nq];
         at[0] = 0;
         for &i in &part.ind_q {
@@ -301,7 +318,8 @@ impl Elimination {
             at[qs(i) as usize] = 1;
         }
         let stage_of = |v: u32| at.get(v as usize).copied().unwrap_or(0);
-        let tape = Arc::new(g.compile_staged(&outs, &stage_of, 3));
+        let newton = Arc::new(g.compile_staged(&newton_outs, &stage_of, 2));
+        let tape = Arc::new(g.compile(&outs));
         let full_outs: Vec<Expr> = order
             .iter()
             .map(|&i| h[i].expect("eliminated"))
@@ -312,18 +330,23 @@ impl Elimination {
         let entries = (0..nr)
             .flat_map(|k| (0..nr).map(move |l| (k, l, lay.gq() + k * nz + ni + l)))
             .collect();
-        let mut vars = vec![0.0; 1 + 2 * nq];
-        vars[1..].copy_from_slice(&x[..2 * nq]);
+        let mut vars = vec![0.0; 1 + 2 * nq + inp.n_modes];
+        vars[1..=2 * nq].copy_from_slice(&x[..2 * nq]);
         Some(Elimination {
             nq,
+            w_n: newton.workspace(),
+            o_n: vec![0.0; newton.tape().n_outputs()],
+            newton,
             w: tape.workspace(),
-            o: vec![0.0; tape.tape().n_outputs()],
+            o: vec![0.0; tape.n_outputs()],
             tape,
+            last_t: f64::NAN,
+            last_y: vec![0.0; 2 * ni],
+            last_valid: false,
             w_full: full.workspace(),
             o_full: vec![0.0; full.n_outputs()],
             full,
             vars,
-            stage0_valid: false,
             lu: BlockLu::new(nr, entries),
             b: vec![0.0; nr * ni],
             b_ready: false,
@@ -365,7 +388,7 @@ impl Elimination {
         let lay = self.layout();
         let nr = lay.nr;
         self.vars[0] = t;
-        self.stage0_valid = false;
+        self.last_valid = false;
         let mut predicted = 0.0f64;
         let mut checked = false;
         if nr > 0 && self.have_prev && self.b_ready {
@@ -400,26 +423,22 @@ impl Elimination {
         for l in 0..ni {
             self.vars[1 + self.z[l]] = y[l];
         }
+        // (c of the last right-hand side stays: the predictor's curvature term from an output
+        // or event completion in between, a step away at most)
         self.b_ready = false;
-        self.c_ready = false;
-        if nr == 0 {
-            self.tape
-                .eval_stages(&self.vars, &mut self.w, &mut self.o, 0..2);
-            self.stage0_valid = true;
-        } else {
+        if nr > 0 {
             let mut converged = false;
             let mut last = f64::INFINITY;
             for it in 0..max_newton {
                 self.newton_iterations += 1;
                 let first = if it == 0 { 0 } else { 1 };
-                self.tape
-                    .eval_stages(&self.vars, &mut self.w, &mut self.o, first..2);
-                self.stage0_valid = true;
-                if self.lu.factor(&self.o, repartition_above).is_err() {
+                self.newton
+                    .eval_stages(&self.vars, &mut self.w_n, &mut self.o_n, first..2);
+                if self.lu.factor(&self.o_n, repartition_above).is_err() {
                     self.have_prev = false;
                     return Err(PartitionError::SingularBlock { t });
                 }
-                self.tmp[..nr].copy_from_slice(&self.o[..nr]);
+                self.tmp[..nr].copy_from_slice(&self.o_n[..nr]);
                 self.lu.solve(&mut self.tmp[..nr]);
                 let mut step = 0.0f64;
                 for k in 0..nr {
@@ -467,7 +486,7 @@ impl Elimination {
             // B = G̃_R⁻¹ G̃_I, column by column
             for l in 0..ni {
                 for k in 0..nr {
-                    self.tmp[k] = self.o[lay.gq() + k * lay.nz + l];
+                    self.tmp[k] = self.o_n[lay.gq() + k * lay.nz + l];
                 }
                 self.lu.solve(&mut self.tmp[..nr]);
                 for k in 0..nr {
@@ -501,12 +520,11 @@ impl Elimination {
         self.complete_z(t, y, newton_tol, max_newton, repartition_above)?;
         let (ni, lay) = (self.ni, self.layout());
         let (nr, nz) = (lay.nr, lay.nz);
-        // stage 1 again at the converged q_R (Newton's last evaluation was one correction
-        // earlier), then the velocities
-        let first = if nr == 0 && self.stage0_valid { 2 } else { 1 };
-        self.tape
-            .eval_stages(&self.vars, &mut self.w, &mut self.o, first..3);
-        let m = &self.o[lay.mass()..lay.forces()];
+        self.tape.eval(&self.vars, &mut self.w, &mut self.o);
+        self.last_t = t;
+        self.last_y.copy_from_slice(y);
+        self.last_valid = true;
+        let m = &self.o[..lay.forces()];
         let q = &self.o[lay.forces()..lay.gamma()];
         // c = G̃_R⁻¹ γ̃
         if nr > 0 {
@@ -576,6 +594,23 @@ impl Elimination {
         }
         x.copy_from_slice(&self.vars[1..1 + 2 * nq]);
         Ok(())
+    }
+
+    /// Holds the loads' switches in `modes` (`expr::switches`).
+    pub(crate) fn set_modes(&mut self, modes: &[f64]) {
+        let n = 1 + 2 * self.nq;
+        self.vars[n..].copy_from_slice(modes);
+        self.last_valid = false;
+    }
+
+    /// The switching functions at `(t, y)` if that was the last right-hand side's point.
+    pub(crate) fn switching_at(&self, t: f64, y: &[f64], out: &mut [f64]) -> bool {
+        if !(self.last_valid && self.last_t == t && self.last_y == y) {
+            return false;
+        }
+        let at = self.layout().switching();
+        out.copy_from_slice(&self.o[at..at + out.len()]);
+        true
     }
 
     /// The number of reduced coordinates `|z|` and of loop closures `|q_R|`.

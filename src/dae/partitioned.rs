@@ -131,6 +131,11 @@ pub struct PartitionedSystem {
     all: Vec<Expr>,
     /// Diagonal of `M`.
     mass: Vec<f64>,
+    /// The switching functions of the loads' non-smooth operations (`expr::switches`), over
+    /// `[t, q, v, modes]`, and their number.
+    switch_tape: Tape,
+    n_switches: usize,
+    switching: Vec<Expr>,
     /// `q' = v` (then the dependent coordinates are the dependent velocities).
     identity_kinematics: bool,
     /// `q' = v` and the velocity rows are `G_q v` term by term (the same expressions: `G_v`
@@ -168,7 +173,9 @@ impl PartitionedSystem {
             }
         }
         let mut all = pos.clone();
-        all.extend(&sys.forces);
+        // the loads' non-smooth operations held by mode variables after [t, q, v]
+        let frozen = sys.graph.freeze_switches(&sys.forces, (1 + nq + nv) as u32);
+        all.extend(&frozen.exprs);
         all.extend(&c.gamma);
         all.extend(&sys.kinematics);
         let last = |n: &str| n.rsplit('.').next().unwrap_or("").to_string();
@@ -178,6 +185,9 @@ impl PartitionedSystem {
             gq_entries,
             gq_vars,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
+            switch_tape: sys.graph.compile(&frozen.switching),
+            n_switches: frozen.switching.len(),
+            switching: frozen.switching.clone(),
             graph: sys.graph.clone(),
             all,
             mass: sys.mass.clone(),
@@ -213,7 +223,14 @@ impl PartitionedSystem {
             g: &self.all[..nc],
             forces: &self.all[n_pos..n_pos + nv],
             mass: &self.mass,
+            n_modes: self.n_switches,
+            switching: &self.switching,
         })
+    }
+
+    /// Number of switching functions (non-smooth operations in the loads).
+    pub fn n_switches(&self) -> usize {
+        self.n_switches
     }
 
     /// `G_q` and `G_v` at `(t, x = [q, v])`.
@@ -321,6 +338,8 @@ pub struct PartitionedRhs {
     dep_inverse: Vec<f64>,
     /// Scratch of `nc` values for the products.
     scratch: Vec<f64>,
+    /// Workspace of the switching functions' tape.
+    w_switch: Vec<f64>,
     /// `[q, v, λ]` of [`Self::full_with_multipliers`], and its right-hand side's buffer.
     with_multipliers: Vec<f64>,
     yd: Vec<f64>,
@@ -357,8 +376,10 @@ impl PartitionedRhs {
     pub fn new(sys: Arc<PartitionedSystem>, part: Partition, x: &[f64], newton_tol: f64) -> Self {
         let (nq, nv, nc) = sys.dims;
         let (niq, niv) = (part.ind_q.len(), part.ind_v.len());
-        let mut vars = vec![0.0; 1 + nq + nv];
-        vars[1..].copy_from_slice(&x[..nq + nv]);
+        let ns = sys.n_switches;
+        // [t, q, v, modes]: every mode 0 (the literal operations) until `set_modes`
+        let mut vars = vec![0.0; 1 + nq + nv + ns];
+        vars[1..=nq + nv].copy_from_slice(&x[..nq + nv]);
         // where each column sits in the dependent (Ok) or independent (Err) list
         let place = |n: usize, dep: &[usize], ind: &[usize]| {
             let mut at = vec![Ok(0); n];
@@ -375,7 +396,8 @@ impl PartitionedRhs {
         let stage_of = |v: u32| match v as usize {
             0 => 0,
             k if k <= nq => usize::from(at_q[k - 1].is_ok()),
-            _ => 2,
+            k if k <= nq + nv => 2,
+            _ => 0,
         };
         let staged = Arc::new(sys.graph.compile_staged(&sys.all, &stage_of, 3));
         let linear = sys
@@ -408,6 +430,7 @@ impl PartitionedRhs {
             .map(Box::new);
         PartitionedRhs {
             elim,
+            w_switch: Vec::new(),
             w_st: staged.workspace(),
             o_st: vec![0.0; staged.tape().n_outputs()],
             n_pos: sys.pos.n_outputs(),
@@ -453,7 +476,56 @@ impl PartitionedRhs {
 
     /// The full state `[q, v]` of the last evaluation.
     pub fn full_state(&self) -> &[f64] {
-        &self.vars[1..]
+        let (nq, nv, _) = self.sys.dims;
+        &self.vars[1..=nq + nv]
+    }
+
+    /// The modes of the switching functions (`expr::switches`: +1, −1, or 0 for the literal
+    /// operation).
+    pub fn modes(&self) -> &[f64] {
+        let (nq, nv, _) = self.sys.dims;
+        &self.vars[1 + nq + nv..]
+    }
+
+    /// Holds the loads' non-smooth operations in `modes` (see [`Self::modes`]).
+    pub fn set_modes(&mut self, modes: &[f64]) {
+        let (nq, nv, _) = self.sys.dims;
+        self.vars[1 + nq + nv..].copy_from_slice(modes);
+        if let Some(e) = self.elim.as_deref_mut() {
+            e.set_modes(modes);
+        }
+        self.stage0_valid = false;
+        self.last_valid = false;
+    }
+
+    /// The switching functions at `(t, y)` (the root functions of the loads' switches): read
+    /// from the last right-hand side when it was evaluated there (an explicit step's last
+    /// stage), else from the completed state.
+    pub fn switching_at(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), PartitionError> {
+        if let Some(e) = self.elim.as_deref() {
+            if e.switching_at(t, y, out) {
+                return Ok(());
+            }
+        }
+        self.complete_for_output(t, y)?;
+        self.switching_values(out);
+        Ok(())
+    }
+
+    /// The switching functions at the last completed state and the current modes.
+    pub fn switching_values(&mut self, out: &mut [f64]) {
+        let tape = &self.sys.switch_tape;
+        if tape.n_outputs() > 0 {
+            let mut w = std::mem::take(&mut self.w_switch);
+            w.resize(tape.workspace_len(), 0.0);
+            tape.eval(&self.vars, &mut w, out);
+            self.w_switch = w;
+        }
     }
 
     /// Works on the full dependent block only (no symbolic elimination): the reference the
@@ -742,11 +814,11 @@ impl PartitionedRhs {
     pub fn complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
         if let Some(e) = self.elim.as_deref_mut() {
             self.last_valid = false;
-            let n = self.vars.len();
+            let (nq, nv, _) = self.sys.dims;
             e.complete(
                 t,
                 y,
-                &mut self.vars[1..n],
+                &mut self.vars[1..=nq + nv],
                 self.newton_tol,
                 self.max_newton,
                 self.repartition_above,

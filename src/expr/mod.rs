@@ -26,10 +26,12 @@ mod hash;
 mod ops;
 mod parse;
 mod subst;
+mod switches;
 mod tape;
 
 pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
 pub use excerpt::{excerpt, EXCERPT_CONTEXT, EXCERPT_MAX_CHARS};
 pub use graph::{Expr, ExprGraph};
 pub use parse::ParseError;
+pub use switches::FrozenSwitches;
 pub use tape::{StagedTape, Tape};

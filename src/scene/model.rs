@@ -409,6 +409,9 @@ pub struct SolveSettings {
     pub linear_solver: crate::solve::LinearSolverKind,
     /// Integrator of the partitioned formulation (default `auto`).
     pub integrator: crate::solve::Integrator,
+    /// The partitioned formulation stops at the zeros of the loads' non-smooth operations
+    /// (default true; see [`crate::solve::SolveOptions::switching_functions`]).
+    pub switching_functions: bool,
 }
 
 impl SolveSettings {
@@ -437,6 +440,7 @@ impl SolveSettings {
             max_wall_seconds: None,
             linear_solver: crate::solve::LinearSolverKind::Auto,
             integrator: crate::solve::Integrator::Auto,
+            switching_functions: true,
         }
     }
 }

@@ -75,6 +75,19 @@ impl<'a> Fields<'a> {
         self.get(key).and_then(|j| string(p, &self.path(key), j))
     }
 
+    fn boolean(&self, p: &mut Problems, key: &str) -> Option<bool> {
+        match self.get(key)? {
+            Json::Bool(b) => Some(*b),
+            j => {
+                p.push(
+                    self.path(key),
+                    format!("expected a boolean, got {}", j.kind()),
+                );
+                None
+            }
+        }
+    }
+
     fn vector(&self, p: &mut Problems, key: &str) -> Option<Vec<f64>> {
         self.get(key).and_then(|j| vector(p, &self.path(key), j))
     }
@@ -721,6 +734,7 @@ const SOLVE_KEYS: &[&str] = &[
     "max_wall_seconds",
     "linear_solver",
     "integrator",
+    "switching_functions",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -777,6 +791,7 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             crate::solve::Integrator::Auto
         }),
     };
+    let switching_functions = f.boolean(p, "switching_functions").unwrap_or(true);
     Some(SolveSettings {
         formulation,
         t_start,
@@ -791,5 +806,6 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         max_wall_seconds,
         linear_solver,
         integrator,
+        switching_functions,
     })
 }

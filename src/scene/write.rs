@@ -190,6 +190,9 @@ fn solve(s: &SolveSettings) -> Json {
     if s.integrator != crate::solve::Integrator::Auto {
         e.push(("integrator", text(s.integrator.name())));
     }
+    if !s.switching_functions {
+        e.push(("switching_functions", Json::Bool(false)));
+    }
     obj(e)
 }
 

@@ -227,6 +227,10 @@ pub struct SolveOptions {
     pub linear_solver: LinearSolverKind,
     /// Integrator of the partitioned formulation (ignored by the others).
     pub integrator: Integrator,
+    /// The partitioned formulation stops its integrator at the zeros of the loads'
+    /// non-smooth operations (`max`, `min`, `abs`, `sign`, `select`) and restarts it on the
+    /// other branch, instead of stepping across the kinks (`expr::switches`). Default true.
+    pub switching_functions: bool,
 }
 
 impl Default for SolveOptions {
@@ -249,6 +253,7 @@ impl Default for SolveOptions {
             ida_delta_cj: None,
             linear_solver: LinearSolverKind::Auto,
             integrator: Integrator::Auto,
+            switching_functions: true,
         }
     }
 }

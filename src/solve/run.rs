@@ -99,6 +99,10 @@ pub struct Summary {
     /// Times the partitioned formulation re-chose its dependent coordinates and velocities
     /// (its dependent block had degraded).
     pub partition_rechoices: u64,
+    /// Zeros of the loads' switching functions the partitioned formulation stopped at (and
+    /// mode corrections at outputs): each restarts its integrator on the other branch of a
+    /// `max`, `min`, `abs`, `sign` or `select` (`expr::switches`).
+    pub switchings: u64,
     /// Times the GGL re-chose the dependent velocities it leaves out of IDA's error test
     /// (including switches to and from keeping every velocity in it).
     pub ggl_error_test_reselections: u64,

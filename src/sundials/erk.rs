@@ -69,6 +69,7 @@ pub(crate) mod ffi {
         pub fn ERKStepSetTableNum(mem: *mut c_void, table: c_int) -> c_int;
         pub fn ERKStepSetInterpolantDegree(mem: *mut c_void, degree: c_int) -> c_int;
         pub fn ERKStepSetMaxNumSteps(mem: *mut c_void, mxsteps: c_long) -> c_int;
+        pub fn ERKStepSetInitStep(mem: *mut c_void, hin: f64) -> c_int;
         pub fn ERKStepSetStopTime(mem: *mut c_void, tstop: f64) -> c_int;
         pub fn ERKStepSetErrHandlerFn(
             mem: *mut c_void,
@@ -404,6 +405,26 @@ impl Erk {
             return Err(self.fail("ERKStepGetDky", flag));
         }
         out.copy_from_slice(self.tmp.as_slice());
+        Ok(())
+    }
+
+    /// The first step after the next (re)start (0: ARKODE's estimate, the default).
+    pub fn set_init_step(&mut self, h: f64) -> Result<(), SolverError> {
+        // SAFETY: live ARKODE memory.
+        let flag = unsafe { ffi::ERKStepSetInitStep(self.raw(), h) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepSetInitStep", flag));
+        }
+        Ok(())
+    }
+
+    /// Sets the Hermite interpolant's degree (`dky` and root finding; see [`CUBIC`]).
+    pub fn set_interpolant_degree(&mut self, degree: i32) -> Result<(), SolverError> {
+        // SAFETY: live ARKODE memory.
+        let flag = unsafe { ffi::ERKStepSetInterpolantDegree(self.raw(), degree as c_int) };
+        if flag < 0 {
+            return Err(self.fail("ERKStepSetInterpolantDegree", flag));
+        }
         Ok(())
     }
 

@@ -92,6 +92,21 @@ impl Integ {
             Integ::Erk(e) => e.dky(t, 0, out),
         }
     }
+    /// Restarts at `(t, y)`; an explicit method starts with its last step size (a restart
+    /// at a switching function's zero changes the right-hand side's derivatives, not the
+    /// time scale of the motion).
+    fn reinit(&mut self, t: f64, y: &[f64], h: f64) -> Result<(), SolverError> {
+        match self {
+            Integ::Cvode(c) => c.reinit(t, y),
+            Integ::Erk(e) => {
+                e.reinit(t, y)?;
+                e.set_init_step(if h.is_finite() { h.abs() } else { 0.0 })
+            }
+        }
+    }
+    fn last_step(&self) -> f64 {
+        self.stats().last_step
+    }
     fn stats(&self) -> SolverStats {
         match self {
             Integ::Cvode(c) => c.stats(),
@@ -133,7 +148,7 @@ fn make_integ(
     t0: f64,
     y0: &[f64],
     opts: &SolveOptions,
-    roots: Option<(usize, RootFn)>,
+    roots: Option<(usize, RootFn, bool)>,
 ) -> Result<Integ, Error> {
     let c1 = core.clone();
     let f1 = flag.clone();
@@ -159,8 +174,14 @@ fn make_integ(
                 stop_time,
             };
             let mut e = Erk::new(t0, y0, rhs, &eo)?;
-            if let Some((n, f)) = roots {
+            if let Some((n, f, events)) = roots {
                 e.set_roots(n, f)?;
+                if !events {
+                    // switching functions only: their zeros are integrated to again from the
+                    // last exact point (the interpolant only places them), so the cubic
+                    // interpolant, which takes no right-hand side beyond the step's own, serves
+                    e.set_interpolant_degree(3)?;
+                }
             }
             Integ::Erk(e)
         }
@@ -182,7 +203,7 @@ fn make_integ(
             // Newton (both methods) with CVODE's difference-quotient Jacobian of the reduced
             // ODE: |q_I| + |v_I| right-hand sides per Jacobian, a handful of states.
             let mut c = Cvode::new(method, t0, y0, rhs, None, &co)?;
-            if let Some((n, f)) = roots {
+            if let Some((n, f, _)) = roots {
                 c.set_roots(n, f)?;
             }
             Integ::Cvode(c)
@@ -437,20 +458,53 @@ pub(super) fn run_partitioned(
         summary.unknowns = y0.len();
         let flag = Arc::new(AtomicBool::new(false));
         let oc: SharedRhs = Arc::new(Mutex::new(core));
-        let roots = (events.len() > 0).then(|| {
+        let n_ev = events.len();
+        let n_sw = if opts.switching_functions {
+            psys.n_switches()
+        } else {
+            0
+        };
+        let mut switches = Switches::new(n_sw);
+        if n_sw > 0 {
+            let mut rhs = lock(&oc);
+            switches.start(&mut rhs);
+        }
+        // roots are muted while a segment is integrated again up to a switching function's zero
+        let mute = Arc::new(AtomicBool::new(false));
+        let roots = (n_ev + n_sw > 0).then(|| {
             let mut ev = events.clone();
             let rc = oc.clone();
+            let muted = mute.clone();
             let f: RootFn = Box::new(move |t: f64, y: &[f64], g: &mut [f64]| {
+                if muted.load(Ordering::Relaxed) {
+                    g.fill(1.0);
+                    return Ok(());
+                }
                 let mut rhs = lock(&rc);
-                let full = rhs
-                    .full_for_output(t, y)
-                    .map_err(|e| CallbackError::Recoverable(e.to_string()))?;
-                ev.roots(t, full, g)
+                let recoverable = |e: PartitionError| CallbackError::Recoverable(e.to_string());
+                let (ge, gs) = g.split_at_mut(n_ev);
+                if n_ev > 0 {
+                    let full = rhs.full_for_output(t, y).map_err(recoverable)?;
+                    ev.roots(t, full, ge)?;
+                }
+                if n_sw > 0 {
+                    rhs.switching_at(t, y, gs).map_err(recoverable)?;
+                    // a released switch (evaluated literally) reports no zero
+                    for (v, &m) in gs.iter_mut().zip(rhs.modes()) {
+                        if m == 0.0 {
+                            *v = 1.0;
+                        }
+                    }
+                }
+                Ok(())
             });
-            (ev_len(&events), f)
+            (n_ev + n_sw, f, n_ev > 0)
         });
         let mut integ = make_integ(kind, &oc, &flag, t_start, &y0, opts, roots)?;
         integ.charge(wall_start.elapsed(), total.steps);
+        // the last point where the integrator was started or stopped exactly (an output, a
+        // switch): a zero of a switching function is integrated to again from there
+        let mut good = (t_start, y0.clone());
         while k_next < n_out {
             let step = match integ.solve_to(opts.output_times[k_next]) {
                 Ok(s) => s,
@@ -505,16 +559,59 @@ pub(super) fn run_partitioned(
                 )))
             })?;
             if let StepEvent::Root(info) = &step.event {
-                let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
-                    continue;
-                };
-                let row = out.row(step.t, &full);
-                if emit(&mut sol, observer, step.t, row) || stop {
+                let (user, sw) = info.split_at(n_ev);
+                let fired = events_fired(&sys.events, user, step.t, summary);
+                if let Some(stop) = fired {
+                    let row = out.row(step.t, &full);
+                    if emit(&mut sol, observer, step.t, row) || stop {
+                        total.accumulate(&integ.stats());
+                        break 'segment;
+                    }
+                }
+                if switches.would_change(sw) {
+                    // the state at the zero from the integrator's own steps, not from its
+                    // interpolant over a step that crossed the zero: integrate again from
+                    // the last exact point to the zero with the old modes, then restart with
+                    // the new ones (the counters restart with the integrator)
+                    let h = integ.last_step();
                     total.accumulate(&integ.stats());
-                    break 'segment;
+                    integ.reinit(good.0, &good.1, h)?;
+                    mute.store(true, Ordering::Relaxed);
+                    let reached = loop {
+                        match integ.solve_to(step.t) {
+                            Ok(s) if s.t >= step.t => break Ok(()),
+                            Ok(_) => continue,
+                            Err(e) => break Err(e),
+                        }
+                    };
+                    mute.store(false, Ordering::Relaxed);
+                    reached?;
+                    total.accumulate(&integ.stats());
+                    {
+                        let mut rhs = lock(&oc);
+                        switches.crossed(&mut rhs, sw, step.t, summary);
+                    }
+                    good = (step.t, integ.y().to_vec());
+                    integ.reinit(good.0, &good.1, h)?;
                 }
                 continue;
             }
+            if n_sw > 0 {
+                // a zero the root finder could not see (a switching function starting at
+                // zero, or two zeros within one step): the modes are checked at every output
+                let changed = {
+                    let mut rhs = lock(&oc);
+                    switches.check(&mut rhs, step.t, summary)
+                };
+                if changed {
+                    let h = integ.last_step();
+                    total.accumulate(&integ.stats());
+                    let y = integ.y().to_vec();
+                    integ.reinit(step.t, &y, h)?;
+                }
+            }
+            good.0 = step.t;
+            good.1.copy_from_slice(integ.y());
             k_next += 1;
             stalls = 0;
             // (t_start, x): the last point reached on the mechanism, where a failure restarts
@@ -536,6 +633,109 @@ pub(super) fn run_partitioned(
     Ok(sol)
 }
 
-fn ev_len(e: &crate::solve::reactions::EventEval) -> usize {
-    e.len()
+/// Crossings of one switching function between two outputs after which it is released to
+/// the literal operation (a sliding mode, e.g. Coulomb friction at rest: each mode pushes the
+/// state back across the zero).
+pub const MAX_SWITCHINGS_PER_OUTPUT: u32 = 50;
+
+/// The modes of the loads' switching functions over a segment (`expr::switches`): set from the
+/// functions' signs at its start, flipped at their zeros (the root finder's direction), checked
+/// at every output, and released when they chatter.
+struct Switches {
+    modes: Vec<f64>,
+    values: Vec<f64>,
+    /// Crossings of each function since the last output.
+    recent: Vec<u32>,
+    /// Time of each function's last zero (an output there keeps the mode the zero set, whatever
+    /// the sign of the function's rounding-level value).
+    zero_at: Vec<f64>,
+}
+
+impl Switches {
+    fn new(n: usize) -> Self {
+        Switches {
+            modes: vec![0.0; n],
+            values: vec![0.0; n],
+            recent: vec![0; n],
+            zero_at: vec![f64::NAN; n],
+        }
+    }
+
+    /// Modes from the signs of the switching functions at the completed start state (with the
+    /// literal operations, which the modes then reproduce).
+    fn start(&mut self, rhs: &mut PartitionedRhs) {
+        self.modes.fill(0.0);
+        rhs.set_modes(&self.modes);
+        rhs.switching_values(&mut self.values);
+        for (m, &v) in self.modes.iter_mut().zip(&self.values) {
+            *m = if v > 0.0 { 1.0 } else { -1.0 };
+        }
+        rhs.set_modes(&self.modes);
+    }
+
+    /// Whether zeros found by the root finder (`dirs`) change a mode.
+    fn would_change(&self, dirs: &[i32]) -> bool {
+        dirs.iter()
+            .zip(&self.modes)
+            .any(|(&d, &m)| d != 0 && m != 0.0 && m != if d > 0 { 1.0 } else { -1.0 })
+    }
+
+    /// Zeros found by the root finder (`dirs`: +1 rising, −1 falling, 0 none); whether a
+    /// mode changed (the integrator restarts there).
+    fn crossed(
+        &mut self,
+        rhs: &mut PartitionedRhs,
+        dirs: &[i32],
+        t: f64,
+        summary: &mut Summary,
+    ) -> bool {
+        let mut changed = false;
+        for (k, &d) in dirs.iter().enumerate() {
+            if d == 0 || self.modes[k] == 0.0 {
+                continue;
+            }
+            let m = if d > 0 { 1.0 } else { -1.0 };
+            self.zero_at[k] = t;
+            if self.modes[k] != m {
+                self.flip(k, m, t, summary);
+                changed = true;
+            }
+        }
+        if changed {
+            rhs.set_modes(&self.modes);
+        }
+        changed
+    }
+
+    /// At an output (the completed state in `rhs`): modes whose function has the other sign
+    /// are set to it; the chattering counters restart.
+    fn check(&mut self, rhs: &mut PartitionedRhs, t: f64, summary: &mut Summary) -> bool {
+        rhs.switching_values(&mut self.values);
+        let mut changed = false;
+        for k in 0..self.modes.len() {
+            let (m, v) = (self.modes[k], self.values[k]);
+            if m != 0.0 && v != 0.0 && (v > 0.0) != (m > 0.0) && self.zero_at[k] != t {
+                self.flip(k, -m, t, summary);
+                changed = true;
+            }
+        }
+        self.recent.fill(0);
+        if changed {
+            rhs.set_modes(&self.modes);
+        }
+        changed
+    }
+
+    fn flip(&mut self, k: usize, m: f64, t: f64, summary: &mut Summary) {
+        summary.switchings += 1;
+        self.recent[k] += 1;
+        if self.recent[k] > MAX_SWITCHINGS_PER_OUTPUT {
+            self.modes[k] = 0.0;
+            summary.warnings.push(format!(
+                "partitioned: switching function {k} of the loads changed sign more than {MAX_SWITCHINGS_PER_OUTPUT} times before t = {t:.6}; its operation is evaluated as written from there (the integrator steps across its zeros)"
+            ));
+        } else {
+            self.modes[k] = m;
+        }
+    }
 }
