@@ -289,3 +289,64 @@ fn display_of_exponentially_shared_or_very_deep_dags_is_bounded() {
     let s = g.display(d, &name);
     assert!(s.starts_with("sin(sin(") && s.contains('…'));
 }
+
+/// `expr::switches`: with the mode of the switching function's sign every operation equals
+/// the literal one; with the other mode it continues the branch it held; mode 0 is the
+/// literal operation. Checked at points on both sides of each switch.
+#[test]
+fn frozen_switches_hold_each_branch_and_mode_zero_is_the_literal_operation() {
+    let mut g = ExprGraph::new();
+    let (x, y) = (g.var(0), g.var(1));
+    let mut r = |n: &str| match n {
+        "x" => Some(x),
+        "y" => Some(y),
+        _ => None,
+    };
+    // (expression, the two branches as functions of (x, y))
+    type Branch = fn(f64, f64) -> f64;
+    let cases: [(&str, Branch, Branch); 5] = [
+        ("max(x, y^2)", |x, _| x, |_, y| y * y),
+        ("min(x, 2*y)", |x, _| x, |_, y| 2.0 * y),
+        ("abs(x - y)", |x, y| x - y, |x, y| y - x),
+        ("sign(x*y)", |_, _| 1.0, |_, _| -1.0),
+        (
+            "3 + 2*abs(sin(x))",
+            |x, _| 3.0 + 2.0 * x.sin(),
+            |x, _| 3.0 - 2.0 * x.sin(),
+        ),
+    ];
+    for (text, p, q) in cases {
+        let e = g.parse(text, &mut r).unwrap();
+        let f = g.freeze_switches(&[e], 2);
+        assert_eq!(f.switching.len(), 1, "{text}");
+        for (xv, yv) in [(0.7, 0.3), (0.2, 0.9), (-1.1, 0.4), (2.5, -1.5)] {
+            let s = g.eval(f.switching[0], &[xv, yv, 0.0]);
+            let literal = g.eval(e, &[xv, yv]);
+            let m = if s > 0.0 { 1.0 } else { -1.0 };
+            let held = g.eval(f.exprs[0], &[xv, yv, m]);
+            assert!((held - literal).abs() < 1e-15, "{text} at ({xv}, {yv})");
+            assert_eq!(
+                g.eval(f.exprs[0], &[xv, yv, 0.0]),
+                literal,
+                "{text}: mode 0"
+            );
+            // the two modes give the two branches, one of them the literal value
+            let (a, b) = (
+                g.eval(f.exprs[0], &[xv, yv, 1.0]),
+                g.eval(f.exprs[0], &[xv, yv, -1.0]),
+            );
+            let (pa, qb) = (p(xv, yv), q(xv, yv));
+            assert!(
+                ((a - pa).abs() < 1e-14 && (b - qb).abs() < 1e-14)
+                    || ((a - qb).abs() < 1e-14 && (b - pa).abs() < 1e-14),
+                "{text} at ({xv}, {yv}): modes give {a}, {b}; branches {pa}, {qb}"
+            );
+        }
+    }
+    // nested: the outer switch's function reads the inner one's mode; constant conditions fold
+    let e = g.parse("max(0, min(x, y))", &mut r).unwrap();
+    let f = g.freeze_switches(&[e], 2);
+    assert_eq!(f.switching.len(), 2);
+    let c = g.parse("max(2, 3) + abs(-4)", &mut r).unwrap();
+    assert!(g.freeze_switches(&[c], 2).switching.is_empty());
+}

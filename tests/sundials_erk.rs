@@ -49,3 +49,75 @@ fn erk_follows_the_harmonic_oscillator_at_sparse_and_dense_outputs() {
         assert!(steps_dense <= steps_sparse + 5000, "{steps_dense} steps");
     }
 }
+
+/// The order conditions of an explicit Runge–Kutta method up to order 5 (Butcher's rooted
+/// trees: `Φ(τ) = 1/γ(τ)` for every tree of at most five vertices), each as `(order,
+/// Φ(τ) − 1/γ(τ))`.
+fn order_defects(c: &[f64], a: &[f64], b: &[f64]) -> Vec<(usize, f64)> {
+    let s = c.len();
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let mul = |x: &[f64], y: &[f64]| -> Vec<f64> { x.iter().zip(y).map(|(p, q)| p * q).collect() };
+    let am = |x: &[f64]| -> Vec<f64> { (0..s).map(|i| dot(&a[i * s..(i + 1) * s], x)).collect() };
+    let one = vec![1.0; s];
+    let c2 = mul(c, c);
+    let c3 = mul(&c2, c);
+    let ac = am(c);
+    let ac2 = am(&c2);
+    let aac = am(&ac);
+    vec![
+        (1, dot(b, &one) - 1.0),
+        (2, dot(b, c) - 1.0 / 2.0),
+        (3, dot(b, &c2) - 1.0 / 3.0),
+        (3, dot(b, &ac) - 1.0 / 6.0),
+        (4, dot(b, &c3) - 1.0 / 4.0),
+        (4, dot(b, &mul(c, &ac)) - 1.0 / 8.0),
+        (4, dot(b, &ac2) - 1.0 / 12.0),
+        (4, dot(b, &aac) - 1.0 / 24.0),
+        (5, dot(b, &mul(&c3, c)) - 1.0 / 5.0),
+        (5, dot(b, &mul(&c2, &ac)) - 1.0 / 10.0),
+        (5, dot(b, &mul(c, &ac2)) - 1.0 / 15.0),
+        (5, dot(b, &mul(c, &aac)) - 1.0 / 30.0),
+        (5, dot(b, &mul(&ac, &ac)) - 1.0 / 20.0),
+        (5, dot(b, &am(&c3)) - 1.0 / 20.0),
+        (5, dot(b, &am(&mul(c, &ac))) - 1.0 / 40.0),
+        (5, dot(b, &am(&ac2)) - 1.0 / 60.0),
+        (5, dot(b, &am(&aac)) - 1.0 / 120.0),
+    ]
+}
+
+#[test]
+fn tsitouras_table_satisfies_the_order_conditions_of_order_5_and_its_embedding_of_order_4() {
+    let t = bondmech::sundials::tables::ButcherTable::tsitouras5();
+    let s = t.stages();
+    assert_eq!((s, t.q, t.p), (7, 5, 4));
+    for i in 0..s {
+        let row: f64 = t.a[i * s..(i + 1) * s].iter().sum();
+        assert!(
+            (row - t.c[i]).abs() < 1e-14,
+            "row {i}: Σa = {row}, c = {}",
+            t.c[i]
+        );
+        assert!(
+            t.a[i * s + i..(i + 1) * s].iter().all(|&x| x == 0.0),
+            "explicit"
+        );
+    }
+    // first same as last: the last stage is the solution
+    assert_eq!(&t.a[6 * s..6 * s + 6], &t.b[..6]);
+    for (order, defect) in order_defects(&t.c, &t.a, &t.b) {
+        assert!(defect.abs() < 1e-13, "order {order}: defect {defect:e}");
+    }
+    for (order, defect) in order_defects(&t.c, &t.a, &t.d) {
+        if order <= 4 {
+            assert!(
+                defect.abs() < 1e-13,
+                "embedding, order {order}: defect {defect:e}"
+            );
+        }
+    }
+    // and no more: the embedding is not of order 5, the method not of order 6 (b·c⁵ ≠ 1/6)
+    let fifth = order_defects(&t.c, &t.a, &t.d);
+    assert!(fifth.iter().any(|&(o, d)| o == 5 && d.abs() > 1e-6));
+    let b_c5: f64 = t.b.iter().zip(&t.c).map(|(b, c)| b * c.powi(5)).sum();
+    assert!((b_c5 - 1.0 / 6.0).abs() > 1e-6);
+}

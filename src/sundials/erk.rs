@@ -15,6 +15,7 @@ use super::driver::{self, DriverState, RawEvent, Stepper};
 use super::error::{check, Package, SolverError};
 use super::options::{check_tolerances, check_vector, Step};
 use super::stats::SolverStats;
+use super::tables::ButcherTable;
 use super::vector::{slice_of, slice_of_mut, NVector};
 use std::os::raw::{c_int, c_long, c_void};
 use sundials_sys as sys;
@@ -48,8 +49,6 @@ pub(crate) mod ffi {
     pub const ARK_ROOT_RETURN: c_int = 2;
     /// `ARK_TOO_MUCH_WORK`.
     pub const ARK_TOO_MUCH_WORK: c_int = -1;
-    /// `ARKODE_DORMAND_PRINCE_7_4_5` of `ARKODE_ERKTableID`.
-    pub const DORMAND_PRINCE_7_4_5: c_int = 8;
     /// `ARKODE_FEHLBERG_13_7_8`.
     pub const FEHLBERG_13_7_8: c_int = 11;
     /// `ARK_INTERP_MAX_DEGREE` (ERKStep lowers it to the method's order − 1).
@@ -70,6 +69,17 @@ pub(crate) mod ffi {
         pub fn ERKStepSetInterpolantDegree(mem: *mut c_void, degree: c_int) -> c_int;
         pub fn ERKStepSetMaxNumSteps(mem: *mut c_void, mxsteps: c_long) -> c_int;
         pub fn ERKStepSetInitStep(mem: *mut c_void, hin: f64) -> c_int;
+        pub fn ERKStepSetTable(mem: *mut c_void, b: *mut c_void) -> c_int;
+        pub fn ARKodeButcherTable_Create(
+            s: c_int,
+            q: c_int,
+            p: c_int,
+            c: *mut f64,
+            a: *mut f64,
+            b: *mut f64,
+            d: *mut f64,
+        ) -> *mut c_void;
+        pub fn ARKodeButcherTable_Free(b: *mut c_void);
         pub fn ERKStepSetStopTime(mem: *mut c_void, tstop: f64) -> c_int;
         pub fn ERKStepSetErrHandlerFn(
             mem: *mut c_void,
@@ -117,19 +127,40 @@ pub struct ErkOptions {
 /// Degree of the Hermite interpolant when no root functions are registered.
 const CUBIC: c_int = 3;
 
-/// The Butcher table for a relative tolerance: Dormand–Prince 5(4) down to 1e-7, Fehlberg
-/// 8(7) below (the high order pays where the steps are accuracy-bound).
+/// The explicit Runge–Kutta method of an [`Erk`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum ErkTable {
+    /// One of ARKODE's built-in tables (`ARKODE_ERKTableID`) and its name.
+    Builtin(c_int, &'static str),
+    /// A table handed to ARKODE ([`super::tables`]).
+    Custom(ButcherTable),
+}
+
+impl ErkTable {
+    /// The method's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ErkTable::Builtin(_, n) => n,
+            ErkTable::Custom(t) => t.name,
+        }
+    }
+}
+
+/// The Butcher table for a relative tolerance: Tsitouras 5(4) down to 1e-7, Fehlberg 8(7)
+/// below (the high order pays where the steps are accuracy-bound).
 ///
-/// Not Verner 6(5) (`ARKODE_VERNER_8_5_6`) nor `ARK5(4)8L[2]SA-ERK`: in Debian's SUNDIALS 6.4
-/// both fall short of their order — on `y'' = −y` over 50 s with a step of 0.01 s Verner
-/// ends 3.8e-7 off (Dormand–Prince 1.4e-12, Fehlberg 4.7e-14), and at rtol 1e-9 it took
-/// 2593 steps to end 3e-6 off where Fehlberg took 406 to end 3e-10 off
+/// Tsitouras 5(4) rather than ARKODE's Dormand–Prince 5(4): the same six right-hand sides per
+/// step, smaller errors (slider-crank, partitioned, rtol 1e-7: see the README's partitioned
+/// section). Not Verner 6(5) (`ARKODE_VERNER_8_5_6`) nor `ARK5(4)8L[2]SA-ERK`: in Debian's
+/// SUNDIALS 6.4 both fall short of their order — on `y'' = −y` over 50 s with a step of
+/// 0.01 s Verner ends 3.8e-7 off (Dormand–Prince 1.4e-12, Fehlberg 4.7e-14), and at rtol 1e-9
+/// it took 2593 steps to end 3e-6 off where Fehlberg took 406 to end 3e-10 off
 /// (`tests/sundials_erk.rs`).
-pub fn table_for(rtol: f64) -> (c_int, &'static str) {
+pub fn table_for(rtol: f64) -> ErkTable {
     if rtol >= 1e-7 {
-        (ffi::DORMAND_PRINCE_7_4_5, "Dormand-Prince 5(4)")
+        ErkTable::Custom(ButcherTable::tsitouras5())
     } else {
-        (ffi::FEHLBERG_13_7_8, "Fehlberg 8(7)")
+        ErkTable::Builtin(ffi::FEHLBERG_13_7_8, "Fehlberg 8(7)")
     }
 }
 
@@ -245,7 +276,9 @@ impl Erk {
         let status_ptr = &mut data.status as *mut CallbackStatus as *mut c_void;
         let data_ptr = &mut *data as *mut ErkData as *mut c_void;
         // SAFETY: live ARKODE memory; user data and error-handler data point into the Box
-        // `data`, kept alive (unmoved) by the returned Erk.
+        // `data`, kept alive (unmoved) by the returned Erk; a custom table's arrays are live
+        // for the call that copies them into a table ARKODE copies in turn, and that table is
+        // freed once, right after.
         unsafe {
             check(
                 P,
@@ -265,12 +298,34 @@ impl Erk {
                 ffi::ERKStepSetUserData(raw, data_ptr),
                 t0,
             )?;
-            check(
-                P,
-                "ERKStepSetTableNum",
-                ffi::ERKStepSetTableNum(raw, table_for(opts.rtol).0),
-                t0,
-            )?;
+            match table_for(opts.rtol) {
+                ErkTable::Builtin(id, _) => check(
+                    P,
+                    "ERKStepSetTableNum",
+                    ffi::ERKStepSetTableNum(raw, id),
+                    t0,
+                )?,
+                ErkTable::Custom(mut tb) => {
+                    // ARKODE copies the table (ERKStepSetTable), so it is freed right after
+                    let table = ffi::ARKodeButcherTable_Create(
+                        tb.stages() as c_int,
+                        tb.q,
+                        tb.p,
+                        tb.c.as_mut_ptr(),
+                        tb.a.as_mut_ptr(),
+                        tb.b.as_mut_ptr(),
+                        tb.d.as_mut_ptr(),
+                    );
+                    if table.is_null() {
+                        return Err(SolverError::InvalidInput(
+                            "ARKodeButcherTable_Create failed".into(),
+                        ));
+                    }
+                    let flag = ffi::ERKStepSetTable(raw, table);
+                    ffi::ARKodeButcherTable_Free(table);
+                    check(P, "ERKStepSetTable", flag, t0)?;
+                }
+            }
             // outputs are reached exactly (stop times), so the interpolant only serves root
             // finding and `dky`: a cubic Hermite needs no right-hand side beyond the step's
             // own, where ARKODE's default (degree q − 1, quartic for Dormand–Prince) spends one

@@ -34,6 +34,7 @@ pub mod matrix;
 pub mod options;
 pub mod sparse;
 pub mod stats;
+pub mod tables;
 pub mod vector;
 pub mod version;
 
