@@ -308,7 +308,7 @@ fn frozen_switches_hold_each_branch_and_mode_zero_is_the_literal_operation() {
         ("max(x, y^2)", |x, _| x, |_, y| y * y),
         ("min(x, 2*y)", |x, _| x, |_, y| 2.0 * y),
         ("abs(x - y)", |x, y| x - y, |x, y| y - x),
-        ("sign(x*y)", |_, _| 1.0, |_, _| -1.0),
+        ("abs(x*y)/(x*y)", |_, _| 1.0, |_, _| -1.0),
         (
             "3 + 2*abs(sin(x))",
             |x, _| 3.0 + 2.0 * x.sin(),
@@ -342,6 +342,20 @@ fn frozen_switches_hold_each_branch_and_mode_zero_is_the_literal_operation() {
                 "{text} at ({xv}, {yv}): modes give {a}, {b}; branches {pa}, {qb}"
             );
         }
+    }
+    // sign (the derivative of abs) and select hold their branches too
+    let sx = g.sign(x);
+    let c = g.sub(x, y);
+    let sel = g.select(c, x, y);
+    let f = g.freeze_switches(&[sx, sel], 2);
+    assert_eq!(f.switching.len(), 2);
+    for (xv, yv) in [(0.7, 0.3), (-0.2, 0.9)] {
+        assert_eq!(g.eval(f.exprs[0], &[xv, yv, 1.0, 0.0]), 1.0);
+        assert_eq!(g.eval(f.exprs[0], &[xv, yv, -1.0, 0.0]), -1.0);
+        assert_eq!(g.eval(f.exprs[0], &[xv, yv, 0.0, 0.0]), xv.signum());
+        assert_eq!(g.eval(f.exprs[1], &[xv, yv, 0.0, 1.0]), xv);
+        assert_eq!(g.eval(f.exprs[1], &[xv, yv, 0.0, -1.0]), yv);
+        assert_eq!(g.eval(f.exprs[1], &[xv, yv, 0.0, 0.0]), xv.max(yv));
     }
     // nested: the outer switch's function reads the inner one's mode; constant conditions fold
     let e = g.parse("max(0, min(x, y))", &mut r).unwrap();

@@ -394,3 +394,52 @@ fn partitioned_slider_crank_stops_at_the_gas_force_kinks_and_matches_minimal_coo
         "stepping across the kinks: {err_without:e} against {err_with:e}"
     );
 }
+
+/// A sliding mode: the torque `−2·sign(ω + θ)` (written `|s|/s`) drives the bar onto the
+/// surface `ω + θ = 0` and then pushes it back across from either side. Each zero of its
+/// switching function restarts the integrator on the other branch; after
+/// `MAX_SWITCHINGS_PER_OUTPUT` within one output interval the switch is released to the
+/// literal operation with a warning, and the run goes on past that time (with the tiny steps
+/// an explicit method takes across a chattering discontinuity, here bounded by a step budget).
+#[test]
+fn a_chattering_switch_is_released_to_the_literal_operation_and_the_run_goes_on() {
+    let (th, r) = (0.5f64, 0.5f64);
+    let json = format!(
+        r#"{{"name": "sliding_mode", "dimension": 2, "gravity": [0, 0],
+        "bodies": [{{"name": "bar", "mass": 1, "inertia": 0.0833333333333333,
+          "points": {{"O": [-0.5, 0]}}, "position": [{}, {}], "angle": {th}}}],
+        "joints": [{{"name": "pivot", "type": "revolute", "bodies": ["ground", "bar"],
+          "points": [[0, 0], "O"]}}],
+        "loads": [{{"name": "control", "type": "torque", "body": "bar",
+          "value": "-2*abs(bar.omega + bar.angle)/(bar.omega + bar.angle)"}}],
+        "solve": {{"formulation": "partitioned", "integrator": "erk", "t_end": 1,
+          "output_step": 0.01, "rtol": 1e-6, "atol": 1e-8, "max_steps": 20000}}}}"#,
+        r * th.cos(),
+        r * th.sin()
+    );
+    let m = model(&json);
+    let o = m.default_options();
+    let (partial, summary) = match m.solve(&o) {
+        Err(bondmech::Error::Incomplete { partial, .. }) => {
+            let s = partial.summary.clone();
+            (partial, s)
+        }
+        other => panic!("expected the step budget to stop the run, got {other:?}"),
+    };
+    let limit = bondmech::solve::run::MAX_SWITCHINGS_PER_OUTPUT as u64;
+    let released = summary
+        .warnings
+        .iter()
+        .find(|w| w.contains("switching function 0") && w.contains("evaluated as written"))
+        .expect("a release warning");
+    eprintln!("{released}; t reached {}", summary.t_reached);
+    assert_eq!(summary.switchings, limit + 1);
+    let t_release: f64 = released
+        .rsplit("t = ")
+        .next()
+        .and_then(|s| s.split(';').next())
+        .and_then(|s| s.parse().ok())
+        .expect("release time in the warning");
+    assert!(summary.t_reached > t_release);
+    assert!(partial.times.len() > 1);
+}

@@ -8,6 +8,7 @@
 //! the start.
 
 mod partitioned;
+pub use partitioned::MAX_SWITCHINGS_PER_OUTPUT;
 
 use std::ops::ControlFlow;
 use std::sync::Arc;
