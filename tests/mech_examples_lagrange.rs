@@ -163,16 +163,7 @@ fn two_bars_scene_accelerations_match_lagrange_at_random_states() {
 #[test]
 fn slider_crank_scene_accelerations_match_lagrange_at_random_states() {
     let s = load("slider_crank");
-    let sc = SliderCrank {
-        r: 0.1,
-        m_crank: 1.0,
-        l: 0.3,
-        m_rod: 0.5,
-        m_piston: 0.3,
-        g: G,
-        torque: 1.5,
-        branch: 1.0,
-    };
+    let sc = SliderCrank::bundled();
     let (mc, jc) = mass_inertia(&s, "crank");
     assert_eq!(mc, 1.0);
     assert!((jc - 1.0 * 0.01 / 12.0).abs() < 1e-15);

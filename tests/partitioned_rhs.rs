@@ -100,16 +100,7 @@ fn slider_crank_eliminated_rhs_matches_lagrange_with_newton_on_the_loop_closure_
     let independent: Vec<&str> = part.ind_q.iter().map(|&i| names[i].as_str()).collect();
     assert_eq!(independent, ["crank.angle"]);
     let idx = |n: &str| names.iter().position(|x| x == n).unwrap();
-    let sc = SliderCrank {
-        r: 0.1,
-        m_crank: 1.0,
-        l: 0.3,
-        m_rod: 0.5,
-        m_piston: 0.3,
-        g: 9.81,
-        torque: 1.5,
-        branch: 1.0,
-    };
+    let sc = SliderCrank::bundled();
     let mut rhs = PartitionedRhs::new(psys.clone(), part.clone(), &x, 1e-13);
     let mut block = PartitionedRhs::new(psys, part, &x, 1e-13).without_elimination();
     // one loop: the crank angle and one dependent coordinate left implicit

@@ -346,16 +346,7 @@ fn solver_budget_exhaustion_is_an_error_with_the_time() {
 fn partitioned_slider_crank_stops_at_the_gas_force_kinks_and_matches_minimal_coordinates() {
     let scene = Scene::from_path("scenes/slider_crank.json").unwrap();
     let m = Model::new(&scene).unwrap();
-    let p = SliderCrank {
-        r: 0.1,
-        m_crank: 1.0,
-        l: 0.3,
-        m_rod: 0.5,
-        m_piston: 0.3,
-        g: G,
-        torque: 1.5,
-        branch: 1.0,
-    };
+    let p = SliderCrank::bundled();
     let phi0 = std::f64::consts::FRAC_PI_3;
     // the scene's 1001 output times: they bound the explicit steps (about 1400 in 1 s), so the
     // error is the kinks' (with 201 outputs the free steps' global error, 1.3e-6 at this rtol,

@@ -76,16 +76,7 @@ fn ggl_without_dependent_velocities_in_error_test_keeps_accuracy_with_fewer_step
 #[test]
 fn ggl_slider_crank_without_dependent_velocities_in_error_test_takes_under_half_the_steps() {
     let m = Model::new(&Scene::from_path("scenes/slider_crank.json").unwrap()).unwrap();
-    let p = SliderCrank {
-        r: 0.1,
-        m_crank: 1.0,
-        l: 0.3,
-        m_rod: 0.5,
-        m_piston: 0.3,
-        g: 9.81,
-        torque: 1.5,
-        branch: 1.0,
-    };
+    let p = SliderCrank::bundled();
     let mut runs = Vec::new();
     for keep in [true, false] {
         let mut o = m.default_options();

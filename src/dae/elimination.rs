@@ -34,7 +34,7 @@
 use std::sync::Arc;
 
 use super::block_lu::BlockLu;
-use super::partitioned::{Partition, PartitionError, BRANCH_FRACTION};
+use super::partitioned::{left_branch, Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically
@@ -135,6 +135,20 @@ impl Layout {
     }
 }
 
+/// `Σ_a (∂e/∂z_a) ż_a`: the derivative of `e` along the motion with `z̈ = 0` (`e` linear in
+/// `ż` gives `J̇ ż` and `γ̃`); `z` are coordinate indices, `zv` their velocity variables.
+fn along(g: &mut ExprGraph, e: Expr, z: &[usize], zv: &[Expr]) -> Expr {
+    let terms: Vec<Expr> = z
+        .iter()
+        .zip(zv)
+        .map(|(&a, &va)| {
+            let d = g.diff(e, (1 + a) as u32);
+            g.mul(d, va)
+        })
+        .collect();
+    g.sum(&terms)
+}
+
 impl Elimination {
     /// The elimination for partition `part` (with `dep_q = dep_v` and `q' = v`), warm-started
     /// at the full state `x = [q, v]`; `None` when no dependent coordinate is affine in a row
@@ -226,15 +240,7 @@ impl Elimination {
                 Some(hi) => {
                     let row: Vec<Expr> = z.iter().map(|&a| g.diff(hi, qs(a))).collect();
                     let qd = g.dot(&row, &zv);
-                    let terms: Vec<Expr> = z
-                        .iter()
-                        .zip(&zv)
-                        .map(|(&a, &va)| {
-                            let d = g.diff(qd, qs(a));
-                            g.mul(d, va)
-                        })
-                        .collect();
-                    let cv = g.sum(&terms);
+                    let cv = along(&mut g, qd, &z, &zv);
                     jac.push(row);
                     qdot.push(qd);
                     conv.push(cv);
@@ -296,15 +302,8 @@ impl Elimination {
         }
         for k in 0..nr {
             let gv = g.dot(&gt[k * nz..(k + 1) * nz], &zv);
-            let terms: Vec<Expr> = z
-                .iter()
-                .zip(&zv)
-                .map(|(&a, &va)| {
-                    let d = g.diff(gv, qs(a));
-                    g.mul(d, va)
-                })
-                .collect();
-            outs.push(g.sum(&terms));
+            let gamma = along(&mut g, gv, &z, &zv);
+            outs.push(gamma);
         }
         let switching = g.substitute_all(inp.switching, &map);
         outs.extend(&switching);
@@ -465,7 +464,8 @@ impl Elimination {
                 let corr = (0..nr).fold(0.0f64, |a, k| {
                     a.max((self.vars[1 + self.z[ni + k]] - self.pred[k]).abs())
                 });
-                if corr > BRANCH_FRACTION * predicted + 1e3 * newton_tol {
+                let moved = (0..ni).fold(0.0f64, |m, l| m.max((y[l] - self.qi_prev[l]).abs()));
+                if left_branch(corr, predicted, moved, newton_tol) {
                     self.have_prev = false;
                     return Err(PartitionError::Branch {
                         t,

@@ -280,6 +280,18 @@ impl PartitionedSystem {
 /// that a right-hand side accepts (see [`PartitionError::Branch`]).
 pub const BRANCH_FRACTION: f64 = 0.5;
 
+/// Whether Newton's correction `corr` of the tangent prediction (of size `predicted`, for a
+/// move `moved` of the independent coordinates) means it converged on another branch of the
+/// joints' solutions: more than [`BRANCH_FRACTION`] of the prediction plus the predictor's own
+/// truncation error (bounded by `moved²`: it is exact to first order, and to second with its
+/// curvature term) and the Newton tolerance. The truncation term matters where the dependent
+/// coordinates are stationary (a slider-crank's rod angle at a dead centre: the prediction is
+/// tiny, its third-order error is not), as at an output row completed far from the last
+/// evaluation.
+pub(crate) fn left_branch(corr: f64, predicted: f64, moved: f64, newton_tol: f64) -> bool {
+    corr > BRANCH_FRACTION * (predicted + moved * moved) + 1e3 * newton_tol
+}
+
 /// Largest Newton iterations per right-hand side.
 pub const MAX_NEWTON_ITERATIONS: usize = 8;
 
@@ -651,7 +663,11 @@ impl PartitionedRhs {
                     let corr = dq.iter().enumerate().fold(0.0f64, |a, (k, &i)| {
                         a.max((self.vars[1 + i] - self.pred[k]).abs())
                     });
-                    if corr > BRANCH_FRACTION * predicted + 1e3 * self.newton_tol {
+                    let moved = y[..niq]
+                        .iter()
+                        .zip(&self.qi_prev)
+                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                    if left_branch(corr, predicted, moved, self.newton_tol) {
                         self.have_prev = false;
                         return Err(PartitionError::Branch {
                             t,

@@ -52,6 +52,22 @@ pub struct SliderCrank {
     pub branch: f64,
 }
 
+impl SliderCrank {
+    /// The bundled `scenes/slider_crank.json` (its description gives these values).
+    pub fn bundled() -> SliderCrank {
+        SliderCrank {
+            r: 0.1,
+            m_crank: 1.0,
+            l: 0.3,
+            m_rod: 0.5,
+            m_piston: 0.3,
+            g: 9.81,
+            torque: 1.5,
+            branch: 1.0,
+        }
+    }
+}
+
 /// State of the slider-crank at one time, in global terms.
 #[derive(Clone, Copy, Debug)]
 pub struct SliderCrankState {
