@@ -473,7 +473,7 @@ impl Erk {
         Ok(())
     }
 
-    /// Sets the Hermite interpolant's degree (`dky` and root finding; see [`CUBIC`]).
+    /// Sets the Hermite interpolant's degree (`dky` and root finding; by default cubic without root functions, ARKODE's highest with them).
     pub fn set_interpolant_degree(&mut self, degree: i32) -> Result<(), SolverError> {
         // SAFETY: live ARKODE memory.
         let flag = unsafe { ffi::ERKStepSetInterpolantDegree(self.raw(), degree as c_int) };
