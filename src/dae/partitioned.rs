@@ -318,13 +318,18 @@ pub struct PartitionedRhs {
     last_y: Vec<f64>,
     last_valid: bool,
     vars: Vec<f64>,
-    /// `[g, G_q's non-zeros, Q, γ, K(q) v]` on one tape in three stages: `(t, q_I)` (fixed
-    /// during a call: the independent angles' sines and cosines once), `q_D` (each Newton
-    /// iteration), `v`; its outputs, and the offset of `[Q, γ, Kv]` in them.
+    /// `[g, G_q's non-zeros]` on one tape in two stages: `(t, q_I)` (fixed during a call: the
+    /// independent angles' sines and cosines once), `q_D` (each Newton iteration); its
+    /// outputs.
     staged: Arc<StagedTape>,
     w_st: Vec<f64>,
     o_st: Vec<f64>,
-    n_pos: usize,
+    /// `[Q, γ, K(q) v]`, evaluated once per call at the converged state (apart from Newton's
+    /// tape: in 3D most of `γ` depends on the dependent angles, and re-running it with every
+    /// Newton iteration made the spatial slider-crank's right-hand side 3× dearer); outputs.
+    dynamics: Arc<Tape>,
+    w_dyn: Vec<f64>,
+    o_dyn: Vec<f64>,
     /// Stage 0 of `staged` is current for this call's `(t, q_I)`.
     stage0_valid: bool,
     w_gv: (Vec<f64>, Vec<f64>),
@@ -411,7 +416,9 @@ impl PartitionedRhs {
             k if k <= nq + nv => 2,
             _ => 0,
         };
-        let staged = Arc::new(sys.graph.compile_staged(&sys.all, &stage_of, 3));
+        let n_pos = sys.pos.n_outputs();
+        let staged = Arc::new(sys.graph.compile_staged(&sys.all[..n_pos], &stage_of, 2));
+        let dynamics = Arc::new(sys.graph.compile(&sys.all[n_pos..]));
         let linear = sys
             .gq_entries
             .iter()
@@ -445,9 +452,11 @@ impl PartitionedRhs {
             w_switch: Vec::new(),
             w_st: staged.workspace(),
             o_st: vec![0.0; staged.tape().n_outputs()],
-            n_pos: sys.pos.n_outputs(),
             stage0_valid: false,
             staged,
+            w_dyn: dynamics.workspace(),
+            o_dyn: vec![0.0; dynamics.n_outputs()],
+            dynamics,
             w_gv: sys.gv.workspace(),
             jq: BlockLu::new(nc, jq_entries),
             bq: vec![0.0; nc * niq],
@@ -771,11 +780,10 @@ impl PartitionedRhs {
         let (nq, nv, nc) = self.sys.dims;
         let niq = self.part.ind_q.len();
         let niv = self.part.ind_v.len();
-        // [Q, γ, Kv] at the full state (stage 0 is this call's, unless Newton did not run)
-        let first = if self.stage0_valid { 1 } else { 0 };
-        self.staged
-            .eval_stages(&self.vars, &mut self.w_st, &mut self.o_st, first..3);
-        let (qf, rest) = self.o_st[self.n_pos..].split_at(nv);
+        // [Q, γ, Kv] at the full state
+        self.dynamics
+            .eval(&self.vars, &mut self.w_dyn, &mut self.o_dyn);
+        let (qf, rest) = self.o_dyn.split_at(nv);
         let (gamma, kv) = rest.split_at(nc);
         let (dv, iv) = (&self.part.dep_v, &self.part.ind_v);
         let m = &self.sys.mass;
@@ -978,7 +986,7 @@ impl PartitionedRhs {
             self.part
                 .dep_v
                 .iter()
-                .map(|&d| self.o_st[self.n_pos + d] - self.sys.mass[d] * self.acc[d]),
+                .map(|&d| self.o_dyn[d] - self.sys.mass[d] * self.acc[d]),
         );
         if nc > 0 {
             let lu = if self.share { &self.jq } else { &self.jv };
