@@ -35,7 +35,7 @@ pub enum Integrator {
     Adams,
     /// CVODE's variable-order BDF (orders 1–5), Newton with a difference-quotient Jacobian.
     Bdf,
-    /// ARKODE's explicit Runge–Kutta (Dormand–Prince 5(4) at rtol ≥ 1e-7, Fehlberg 8(7)
+    /// ARKODE's explicit Runge–Kutta (Tsitouras 5(4) at rtol ≥ 1e-7, Fehlberg 8(7)
     /// below), adaptive.
     Erk,
 }

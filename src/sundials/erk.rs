@@ -328,8 +328,8 @@ impl Erk {
             }
             // outputs are reached exactly (stop times), so the interpolant only serves root
             // finding and `dky`: a cubic Hermite needs no right-hand side beyond the step's
-            // own, where ARKODE's default (degree q − 1, quartic for Dormand–Prince) spends one
-            // more per step; `set_roots` asks for the default again
+            // own, where ARKODE's default (degree q − 1, quartic for a fifth-order table)
+            // spends one more per step; `set_roots` asks for the default again
             check(
                 P,
                 "ERKStepSetInterpolantDegree",
