@@ -34,7 +34,7 @@
 use std::sync::Arc;
 
 use super::block_lu::BlockLu;
-use super::partitioned::{left_branch, Partition, PartitionError};
+use super::partitioned::{left_branch, tangent_step, Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically
@@ -391,26 +391,16 @@ impl Elimination {
         let mut predicted = 0.0f64;
         let mut checked = false;
         if nr > 0 && self.have_prev && self.b_ready {
-            // Δq_R = −B Δq_I − ½ δ² c (see `PartitionedRhs`'s predictor)
-            for k in 0..nr {
-                self.tmp[k] = (0..ni)
-                    .map(|l| self.b[k * ni + l] * (y[l] - self.qi_prev[l]))
-                    .sum();
-            }
-            if self.c_ready {
-                let (mut num, mut den) = (0.0, 0.0);
-                for l in 0..ni {
-                    let v = self.vars[1 + nq + self.z[l]];
-                    num += (y[l] - self.qi_prev[l]) * v;
-                    den += v * v;
-                }
-                if den > 0.0 {
-                    let d = num / den;
-                    for k in 0..nr {
-                        self.tmp[k] += 0.5 * d * d * self.c[k];
-                    }
-                }
-            }
+            // Δq_R = −B Δq_I − ½ δ² c, as the full block's predictor
+            let v = (0..ni).map(|l| self.vars[1 + nq + self.z[l]]);
+            tangent_step(
+                &self.b,
+                self.c_ready.then_some(&self.c[..]),
+                &y[..ni],
+                &self.qi_prev,
+                v,
+                &mut self.tmp[..nr],
+            );
             for k in 0..nr {
                 let s = 1 + self.z[ni + k];
                 self.vars[s] -= self.tmp[k];
@@ -422,8 +412,6 @@ impl Elimination {
         for l in 0..ni {
             self.vars[1 + self.z[l]] = y[l];
         }
-        // (c of the last right-hand side stays: the predictor's curvature term from an output
-        // or event completion in between, a step away at most)
         self.b_ready = false;
         if nr > 0 {
             let mut converged = false;
@@ -596,10 +584,9 @@ impl Elimination {
         Ok(())
     }
 
-    /// Holds the loads' switches in `modes` (`expr::switches`).
-    pub(crate) fn set_modes(&mut self, modes: &[f64]) {
-        let n = 1 + 2 * self.nq;
-        self.vars[n..].copy_from_slice(modes);
+    /// Holds the loads' switch `k` in `mode` (`expr::switches`).
+    pub(crate) fn set_mode(&mut self, k: usize, mode: f64) {
+        self.vars[1 + 2 * self.nq + k] = mode;
         self.last_valid = false;
     }
 

@@ -132,10 +132,9 @@ pub struct PartitionedSystem {
     /// Diagonal of `M`.
     mass: Vec<f64>,
     /// The switching functions of the loads' non-smooth operations (`expr::switches`), over
-    /// `[t, q, v, modes]`, and their number.
-    switch_tape: Tape,
-    n_switches: usize,
+    /// `[t, q, v, modes]`, and their tape.
     switching: Vec<Expr>,
+    switch_tape: Tape,
     /// `q' = v` (then the dependent coordinates are the dependent velocities).
     identity_kinematics: bool,
     /// `q' = v` and the velocity rows are `G_q v` term by term (the same expressions: `G_v`
@@ -186,7 +185,6 @@ impl PartitionedSystem {
             gq_vars,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
             switch_tape: sys.graph.compile(&frozen.switching),
-            n_switches: frozen.switching.len(),
             switching: frozen.switching.clone(),
             graph: sys.graph.clone(),
             all,
@@ -223,14 +221,14 @@ impl PartitionedSystem {
             g: &self.all[..nc],
             forces: &self.all[n_pos..n_pos + nv],
             mass: &self.mass,
-            n_modes: self.n_switches,
+            n_modes: self.switching.len(),
             switching: &self.switching,
         })
     }
 
     /// Number of switching functions (non-smooth operations in the loads).
     pub fn n_switches(&self) -> usize {
-        self.n_switches
+        self.switching.len()
     }
 
     /// `G_q` and `G_v` at `(t, x = [q, v])`.
@@ -290,6 +288,41 @@ pub const BRANCH_FRACTION: f64 = 0.5;
 /// evaluation.
 pub(crate) fn left_branch(corr: f64, predicted: f64, moved: f64, newton_tol: f64) -> bool {
     corr > BRANCH_FRACTION * (predicted + moved * moved) + 1e3 * newton_tol
+}
+
+/// The tangent predictor's step `Δq_D = B Δq_I + ½ δ² c` into `out` (the caller subtracts it):
+/// `B = G_D⁻¹ G_I` (row-major `|D| × |q_I|`) of the last call, and, when `c = G_D⁻¹ γ` of the
+/// last right-hand side is given, the curvature term `½ G_D⁻¹ H(Δq, Δq)`: along the last
+/// velocity `v`, `Δq ≈ δ v` and `H(Δq, Δq) ≈ δ² H(v, v) = δ² γ`, with `δ` the step along `v`
+/// that moves `q_I` by `Δq_I = q_I − q_I,prev` (least squares; `v_I` given by `v`).
+pub(crate) fn tangent_step(
+    b: &[f64],
+    c: Option<&[f64]>,
+    qi: &[f64],
+    qi_prev: &[f64],
+    v: impl Iterator<Item = f64>,
+    out: &mut [f64],
+) {
+    let ni = qi.len();
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = b[k * ni..(k + 1) * ni]
+            .iter()
+            .zip(qi.iter().zip(qi_prev))
+            .map(|(b, (y, p))| b * (y - p))
+            .sum();
+    }
+    let Some(c) = c else { return };
+    let (num, den) = v
+        .zip(qi.iter().zip(qi_prev))
+        .fold((0.0, 0.0), |(n, d), (v, (y, p))| {
+            (n + (y - p) * v, d + v * v)
+        });
+    if den > 0.0 {
+        let half = 0.5 * (num / den) * (num / den);
+        for (o, c) in out.iter_mut().zip(c) {
+            *o += half * c;
+        }
+    }
 }
 
 /// Largest Newton iterations per right-hand side.
@@ -365,7 +398,8 @@ pub struct PartitionedRhs {
     have_prev: bool,
     /// `bv` holds `B = G_D⁻¹ G_I` of the last completed call (else the raw `G_v[:, I]`).
     b_ready: bool,
-    /// `c = G_D⁻¹ γ` was formed at the same point as `B` (the last call was a right-hand side).
+    /// `c = G_D⁻¹ γ` of the last right-hand side is there (kept through completions for
+    /// outputs and events in between: the predictor's curvature term, a step away at most).
     c_ready: bool,
     /// Predicted dependent coordinates (the branch check's reference).
     pred: Vec<f64>,
@@ -376,10 +410,12 @@ pub struct PartitionedRhs {
     c: Vec<f64>,
     /// Accelerations `v'` of the last call (all velocities).
     pub acc: Vec<f64>,
-    /// Newton iterations so far.
-    pub newton_iterations: u64,
-    /// Condition estimate of the last `G_v[:, D]` factorised.
-    pub condition_estimate: f64,
+    /// Newton iterations on the full block so far ([`Self::newton_iterations`] adds the
+    /// elimination's).
+    newton_iterations: u64,
+    /// Condition estimate of the last `G_v[:, D]` factorised on the full block
+    /// ([`Self::condition_estimate`] reads the elimination's when it runs).
+    condition_estimate: f64,
     /// Condition estimate of the last `G_q[:, D]` factorised (Newton's last iteration).
     condition_q: f64,
     /// The dependent coordinates affine in their rows eliminated symbolically
@@ -393,7 +429,7 @@ impl PartitionedRhs {
     pub fn new(sys: Arc<PartitionedSystem>, part: Partition, x: &[f64], newton_tol: f64) -> Self {
         let (nq, nv, nc) = sys.dims;
         let (niq, niv) = (part.ind_q.len(), part.ind_v.len());
-        let ns = sys.n_switches;
+        let ns = sys.n_switches();
         // [t, q, v, modes]: every mode 0 (the literal operations) until `set_modes`
         let mut vars = vec![0.0; 1 + nq + nv + ns];
         vars[1..=nq + nv].copy_from_slice(&x[..nq + nv]);
@@ -449,7 +485,7 @@ impl PartitionedRhs {
             .map(Box::new);
         PartitionedRhs {
             elim,
-            w_switch: Vec::new(),
+            w_switch: sys.switch_tape.workspace(),
             w_st: staged.workspace(),
             o_st: vec![0.0; staged.tape().n_outputs()],
             stage0_valid: false,
@@ -508,12 +544,12 @@ impl PartitionedRhs {
         &self.vars[1 + nq + nv..]
     }
 
-    /// Holds the loads' non-smooth operations in `modes` (see [`Self::modes`]).
-    pub fn set_modes(&mut self, modes: &[f64]) {
+    /// Holds the loads' non-smooth operation `k` in `mode` (see [`Self::modes`]).
+    pub fn set_mode(&mut self, k: usize, mode: f64) {
         let (nq, nv, _) = self.sys.dims;
-        self.vars[1 + nq + nv..].copy_from_slice(modes);
+        self.vars[1 + nq + nv + k] = mode;
         if let Some(e) = self.elim.as_deref_mut() {
-            e.set_modes(modes);
+            e.set_mode(k, mode);
         }
         self.stage0_valid = false;
         self.last_valid = false;
@@ -540,13 +576,9 @@ impl PartitionedRhs {
 
     /// The switching functions at the last completed state and the current modes.
     pub fn switching_values(&mut self, out: &mut [f64]) {
-        let tape = &self.sys.switch_tape;
-        if tape.n_outputs() > 0 {
-            let mut w = std::mem::take(&mut self.w_switch);
-            w.resize(tape.workspace_len(), 0.0);
-            tape.eval(&self.vars, &mut w, out);
-            self.w_switch = w;
-        }
+        self.sys
+            .switch_tape
+            .eval(&self.vars, &mut self.w_switch, out);
     }
 
     /// Works on the full dependent block only (no symbolic elimination): the reference the
@@ -560,6 +592,14 @@ impl PartitionedRhs {
     /// symbolic elimination applies ([`super::elimination`]).
     pub fn elimination(&self) -> Option<(usize, usize)> {
         self.elim.as_ref().map(|e| e.sizes())
+    }
+
+    /// Condition estimate of the last factorisation of the dependent block (largest over
+    /// smallest pivot): the elimination's when it runs, else `G_v[:, D]`'s.
+    pub fn condition_estimate(&self) -> f64 {
+        self.elim
+            .as_ref()
+            .map_or(self.condition_estimate, |e| e.condition_estimate)
     }
 
     /// Newton iterations so far (on the full block and on the loop closures).
@@ -586,32 +626,15 @@ impl PartitionedRhs {
             // tangent predictor Δq_D = −G_D⁻¹ G_I Δq_I: with `B = G_D⁻¹ G_I` of the last call
             // when G_v = G_q (no solve), else with the last factorisation of G_q[:, D]
             if self.share && self.b_ready {
-                for k in 0..nc {
-                    let row = &self.bv[k * niq..(k + 1) * niq];
-                    self.tmp[k] = row
-                        .iter()
-                        .zip(&y[..niq])
-                        .zip(&self.qi_prev)
-                        .map(|((b, yl), pl)| b * (yl - pl))
-                        .sum();
-                }
-                if self.c_ready {
-                    // the curvature term −½ G_D⁻¹ H(Δq, Δq): along the last velocity v,
-                    // Δq ≈ δ v and H(Δq, Δq) ≈ δ² H(v, v) = δ² γ, with G_D⁻¹ γ = c of the last
-                    // call and δ the step along v that moves q_I by Δq_I (least squares)
-                    let (mut num, mut den) = (0.0, 0.0);
-                    for (l, &j) in self.part.ind_v.iter().enumerate() {
-                        let v = self.vars[1 + nq + j];
-                        num += (y[l] - self.qi_prev[l]) * v;
-                        den += v * v;
-                    }
-                    if den > 0.0 {
-                        let d = num / den;
-                        for k in 0..nc {
-                            self.tmp[k] += 0.5 * d * d * self.c[k];
-                        }
-                    }
-                }
+                let v = self.part.ind_v.iter().map(|&j| self.vars[1 + nq + j]);
+                tangent_step(
+                    &self.bv,
+                    self.c_ready.then_some(&self.c[..]),
+                    &y[..niq],
+                    &self.qi_prev,
+                    v,
+                    &mut self.tmp[..nc],
+                );
             } else {
                 for k in 0..nc {
                     let mut s = 0.0;
@@ -768,7 +791,6 @@ impl PartitionedRhs {
                 self.max_newton,
                 self.repartition_above,
             );
-            self.condition_estimate = e.condition_estimate;
             return r;
         }
         self.block_rhs(t, y, yd)
@@ -847,7 +869,6 @@ impl PartitionedRhs {
                 self.max_newton,
                 self.repartition_above,
             )?;
-            self.condition_estimate = e.condition_estimate;
             // the block path starts from this exact state when it runs (multipliers)
             self.have_prev = false;
             self.stage0_valid = false;
@@ -876,7 +897,6 @@ impl PartitionedRhs {
             return Ok(());
         }
         self.b_ready = false;
-        self.c_ready = false;
         if self.share {
             // G_v = G_q, and Newton's last factorisation of G_q[:, D] (at a point within the
             // Newton tolerance of the converged q) serves the velocity level too, without the

@@ -44,9 +44,9 @@ pub fn joint_conditioning(
     }
     // faer's blocked eigensolver on this thread (nalgebra's unblocked one took 4 % of the
     // 40-four-bar chain's solve at its 20 passages); nalgebra where faer does not converge
-    let (eigenvalues, eigenvectors) = match lower_evd(gram_lower(gv, mass).as_ref()) {
-        Some((s, u)) => (s, DMatrix::from_fn(nc, nc, |i, k| u[(i, k)])),
-        None => {
+    let (eigenvalues, eigenvectors) = match lower_evd(gram_lower(gv, mass).as_ref(), true) {
+        Some((s, Some(u))) => (s, DMatrix::from_fn(nc, nc, |i, k| u[(i, k)])),
+        _ => {
             let eig = mass_weighted_gram(gv, mass).symmetric_eigen();
             (eig.eigenvalues.iter().copied().collect(), eig.eigenvectors)
         }
@@ -157,7 +157,7 @@ pub fn dense_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> f64 {
         return 1.0;
     }
     let a = gram_lower(gv, mass);
-    let Some(ev) = lower_eigenvalues(a.as_ref()) else {
+    let Some((ev, _)) = lower_evd(a.as_ref(), false) else {
         // faer's iteration did not converge: the dense reference path
         let ev = mass_weighted_gram(gv, mass).symmetric_eigenvalues();
         return ratio(ev.max(), ev.min());
@@ -202,54 +202,37 @@ fn gram_lower(gv: &DMatrix<f64>, mass: &[f64]) -> faer::Mat<f64> {
     a
 }
 
-/// Eigenvalues and eigenvectors (columns) of the symmetric matrix whose lower triangle `a`
-/// holds, sequentially.
-fn lower_evd(a: faer::MatRef<'_, f64>) -> Option<(Vec<f64>, faer::Mat<f64>)> {
+/// Eigenvalues and, when `vectors`, eigenvectors (columns) of the symmetric matrix whose lower
+/// triangle `a` holds, sequentially (faer's blocked solver; `None` when it does not converge).
+fn lower_evd(
+    a: faer::MatRef<'_, f64>,
+    vectors: bool,
+) -> Option<(Vec<f64>, Option<faer::Mat<f64>>)> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::evd;
     let n = a.nrows();
     let par = faer::Par::Seq;
     let mut s = faer::diag::Diag::<f64>::zeros(n);
-    let mut u = faer::Mat::<f64>::zeros(n, n);
+    let mut u = vectors.then(|| faer::Mat::<f64>::zeros(n, n));
+    let compute = if vectors {
+        evd::ComputeEigenvectors::Yes
+    } else {
+        evd::ComputeEigenvectors::No
+    };
     let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
         n,
-        evd::ComputeEigenvectors::Yes,
+        compute,
         par,
         Default::default(),
     ));
     evd::self_adjoint_evd(
         a,
         s.as_mut(),
-        Some(u.as_mut()),
+        u.as_mut().map(|u| u.as_mut()),
         par,
         MemStack::new(&mut mem),
         Default::default(),
     )
     .ok()?;
     Some((s.column_vector().iter().copied().collect(), u))
-}
-
-/// Eigenvalues of the symmetric matrix whose lower triangle `a` holds, sequentially.
-fn lower_eigenvalues(a: faer::MatRef<'_, f64>) -> Option<Vec<f64>> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::evd;
-    let n = a.nrows();
-    let par = faer::Par::Seq;
-    let mut s = faer::diag::Diag::<f64>::zeros(n);
-    let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
-        n,
-        evd::ComputeEigenvectors::No,
-        par,
-        Default::default(),
-    ));
-    evd::self_adjoint_evd(
-        a,
-        s.as_mut(),
-        None,
-        par,
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .ok()?;
-    Some(s.column_vector().iter().copied().collect())
 }

@@ -443,7 +443,7 @@ pub(super) fn run_partitioned(
                 what: e.to_string(),
             })
         })?;
-        core.repartition_above = threshold.max(REPARTITION_GROWTH * core.condition_estimate);
+        core.repartition_above = threshold.max(REPARTITION_GROWTH * core.condition_estimate());
         keep_threshold = REPARTITION_GROWTH * core.repartition_above;
         last_part = Some(part.clone());
         if kind == Integrator::Auto {
@@ -568,7 +568,7 @@ pub(super) fn run_partitioned(
                         break 'segment;
                     }
                 }
-                if switches.would_change(sw) {
+                if Switches::would_change(&lock(&oc), sw) {
                     // the state at the zero from the integrator's own steps, not from its
                     // interpolant over a step that crossed the zero: integrate again from
                     // the last exact point to the zero with the old modes, then restart with
@@ -642,7 +642,7 @@ pub const MAX_SWITCHINGS_PER_OUTPUT: u32 = 50;
 /// functions' signs at its start, flipped at their zeros (the root finder's direction), checked
 /// at every output, and released when they chatter.
 struct Switches {
-    modes: Vec<f64>,
+    /// The switching functions' values (scratch).
     values: Vec<f64>,
     /// Crossings of each function since the last output.
     recent: Vec<u32>,
@@ -651,91 +651,84 @@ struct Switches {
     zero_at: Vec<f64>,
 }
 
+/// The mode a zero crossing in direction `d` (+1 rising, −1 falling) leaves its function in.
+fn mode_after(d: i32) -> f64 {
+    if d > 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
 impl Switches {
     fn new(n: usize) -> Self {
         Switches {
-            modes: vec![0.0; n],
             values: vec![0.0; n],
             recent: vec![0; n],
             zero_at: vec![f64::NAN; n],
         }
     }
 
-    /// Modes from the signs of the switching functions at the completed start state (with the
-    /// literal operations, which the modes then reproduce).
+    /// Modes (held by `rhs`) from the signs of the switching functions at the completed start
+    /// state, evaluated with the literal operations, which the modes then reproduce.
     fn start(&mut self, rhs: &mut PartitionedRhs) {
-        self.modes.fill(0.0);
-        rhs.set_modes(&self.modes);
-        rhs.switching_values(&mut self.values);
-        for (m, &v) in self.modes.iter_mut().zip(&self.values) {
-            *m = if v > 0.0 { 1.0 } else { -1.0 };
+        for k in 0..self.values.len() {
+            rhs.set_mode(k, 0.0);
         }
-        rhs.set_modes(&self.modes);
+        rhs.switching_values(&mut self.values);
+        for (k, &v) in self.values.iter().enumerate() {
+            rhs.set_mode(k, if v > 0.0 { 1.0 } else { -1.0 });
+        }
     }
 
-    /// Whether zeros found by the root finder (`dirs`) change a mode.
-    fn would_change(&self, dirs: &[i32]) -> bool {
+    /// Whether zeros found by the root finder (`dirs`) change a mode (a released one, 0, stays).
+    fn would_change(rhs: &PartitionedRhs, dirs: &[i32]) -> bool {
         dirs.iter()
-            .zip(&self.modes)
-            .any(|(&d, &m)| d != 0 && m != 0.0 && m != if d > 0 { 1.0 } else { -1.0 })
+            .zip(rhs.modes())
+            .any(|(&d, &m)| d != 0 && m != 0.0 && m != mode_after(d))
     }
 
-    /// Zeros found by the root finder (`dirs`: +1 rising, −1 falling, 0 none); whether a
-    /// mode changed (the integrator restarts there).
-    fn crossed(
-        &mut self,
-        rhs: &mut PartitionedRhs,
-        dirs: &[i32],
-        t: f64,
-        summary: &mut Summary,
-    ) -> bool {
-        let mut changed = false;
+    /// Zeros found by the root finder (`dirs`: +1 rising, −1 falling, 0 none) set the modes.
+    fn crossed(&mut self, rhs: &mut PartitionedRhs, dirs: &[i32], t: f64, summary: &mut Summary) {
         for (k, &d) in dirs.iter().enumerate() {
-            if d == 0 || self.modes[k] == 0.0 {
+            if d == 0 || rhs.modes()[k] == 0.0 {
                 continue;
             }
-            let m = if d > 0 { 1.0 } else { -1.0 };
             self.zero_at[k] = t;
-            if self.modes[k] != m {
-                self.flip(k, m, t, summary);
-                changed = true;
+            if rhs.modes()[k] != mode_after(d) {
+                self.flip(rhs, k, mode_after(d), t, summary);
             }
         }
-        if changed {
-            rhs.set_modes(&self.modes);
-        }
-        changed
     }
 
     /// At an output (the completed state in `rhs`): modes whose function has the other sign
-    /// are set to it; the chattering counters restart.
+    /// are set to it; the chattering counters restart. Whether a mode changed.
     fn check(&mut self, rhs: &mut PartitionedRhs, t: f64, summary: &mut Summary) -> bool {
         rhs.switching_values(&mut self.values);
         let mut changed = false;
-        for k in 0..self.modes.len() {
-            let (m, v) = (self.modes[k], self.values[k]);
+        for k in 0..self.values.len() {
+            let (m, v) = (rhs.modes()[k], self.values[k]);
             if m != 0.0 && v != 0.0 && (v > 0.0) != (m > 0.0) && self.zero_at[k] != t {
-                self.flip(k, -m, t, summary);
+                self.flip(rhs, k, -m, t, summary);
                 changed = true;
             }
         }
         self.recent.fill(0);
-        if changed {
-            rhs.set_modes(&self.modes);
-        }
         changed
     }
 
-    fn flip(&mut self, k: usize, m: f64, t: f64, summary: &mut Summary) {
+    /// Sets mode `k` to `m`, or releases it (0: the literal operation) past
+    /// [`MAX_SWITCHINGS_PER_OUTPUT`] changes since the last output.
+    fn flip(&mut self, rhs: &mut PartitionedRhs, k: usize, m: f64, t: f64, summary: &mut Summary) {
         summary.switchings += 1;
         self.recent[k] += 1;
         if self.recent[k] > MAX_SWITCHINGS_PER_OUTPUT {
-            self.modes[k] = 0.0;
+            rhs.set_mode(k, 0.0);
             summary.warnings.push(format!(
                 "partitioned: switching function {k} of the loads changed sign more than {MAX_SWITCHINGS_PER_OUTPUT} times before t = {t:.6}; its operation is evaluated as written from there (the integrator steps across its zeros)"
             ));
         } else {
-            self.modes[k] = m;
+            rhs.set_mode(k, m);
         }
     }
 }
