@@ -418,20 +418,22 @@ impl Tape {
     fn run_instrs(&self, range: std::ops::Range<usize>, work: &mut [f64]) {
         for ins in &self.instrs[range] {
             match *ins {
-                Instr::Neg { dst, a } => work[dst as usize] = -work[a as usize],
-                Instr::Sin { dst, a } => work[dst as usize] = work[a as usize].sin(),
-                Instr::Cos { dst, a } => work[dst as usize] = work[a as usize].cos(),
+                // a constant operation: `apply_*` (the one definition of each operation's
+                // semantics) folds to the operation itself
+                Instr::Neg { dst, a } => work[dst as usize] = apply_un(UnOp::Neg, work[a as usize]),
+                Instr::Sin { dst, a } => work[dst as usize] = apply_un(UnOp::Sin, work[a as usize]),
+                Instr::Cos { dst, a } => work[dst as usize] = apply_un(UnOp::Cos, work[a as usize]),
                 Instr::Add { dst, a, b } => {
-                    work[dst as usize] = work[a as usize] + work[b as usize]
+                    work[dst as usize] = apply_bin(BinOp::Add, work[a as usize], work[b as usize])
                 }
                 Instr::Sub { dst, a, b } => {
-                    work[dst as usize] = work[a as usize] - work[b as usize]
+                    work[dst as usize] = apply_bin(BinOp::Sub, work[a as usize], work[b as usize])
                 }
                 Instr::Mul { dst, a, b } => {
-                    work[dst as usize] = work[a as usize] * work[b as usize]
+                    work[dst as usize] = apply_bin(BinOp::Mul, work[a as usize], work[b as usize])
                 }
                 Instr::Div { dst, a, b } => {
-                    work[dst as usize] = work[a as usize] / work[b as usize]
+                    work[dst as usize] = apply_bin(BinOp::Div, work[a as usize], work[b as usize])
                 }
                 Instr::Un { op, dst, a } => work[dst as usize] = apply_un(op, work[a as usize]),
                 Instr::Bin { op, dst, a, b } => {
