@@ -10,6 +10,14 @@
 use crate::expr::{Expr, ExprGraph, Tape};
 use crate::mech::MultibodySystem;
 
+/// The tape slots `[t, q, v]` of a state `x = [q, v]` at `t` (allocating; for one-off use).
+pub fn slots(t: f64, x: &[f64]) -> Vec<f64> {
+    let mut vars = Vec::with_capacity(1 + x.len());
+    vars.push(t);
+    vars.extend_from_slice(x);
+    vars
+}
+
 /// Symbolic constraint quantities (see the module documentation).
 #[derive(Clone, Debug)]
 pub struct ConstraintExprs {
@@ -152,12 +160,9 @@ impl MechanicsTapes {
 
     /// Evaluates a tape at `(t, x)` with `x = [q, v]` (allocating; for one-off use).
     pub fn eval(tape: &Tape, t: f64, x: &[f64]) -> Vec<f64> {
-        let mut vars = Vec::with_capacity(1 + x.len());
-        vars.push(t);
-        vars.extend_from_slice(x);
         let mut work = tape.workspace();
         let mut out = vec![0.0; tape.n_outputs()];
-        tape.eval(&vars, &mut work, &mut out);
+        tape.eval(&slots(t, x), &mut work, &mut out);
         out
     }
 }
@@ -223,9 +228,8 @@ impl MatrixTape {
     /// Evaluates at the slots `vars = [t, q, v]` into the dense row-major `out`
     /// (`rows · cols`, zero where the matrix is structurally zero).
     pub fn eval_into(&self, vars: &[f64], work: &mut (Vec<f64>, Vec<f64>), out: &mut [f64]) {
-        self.tape.eval(vars, &mut work.0, &mut work.1);
         out.fill(0.0);
-        for (&k, &v) in self.position.iter().zip(&work.1) {
+        for (&k, &v) in self.position.iter().zip(self.eval_nonzeros(vars, work)) {
             out[k] = v;
         }
     }
@@ -238,26 +242,20 @@ impl MatrixTape {
     /// The structural non-zeros at `(t, x)`, `x = [q, v]`, as `(row, column, value)` in
     /// row-major order (allocating; linear in the non-zeros, for large mechanisms).
     pub fn entries(&self, t: f64, x: &[f64]) -> Vec<(usize, usize, f64)> {
-        let mut vars = Vec::with_capacity(1 + x.len());
-        vars.push(t);
-        vars.extend_from_slice(x);
-        let (mut work, mut values) = self.workspace();
-        self.tape.eval(&vars, &mut work, &mut values);
+        let mut work = self.workspace();
+        let values = self.eval_nonzeros(&slots(t, x), &mut work);
         self.position
             .iter()
             .zip(values)
-            .map(|(&k, v)| (k / self.cols, k % self.cols, v))
+            .map(|(&k, &v)| (k / self.cols, k % self.cols, v))
             .collect()
     }
 
     /// The dense row-major matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
     pub fn eval(&self, t: f64, x: &[f64]) -> Vec<f64> {
-        let mut vars = Vec::with_capacity(1 + x.len());
-        vars.push(t);
-        vars.extend_from_slice(x);
         let mut work = self.workspace();
         let mut out = vec![0.0; self.rows * self.cols];
-        self.eval_into(&vars, &mut work, &mut out);
+        self.eval_into(&slots(t, x), &mut work, &mut out);
         out
     }
 }

@@ -32,7 +32,7 @@ use nalgebra::DMatrix;
 use super::block_lu::BlockLu;
 use super::elimination::{Elimination, EliminationInputs};
 use super::index1::{dependent_condition, select_dependent};
-use super::mechanics::{ConstraintExprs, MatrixTape};
+use super::mechanics::{slots, ConstraintExprs, MatrixTape};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 use crate::mech::MultibodySystem;
 
@@ -204,13 +204,6 @@ impl PartitionedSystem {
         }
     }
 
-    fn vars(&self, t: f64, x: &[f64]) -> Vec<f64> {
-        let mut v = Vec::with_capacity(1 + x.len());
-        v.push(t);
-        v.extend_from_slice(x);
-        v
-    }
-
     /// What the symbolic elimination needs ([`super::elimination`]), where it applies: one
     /// factorisation serves both levels (`q' = v`, velocity rows `G_q v`).
     fn elimination_inputs(&self) -> Option<EliminationInputs<'_>> {
@@ -234,7 +227,7 @@ impl PartitionedSystem {
     /// `G_q` and `G_v` at `(t, x = [q, v])`.
     pub fn jacobians(&self, t: f64, x: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
         let (nq, _, nc) = self.dims;
-        let vars = self.vars(t, x);
+        let vars = slots(t, x);
         let mut out = vec![0.0; self.pos.n_outputs()];
         self.pos.eval(&vars, &mut self.pos.workspace(), &mut out);
         let mut gq = DMatrix::zeros(nc, nq);
