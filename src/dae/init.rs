@@ -136,16 +136,7 @@ pub fn consistent_state_from(
     let (nq, nv, nc) = tapes.dims;
     let x0 = x0.to_vec();
     let mut x = x0.clone();
-    let finite = |v: &[f64], what: &str| {
-        if v.iter().all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            Err(InitError::NonFinite {
-                t: t0,
-                what: what.to_string(),
-            })
-        }
-    };
+    let finite = |v: &[f64], what: &str| finite_at(t0, v.iter().copied(), what);
     // 1. positions
     let mut iterations = 0;
     let scale = 1.0 + x0[..nq].iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -191,12 +182,11 @@ pub fn consistent_state_from(
     // 2. velocities (the sparse path from G_v's non-zeros, linear in the size; the dense
     // G_v only where it is not taken)
     let gv_entries = tapes.gv.entries(t0, &x);
-    if !gv_entries.iter().all(|e| e.2.is_finite()) {
-        return Err(InitError::NonFinite {
-            t: t0,
-            what: "the velocity constraint Jacobian".into(),
-        });
-    }
+    finite_at(
+        t0,
+        gv_entries.iter().map(|e| e.2),
+        "the velocity constraint Jacobian",
+    )?;
     let v0 = DVector::from_column_slice(&x[nq..]);
     if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv_entries)? {
         let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
@@ -217,15 +207,7 @@ pub fn consistent_state_from(
         vec![]
     };
     // 3. accelerations and multipliers
-    let q = MechanicsTapes::eval(&tapes.forces, t0, &x);
-    if !q.iter().all(|f| f.is_finite()) {
-        if let Some(culprit) = sys.non_finite_source(t0, &x) {
-            return Err(InitError::NonFiniteSource(culprit));
-        }
-    }
-    finite(&q, "the generalized forces")?;
-    let gamma = MechanicsTapes::eval(&tapes.gamma, t0, &x);
-    finite(&gamma, "the constraint acceleration terms")?;
+    let (q, gamma) = forces_and_gamma(sys, tapes, t0, &x)?;
     let n = nv + nc;
     let mut a = DMatrix::zeros(n, n);
     for j in 0..nv {
@@ -283,6 +265,42 @@ pub const SPARSE_START_UNKNOWNS: usize = 200;
 /// Largest `κ(G_v G_vᵀ)` (estimated) for which the sparse path trusts `G_v` to have full row
 /// rank; beyond it the SVD decides the rank (redundant joints).
 const SPARSE_START_CONDITION: f64 = 1e12;
+
+/// `Err(NonFinite)` naming `what` at `t` unless every value is finite.
+fn finite_at(t: f64, values: impl IntoIterator<Item = f64>, what: &str) -> Result<(), InitError> {
+    if values.into_iter().all(f64::is_finite) {
+        Ok(())
+    } else {
+        Err(InitError::NonFinite {
+            t,
+            what: what.to_string(),
+        })
+    }
+}
+
+/// The generalized forces `Q` and the constraint acceleration terms `γ` at `(t, x)`, finite
+/// (a non-finite force is traced to the load that made it where one did).
+fn forces_and_gamma(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t: f64,
+    x: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>), InitError> {
+    let q = MechanicsTapes::eval(&tapes.forces, t, x);
+    if !q.iter().all(|f| f.is_finite()) {
+        if let Some(culprit) = sys.non_finite_source(t, x) {
+            return Err(InitError::NonFiniteSource(culprit));
+        }
+    }
+    finite_at(t, q.iter().copied(), "the generalized forces")?;
+    let gamma = MechanicsTapes::eval(&tapes.gamma, t, x);
+    finite_at(
+        t,
+        gamma.iter().copied(),
+        "the constraint acceleration terms",
+    )?;
+    Ok((q, gamma))
+}
 
 /// Steps 2 and 3 of [`consistent_state_from`] for a large mechanism with full-rank joints and
 /// an inertia on every coordinate, linear in its size: with `B = G_v G_vᵀ` and
@@ -343,23 +361,7 @@ fn sparse_start(
         x[nq + j] -= dv[j];
     }
     // accelerations and multipliers
-    let q = MechanicsTapes::eval(&tapes.forces, t0, x);
-    if !q.iter().all(|f| f.is_finite()) {
-        if let Some(culprit) = sys.non_finite_source(t0, x) {
-            return Err(InitError::NonFiniteSource(culprit));
-        }
-        return Err(InitError::NonFinite {
-            t: t0,
-            what: "the generalized forces".into(),
-        });
-    }
-    let gamma = MechanicsTapes::eval(&tapes.gamma, t0, x);
-    if !gamma.iter().all(|f| f.is_finite()) {
-        return Err(InitError::NonFinite {
-            t: t0,
-            what: "the constraint acceleration terms".into(),
-        });
-    }
+    let (q, gamma) = forces_and_gamma(sys, tapes, t0, x)?;
     let minv_q: Vec<f64> = (0..nv).map(|j| q[j] / sys.mass[j]).collect();
     let mut lambda = g_times(&minv_q);
     for (l, g) in lambda.iter_mut().zip(&gamma) {

@@ -124,8 +124,11 @@ pub struct ErkOptions {
     pub stop_time: Option<f64>,
 }
 
-/// Degree of the Hermite interpolant when no root functions are registered.
+/// Degree of the Hermite interpolant by default.
 const CUBIC: c_int = 3;
+
+/// ARKODE's most accurate Hermite interpolant (its default: degree `q − 1` up to 5).
+pub const MAX_INTERPOLANT_DEGREE: i32 = ffi::ARK_INTERP_MAX_DEGREE;
 
 /// The explicit Runge–Kutta method of an [`Erk`].
 #[derive(Clone, Debug, PartialEq)]
@@ -329,7 +332,7 @@ impl Erk {
             // outputs are reached exactly (stop times), so the interpolant only serves root
             // finding and `dky`: a cubic Hermite needs no right-hand side beyond the step's
             // own, where ARKODE's default (degree q − 1, quartic for a fifth-order table)
-            // spends one more per step; `set_roots` asks for the default again
+            // spends one more per step
             check(
                 P,
                 "ERKStepSetInterpolantDegree",
@@ -388,17 +391,13 @@ impl Erk {
         check(P, function, flag, t).expect_err("flag is negative")
     }
 
-    /// Registers `n` root functions `g(t, y)`; sign changes stop `solve_to`.
+    /// Registers `n` root functions `g(t, y)`; sign changes stop `solve_to`. Root finding
+    /// interpolates within the step with the cubic interpolant unless
+    /// [`Self::set_interpolant_degree`] asks for more ([`MAX_INTERPOLANT_DEGREE`]: event times
+    /// to the step's accuracy).
     pub fn set_roots(&mut self, n: usize, f: CvodeRootFn) -> Result<(), SolverError> {
         self.data.roots = Some(f);
         self.data.nroots = n;
-        // root finding interpolates within the step: ARKODE's default (most accurate) degree
-        // SAFETY: live ARKODE memory.
-        let flag =
-            unsafe { ffi::ERKStepSetInterpolantDegree(self.raw(), ffi::ARK_INTERP_MAX_DEGREE) };
-        if flag < 0 {
-            return Err(self.fail("ERKStepSetInterpolantDegree", flag));
-        }
         // SAFETY: live ARKODE memory; the trampoline reads closures from the user data.
         let flag = unsafe { ffi::ERKStepRootInit(self.raw(), n as c_int, Some(root_trampoline)) };
         if flag < 0 {
@@ -473,7 +472,7 @@ impl Erk {
         Ok(())
     }
 
-    /// Sets the Hermite interpolant's degree (`dky` and root finding; by default cubic without root functions, ARKODE's highest with them).
+    /// Sets the Hermite interpolant's degree (`dky` and root finding; cubic by default).
     pub fn set_interpolant_degree(&mut self, degree: i32) -> Result<(), SolverError> {
         // SAFETY: live ARKODE memory.
         let flag = unsafe { ffi::ERKStepSetInterpolantDegree(self.raw(), degree as c_int) };

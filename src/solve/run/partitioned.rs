@@ -176,11 +176,11 @@ fn make_integ(
             let mut e = Erk::new(t0, y0, rhs, &eo)?;
             if let Some((n, f, events)) = roots {
                 e.set_roots(n, f)?;
-                if !events {
-                    // switching functions only: their zeros are integrated to again from the
-                    // last exact point (the interpolant only places them), so the cubic
-                    // interpolant, which takes no right-hand side beyond the step's own, serves
-                    e.set_interpolant_degree(3)?;
+                if events {
+                    // event times to the step's accuracy; the switching functions' zeros are
+                    // integrated to again from the last exact point (the cubic interpolant,
+                    // which takes no right-hand side beyond the step's own, only places them)
+                    e.set_interpolant_degree(crate::sundials::erk::MAX_INTERPOLANT_DEGREE)?;
                 }
             }
             Integ::Erk(e)
