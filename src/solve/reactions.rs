@@ -142,6 +142,11 @@ impl EventEval {
         }
     }
 
+    /// Some event function reads reaction columns (its state needs the multipliers).
+    pub(crate) fn uses_reactions(&self) -> bool {
+        self.reactions.is_some()
+    }
+
     /// Number of event functions.
     pub(crate) fn len(&self) -> usize {
         self.tape.n_outputs()

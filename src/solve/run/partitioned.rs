@@ -484,8 +484,15 @@ pub(super) fn run_partitioned(
                 let recoverable = |e: PartitionError| CallbackError::Recoverable(e.to_string());
                 let (ge, gs) = g.split_at_mut(n_ev);
                 if n_ev > 0 {
-                    let full = rhs.full_for_output(t, y).map_err(recoverable)?;
-                    ev.roots(t, full, ge)?;
+                    // the multipliers (a right-hand side on the full block and a transposed
+                    // solve, at every step) only for events that read reaction columns
+                    if ev.uses_reactions() {
+                        let full = rhs.full_for_output(t, y).map_err(recoverable)?;
+                        ev.roots(t, full, ge)?;
+                    } else {
+                        rhs.complete_for_output(t, y).map_err(recoverable)?;
+                        ev.roots(t, rhs.full_state(), ge)?;
+                    }
                 }
                 if n_sw > 0 {
                     rhs.switching_at(t, y, gs).map_err(recoverable)?;
