@@ -287,6 +287,13 @@ fn staged_tape_rerunning_a_later_stage_matches_a_full_evaluation() {
             staged.eval_stages(&vars, &mut w, &mut got, 2..3);
             full.eval(&vars, &mut wf, &mut want);
             assert_eq!(got, want, "stage 2 after variable 2 changed (seed {seed})");
+            // and the reference interpreter (not the tape compiler), bit for bit
+            let reference: Vec<f64> = outs.iter().map(|&o| g.eval(o, &vars)).collect();
+            assert_eq!(
+                got.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                reference.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                "against ExprGraph::eval (seed {seed})"
+            );
         }
     }
 }
