@@ -34,7 +34,7 @@
 use std::sync::Arc;
 
 use super::block_lu::BlockLu;
-use super::partitioned::{left_branch, tangent_step, Partition, PartitionError};
+use super::partitioned::{left_branch, tangent_step, NewtonLimits, Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically
@@ -375,14 +375,7 @@ impl Elimination {
 
     /// Newton on the loop closures `g̃(q_I, q_R) = 0` for `q_R` from the warm start and a
     /// tangent predictor, then `ż_R = −B ż_I`; `y = [q_I, v_I]`.
-    fn complete_z(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        newton_tol: f64,
-        max_newton: usize,
-        repartition_above: f64,
-    ) -> Result<(), PartitionError> {
+    fn complete_z(&mut self, t: f64, y: &[f64], lim: NewtonLimits) -> Result<(), PartitionError> {
         let (ni, nq) = (self.ni, self.nq);
         let lay = self.layout();
         let nr = lay.nr;
@@ -416,12 +409,12 @@ impl Elimination {
         if nr > 0 {
             let mut converged = false;
             let mut last = f64::INFINITY;
-            for it in 0..max_newton {
+            for it in 0..lim.max_iterations {
                 self.newton_iterations += 1;
                 let first = if it == 0 { 0 } else { 1 };
                 self.newton
                     .eval_stages(&self.vars, &mut self.w_n, &mut self.o_n, first..2);
-                if self.lu.factor(&self.o_n, repartition_above).is_err() {
+                if self.lu.factor(&self.o_n, lim.repartition_above).is_err() {
                     self.have_prev = false;
                     return Err(PartitionError::SingularBlock { t });
                 }
@@ -436,7 +429,7 @@ impl Elimination {
                     break;
                 }
                 last = step;
-                if step <= newton_tol {
+                if step <= lim.tolerance {
                     converged = true;
                     break;
                 }
@@ -453,7 +446,7 @@ impl Elimination {
                     a.max((self.vars[1 + self.z[ni + k]] - self.pred[k]).abs())
                 });
                 let moved = (0..ni).fold(0.0f64, |m, l| m.max((y[l] - self.qi_prev[l]).abs()));
-                if left_branch(corr, predicted, moved, newton_tol) {
+                if left_branch(corr, predicted, moved, lim.tolerance) {
                     self.have_prev = false;
                     return Err(PartitionError::Branch {
                         t,
@@ -465,7 +458,7 @@ impl Elimination {
             let (big, small) = self.lu.pivots();
             let (cmax, cmin) = self.elim_pivots;
             self.condition_estimate = big.max(cmax) / small.min(cmin);
-            if self.condition_estimate > repartition_above {
+            if self.condition_estimate > lim.repartition_above {
                 return Err(PartitionError::Repartition {
                     t,
                     condition: self.condition_estimate,
@@ -501,11 +494,9 @@ impl Elimination {
         t: f64,
         y: &[f64],
         yd: &mut [f64],
-        newton_tol: f64,
-        max_newton: usize,
-        repartition_above: f64,
+        lim: NewtonLimits,
     ) -> Result<(), PartitionError> {
-        self.complete_z(t, y, newton_tol, max_newton, repartition_above)?;
+        self.complete_z(t, y, lim)?;
         let (ni, lay) = (self.ni, self.layout());
         let (nr, nz) = (lay.nr, lay.nz);
         self.tape.eval(&self.vars, &mut self.w, &mut self.o);
@@ -568,11 +559,9 @@ impl Elimination {
         t: f64,
         y: &[f64],
         x: &mut [f64],
-        newton_tol: f64,
-        max_newton: usize,
-        repartition_above: f64,
+        lim: NewtonLimits,
     ) -> Result<(), PartitionError> {
-        self.complete_z(t, y, newton_tol, max_newton, repartition_above)?;
+        self.complete_z(t, y, lim)?;
         self.full
             .eval(&self.vars, &mut self.w_full, &mut self.o_full);
         let (nq, ne) = (self.nq, self.elim.len());

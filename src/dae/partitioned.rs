@@ -318,6 +318,16 @@ pub(crate) fn tangent_step(
     }
 }
 
+/// What a Newton solve for the dependent coordinates may take: its tolerance, its iterations,
+/// and the condition estimate above which the partition is to be re-chosen (the fields of a
+/// [`PartitionedRhs`] of the same names, handed to the elimination's Newton).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NewtonLimits {
+    pub(crate) tolerance: f64,
+    pub(crate) max_iterations: usize,
+    pub(crate) repartition_above: f64,
+}
+
 /// Largest Newton iterations per right-hand side.
 pub const MAX_NEWTON_ITERATIONS: usize = 8;
 
@@ -587,6 +597,14 @@ impl PartitionedRhs {
         self.elim.as_ref().map(|e| e.sizes())
     }
 
+    fn limits(&self) -> NewtonLimits {
+        NewtonLimits {
+            tolerance: self.newton_tol,
+            max_iterations: self.max_newton,
+            repartition_above: self.repartition_above,
+        }
+    }
+
     /// Condition estimate of the last factorisation of the dependent block (largest over
     /// smallest pivot): the elimination's when it runs, else `G_v[:, D]`'s.
     pub fn condition_estimate(&self) -> f64 {
@@ -774,17 +792,10 @@ impl PartitionedRhs {
 
     /// Evaluates `y' = f(t, y)` (see the module documentation); `y = [q_I, v_I]`.
     pub fn rhs(&mut self, t: f64, y: &[f64], yd: &mut [f64]) -> Result<(), PartitionError> {
+        let lim = self.limits();
         if let Some(e) = self.elim.as_deref_mut() {
             self.last_valid = false;
-            let r = e.rhs(
-                t,
-                y,
-                yd,
-                self.newton_tol,
-                self.max_newton,
-                self.repartition_above,
-            );
-            return r;
+            return e.rhs(t, y, yd, lim);
         }
         self.block_rhs(t, y, yd)
     }
@@ -851,17 +862,11 @@ impl PartitionedRhs {
     /// Completes `y = [q_I, v_I]` to the full state `[q, v]` (Newton for `q_D`, then
     /// `G_D v_D = −G_I v_I`), left in [`Self::full_state`]; factorises `G_v[:, D]`.
     pub fn complete(&mut self, t: f64, y: &[f64]) -> Result<(), PartitionError> {
+        let lim = self.limits();
         if let Some(e) = self.elim.as_deref_mut() {
             self.last_valid = false;
             let (nq, nv, _) = self.sys.dims;
-            e.complete(
-                t,
-                y,
-                &mut self.vars[1..=nq + nv],
-                self.newton_tol,
-                self.max_newton,
-                self.repartition_above,
-            )?;
+            e.complete(t, y, &mut self.vars[1..=nq + nv], lim)?;
             // the block path starts from this exact state when it runs (multipliers)
             self.have_prev = false;
             self.stage0_valid = false;
