@@ -454,6 +454,14 @@ impl Ida {
                     t0,
                 )?;
             }
+            if let Some(v) = opts.nonlin_conv_coef {
+                check(
+                    P,
+                    "IDASetNonlinConvCoef",
+                    sys::IDASetNonlinConvCoef(raw, v),
+                    t0,
+                )?;
+            }
         }
         Ok(Ida {
             mem,
