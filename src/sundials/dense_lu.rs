@@ -30,7 +30,7 @@ struct DenseLu {
 
 /// Factors the column-major `n × n` matrix `a` in place (`P A = L U`, unit `L` below the
 /// diagonal, `U` on and above it), writing the pivot row of each column to `pivots`.
-/// Returns the 1-based column of a zero pivot, or 0.
+/// Returns the 1-based column of a zero (or non-finite) pivot, or 0.
 ///
 /// ```text
 ///   for k: p = argmax_{i ≥ k} |a_ik|; swap rows k, p; l_ik = a_ik / a_kk;
@@ -49,7 +49,8 @@ pub fn factor(a: &mut [f64], n: usize, pivots: &mut [usize]) -> usize {
             }
         }
         pivots[k] = p;
-        if a[col + p] == 0.0 {
+        let pivot = a[col + p];
+        if pivot == 0.0 || !pivot.is_finite() {
             return k + 1;
         }
         if p != k {
@@ -180,10 +181,13 @@ unsafe extern "C" fn solve_op(
         let xs = slice_of_mut(x, n);
         let a = std::slice::from_raw_parts(lu.factors, n * n);
         let ok = catch_unwind(AssertUnwindSafe(|| solve(a, n, &lu.pivots, xs))).is_ok();
-        if ok {
+        if !ok {
+            -1
+        } else if xs.iter().all(|v| v.is_finite()) {
             0
         } else {
-            -1
+            // a numerically singular factor: recoverable, as a zero pivot is
+            sys::SUNLS_PACKAGE_FAIL_REC as c_int
         }
     }
 }
@@ -263,6 +267,13 @@ mod tests {
         let a = vec![1.0, 2.0, 2.0, 4.0];
         let mut p = vec![0; 2];
         assert_eq!(factor(&mut a.clone(), 2, &mut p), 2);
+    }
+
+    #[test]
+    fn a_nan_pivot_is_a_failed_factorisation() {
+        let a = vec![f64::NAN, 1.0, 2.0, 3.0];
+        let mut p = vec![0; 2];
+        assert_eq!(factor(&mut a.clone(), 2, &mut p), 1);
     }
 
     #[test]
