@@ -62,7 +62,7 @@ fn run_writes_standard_columns_and_summary_keys() {
     ] {
         assert!(s.get(key).is_some(), "summary lacks {key}: {s}");
     }
-    assert_eq!(s["formulation"], "ggl");
+    assert_eq!(s["formulation"], "dae");
 }
 
 #[test]
@@ -286,7 +286,7 @@ fn readme_first_command_prints_a_table_with_header_rows_and_summary() {
     // the scene runs to t_end = 3 s: the last table row is t = 3 and the summary follows it
     let summary = lines[lines.len() - 1];
     assert!(
-        summary.starts_with("ggl: ")
+        summary.starts_with("dae: ")
             && summary.contains(" steps")
             && summary.contains("energy drift"),
         "{summary}"

@@ -283,7 +283,7 @@ fn twin_reactions_approach_the_dae_as_the_joints_stiffen() {
         diffs[0], diffs[1]
     );
     // `compare` diffs the same columns (forces in N) at the shared output times
-    o.formulation = FormulationKind::Ggl;
+    o.formulation = FormulationKind::Dae;
     let (cmp, _, _) = model.compare(&o).unwrap();
     assert!(cmp.force.column.ends_with(".Fx") || cmp.force.column.ends_with(".Fy"));
     assert_eq!(cmp.force.value, diffs[1]);

@@ -654,6 +654,52 @@ pub struct SingularPassage {
     pub failure: String,
 }
 
+/// Completes the dependent coordinates and velocities of an output row `y = [q, v, …]` of the
+/// index-1 DAE (`q' = v`, dependent indices `dependent` for both) from the independent ones:
+/// Newton on `g(q_I, q_D) = 0` for `q_D`, then `G_v[:, D] v_D = −G_v[:, I] v_I`.
+///
+/// IDA interpolates an output between its steps, and the algebraic unknowns, out of its error
+/// test, are interpolated by a polynomial that satisfies the joints only at the steps (measured:
+/// a pinned point moving at 1e-5 m/s at outputs of the double pendulum); the completed row lies
+/// on the joints to the Newton tolerance, as the steps do.
+fn complete_dependent(tapes: &MechanicsTapes, dependent: &[usize], t: f64, y: &mut [f64]) {
+    let (nq, nv, nc) = tapes.dims;
+    if nc == 0 || dependent.len() != nc || nq != nv {
+        return;
+    }
+    let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    for _ in 0..4 {
+        let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
+        if g.iter().all(|v| v.abs() <= 1e-15 * scale) {
+            break;
+        }
+        let gq = tapes.gq.matrix(t, &y[..nq + nv]);
+        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(r, dependent[k])]);
+        let Some(dq) = block.lu().solve(&nalgebra::DVector::from_iterator(
+            nc,
+            g.iter().map(|v| -v),
+        )) else {
+            return;
+        };
+        for (k, &j) in dependent.iter().enumerate() {
+            y[j] += dq[k];
+        }
+    }
+    let gv = tapes.gv.matrix(t, &y[..nq + nv]);
+    let block = DMatrix::from_fn(nc, nc, |r, k| gv[(r, dependent[k])]);
+    let rhs = nalgebra::DVector::from_fn(nc, |r, _| {
+        -(0..nv)
+            .filter(|j| !dependent.contains(j))
+            .map(|j| gv[(r, j)] * y[nq + j])
+            .sum::<f64>()
+    });
+    if let Some(vd) = block.lu().solve(&rhs) {
+        for (k, &j) in dependent.iter().enumerate() {
+            y[nq + j] = vd[k];
+        }
+    }
+}
+
 /// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
 /// non-rotating frame, 16.8), as the index-1 DAE needs.
 fn q_rates_are_v(sys: &MultibodySystem) -> bool {
@@ -1262,6 +1308,11 @@ fn run_index1(
     let mut reselections = 0u64;
     let mut formulation_build = 0.0;
     let wall_start = std::time::Instant::now();
+    // `dae` hands the rest of the run to the GGL where the joints near a singular configuration
+    // (no regular dependent block exists) or IDA fails: (time, state [q, v], why)
+    let hands_over = summary.formulation == "dae";
+    let mut handover: Option<(f64, String)> = None;
+    let mut t_last = t0;
     // the chapter's partition at the start: the differential-causality inertias' flows
     // (kept unless its block is ill-conditioned there and a numeric choice is much better)
     let mut from_causality = causality_dependent(&sys, t0).filter(|d| {
@@ -1271,6 +1322,22 @@ fn run_index1(
             || select_dependent(&gv, &preferred)
                 .is_none_or(|b| dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN >= cond)
     });
+    // what the hand-over compares with: the joints' and the partition's conditioning at the start
+    let watch = {
+        let gv = gv_at(&tapes, t0, &x);
+        let block = from_causality
+            .as_ref()
+            .or(select_dependent(&gv, &preferred).as_ref())
+            .map_or(f64::INFINITY, |d| dependent_condition(&gv, d));
+        HandoverWatch {
+            joints: if hands_over {
+                crate::dae::joint_condition_number(&gv, &sys.mass)
+            } else {
+                f64::INFINITY
+            },
+            block: block.max(INDEX1_CHECK_CONDITION / 2.0),
+        }
+    };
     if from_causality.is_none() && !sys.inertias.is_empty() {
         summary.warnings.push(format!(
             "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",
@@ -1282,6 +1349,10 @@ fn run_index1(
         let chosen = from_causality
             .take()
             .or_else(|| select_dependent(&gv, &preferred));
+        if chosen.is_none() && hands_over {
+            handover = Some((t_start, "no regular set of dependent velocities".into()));
+            break 'restart;
+        }
         let dependent = chosen.ok_or_else(|| {
             let c = joint_conditioning(&gv, &sys.mass, &sys.rows);
             Error::Init(crate::dae::InitError::Singular {
@@ -1331,6 +1402,11 @@ fn run_index1(
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {
                 Ok(s) => s,
+                Err(e) if hands_over && !is_budget(&e) => {
+                    total.accumulate(&ida.stats());
+                    handover = Some((t_last, format!("IDA failed at t = {:.6}: {e}", ida.t())));
+                    break 'restart;
+                }
                 Err(e) => {
                     total.accumulate(&ida.stats());
                     fill_stats(summary, &total);
@@ -1347,7 +1423,9 @@ fn run_index1(
                 let Some(stop) = events_fired(&sys.events, info, step.t, summary) else {
                     continue;
                 };
-                let row = out.row(step.t, ida.y());
+                let mut yr = ida.y().to_vec();
+                complete_dependent(&tapes, &dependent, step.t, &mut yr);
+                let row = out.row(step.t, &yr);
                 if emit(&mut sol, observer, step.t, row) || stop {
                     total.accumulate(&ida.stats());
                     break 'restart;
@@ -1355,13 +1433,35 @@ fn run_index1(
                 continue;
             }
             k_next += 1;
-            x.copy_from_slice(&ida.y()[..nq + nv]);
-            let row = out.row(step.t, ida.y());
+            let mut yr = ida.y().to_vec();
+            complete_dependent(&tapes, &dependent, step.t, &mut yr);
+            x.copy_from_slice(&yr[..nq + nv]);
+            t_last = step.t;
+            let row = out.row(step.t, &yr);
             if emit(&mut sol, observer, step.t, row) {
                 total.accumulate(&ida.stats());
                 break 'restart;
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
+            if hands_over && cond > 2.0 * watch.block && k_next < opts.output_times.len() {
+                // the partition degrades: are the joints approaching a singular configuration?
+                let gv = gv_at(&tapes, step.t, &x);
+                let kappa = crate::dae::joint_condition_number(&gv, &sys.mass);
+                let best = select_dependent(&gv, &preferred)
+                    .map_or(f64::INFINITY, |b| dependent_condition(&gv, &b))
+                    .min(cond);
+                if kappa > DAE_HANDOVER_RISE * watch.joints || best > DAE_HANDOVER_CONDITION {
+                    total.accumulate(&ida.stats());
+                    handover = Some((
+                        step.t,
+                        format!(
+                            "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {t0}), the best dependent block's condition {best:.1e}",
+                            watch.joints
+                        ),
+                    ));
+                    break 'restart;
+                }
+            }
             if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
                 let gv = gv_at(&tapes, step.t, &x);
                 let better = select_dependent(&gv, &preferred);
@@ -1389,9 +1489,112 @@ fn run_index1(
     fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
     set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
+    if let Some((t_h, why)) = handover {
+        // t_h is the last output reached: x is its (completed) state
+        return continue_with_ggl(sys, c, tapes, (t_h, &x), k_next, opts, summary, sol, observer, &why);
+    }
     set_completed(summary, &sol);
     sol.summary = summary.clone();
     Ok(sol)
+}
+
+/// The joints' and the partition's conditioning at the start of a `dae` run.
+struct HandoverWatch {
+    /// `κ(G_v M⁺ G_vᵀ)`.
+    joints: f64,
+    /// `κ(G_v[:, D])` (at least half the re-selection threshold).
+    block: f64,
+}
+
+/// The rise of the joints' condition number `κ(G_v M⁺ G_vᵀ)` over its value at the start above
+/// which the `dae` formulation hands the rest of the run to the GGL (checked at the outputs
+/// where the dependent block's condition has doubled). Measured on the bundled scenes: the
+/// slider-crank's κ varies by 1.9× over its turns, Andrews' by 1.6×, the four-bar's by 2.9×;
+/// the three-four-bar chain's rises 18× an output step before its alignment (κ peak 8e3).
+const DAE_HANDOVER_RISE: f64 = 10.0;
+
+/// The condition number of the best-conditioned dependent block `G_v[:, D]` above which the
+/// `dae` formulation hands the rest of the run to the GGL (which passes singular configurations
+/// with its compliant form and reports them): every partition is then degrading, as near a
+/// singular configuration of the joints (a four-bar chain's alignment; a slider-crank's dead
+/// centre is not one: the crank angle stays a regular state there).
+const DAE_HANDOVER_CONDITION: f64 = 1e3;
+
+/// The rest of a `dae` run, from the output time `t_h` and state `x_h = [q, v]` it reached, on
+/// the GGL (plain, compliant at singular passages): the rows after `t_h` are appended to
+/// `sol`, the counters of both parts added, and the hand-over named in the warnings.
+#[allow(clippy::too_many_arguments)]
+fn continue_with_ggl(
+    mut sys: MultibodySystem,
+    c: &ConstraintExprs,
+    tapes: MechanicsTapes,
+    (t_h, x_h): (f64, &[f64]),
+    k_next: usize,
+    opts: &SolveOptions,
+    summary: &mut Summary,
+    mut sol: Solution,
+    observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
+    why: &str,
+) -> Result<Solution, Error> {
+    let before = summary.clone();
+    summary.warnings.push(format!(
+        "dae: the rest of the run from t = {t_h:.6} is solved by the GGL ({why})"
+    ));
+    let init = consistent_state_from(&sys, &tapes, t_h, x_h)?;
+    let mut o = opts.clone();
+    o.output_times = std::iter::once(t_h)
+        .chain(opts.output_times[k_next.min(opts.output_times.len())..].iter().copied())
+        .collect();
+    let eps_default = default_compliance(&sys, opts);
+    let t = ThreadTime::now();
+    let ggl = GglFormulation::build(&mut sys, c, 0.0);
+    summary.build_cpu_seconds += t.elapsed().as_secs_f64();
+    // the row at t_h is the dae part's last one
+    let mut first = true;
+    let mut rest = |r: Row<'_>| {
+        if std::mem::take(&mut first) {
+            ControlFlow::Continue(())
+        } else {
+            observer(r)
+        }
+    };
+    let merge = |part: &mut Solution, sol: &Solution, before: &Summary| {
+        let mut times = sol.times.clone();
+        let mut rows = sol.rows.clone();
+        times.extend(part.times.iter().skip(1));
+        rows.extend(part.rows.iter().skip(1).cloned());
+        part.times = times;
+        part.rows = rows;
+        let s = &mut part.summary;
+        s.formulation = "dae".into();
+        s.steps += before.steps;
+        s.residual_evals += before.residual_evals;
+        s.jacobian_evals += before.jacobian_evals;
+        s.linear_setups += before.linear_setups;
+        s.error_test_failures += before.error_test_failures;
+        s.nonlinear_iterations += before.nonlinear_iterations;
+        s.nonlinear_conv_failures += before.nonlinear_conv_failures;
+        s.cpu_seconds += before.cpu_seconds;
+        s.index1_reselections = before.index1_reselections;
+        s.max_constraint_error = s.max_constraint_error.max(before.max_constraint_error);
+        if let (Some(a), Some(b)) = (s.energy_drift, before.energy_drift) {
+            s.energy_drift = Some(a + b);
+        }
+    };
+    let result = run_ggl(
+        &sys, ggl, tapes, &init, 0.0, eps_default, &o, summary, &mut rest,
+    );
+    match result {
+        Ok(mut part) => {
+            merge(&mut part, &sol, &before);
+            *summary = part.summary.clone();
+            Ok(part)
+        }
+        Err(e) => {
+            sol.summary = before.clone();
+            Err(e.map_partial(|p| merge(p, &sol, &before)))
+        }
+    }
 }
 
 fn run_decoupled(
