@@ -675,10 +675,10 @@ fn complete_dependent(tapes: &MechanicsTapes, dependent: &[usize], t: f64, y: &m
         }
         let gq = tapes.gq.matrix(t, &y[..nq + nv]);
         let block = DMatrix::from_fn(nc, nc, |r, k| gq[(r, dependent[k])]);
-        let Some(dq) = block.lu().solve(&nalgebra::DVector::from_iterator(
-            nc,
-            g.iter().map(|v| -v),
-        )) else {
+        let Some(dq) = block
+            .lu()
+            .solve(&nalgebra::DVector::from_iterator(nc, g.iter().map(|v| -v)))
+        else {
             return;
         };
         for (k, &j) in dependent.iter().enumerate() {
@@ -1402,7 +1402,7 @@ fn run_index1(
             let t = opts.output_times[k_next];
             let step = match ida.solve_to(t) {
                 Ok(s) => s,
-                Err(e) if hands_over && !is_budget(&e) => {
+                Err(e) if hands_over && is_convergence_failure(&e).is_some() => {
                     total.accumulate(&ida.stats());
                     handover = Some((t_last, format!("IDA failed at t = {:.6}: {e}", ida.t())));
                     break 'restart;
@@ -1491,7 +1491,18 @@ fn run_index1(
     set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
     if let Some((t_h, why)) = handover {
         // t_h is the last output reached: x is its (completed) state
-        return continue_with_ggl(sys, c, tapes, (t_h, &x), k_next, opts, summary, sol, observer, &why);
+        return continue_with_ggl(
+            sys,
+            c,
+            tapes,
+            (t_h, &x),
+            k_next,
+            opts,
+            summary,
+            sol,
+            observer,
+            &why,
+        );
     }
     set_completed(summary, &sol);
     sol.summary = summary.clone();
@@ -1543,7 +1554,11 @@ fn continue_with_ggl(
     let init = consistent_state_from(&sys, &tapes, t_h, x_h)?;
     let mut o = opts.clone();
     o.output_times = std::iter::once(t_h)
-        .chain(opts.output_times[k_next.min(opts.output_times.len())..].iter().copied())
+        .chain(
+            opts.output_times[k_next.min(opts.output_times.len())..]
+                .iter()
+                .copied(),
+        )
         .collect();
     let eps_default = default_compliance(&sys, opts);
     let t = ThreadTime::now();
@@ -1582,7 +1597,15 @@ fn continue_with_ggl(
         }
     };
     let result = run_ggl(
-        &sys, ggl, tapes, &init, 0.0, eps_default, &o, summary, &mut rest,
+        &sys,
+        ggl,
+        tapes,
+        &init,
+        0.0,
+        eps_default,
+        &o,
+        summary,
+        &mut rest,
     );
     match result {
         Ok(mut part) => {

@@ -79,8 +79,7 @@ pub fn factor(a: &mut [f64], n: usize, pivots: &mut [usize]) -> usize {
 
 /// Solves `A x = b` in place with the factors of [`factor`].
 pub fn solve(a: &[f64], n: usize, pivots: &[usize], b: &mut [f64]) {
-    for k in 0..n {
-        let p = pivots[k];
+    for (k, &p) in pivots.iter().enumerate().take(n) {
         if p != k {
             b.swap(k, p);
         }
@@ -143,8 +142,8 @@ unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int 
         lu.factors = data;
         lu.factored = false;
         // no panic may unwind into SUNDIALS
-        let zero = catch_unwind(AssertUnwindSafe(|| factor(m, n, &mut lu.pivots)))
-            .unwrap_or(usize::MAX);
+        let zero =
+            catch_unwind(AssertUnwindSafe(|| factor(m, n, &mut lu.pivots))).unwrap_or(usize::MAX);
         match zero {
             0 => {
                 lu.factored = true;

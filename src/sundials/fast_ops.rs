@@ -7,7 +7,7 @@
 //! double-pendulum solve on IDA, `SUNDlsMat_denseGETRS` 34 %). These kernels compute the same
 //! expressions in the same order as `nvector_serial.c` (`z_i = a x_i + b y_i`,
 //! `‖x‖_WRMS = sqrt(Σ (x_i w_i)² / n)`, …) and are installed into the ops table of every vector
-//! [`super::vector::NVector`] creates; SUNDIALS copies the table into each clone, so IDA's,
+//! `NVector` (`super::vector`) creates; SUNDIALS copies the table into each clone, so IDA's,
 //! CVODE's and ARKODE's work vectors all use them.
 //!
 //! Every kernel reads the elements of its inputs at index `i` before writing element `i` of its
@@ -40,7 +40,13 @@ unsafe fn nth(a: *mut sys::N_Vector, i: usize) -> sys::N_Vector {
     unsafe { *a.add(i) }
 }
 
-unsafe extern "C" fn linear_sum(a: f64, x: sys::N_Vector, b: f64, y: sys::N_Vector, z: sys::N_Vector) {
+unsafe extern "C" fn linear_sum(
+    a: f64,
+    x: sys::N_Vector,
+    b: f64,
+    y: sys::N_Vector,
+    z: sys::N_Vector,
+) {
     // SAFETY: SUNDIALS passes live serial vectors of one length; each element is read before
     // the same element of z is written (aliasing as in the C loop).
     unsafe {
@@ -212,7 +218,11 @@ unsafe extern "C" fn wsqr_sum_local(x: sys::N_Vector, w: sys::N_Vector) -> f64 {
     unsafe { wsqr_sum(x, w, None) }
 }
 
-unsafe extern "C" fn wsqr_sum_mask_local(x: sys::N_Vector, w: sys::N_Vector, id: sys::N_Vector) -> f64 {
+unsafe extern "C" fn wsqr_sum_mask_local(
+    x: sys::N_Vector,
+    w: sys::N_Vector,
+    id: sys::N_Vector,
+) -> f64 {
     // SAFETY: live serial vectors of one length.
     unsafe { wsqr_sum(x, w, Some(id)) }
 }
