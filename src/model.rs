@@ -228,7 +228,9 @@ impl Model {
             t_start: s.t_start,
             output_times: self.scene.output_times(),
             max_steps: s.max_steps,
-            max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
+            max_wall_clock: s
+                .max_wall_seconds
+                .and_then(|w| crate::scene::validate::wall_clock(w).ok()),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
             linear_solver: s.linear_solver,

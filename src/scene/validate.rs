@@ -677,7 +677,7 @@ fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
         p.push(
             "solve.t_end",
             format!(
-                "t_end - t_start = {} - ({t0}) overflows to {span}: the time span must be finite",
+                "t_end - t_start = {:e} - ({t0:e}) overflows to {span}: the time span must be finite",
                 s.t_end
             ),
         );

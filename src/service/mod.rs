@@ -127,18 +127,11 @@ impl ServeArgs {
     /// The configuration, or a message naming the bad flag.
     pub fn config(&self) -> Result<Config, String> {
         let d = Config::default();
-        if !(self.max_solve_seconds > 0.0 && self.max_solve_seconds.is_finite()) {
-            return Err(format!(
-                "--max-solve-seconds: must be > 0 (got {})",
-                self.max_solve_seconds
-            ));
-        }
-        if !(self.shutdown_grace >= 0.0 && self.shutdown_grace.is_finite()) {
-            return Err(format!(
-                "--shutdown-grace: must be >= 0 (got {})",
-                self.shutdown_grace
-            ));
-        }
+        use crate::scene::validate::{check_grace_seconds, check_wall_seconds, wall_clock};
+        check_wall_seconds(self.max_solve_seconds)
+            .map_err(|e| format!("--max-solve-seconds: {e}"))?;
+        check_grace_seconds(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
+        let grace = wall_clock(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
         if self.max_concurrent == Some(0) {
             return Err("--max-concurrent: must be >= 1".into());
         }
@@ -154,7 +147,7 @@ impl ServeArgs {
                 max_solve_seconds: self.max_solve_seconds,
                 body_timeout: d.limits.body_timeout,
             },
-            shutdown_grace: Duration::from_secs_f64(self.shutdown_grace),
+            shutdown_grace: grace,
             retry_after: d.retry_after,
         })
     }
@@ -209,7 +202,8 @@ async fn serve(
     stop: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     let metrics = Arc::new(Metrics::default());
-    let queue_wait = Duration::from_secs_f64(config.limits.max_solve_seconds);
+    let queue_wait = crate::scene::validate::wall_clock(config.limits.max_solve_seconds)
+        .unwrap_or(Duration::from_secs(60));
     let app = Arc::new(App {
         pool: Pool::new(
             config.max_concurrent,
