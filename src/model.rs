@@ -284,6 +284,15 @@ impl Model {
         self.mechanism().map(crate::solve::run::output_columns)
     }
 
+    /// The names of the columns of every row a solve produces (without `t`), in order, for
+    /// mechanisms and raw bond graphs alike (a raw graph's come from its causal equations).
+    pub fn row_columns(&self) -> Result<Vec<String>> {
+        match &self.kind {
+            Kind::Mechanism(sys) => Ok(crate::solve::run::output_columns(sys)),
+            Kind::BondGraph(g, _) => crate::solve::bond_run::bond_graph_columns(g),
+        }
+    }
+
     /// Solves with `opts`.
     pub fn solve(&self, opts: &SolveOptions) -> Result<Solution> {
         self.solve_streaming(opts, &mut |_| ControlFlow::Continue(()))
@@ -301,6 +310,15 @@ impl Model {
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     ) -> Result<Solution> {
         check_tolerances(opts)?;
+        if opts.keep_rows {
+            // every row is kept: refuse up front what cannot fit (a streaming solve keeps none)
+            let columns = self.columns().map_or(16, |c| c.len());
+            crate::mech::size::check_rows_memory(
+                opts.output_times.len(),
+                columns,
+                crate::mech::size::memory_limit(),
+            )?;
+        }
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)

@@ -131,7 +131,8 @@ impl ServeArgs {
         check_wall_seconds(self.max_solve_seconds)
             .map_err(|e| format!("--max-solve-seconds: {e}"))?;
         check_grace_seconds(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
-        let grace = wall_clock(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
+        let grace =
+            wall_clock(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
         if self.max_concurrent == Some(0) {
             return Err("--max-concurrent: must be >= 1".into());
         }

@@ -266,7 +266,13 @@ fn solve_from_first_output(
             }
             match cv.solve_to(t) {
                 Ok(step) => {
-                    stop = emit(&mut sol, observer, step.t, out.row(step.t, cv.y()), opts.keep_rows);
+                    stop = emit(
+                        &mut sol,
+                        observer,
+                        step.t,
+                        out.row(step.t, cv.y()),
+                        opts.keep_rows,
+                    );
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &cv.stats());
@@ -327,7 +333,13 @@ fn solve_from_first_output(
             }
             match ida.solve_to(t) {
                 Ok(step) => {
-                    stop = emit(&mut sol, observer, step.t, out.row(step.t, ida.y()), opts.keep_rows);
+                    stop = emit(
+                        &mut sol,
+                        observer,
+                        step.t,
+                        out.row(step.t, ida.y()),
+                        opts.keep_rows,
+                    );
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &ida.stats());

@@ -157,22 +157,22 @@ impl Solution {
         self.rows.get(k).map(|r| r[c])
     }
 
-    /// CSV text: header `t,<columns>`, one row per output time.
+    /// CSV text: header `t,<columns>`, one row per output time (written by the `csv` crate:
+    /// a column name holding a comma or a quote is quoted per RFC 4180).
     pub fn to_csv(&self) -> String {
-        let mut s = String::from("t");
-        for c in &self.columns {
-            s.push(',');
-            s.push_str(c);
-        }
-        s.push('\n');
+        let mut bytes = Vec::new();
+        self.write_csv(&mut bytes)
+            .expect("writing to memory does not fail");
+        String::from_utf8(bytes).expect("CSV of UTF-8 names and numbers is UTF-8")
+    }
+
+    /// Writes [`Solution::to_csv`] to `w`, row by row.
+    pub fn write_csv(&self, w: impl std::io::Write) -> std::io::Result<()> {
+        let mut csv = crate::output::CsvRows::new(w, &self.columns)?;
         for (t, r) in self.times.iter().zip(&self.rows) {
-            s.push_str(&format!("{t}"));
-            for v in r {
-                s.push_str(&format!(",{v:.17e}"));
-            }
-            s.push('\n');
+            csv.row(*t, r)?;
         }
-        s
+        csv.finish().map(drop)
     }
 }
 
