@@ -177,9 +177,13 @@ impl Model {
     }
 
     /// The bond graph of `variant` (for a mechanism: joints kept, or replaced by stiff
-    /// springs; a raw bond graph has one variant only) with its causal assignment (by matching).
+    /// springs; a raw bond graph has one variant only, and asking for its decoupled twin is an
+    /// error) with its causal assignment (by matching).
     pub fn scene_graph(&self, variant: Variant) -> Result<SceneGraph> {
         match &self.kind {
+            Kind::BondGraph(..) if variant == Variant::Decoupled => Err(Error::Options(
+                "decoupled: a raw bond graph has no joints to decouple".into(),
+            )),
             Kind::BondGraph(g, _) => SceneGraph::from_graph((**g).clone()),
             Kind::Mechanism(_) => SceneGraph::new(&self.scene, variant),
         }

@@ -50,7 +50,12 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
         .as_ref()
         .ok_or_else(|| Error::BondGraph("the scene has no bond_graph".into()))?;
     let raw = RawBondGraph::from_value(raw).map_err(validation_error)?;
-    raw.to_graph().map_err(validation_error)
+    let g = raw.to_graph().map_err(validation_error)?;
+    let errors = crate::bond::validate::check_expression_values(&g, scene.solve.t_start);
+    if !errors.is_empty() {
+        return Err(validation_error(crate::bond::ValidationErrors(errors)));
+    }
+    Ok(g)
 }
 
 /// The solve options written in a raw bond graph scene's `solve` section
