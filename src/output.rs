@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 #[non_exhaustive]
 pub enum OutputError {
     /// The output is one of the command's inputs (same path, hard link or symbolic link).
-    #[error("{flag} {}: is the input {} ({how}); refusing to overwrite it", .path.display(), .input.display())]
+    #[error("{flag} {}: is an input of this command ({}, {how}); refusing to overwrite it", .path.display(), .input.display())]
     IsInput {
         /// The flag (`--out`, `--summary`, …).
         flag: String,

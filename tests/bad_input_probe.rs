@@ -165,6 +165,9 @@ fn regression_serve_shutdown_grace_and_max_solve_seconds_1e300_killed_the_server
         ("--max-solve-seconds", "1e300"),
         ("--shutdown-grace", "-1"),
         ("--max-solve-seconds", "0"),
+        // counts that become semaphores and threads
+        ("--max-concurrent", "18446744073709551615"),
+        ("--queue", "18446744073709551615"),
     ] {
         let args = Args::try_parse_from(["serve".to_string(), format!("{flag}={value}")])
             .expect("the flag parses as a number");

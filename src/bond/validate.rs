@@ -643,9 +643,10 @@ fn value_rule(kind: ElementKind, v: f64) -> Option<&'static str> {
 }
 
 /// Expression-valued parameters that depend on nothing but `t` (a constant written as a
-/// string, `"-1.5"`, or a function of time), evaluated at `t_start` and held to the rules
-/// numbers obey: a value given as an expression must not slip past the sign checks.
-/// Expressions of the state are checked while solving (a non-finite value names the element).
+/// string, `"-1.5"`, or a function of time), evaluated at `t_start` and held to the sign rules
+/// numbers obey: a value given as an expression must not slip past the sign checks. A
+/// non-finite value, and expressions of the state, are refused by the solve's check at their
+/// first evaluation, which names the element and the time.
 pub fn check_expression_values(graph: &BondGraph, t_start: f64) -> Vec<BondError> {
     let mut errors = Vec::new();
     for (i, e) in graph.elements.iter().enumerate() {
@@ -665,6 +666,11 @@ pub fn check_expression_values(graph: &BondGraph, t_start: f64) -> Vec<BondError
             continue;
         };
         let value = g.eval(x, &[t_start]);
+        // a non-finite value is named by the solve's own check at its first evaluation
+        // (`bond_graph.elements[0] (Se 'F', value "1/t") evaluates to inf at t = 0`)
+        if !value.is_finite() {
+            continue;
+        }
         if let Some(rule) = value_rule(e.kind, value) {
             errors.push(BondError::ExpressionValue {
                 path: format!("{}.{}", element_path(i), parameter_field(e.kind)),

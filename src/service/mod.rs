@@ -91,6 +91,13 @@ impl Default for Config {
     }
 }
 
+/// Most solves `--max-concurrent` may run at once (each is a blocking thread).
+pub const MAX_CONCURRENT: usize = 1024;
+/// Longest queue `--queue` may ask for.
+pub const MAX_QUEUE: u64 = 1_000_000;
+/// Largest request body `--max-body` may allow (1 GiB).
+pub const MAX_BODY: u64 = 1 << 30;
+
 /// The flags of `bondmech serve`.
 #[derive(clap::Args, Clone, Debug)]
 pub struct ServeArgs {
@@ -133,8 +140,32 @@ impl ServeArgs {
         check_grace_seconds(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
         let grace =
             wall_clock(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
-        if self.max_concurrent == Some(0) {
-            return Err("--max-concurrent: must be >= 1".into());
+        if let Some(n) = self.max_concurrent {
+            if !(1..=MAX_CONCURRENT).contains(&n) {
+                return Err(format!(
+                    "--max-concurrent: must be between 1 and {MAX_CONCURRENT} (got {n})"
+                ));
+            }
+        }
+        // counts and sizes that become semaphores, threads or buffers: bounded where parsed
+        let counts: [(&str, u64, u64); 4] = [
+            ("--queue", self.queue as u64, MAX_QUEUE),
+            ("--max-body", self.max_body, MAX_BODY),
+            (
+                "--max-rows",
+                self.max_rows as u64,
+                crate::scene::validate::MAX_OUTPUT_TIMES as u64,
+            ),
+            (
+                "--max-elements",
+                self.max_elements as u64,
+                crate::scene::validate::MAX_SCENE_ENTRIES as u64,
+            ),
+        ];
+        for (flag, value, max) in counts {
+            if value > max {
+                return Err(format!("{flag}: must be at most {max} (got {value})"));
+            }
         }
         Ok(Config {
             addr: self.addr,

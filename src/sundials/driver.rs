@@ -59,7 +59,9 @@ pub(crate) struct DriverState {
 /// Consecutive internal steps that leave the time where it was (`t + h == t` in floating
 /// point: the step size is below the resolution of doubles at `t`, e.g. at `t = 1e300`)
 /// after which the solve stops with [`SolverError::NoProgress`] instead of stepping forever.
-pub const MAX_STALLED_STEPS: u32 = 10;
+/// Steps shrinking against a non-finite value stall too; the non-finite detection (25
+/// evaluations) names the culprit before this count is reached.
+pub const MAX_STALLED_STEPS: u32 = 100;
 
 /// Counts a step from `before` to `after`: `Err(NoProgress)` after [`MAX_STALLED_STEPS`] in a
 /// row that did not advance the time.
