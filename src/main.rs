@@ -496,6 +496,7 @@ fn run_command(
     };
     let mut failed: Option<std::io::Error> = None;
     let mut last_t = f64::NEG_INFINITY;
+    let mut written = 0usize;
     let result = model.solve_streaming(&opts, &mut |row| {
         if let Some(s) = sink.as_mut() {
             if let Err(e) = s.row(row.t, row.values) {
@@ -504,6 +505,7 @@ fn run_command(
             }
         }
         last_t = row.t;
+        written += 1;
         ControlFlow::Continue(())
     });
     if let Some(e) = failed {
@@ -526,6 +528,8 @@ fn run_command(
                     if *t > last_t {
                         s.row(*t, r)
                             .map_err(io_error(out.unwrap_or(Path::new("-"))))?;
+                        last_t = *t;
+                        written += 1;
                     }
                 }
                 s.finish()?;
@@ -533,8 +537,37 @@ fn run_command(
             if let Some(p) = summary {
                 write_summary(p, &partial.summary)?;
             }
-            let note = out.map(|p| format!("written to {}", p.display()));
-            return Err(CliError { error: e, note });
+            let written_to = out.map(|p| format!("written to {}", p.display()));
+            if opts.keep_rows {
+                return Err(CliError {
+                    error: e,
+                    note: written_to,
+                });
+            }
+            // the rows went to their sink as they came and the partial solution holds the
+            // last ones only: the count is the sink's
+            let s = &partial.summary;
+            let hint = match s.stopped_by.as_deref() {
+                Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
+                Some("max_wall_seconds") => {
+                    " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
+                }
+                _ => "",
+            };
+            let mut note = format!(
+                "stopped at t = {}{hint}; the {written} rows up to t = {last_t} are kept",
+                s.t_reached
+            );
+            if let Some(w) = written_to {
+                note = format!("{note}; {w}");
+            }
+            let Error::Incomplete { cause, .. } = e else {
+                unreachable!("a partial solution comes with Error::Incomplete")
+            };
+            return Err(CliError {
+                error: *cause,
+                note: Some(note),
+            });
         }
     };
     // the rows are in place before anything else can fail

@@ -754,3 +754,31 @@ fn a_load_expression_reads_a_quoted_body_name() {
     opts.output_times.truncate(5);
     model.solve(&opts).unwrap();
 }
+
+// ---------------------------------------------------------------------------------------------
+// A run stopped by a budget keeps its rows, streamed or not.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn a_run_stopped_by_a_budget_keeps_every_streamed_row_and_counts_them() {
+    let d = dir("budget");
+    let out = d.join("o.csv");
+    let p = scene_path("pendulum.json");
+    let o = run_within(
+        &[
+            "run",
+            p.to_str().unwrap(),
+            "--max-steps",
+            "300",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        Duration::from_secs(60),
+    )
+    .unwrap();
+    assert_clear_error(&o, &["--max-steps", "written to"]);
+    let e = stderr(&o);
+    let rows = std::fs::read_to_string(&out).unwrap().lines().count() - 1;
+    assert!(rows > 2, "{rows} rows");
+    assert!(e.contains(&format!("the {rows} rows up to t = ")), "{e}");
+}
