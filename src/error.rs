@@ -61,6 +61,10 @@ pub enum Error {
     /// Invalid solve options.
     #[error("invalid options: {0}")]
     Options(String),
+    /// An output path refused before anything is computed (an input, given twice, not
+    /// writable).
+    #[error("{0}")]
+    Output(#[from] crate::output::OutputError),
     /// A parameter sweep, one of its shards or their merge was refused (what and where in the
     /// message).
     #[error("{0}")]

@@ -75,6 +75,7 @@ pub mod graph;
 pub mod mech;
 pub mod model;
 mod model_inspect;
+pub mod output;
 pub mod report;
 pub mod scene;
 pub mod service;

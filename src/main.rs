@@ -7,6 +7,7 @@
 //! standard output (`| head`) ends the program quietly.
 
 use std::io::{Read, Write};
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -395,8 +396,9 @@ fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     }
 }
 
+/// Writes `text` to `path` atomically (beside it, then renamed into place).
 fn write(path: &Path, text: &str) -> Result<(), Error> {
-    std::fs::write(path, text).map_err(io_error(path))
+    bondmech::output::write_atomic(path, text.as_bytes()).map_err(io_error(path))
 }
 
 /// Writes to standard output; a closed pipe comes back as a `BrokenPipe` I/O error.
@@ -407,100 +409,196 @@ fn stdout_write(text: &str) -> Result<(), Error> {
         .map_err(io_error(Path::new("standard output")))
 }
 
-/// `path` made absolute without requiring it to exist (its parent is resolved when it exists).
-fn resolved(path: &Path) -> PathBuf {
-    if let Ok(p) = path.canonicalize() {
-        return p;
-    }
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    match (parent.canonicalize(), path.file_name()) {
-        (Ok(dir), Some(name)) => dir.join(name),
-        _ => path.to_path_buf(),
-    }
-}
-
-/// Refuses an output path equal to an input or to another output, and one that cannot be
-/// written (a missing directory, a directory in place of a file, no permission) — before
-/// anything is solved, so that no result is computed only to be lost.
+/// Refuses an output that is an input (same path, hard or symbolic link), given twice, or
+/// not writable — before anything is solved ([`bondmech::output::check_outputs`]).
 fn check_outputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> Result<(), Error> {
-    let inputs: Vec<PathBuf> = inputs
-        .iter()
-        .filter(|p| **p != Path::new("-"))
-        .map(|p| resolved(p))
-        .collect();
-    let mut seen: Vec<(&str, PathBuf)> = Vec::new();
-    for (flag, path) in outputs {
-        let Some(path) = path else { continue };
-        let r = resolved(path);
-        if inputs.contains(&r) {
-            return Err(Error::Options(format!(
-                "{flag} {}: is an input of this command; refusing to overwrite it",
-                path.display()
-            )));
-        }
-        if let Some((other, _)) = seen.iter().find(|(_, q)| *q == r) {
-            return Err(Error::Options(format!(
-                "{flag} {}: is also given to {other}; give each output its own file",
-                path.display()
-            )));
-        }
-        writable(flag, path)?;
-        seen.push((flag, r));
-    }
-    Ok(())
+    Ok(bondmech::output::check_outputs(inputs, outputs)?)
 }
 
-/// Whether a file can be written at `path` without creating or changing it now.
-fn writable(flag: &str, path: &Path) -> Result<(), Error> {
-    let refuse = |why: String| Err(Error::Options(format!("{flag} {}: {why}", path.display())));
-    if path.is_dir() {
-        return refuse("is a directory".into());
+/// Where `run` streams its rows: a file written atomically, or standard output.
+enum RowSink {
+    File(
+        bondmech::output::CsvRows<bondmech::output::AtomicFile>,
+        PathBuf,
+    ),
+    Stdout(bondmech::output::CsvRows<std::io::Stdout>),
+}
+
+impl RowSink {
+    fn new(out: Option<&Path>, columns: &[String]) -> Result<RowSink, Error> {
+        use bondmech::output::{AtomicFile, CsvRows};
+        Ok(match out {
+            Some(p) => RowSink::File(
+                AtomicFile::create(p)
+                    .and_then(|f| CsvRows::new(f, columns))
+                    .map_err(io_error(p))?,
+                p.to_path_buf(),
+            ),
+            None => RowSink::Stdout(
+                CsvRows::new(std::io::stdout(), columns)
+                    .map_err(io_error(Path::new("standard output")))?,
+            ),
+        })
     }
-    if path.exists() {
-        return match std::fs::OpenOptions::new().append(true).open(path) {
-            Ok(_) => Ok(()),
-            Err(e) => refuse(format!("cannot be written ({e})")),
-        };
-    }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return refuse(format!("directory {} does not exist", dir.display()));
-    }
-    let probe = dir.join(format!(".bondmech-write-probe-{}", std::process::id()));
-    match std::fs::File::create(&probe) {
-        Ok(_) => {
-            let _ = std::fs::remove_file(&probe);
-            Ok(())
+
+    fn path(&self) -> &Path {
+        match self {
+            RowSink::File(_, p) => p,
+            RowSink::Stdout(_) => Path::new("standard output"),
         }
-        Err(e) => refuse(format!(
-            "directory {} cannot be written ({e})",
-            dir.display()
-        )),
+    }
+
+    fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
+        match self {
+            RowSink::File(w, _) => w.row(t, values),
+            RowSink::Stdout(w) => w.row(t, values),
+        }
+    }
+
+    /// Flushes the rows; a file is renamed into place only now.
+    fn finish(self) -> Result<(), Error> {
+        let path = self.path().to_path_buf();
+        match self {
+            RowSink::File(w, _) => w.finish().and_then(|f| f.commit()),
+            RowSink::Stdout(w) => w.finish().and_then(|mut o| o.flush()),
+        }
+        .map_err(io_error(&path))
     }
 }
 
-/// Writes a solution's CSV and summary where the flags say (standard output when `--out` is
-/// absent and no table is asked for).
-fn write_solution(
-    sol: &bondmech::Solution,
+/// Writes the summary JSON atomically.
+fn write_summary(path: &Path, summary: &bondmech::Summary) -> Result<(), Error> {
+    let j = serde_json::to_string_pretty(summary).expect("summary serialises");
+    write(path, &j)
+}
+
+/// `bondmech run`: the rows stream to `--out` (or standard output) as they are computed, so
+/// memory stays bounded whatever their number; they are kept in memory only for `--table`
+/// and `--plot`. A run stopped by a budget writes the rows it computed, then fails.
+fn run_command(
+    args: &SolveArgs,
     out: Option<&Path>,
     summary: Option<&Path>,
     table: bool,
-) -> Result<(), Error> {
-    match out {
-        Some(p) => write(p, &sol.to_csv())?,
-        None if !table => stdout_write(&sol.to_csv())?,
-        None => {}
+    plot: Option<&Path>,
+) -> Result<(), CliError> {
+    check_outputs(&[&args.scene], &[("--out", out), ("--summary", summary)])?;
+    if let Some(dir) = plot {
+        let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(out).collect();
+        bondmech::output::check_output_dir("--plot", dir, &inputs).map_err(Error::from)?;
     }
+    let (model, mut opts) = load(args)?;
+    opts.keep_rows = table || plot.is_some();
+    let columns = model.row_columns()?;
+    let mut sink = match (out, table) {
+        (None, true) => None,
+        (out, _) => Some(RowSink::new(out, &columns)?),
+    };
+    let mut failed: Option<std::io::Error> = None;
+    let mut last_t = f64::NEG_INFINITY;
+    let mut written = 0usize;
+    let result = model.solve_streaming(&opts, &mut |row| {
+        if let Some(s) = sink.as_mut() {
+            if let Err(e) = s.row(row.t, row.values) {
+                failed = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
+        last_t = row.t;
+        written += 1;
+        ControlFlow::Continue(())
+    });
+    if let Some(e) = failed {
+        let path = sink
+            .as_ref()
+            .map_or(PathBuf::new(), |s| s.path().to_path_buf());
+        return Err(io_error(&path)(e).into());
+    }
+    let sol = match result {
+        Ok(sol) => sol,
+        Err(e) => {
+            // a run stopped part-way keeps its rows: those streamed, plus the state at the time
+            // reached, then fails
+            let Some(partial) = e.partial_solution() else {
+                return Err(e.into());
+            };
+            print_warnings(&partial.summary.warnings);
+            if let Some(mut s) = sink.take() {
+                for (t, r) in partial.times.iter().zip(&partial.rows) {
+                    if *t > last_t {
+                        s.row(*t, r)
+                            .map_err(io_error(out.unwrap_or(Path::new("-"))))?;
+                        last_t = *t;
+                        written += 1;
+                    }
+                }
+                s.finish()?;
+            }
+            if let Some(p) = summary {
+                write_summary(p, &partial.summary)?;
+            }
+            let written_to = out.map(|p| format!("written to {}", p.display()));
+            if opts.keep_rows {
+                return Err(CliError {
+                    error: e,
+                    note: written_to,
+                });
+            }
+            // the rows went to their sink as they came and the partial solution holds the
+            // last ones only: the count is the sink's
+            let s = &partial.summary;
+            let hint = match s.stopped_by.as_deref() {
+                Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
+                Some("max_wall_seconds") => {
+                    " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
+                }
+                _ => "",
+            };
+            let mut note = format!(
+                "stopped at t = {}{hint}; the {written} rows up to t = {last_t} are kept",
+                s.t_reached
+            );
+            if let Some(w) = written_to {
+                note = format!("{note}; {w}");
+            }
+            let Error::Incomplete { cause, .. } = e else {
+                unreachable!("a partial solution comes with Error::Incomplete")
+            };
+            return Err(CliError {
+                error: *cause,
+                note: Some(note),
+            });
+        }
+    };
+    // the rows are in place before anything else can fail
+    if let Some(s) = sink.take() {
+        s.finish()?;
+    }
+    // the model's own warnings, redundant joints, singular passages, re-selections
+    print_warnings(&sol.summary.warnings);
     if let Some(p) = summary {
-        let j = serde_json::to_string_pretty(&sol.summary).expect("summary serialises");
-        write(p, &j)?;
+        write_summary(p, &sol.summary)?;
+    }
+    if let Some(dir) = plot {
+        let source = out.unwrap_or(&args.scene).display().to_string();
+        bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
+    }
+    if table {
+        let mut text = short_table(&sol, 11);
+        let s = &sol.summary;
+        let drift = match s.energy_drift {
+            Some(d) => format!("energy drift {d:.2e}"),
+            None => format!("energy not conserved ({})", s.energy_note),
+        };
+        text.push_str(&format!(
+            "{}: {} steps, {} residual evals, {} Jacobians, CPU {:.3e} s, max constraint error {:.2e}, {drift}\n",
+            s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
+            s.max_constraint_error
+        ));
+        for e in &s.events {
+            text.push_str(&format!("event {} at t = {}\n", e.name, e.t));
+        }
+        stdout_write(&text)?;
     }
     Ok(())
 }
@@ -513,51 +611,13 @@ fn run(cli: Cli) -> Result<(), CliError> {
             summary,
             table,
             plot,
-        } => {
-            check_outputs(
-                &[&args.scene],
-                &[("--out", out.as_deref()), ("--summary", summary.as_deref())],
-            )?;
-            let (model, opts) = load(&args)?;
-            let sol = match model.solve(&opts) {
-                Ok(sol) => sol,
-                Err(e) => {
-                    // a run stopped part-way keeps its rows: write them, then fail
-                    let Some(partial) = e.partial_solution() else {
-                        return Err(e.into());
-                    };
-                    print_warnings(&partial.summary.warnings);
-                    write_solution(partial, out.as_deref(), summary.as_deref(), table)?;
-                    let note = out.as_ref().map(|p| format!("written to {}", p.display()));
-                    return Err(CliError { error: e, note });
-                }
-            };
-            if let Some(dir) = &plot {
-                let source = out.as_ref().unwrap_or(&args.scene).display().to_string();
-                bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
-            }
-            // the model's own warnings, redundant joints, singular passages, re-selections
-            print_warnings(&sol.summary.warnings);
-            write_solution(&sol, out.as_deref(), summary.as_deref(), table)?;
-            if table {
-                let mut text = short_table(&sol, 11);
-                let s = &sol.summary;
-                let drift = match s.energy_drift {
-                    Some(d) => format!("energy drift {d:.2e}"),
-                    None => format!("energy not conserved ({})", s.energy_note),
-                };
-                text.push_str(&format!(
-                    "{}: {} steps, {} residual evals, {} Jacobians, CPU {:.3e} s, max constraint error {:.2e}, {drift}\n",
-                    s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
-                    s.max_constraint_error
-                ));
-                for e in &s.events {
-                    text.push_str(&format!("event {} at t = {}\n", e.name, e.t));
-                }
-                stdout_write(&text)?;
-            }
-            Ok(())
-        }
+        } => run_command(
+            &args,
+            out.as_deref(),
+            summary.as_deref(),
+            table,
+            plot.as_deref(),
+        ),
         Command::Equations { scene } => {
             let model = Model::new(&read_scene(&scene)?)?;
             if model.is_raw_bond_graph() {
@@ -639,6 +699,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             csv,
         } => Ok(animate(&args, &out, fps, speed, view, csv.as_deref())?),
         Command::Plot { csv, out } => {
+            bondmech::output::check_output_dir("--out", &out, &[&csv]).map_err(Error::from)?;
             let sol = bondmech::report::reference::reference_from_csv(&csv)?;
             let files =
                 bondmech::report::timeplot::plot_solution(&sol, &csv.display().to_string(), &out)?;
@@ -691,7 +752,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 )));
             }
             if let Some(r) = &reference {
-                if resolved(r).starts_with(resolved(&out)) {
+                if bondmech::output::resolved(r).starts_with(bondmech::output::resolved(&out)) {
                     return Err(options_error(format!(
                         "--out {}: contains the reference {}; the sweep's files could overwrite it",
                         out.display(),
@@ -749,6 +810,20 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 SweepConfig::full()
             };
             cfg.accuracy = accuracy.unwrap_or(cfg.accuracy);
+            if let Some(r) = repeats {
+                if !(1..=MAX_REPEATS).contains(&r) {
+                    return Err(options_error(format!(
+                        "--repeats: must be between 1 and {MAX_REPEATS} (got {r})"
+                    )));
+                }
+            }
+            if let Some(a) = accuracy {
+                if !(a.is_finite() && a > 0.0) {
+                    return Err(options_error(format!(
+                        "--accuracy: must be > 0 and finite (got {a})"
+                    )));
+                }
+            }
             cfg.repeats = repeats.unwrap_or(cfg.repeats);
             if let Some(t) = t_end {
                 cfg.t_end = Some(t);
@@ -785,6 +860,9 @@ fn run(cli: Cli) -> Result<(), CliError> {
         }
     }
 }
+
+/// Most timed runs per point of `sweep --repeats` (the median of more says nothing new).
+const MAX_REPEATS: usize = 100;
 
 /// The flags of a `sweep --vary`.
 struct VaryArgs {
@@ -894,38 +972,43 @@ fn animate(
     Ok(())
 }
 
-/// Renders DOT to SVG with Graphviz.
+/// Renders DOT to SVG with Graphviz, written atomically to `path`.
 fn svg(dot: &str, path: &Path) -> Result<(), Error> {
     use std::io::Write;
     let mut child = std::process::Command::new("dot")
         .arg("-Tsvg")
-        .arg("-o")
-        .arg(path)
         .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
         .spawn()
         .map_err(|e| {
             Error::Options(format!(
                 "cannot run Graphviz 'dot' ({e}): apt-get install graphviz, or write .dot"
             ))
         })?;
-    child
-        .stdin
-        .take()
-        .expect("piped stdin")
-        .write_all(dot.as_bytes())
-        .map_err(|source| Error::Io {
-            path: "dot".into(),
-            source,
-        })?;
-    let status = child.wait().map_err(|source| Error::Io {
+    let mut stdin = child.stdin.take().expect("piped stdin");
+    let text = dot.to_string();
+    // written from another thread: dot may fill its output pipe before reading all its input
+    let feeder = std::thread::spawn(move || stdin.write_all(text.as_bytes()));
+    let output = child.wait_with_output().map_err(|source| Error::Io {
         path: "dot".into(),
         source,
     })?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(Error::Options(format!("Graphviz 'dot' failed ({status})")))
+    let fed = feeder.join().unwrap_or_else(|_| {
+        Err(std::io::Error::other(
+            "the thread writing to Graphviz 'dot' panicked",
+        ))
+    });
+    if !output.status.success() {
+        return Err(Error::Options(format!(
+            "Graphviz 'dot' failed ({})",
+            output.status
+        )));
     }
+    fed.map_err(|source| Error::Io {
+        path: "dot".into(),
+        source,
+    })?;
+    bondmech::output::write_atomic(path, &output.stdout).map_err(io_error(path))
 }
 
 /// About `rows` evenly spaced rows of the first few columns.

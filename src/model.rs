@@ -178,9 +178,13 @@ impl Model {
     }
 
     /// The bond graph of `variant` (for a mechanism: joints kept, or replaced by stiff
-    /// springs; a raw bond graph has one variant only) with its causal assignment (by matching).
+    /// springs; a raw bond graph has one variant only, and asking for its decoupled twin is an
+    /// error) with its causal assignment (by matching).
     pub fn scene_graph(&self, variant: Variant) -> Result<SceneGraph> {
         match &self.kind {
+            Kind::BondGraph(..) if variant == Variant::Decoupled => Err(Error::Options(
+                "decoupled: a raw bond graph has no joints to decouple".into(),
+            )),
             Kind::BondGraph(g, _) => SceneGraph::from_graph((**g).clone()),
             Kind::Mechanism(_) => SceneGraph::new(&self.scene, variant),
         }
@@ -230,7 +234,9 @@ impl Model {
             t_start: s.t_start,
             output_times: self.scene.output_times(),
             max_steps: s.max_steps,
-            max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
+            max_wall_clock: s
+                .max_wall_seconds
+                .and_then(|w| crate::scene::validate::wall_clock(w).ok()),
             joint_stiffness: s.joint_stiffness,
             joint_damping: s.joint_damping,
             linear_solver: s.linear_solver,
@@ -284,6 +290,15 @@ impl Model {
         self.mechanism().map(crate::solve::run::output_columns)
     }
 
+    /// The names of the columns of every row a solve produces (without `t`), in order, for
+    /// mechanisms and raw bond graphs alike (a raw graph's come from its causal equations).
+    pub fn row_columns(&self) -> Result<Vec<String>> {
+        match &self.kind {
+            Kind::Mechanism(sys) => Ok(crate::solve::run::output_columns(sys)),
+            Kind::BondGraph(g, _) => crate::solve::bond_run::bond_graph_columns(g),
+        }
+    }
+
     /// Solves with `opts`.
     pub fn solve(&self, opts: &SolveOptions) -> Result<Solution> {
         self.solve_streaming(opts, &mut |_| ControlFlow::Continue(()))
@@ -301,6 +316,15 @@ impl Model {
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     ) -> Result<Solution> {
         check_tolerances(opts)?;
+        if opts.keep_rows {
+            // every row is kept: refuse up front what cannot fit (a streaming solve keeps none)
+            let columns = self.columns().map_or(16, |c| c.len());
+            crate::mech::size::check_rows_memory(
+                opts.output_times.len(),
+                columns,
+                crate::mech::size::memory_limit(),
+            )?;
+        }
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)

@@ -158,7 +158,7 @@ fn body_core(g: &mut BondGraph, spec: &PlanarBodySpec, keep_zero_j: bool) -> Pla
         vy,
         omega,
         inertias,
-        angle: format!("x_{n}.omega"),
+        angle: crate::expr::quote_name(&format!("x_{n}.omega")).into_owned(),
         points: Vec::new(),
     }
 }
@@ -263,7 +263,10 @@ pub fn planar_body_fixed_frame(g: &mut BondGraph, spec: &PlanarBodySpec) -> Plan
     let mgy = g.add_element(
         format!("{n}.mgy"),
         ElementKind::MGY,
-        Some(Parameter::Expr(format!("{ratio:?}*p_{n}.I_J"))),
+        Some(Parameter::Expr(format!(
+            "{ratio:?}*{}",
+            crate::expr::quote_name(&format!("p_{n}.I_J"))
+        ))),
     );
     g.set_label(mgy, "m·ω");
     g.add_bond(body.vy, mgy);
@@ -399,7 +402,10 @@ pub fn rigid_body_3d(g: &mut BondGraph, spec: &RigidBody3Spec) -> RigidBody3 {
         let e = g.add_element(
             format!("{n}.mgy_v{}{}", ax[a], ax[b]),
             ElementKind::MGY,
-            Some(Parameter::Expr(format!("{ratio:?}*p_{n}.I_J_{}", ax[k]))),
+            Some(Parameter::Expr(format!(
+                "{ratio:?}*{}",
+                crate::expr::quote_name(&format!("p_{n}.I_J_{}", ax[k]))
+            ))),
         );
         g.set_label(e, format!("m·ω_{}", ax[k]));
         g.add_bond(v[a], e);
@@ -409,7 +415,9 @@ pub fn rigid_body_3d(g: &mut BondGraph, spec: &RigidBody3Spec) -> RigidBody3 {
         let e = g.add_element(
             format!("{n}.mgy_w{}{}", ax[a], ax[b]),
             ElementKind::MGY,
-            Some(Parameter::Expr(format!("p_{n}.I_J_{}", ax[k]))),
+            Some(Parameter::Expr(
+                crate::expr::quote_name(&format!("p_{n}.I_J_{}", ax[k])).into_owned(),
+            )),
         );
         g.set_label(e, format!("h_{}", ax[k]));
         g.add_bond(w[a], e);

@@ -68,6 +68,17 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
                     }
                 }
             }
+        } else if c == '`' {
+            // a quoted name: any character up to the closing backquote
+            let start = i + 1;
+            let Some(len) = chars[start..].iter().position(|&d| d == '`') else {
+                return Err(ScanError::BadCharacter('`', i));
+            };
+            let name: String = chars[start..start + len].iter().collect();
+            i = start + len + 1;
+            if !vars.contains(&name) {
+                vars.push(name);
+            }
         } else if c.is_alphabetic() || c == '_' {
             let start = i;
             while i < chars.len()

@@ -205,6 +205,23 @@ pub enum BondError {
         /// What is wrong.
         reason: String,
     },
+    /// An expression-valued parameter whose value at the start breaks the rule numbers obey
+    /// (finite; inertia >= 0, compliance > 0, resistance >= 0).
+    #[error("{path}: '{element}': {expr} evaluates to {value} at t_start = {t}: {rule}")]
+    ExpressionValue {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The expression (cut when long).
+        expr: String,
+        /// The start time it was evaluated at.
+        t: f64,
+        /// Its value there.
+        value: f64,
+        /// The rule it breaks.
+        rule: &'static str,
+    },
     /// A TF/GY/MTF/MGY modulus that is identically zero (a constant 0 or an expression that
     /// simplifies to 0): the equations divide by it (`e₂ = e₁/m`, `f₁ = f₂/m`, `f = e/r`).
     #[error("{path}: {kind} element '{element}': modulus is identically zero (the equations divide by it)")]
@@ -607,6 +624,65 @@ pub(crate) fn check_parameter(
             }
         }
     }
+}
+
+/// The rule a value of an element of `kind` breaks, if any: the rules numbers are held to
+/// (finite; inertia >= 0, compliance > 0, resistance >= 0).
+fn value_rule(kind: ElementKind, v: f64) -> Option<&'static str> {
+    if !v.is_finite() {
+        Some("the value must be finite")
+    } else if kind == ElementKind::I && v < 0.0 {
+        Some("an inertia must be >= 0")
+    } else if kind == ElementKind::C && v <= 0.0 {
+        Some("a compliance must be > 0")
+    } else if kind == ElementKind::R && v < 0.0 {
+        Some("a resistance must be >= 0")
+    } else {
+        None
+    }
+}
+
+/// Expression-valued parameters that depend on nothing but `t` (a constant written as a
+/// string, `"-1.5"`, or a function of time), evaluated at `t_start` and held to the sign rules
+/// numbers obey: a value given as an expression must not slip past the sign checks. A
+/// non-finite value, and expressions of the state, are refused by the solve's check at their
+/// first evaluation, which names the element and the time.
+pub fn check_expression_values(graph: &BondGraph, t_start: f64) -> Vec<BondError> {
+    let mut errors = Vec::new();
+    for (i, e) in graph.elements.iter().enumerate() {
+        let Some(Parameter::Expr(expr)) = &e.parameter else {
+            continue;
+        };
+        if e.law.is_some() || e.kind.is_junction() {
+            continue;
+        }
+        let Ok(vars) = variables(expr) else { continue };
+        if vars.iter().any(|v| v != "t") {
+            continue;
+        }
+        let mut g = ExprGraph::new();
+        let t = g.var(0);
+        let Ok(x) = g.parse(expr, &mut |n| (n == "t").then_some(t)) else {
+            continue;
+        };
+        let value = g.eval(x, &[t_start]);
+        // a non-finite value is named by the solve's own check at its first evaluation
+        // (`bond_graph.elements[0] (Se 'F', value "1/t") evaluates to inf at t = 0`)
+        if !value.is_finite() {
+            continue;
+        }
+        if let Some(rule) = value_rule(e.kind, value) {
+            errors.push(BondError::ExpressionValue {
+                path: format!("{}.{}", element_path(i), parameter_field(e.kind)),
+                element: e.name.clone(),
+                expr: crate::expr::excerpt(expr, 0),
+                t: t_start,
+                value,
+                rule,
+            });
+        }
+    }
+    errors
 }
 
 /// Does `expr` simplify to the constant 0 (every name taken as an independent variable)?

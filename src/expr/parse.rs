@@ -8,8 +8,10 @@
 //! power   := primary ('^' unary)?            -- right-associative; -x^2 = -(x^2)
 //! primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
 //! number  := digits ['.' digits] [('e'|'E') ['+'|'-'] digits]  |  '.' digits [...]
-//! name    := (letter | '_') (letter | digit | '_' | '.')*
+//! name    := (letter | '_') (letter | digit | '_' | '.')*  |  '`' (any character but '`')+ '`'
 //! ```
+//! A name in backquotes may hold any character but a backquote: `` `x_left-arm.omega` `` is the
+//! angle of a body called `left-arm` ([`quote_name`] writes a name so).
 //! Functions: `sin cos tan sqrt abs exp ln log(=ln)` (one argument), `atan2 min max pow`
 //! (two). The name `pi` is the constant π; every other name goes to the resolver.
 
@@ -90,6 +92,23 @@ struct Parser<'a, 'r> {
 
 /// Nesting limit, so hostile input cannot overflow the stack.
 const MAX_DEPTH: usize = 256;
+
+/// `name` as an expression reads it: as is when it is a plain name (a letter or `_`, then
+/// letters, digits, `_` and `.`; not a function or `pi`), else in backquotes
+/// (`` `x_left-arm.omega` ``). A name holding a backquote cannot be written (scene validation
+/// refuses such names).
+pub fn quote_name(name: &str) -> std::borrow::Cow<'_, str> {
+    let b = name.as_bytes();
+    let plain = b.first().is_some_and(|&c| is_name_start(c))
+        && b.iter().all(|&c| is_name_char(c))
+        && name != "pi"
+        && !crate::bond::identifiers::FUNCTIONS.contains(&name);
+    if plain {
+        std::borrow::Cow::Borrowed(name)
+    } else {
+        std::borrow::Cow::Owned(format!("`{name}`"))
+    }
+}
 
 fn is_name_start(c: u8) -> bool {
     c.is_ascii_alphabetic() || c == b'_'
@@ -226,6 +245,7 @@ impl Parser<'_, '_> {
             }
             Some(c) if c.is_ascii_digit() || c == b'.' => self.number(),
             Some(c) if is_name_start(c) => self.name(),
+            Some(b'`') => self.quoted_name(),
             _ => Err(self.expected("a number, a name or '('")),
         }
     }
@@ -287,6 +307,22 @@ impl Parser<'_, '_> {
         if name == "pi" {
             return Ok(self.g.constant(std::f64::consts::PI));
         }
+        (self.resolve)(name).ok_or_else(|| ParseError::UnknownName {
+            pos: start,
+            name: name.to_string(),
+        })
+    }
+
+    /// A name in backquotes (any character but a backquote): never a function or `pi`.
+    fn quoted_name(&mut self) -> Result<Expr, ParseError> {
+        let start = self.pos;
+        let body = start + 1;
+        let Some(len) = self.src[body..].find('`') else {
+            self.pos = self.src.len();
+            return Err(self.expected("a closing '`' after the quoted name"));
+        };
+        let name = &self.src[body..body + len];
+        self.pos = body + len + 1;
         (self.resolve)(name).ok_or_else(|| ParseError::UnknownName {
             pos: start,
             name: name.to_string(),

@@ -79,7 +79,7 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
     let mut eg = sys.graph.clone();
     let nq = sys.nq();
     let text = |eg: &ExprGraph, e: Expr| {
-        eg.display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+        eg.display_exact(e, &|s| quoted(&slot_names[s as usize]), EXACT_TEXT_LIMIT)
             .unwrap_or_else(|| "…".into())
     };
     // joints: closures on the drawn junctions, modulated sums for the others
@@ -383,7 +383,9 @@ fn spatial_bodies(
                 let e = g.add_element(
                     format!("{name}.mgy_w{}{}", ax[a], ax[b]),
                     ElementKind::MGY,
-                    Some(Parameter::Expr(format!("p_{name}.I_J_{}", ax[k]))),
+                    Some(Parameter::Expr(
+                        crate::expr::quote_name(&format!("p_{name}.I_J_{}", ax[k])).into_owned(),
+                    )),
                 );
                 g.set_label(e, format!("h_{}", ax[k]));
                 g.add_bond(wj[a], e);
@@ -417,7 +419,7 @@ fn spatial_bodies(
     // the quaternion junctions: e_i' = Σ_k (∂e_i'/∂ω_k) ω_k
     let mut eg = sys.graph.clone();
     let text = |eg: &ExprGraph, e: Expr| {
-        eg.display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+        eg.display_exact(e, &|s| quoted(&slot_names[s as usize]), EXACT_TEXT_LIMIT)
             .unwrap_or_else(|| "…".into())
     };
     for (k, n) in &quaternion_names {
@@ -714,7 +716,7 @@ pub fn export_graph(scene: &Scene) -> Result<BondGraph, AnnotateError> {
     }
     let text = |e: Expr| {
         sys.graph
-            .display_exact(e, &|s| slot_names[s as usize].clone(), EXACT_TEXT_LIMIT)
+            .display_exact(e, &|s| quoted(&slot_names[s as usize]), EXACT_TEXT_LIMIT)
             .unwrap_or_else(|| "…".into())
     };
     g.outputs = sys
@@ -817,4 +819,10 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         bond_graph: Some(std::sync::Arc::new(g.clone())),
         graph: eqs.graph,
     })
+}
+
+/// A slot's name as expression text reads it back (`` `x_left-arm.omega` `` for a body called
+/// `left-arm`, see [`crate::expr::quote_name`]).
+fn quoted(name: &str) -> String {
+    crate::expr::quote_name(name).into_owned()
 }

@@ -383,7 +383,7 @@ fn body_fixed_angle(scene: &Scene, body: &str) -> Option<String> {
         .bodies
         .iter()
         .find(|b| b.name == body && matches!(b.frame, BodyFrame::BodyFixed))
-        .map(|b| format!("x_{}.omega", b.name))
+        .map(|b| crate::expr::quote_name(&format!("x_{}.omega", b.name)).into_owned())
 }
 
 /// Brings the two points of a joint or spring into one frame, so that its 1-junctions equate

@@ -140,6 +140,9 @@ impl Columns<'_> {
                 cols.push(OutputColumn { name, expr, unwrap });
             }
         }
+        // the names so far, so that a repeated output is found without a scan (40 000 outputs)
+        let mut have: std::collections::HashSet<String> =
+            cols.iter().map(|c| c.name.clone()).collect();
         let axes = ["x", "y", "z"];
         for (oi, o) in self.scene.outputs.iter().enumerate() {
             match o.as_str() {
@@ -150,7 +153,7 @@ impl Columns<'_> {
                 }),
                 "constraint_error" | "reactions" => {}
                 _ => {
-                    if cols.iter().any(|c| &c.name == o) {
+                    if !have.insert(o.clone()) {
                         continue;
                     }
                     if let Some(e) = names.get(o) {
@@ -172,6 +175,7 @@ impl Columns<'_> {
                     }
                     for axis in axes.iter().take(self.dim()) {
                         let n = format!("{o}.{axis}");
+                        have.insert(n.clone());
                         cols.push(OutputColumn {
                             expr: names[&n],
                             name: n,

@@ -59,6 +59,9 @@ pub(super) struct Geometry<'a> {
     /// Index in `scene.bodies` of each body name (the first body of that name), so that
     /// looking a joint's bodies up is not a scan of all bodies (quadratic in a chain's size).
     body_by_name: HashMap<&'a str, usize>,
+    /// Each body's named points by name (built for bodies with many points only), so that
+    /// looking 40 000 points up is not quadratic.
+    points_by_name: Vec<Option<HashMap<&'a str, usize>>>,
 }
 
 /// The system of a scene's geometry, its forces still zero, and the names expressions may use.
@@ -70,7 +73,21 @@ impl<'a> Geometry<'a> {
         for (i, b) in scene.bodies.iter().enumerate() {
             body_by_name.entry(b.name.as_str()).or_insert(i);
         }
+        let points_by_name = scene
+            .bodies
+            .iter()
+            .map(|b| {
+                (b.points.len() > 16).then(|| {
+                    let mut m = HashMap::with_capacity(b.points.len());
+                    for (k, (n, _)) in b.points.iter().enumerate() {
+                        m.entry(n.as_str()).or_insert(k);
+                    }
+                    m
+                })
+            })
+            .collect();
         Geometry {
+            points_by_name,
             scene,
             spatial: matches!(scene.dimension, Dimension::Spatial),
             g: ExprGraph::new(),
@@ -102,16 +119,20 @@ impl<'a> Geometry<'a> {
         match p {
             PointRef::Coords(c) => Ok(c.clone()),
             PointRef::Named(n) => {
-                let b = self
+                let bi = *self
                     .body_by_name
                     .get(body)
-                    .map(|&i| &self.scene.bodies[i])
                     .ok_or_else(|| MechError::at(path, format!("unknown body '{body}'")))?;
-                b.points
-                    .iter()
-                    .find(|(pn, _)| pn == n)
-                    .map(|(_, c)| c.clone())
-                    .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'")))
+                let b = &self.scene.bodies[bi];
+                match &self.points_by_name[bi] {
+                    Some(m) => m.get(n.as_str()).map(|&k| b.points[k].1.clone()),
+                    None => b
+                        .points
+                        .iter()
+                        .find(|(pn, _)| pn == n)
+                        .map(|(_, c)| c.clone()),
+                }
+                .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'")))
             }
         }
     }

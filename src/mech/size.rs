@@ -60,18 +60,97 @@ pub struct MemoryEstimate {
     pub bytes: f64,
 }
 
+/// Which limit on this process's memory is the tightest (see [`memory_limit`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LimitSource {
+    /// The machine's free memory (`/proc/meminfo` `MemAvailable`).
+    MemAvailable,
+    /// The address-space limit (`ulimit -v`, `RLIMIT_AS`) less the address space in use.
+    AddressSpace,
+    /// The cgroup's memory limit (`memory.max`, v1 `memory.limit_in_bytes`) less its usage.
+    Cgroup,
+}
+
+impl LimitSource {
+    /// What the limit is and the setting that raises it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            LimitSource::MemAvailable => "/proc/meminfo MemAvailable",
+            LimitSource::AddressSpace => {
+                "ulimit -v (RLIMIT_AS) less the address space in use; raise ulimit -v"
+            }
+            LimitSource::Cgroup => {
+                "the cgroup's memory limit (memory.max) less its usage; raise the container's memory limit"
+            }
+        }
+    }
+}
+
+/// The memory a new allocation may take, and which limit sets it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryLimit {
+    /// Bytes.
+    pub bytes: u64,
+    /// The tightest limit.
+    pub source: LimitSource,
+}
+
 /// Why a model is refused before it is built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SizeError {
     /// The estimate exceeds [`MEMORY_FRACTION`] of the memory available.
-    #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this machine has {} available (/proc/meminfo MemAvailable); limit: {:.0} % of it (dense matrices grow as the square of the unknowns; solve.linear_solver \"sparse\" stores the Newton matrix sparse, the consistent start stays dense)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), MEMORY_FRACTION * 100.0)]
+    #[error("the model is too large for this machine: {} coordinates, {} velocities and {} constraint rows need ~{} for {} ({} unknowns); this process has {} available ({}; the least of /proc/meminfo MemAvailable, ulimit -v and the cgroup limit); limit: {:.0} % of it (dense matrices grow as the square of the unknowns; solve.linear_solver \"sparse\" stores the Newton matrix sparse, the consistent start stays dense)", .estimate.coordinates, .estimate.velocities, .estimate.constraint_rows, gib(.estimate.bytes), .estimate.what, .estimate.unknowns, gib(*.available as f64), .limit.describe(), MEMORY_FRACTION * 100.0)]
     TooLarge {
         /// The estimate.
         estimate: Box<MemoryEstimate>,
         /// Bytes available.
         available: u64,
+        /// The limit that set `available`.
+        limit: LimitSource,
     },
+    /// Keeping every output row in memory would exceed [`MEMORY_FRACTION`] of the memory
+    /// available.
+    #[error("{rows} output rows of {columns} columns kept in memory need ~{}; this process has {} available ({}); limit: {:.0} % of it: raise solve.output_step or lower solve.t_end (--t-end), or let the rows stream to a file (bondmech run --out FILE without --table or --plot keeps none)", gib(*.bytes), gib(*.available as f64), .limit.describe(), MEMORY_FRACTION * 100.0)]
+    TooManyRows {
+        /// Output rows.
+        rows: usize,
+        /// Columns per row.
+        columns: usize,
+        /// Bytes they need.
+        bytes: f64,
+        /// Bytes available.
+        available: u64,
+        /// The limit that set `available`.
+        limit: LimitSource,
+    },
+}
+
+/// Bytes one kept output row of `columns` values takes: the values, the time, the row's
+/// vector header and the allocator's overhead.
+pub fn row_bytes(columns: usize) -> f64 {
+    8.0 * columns as f64 + 8.0 + 24.0 + 16.0
+}
+
+/// Refuses keeping `rows` output rows of `columns` values in memory beyond [`MEMORY_FRACTION`]
+/// of `limit` (`None`: no limit known, accepted).
+pub fn check_rows_memory(
+    rows: usize,
+    columns: usize,
+    limit: Option<MemoryLimit>,
+) -> Result<(), SizeError> {
+    let bytes = rows as f64 * row_bytes(columns);
+    match limit {
+        Some(l) if bytes > MEMORY_FRACTION * l.bytes as f64 => Err(SizeError::TooManyRows {
+            rows,
+            columns,
+            bytes,
+            available: l.bytes,
+            limit: l.source,
+        }),
+        _ => Ok(()),
+    }
 }
 
 fn gib(bytes: f64) -> String {
@@ -170,31 +249,144 @@ pub fn estimate_memory_with(
     }
 }
 
-/// The memory available to a new allocation, from `/proc/meminfo` (`MemAvailable`); `None`
-/// where that file does not exist or does not say (the check is then skipped).
+/// The memory available to a new allocation (see [`memory_limit`]); `None` where nothing
+/// says (the check is then skipped).
 pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    memory_limit().map(|l| l.bytes)
+}
+
+/// The tightest of the limits on this process's memory: the machine's `MemAvailable`
+/// (`/proc/meminfo`), the address-space limit (`ulimit -v`, `RLIMIT_AS`, from
+/// `/proc/self/limits`) less the address space in use (`VmSize` of `/proc/self/status`), and
+/// the cgroup's limit less its usage (cgroup v2 `memory.max` and `memory.current` of the
+/// process's cgroup, or v1 `memory.limit_in_bytes` and `memory.usage_in_bytes`). `None` when
+/// none of them is known.
+pub fn memory_limit() -> Option<MemoryLimit> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let candidates = [
+        read("/proc/meminfo")
+            .and_then(|t| meminfo_available(&t))
+            .map(|b| (b, LimitSource::MemAvailable)),
+        address_space_left(
+            read("/proc/self/limits").as_deref(),
+            read("/proc/self/status").as_deref(),
+        )
+        .map(|b| (b, LimitSource::AddressSpace)),
+        cgroup_left().map(|b| (b, LimitSource::Cgroup)),
+    ];
+    candidates
+        .into_iter()
+        .flatten()
+        .min_by_key(|(b, _)| *b)
+        .map(|(bytes, source)| MemoryLimit { bytes, source })
+}
+
+/// `MemAvailable` of `/proc/meminfo`, in bytes.
+fn meminfo_available(text: &str) -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    Some(kib.saturating_mul(1024))
+}
+
+/// The soft `Max address space` of `/proc/self/limits` less the `VmSize` of
+/// `/proc/self/status`; `None` when unlimited or unknown.
+pub fn address_space_left(limits: Option<&str>, status: Option<&str>) -> Option<u64> {
+    let line = limits?
+        .lines()
+        .find(|l| l.starts_with("Max address space"))?;
+    let soft: u64 = line
+        .trim_start_matches("Max address space")
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?; // "unlimited" does not parse
+    let used_kib: u64 = status
+        .and_then(|s| s.lines().find(|l| l.starts_with("VmSize:")))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    Some(soft.saturating_sub(used_kib.saturating_mul(1024)))
+}
+
+/// The process's cgroup memory limit less its usage; `None` when unlimited or unknown.
+fn cgroup_left() -> Option<u64> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let number = |t: Option<String>| t.and_then(|t| t.trim().parse::<u64>().ok());
+    // cgroup v2: the process's own group (`0::/path` in /proc/self/cgroup), then the root
+    let own = read("/proc/self/cgroup").and_then(|t| {
+        t.lines()
+            .find_map(|l| l.strip_prefix("0::").map(|p| p.trim().to_string()))
+    });
+    let mut dirs = Vec::new();
+    if let Some(p) = own.filter(|p| p != "/") {
+        dirs.push(format!("/sys/fs/cgroup{p}"));
+    }
+    dirs.push("/sys/fs/cgroup".to_string());
+    for d in dirs {
+        if let Some(max) = number(read(&format!("{d}/memory.max"))) {
+            let used = number(read(&format!("{d}/memory.current"))).unwrap_or(0);
+            return Some(max.saturating_sub(used));
+        }
+    }
+    // cgroup v1 (an unlimited group reports a number near 2^63)
+    let max = number(read("/sys/fs/cgroup/memory/memory.limit_in_bytes"))?;
+    if max >= 1 << 62 {
+        return None;
+    }
+    let used = number(read("/sys/fs/cgroup/memory/memory.usage_in_bytes")).unwrap_or(0);
+    Some(max.saturating_sub(used))
 }
 
 /// Refuses `estimate` when it exceeds [`MEMORY_FRACTION`] of `available` bytes (`None`: no
-/// limit known, accepted).
+/// limit known, accepted); the bytes are taken as the machine's `MemAvailable`.
 pub fn check_memory(estimate: &MemoryEstimate, available: Option<u64>) -> Result<(), SizeError> {
-    match available {
-        Some(a) if estimate.bytes > MEMORY_FRACTION * a as f64 => Err(SizeError::TooLarge {
+    check_memory_against(
+        estimate,
+        available.map(|bytes| MemoryLimit {
+            bytes,
+            source: LimitSource::MemAvailable,
+        }),
+    )
+}
+
+/// Refuses `estimate` when it exceeds [`MEMORY_FRACTION`] of `limit` (`None`: no limit known,
+/// accepted); the message names the limit and the setting that raises it.
+pub fn check_memory_against(
+    estimate: &MemoryEstimate,
+    limit: Option<MemoryLimit>,
+) -> Result<(), SizeError> {
+    match limit {
+        Some(l) if estimate.bytes > MEMORY_FRACTION * l.bytes as f64 => Err(SizeError::TooLarge {
             estimate: Box::new(estimate.clone()),
-            available: a,
+            available: l.bytes,
+            limit: l.source,
         }),
         _ => Ok(()),
     }
 }
 
-/// [`check_memory`] of the scene's [`estimate_memory`] with `formulation` (and the scene's
-/// `solve.linear_solver`) against this machine's [`available_memory`]. [`Model::new`](crate::Model::new) calls it with the scene's
-/// own `solve.formulation`; a caller that solves with another (`--formulation decoupled`) calls
-/// it again with that one.
+/// [`check_memory_against`] of the scene's [`estimate_memory`] with `formulation` (and the
+/// scene's `solve.linear_solver`) against this process's [`memory_limit`].
+/// [`Model::new`](crate::Model::new) calls it with the scene's own `solve.formulation`; a
+/// caller that solves with another (`--formulation decoupled`) calls it again with that one.
 pub fn check_scene_memory(scene: &Scene, formulation: Formulation) -> Result<(), SizeError> {
-    check_memory(&estimate_memory(scene, formulation), available_memory())
+    check_memory_against(&estimate_memory(scene, formulation), memory_limit())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn address_space_limit_less_what_is_in_use() {
+        let limits = "Limit                     Soft Limit           Hard Limit           Units\nMax address space         4294967296           unlimited            bytes\n";
+        let status = "Name:\tbondmech\nVmSize:\t  1048576 kB\n";
+        assert_eq!(
+            address_space_left(Some(limits), Some(status)),
+            Some(3 << 30)
+        );
+        let unlimited =
+            "Max address space         unlimited            unlimited            bytes\n";
+        assert_eq!(address_space_left(Some(unlimited), Some(status)), None);
+    }
 }

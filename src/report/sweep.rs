@@ -389,7 +389,7 @@ impl SweepReport {
             ("sweep.json", json),
         ] {
             let p = dir.join(name);
-            std::fs::write(&p, text).map_err(|e| io(&p, e))?;
+            crate::output::write_atomic(&p, text.as_bytes()).map_err(|e| io(&p, e))?;
         }
         super::plot::work_precision_svg(self, &dir.join("work_precision.svg"))?;
         super::plot::stiffness_svg(self, &dir.join("stiffness.svg"))?;

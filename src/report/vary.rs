@@ -584,7 +584,7 @@ impl VaryReport {
         let json = serde_json::to_string_pretty(self).expect("report serialises") + "\n";
         for (name, text) in [(JSON_FILE, json), (CSV_FILE, self.csv())] {
             let p = dir.join(name);
-            std::fs::write(&p, text).map_err(|e| io(&p, e))?;
+            crate::output::write_atomic(&p, text.as_bytes()).map_err(|e| io(&p, e))?;
         }
         if self.shard.is_none() {
             vary_svg(self, &dir.join(SVG_FILE))?;
@@ -790,7 +790,7 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
             "work_precision.svg",
             "stiffness.svg",
         ] {
-            if canon_dir.join(name) == c {
+            if canon_dir.join(name) == c || crate::output::same_file(&canon_dir.join(name), input) {
                 return Err(VaryError::OutDir {
                     dir: dir.display().to_string(),
                     message: format!("would overwrite the input {}", input.display()),

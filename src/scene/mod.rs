@@ -63,10 +63,7 @@ impl Scene {
     /// Reads, parses and validates a scene file; `name` defaults to the file stem.
     pub fn from_path(p: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let p = p.as_ref();
-        let text = std::fs::read_to_string(p).map_err(|source| SceneError::Io {
-            path: p.to_path_buf(),
-            source,
-        })?;
+        let text = read_text(p)?;
         let stem = p
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -102,4 +99,31 @@ impl Scene {
         serde_json::to_string_pretty(&write::scene_tree(self))
             .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
     }
+}
+
+/// Reads scene text from `reader` (`path` names it in errors), refusing more than
+/// [`validate::MAX_SCENE_BYTES`] at once: a 10 GB file is not read into memory to be refused.
+pub fn read_text_from(reader: impl std::io::Read, path: &Path) -> Result<String, SceneError> {
+    use std::io::Read;
+    let mut text = String::new();
+    reader
+        .take(validate::MAX_SCENE_BYTES as u64 + 1)
+        .read_to_string(&mut text)
+        .map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    validate::check_text_length(text.len()).map_err(|e| SceneError::Invalid {
+        problems: vec![Problem::new(e.path(), e.to_string())],
+    })?;
+    Ok(text)
+}
+
+/// Reads a scene file (see [`read_text_from`]).
+pub fn read_text(path: &Path) -> Result<String, SceneError> {
+    let file = std::fs::File::open(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    read_text_from(file, path)
 }

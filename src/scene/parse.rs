@@ -29,9 +29,10 @@ impl<'a> Fields<'a> {
             p.push(path, format!("expected an object, got {}", j.kind()));
             return None;
         };
-        for (i, (k, _)) in entries.iter().enumerate() {
+        let mut seen = std::collections::HashSet::with_capacity(entries.len());
+        for (k, _) in entries.iter() {
             let kp = field(path, k);
-            if entries[..i].iter().any(|(k2, _)| k2 == k) {
+            if !seen.insert(k.as_str()) {
                 p.push(kp, "duplicate key");
             } else if k != COMMENT && !allowed.contains(&k.as_str()) {
                 p.push(
@@ -195,6 +196,9 @@ pub(crate) fn parse_scene(text: &str, default_name: &str) -> Result<Scene, Vec<s
 
 /// Reads scene text into the order-preserving tree (JSON syntax problems only).
 pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
+    if let Err(e) = super::validate::check_text_length(text.len()) {
+        return Err(vec![super::Problem::new(e.path(), e.to_string())]);
+    }
     serde_json::from_str(text).map_err(|e| vec![syntax_problem(&e)])
 }
 
@@ -250,6 +254,53 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         return None;
     }
     let f = Fields::new(p, "", j, SCENE_KEYS)?;
+    // the size limits, before anything is read from a list (a scene of 200 000 bodies is
+    // refused at once, not after minutes of parsing)
+    let mut too_large = false;
+    for list in ["bodies", "joints", "springs", "loads", "outputs", "events"] {
+        if let Some(Json::Array(items)) = f.get(list) {
+            if let Err(e) = super::validate::check_entries(list, items.len()) {
+                p.push(list, e.to_string());
+                too_large = true;
+            }
+        }
+    }
+    if let Some(Json::Array(bodies)) = f.get("bodies") {
+        let points: usize = bodies
+            .iter()
+            .map(|b| match b {
+                Json::Object(e) => e
+                    .iter()
+                    .filter(|(k, _)| k == "points")
+                    .map(|(_, v)| match v {
+                        Json::Object(pts) => pts.len(),
+                        _ => 0,
+                    })
+                    .sum(),
+                _ => 0,
+            })
+            .sum();
+        if let Err(e) = super::validate::check_points(points) {
+            p.push(e.path(), e.to_string());
+            too_large = true;
+        }
+    }
+    if let Some(Json::Object(g)) = f.get("bond_graph") {
+        for (key, list) in [
+            ("elements", "bond_graph.elements"),
+            ("bonds", "bond_graph.bonds"),
+        ] {
+            if let Some((_, Json::Array(items))) = g.iter().find(|(k, _)| k == key) {
+                if let Err(e) = super::validate::check_entries(list, items.len()) {
+                    p.push(list, e.to_string());
+                    too_large = true;
+                }
+            }
+        }
+    }
+    if too_large {
+        return None;
+    }
     let name = f
         .string(p, "name")
         .unwrap_or_else(|| default_name.to_string());
@@ -313,6 +364,11 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .enumerate()
         .filter_map(|(i, e)| event(p, i, e))
         .collect();
+    // the raw bond graph is kept as a serde_json::Value, which keeps only the last of
+    // duplicated keys: refuse them here, where the document order is still known
+    if let Some(g) = f.get("bond_graph") {
+        duplicate_keys(p, "bond_graph", g);
+    }
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
         name,
@@ -328,6 +384,28 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         bond_graph,
         description,
     })
+}
+
+/// Reports every duplicated key inside `j` (at any depth) with its JSON path.
+fn duplicate_keys(p: &mut Problems, path: &str, j: &Json) {
+    match j {
+        Json::Object(entries) => {
+            let mut seen = std::collections::HashSet::with_capacity(entries.len());
+            for (k, v) in entries {
+                let kp = field(path, k);
+                if !seen.insert(k.as_str()) {
+                    p.push(&kp, "duplicate key");
+                }
+                duplicate_keys(p, &kp, v);
+            }
+        }
+        Json::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                duplicate_keys(p, &index(path, i), v);
+            }
+        }
+        _ => {}
+    }
 }
 
 const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
@@ -423,10 +501,11 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
         None => Some(Vec::new()),
         Some(Json::Object(entries)) => {
             let pp = f.path("points");
-            let mut out = Vec::new();
+            let mut out = Vec::with_capacity(entries.len());
             let mut ok = true;
-            for (i, (k, v)) in entries.iter().enumerate() {
-                if entries[..i].iter().any(|(k2, _)| k2 == k) {
+            let mut seen = std::collections::HashSet::with_capacity(entries.len());
+            for (k, v) in entries.iter() {
+                if !seen.insert(k.as_str()) {
                     p.push(field(&pp, k), "duplicate point name");
                     ok = false;
                 } else if let Some(c) = vector(p, &field(&pp, k), v) {

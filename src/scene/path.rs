@@ -605,10 +605,7 @@ pub fn scene_from_path_with(p: impl AsRef<Path>, sets: &[String]) -> Result<Scen
 
 /// Reads a scene file's text and the default name (its stem).
 pub fn read_scene_text(p: &Path) -> Result<(String, String), SceneError> {
-    let text = std::fs::read_to_string(p).map_err(|source| SceneError::Io {
-        path: p.to_path_buf(),
-        source,
-    })?;
+    let text = super::read_text(p)?;
     let stem = p
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

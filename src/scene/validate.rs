@@ -27,6 +27,125 @@ use super::model::*;
 /// Largest number of output times a scene may ask for.
 pub const MAX_OUTPUT_TIMES: f64 = 1e7;
 
+/// Most entries a scene may list in each of `bodies`, `joints`, `springs`, `loads`, `events`,
+/// `outputs` and a bond graph's `elements` and `bonds` (far beyond what fits in memory as a
+/// model: 6000 free bodies already need ~10 GiB, see [`crate::mech::size`]).
+pub const MAX_SCENE_ENTRIES: usize = 100_000;
+
+/// Most named points a scene may give, all bodies together.
+pub const MAX_SCENE_POINTS: usize = 1_000_000;
+
+/// Longest scene text, in bytes (64 MiB), refused before it is parsed.
+pub const MAX_SCENE_BYTES: usize = 64 << 20;
+
+/// Largest wall-clock budget or grace period, in seconds (about 31.7 years): a larger number
+/// does not fit a [`std::time::Duration`] on every platform and means "no limit", which is
+/// said by leaving the field out.
+pub const MAX_WALL_SECONDS: f64 = 1e9;
+
+/// A scene beyond the documented size limits ([`MAX_SCENE_ENTRIES`], [`MAX_SCENE_POINTS`],
+/// [`MAX_SCENE_BYTES`]): refused at once, before anything is built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneSizeError {
+    /// Too many entries in one list.
+    #[error("{count} entries, more than the limit of {limit} a scene may list (docs/scene-format.md, size limits)")]
+    TooManyEntries {
+        /// The list (`bodies`, `joints`, `bond_graph.elements`, …).
+        list: &'static str,
+        /// Its length.
+        count: usize,
+        /// [`MAX_SCENE_ENTRIES`].
+        limit: usize,
+    },
+    /// Too many named points.
+    #[error("{count} named points in all, more than the limit of {limit} (docs/scene-format.md, size limits)")]
+    TooManyPoints {
+        /// The number of points.
+        count: usize,
+        /// [`MAX_SCENE_POINTS`].
+        limit: usize,
+    },
+    /// The scene text is too long.
+    #[error("the scene is {bytes} bytes long, more than the limit of {limit} bytes (docs/scene-format.md, size limits)")]
+    TooLong {
+        /// Its length (at least; reading stops past the limit).
+        bytes: usize,
+        /// [`MAX_SCENE_BYTES`].
+        limit: usize,
+    },
+}
+
+impl SceneSizeError {
+    /// The JSON path the refusal is reported at.
+    pub fn path(&self) -> &'static str {
+        match self {
+            SceneSizeError::TooManyEntries { list, .. } => list,
+            SceneSizeError::TooManyPoints { .. } => "bodies",
+            SceneSizeError::TooLong { .. } => "",
+        }
+    }
+}
+
+/// Refuses a list of `count` entries at `list` beyond [`MAX_SCENE_ENTRIES`].
+pub fn check_entries(list: &'static str, count: usize) -> Result<(), SceneSizeError> {
+    if count > MAX_SCENE_ENTRIES {
+        Err(SceneSizeError::TooManyEntries {
+            list,
+            count,
+            limit: MAX_SCENE_ENTRIES,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// Refuses `count` named points beyond [`MAX_SCENE_POINTS`].
+pub fn check_points(count: usize) -> Result<(), SceneSizeError> {
+    if count > MAX_SCENE_POINTS {
+        Err(SceneSizeError::TooManyPoints {
+            count,
+            limit: MAX_SCENE_POINTS,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// Refuses a scene text of `bytes` bytes beyond [`MAX_SCENE_BYTES`].
+pub fn check_text_length(bytes: usize) -> Result<(), SceneSizeError> {
+    if bytes > MAX_SCENE_BYTES {
+        Err(SceneSizeError::TooLong {
+            bytes,
+            limit: MAX_SCENE_BYTES,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// The size limits on a scene built in code (a scene read from text was checked while read).
+pub fn check_scene_size(scene: &Scene) -> Result<(), SceneSizeError> {
+    check_entries("bodies", scene.bodies.len())?;
+    check_entries("joints", scene.joints.len())?;
+    check_entries("springs", scene.springs.len())?;
+    check_entries("loads", scene.loads.len())?;
+    check_entries("events", scene.events.len())?;
+    check_entries("outputs", scene.outputs.len())?;
+    check_points(scene.bodies.iter().map(|b| b.points.len()).sum())?;
+    if let Some(g) = &scene.bond_graph {
+        for (key, list) in [
+            ("elements", "bond_graph.elements"),
+            ("bonds", "bond_graph.bonds"),
+        ] {
+            if let Some(a) = g.get(key).and_then(|v| v.as_array()) {
+                check_entries(list, a.len())?;
+            }
+        }
+    }
+    Ok(())
+}
+
 /// All problems of `scene`; empty when it is valid.
 pub fn validate(scene: &Scene) -> Vec<Problem> {
     let mut p = Problems::default();
@@ -44,23 +163,42 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
         );
     }
     vec_len(&mut p, "gravity", &scene.gravity, dim.coords());
-    for (i, b) in scene.bodies.iter().enumerate() {
-        body(&mut p, scene, i, b);
+    if let Err(e) = check_scene_size(scene) {
+        // refused at once: nothing else is looked at in a scene this large
+        p.push(e.path(), e.to_string());
+        return p.list;
     }
-    let mut joint_names: Vec<&str> = Vec::new();
+    let scene = &Indexed::new(scene);
+    let mut body_names = std::collections::HashSet::new();
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let duplicate = !body_names.insert(b.name.as_str());
+        body(&mut p, scene, i, b, duplicate);
+    }
+    let mut joint_names = std::collections::HashSet::new();
     for (i, j) in scene.joints.iter().enumerate() {
         let path = index("joints", i);
-        if joint_names.contains(&j.name.as_str()) {
+        if !joint_names.insert(j.name.as_str()) {
             p.push(
                 field(&path, "name"),
                 format!("duplicate joint name '{}'", j.name),
             );
         }
-        joint_names.push(&j.name);
         joint(&mut p, scene, &path, j);
     }
+    // spring and load names are what `--set 'springs[NAME]…'` and messages refer to: two
+    // entries with one name would make `--set` edit only the first
+    let mut spring_names = std::collections::HashSet::new();
     for (i, s) in scene.springs.iter().enumerate() {
         let path = index("springs", i);
+        if !spring_names.insert(s.name.as_str()) {
+            p.push(
+                field(&path, "name"),
+                format!(
+                    "duplicate spring name '{}' (an unnamed spring i is called 'spring<i>')",
+                    s.name
+                ),
+            );
+        }
         attachment(&mut p, scene, &path, &s.bodies, &s.points);
         non_negative(&mut p, &field(&path, "stiffness"), s.stiffness);
         non_negative(&mut p, &field(&path, "damping"), s.damping);
@@ -68,25 +206,34 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
             non_negative(&mut p, &field(&path, "rest_length"), l0);
         }
     }
+    let mut load_names = std::collections::HashSet::new();
     for (i, l) in scene.loads.iter().enumerate() {
+        if !load_names.insert(l.name.as_str()) {
+            p.push(
+                field(&index("loads", i), "name"),
+                format!(
+                    "duplicate load name '{}' (an unnamed load i is called 'load<i>')",
+                    l.name
+                ),
+            );
+        }
         load(&mut p, scene, &index("loads", i), l);
     }
     solve(&mut p, &scene.solve, length_scale(scene));
     for (i, o) in scene.outputs.iter().enumerate() {
         output(&mut p, scene, &index("outputs", i), o);
     }
-    let mut event_names: Vec<&str> = Vec::new();
+    let mut event_names = std::collections::HashSet::new();
     for (i, e) in scene.events.iter().enumerate() {
         let path = index("events", i);
         if e.name.is_empty() {
             p.push(field(&path, "name"), "must not be empty");
-        } else if event_names.contains(&e.name.as_str()) {
+        } else if !event_names.insert(e.name.as_str()) {
             p.push(
                 field(&path, "name"),
                 format!("duplicate event name '{}'", e.name),
             );
         }
-        event_names.push(&e.name);
         if e.when.trim().is_empty() {
             p.push(field(&path, "when"), "must be a non-empty expression");
         }
@@ -114,22 +261,19 @@ pub fn warnings(scene: &Scene) -> Vec<Problem> {
     if scene.joints.is_empty() && scene.springs.is_empty() {
         return Vec::new();
     }
-    let touched = |name: &str| {
-        scene
-            .joints
-            .iter()
-            .any(|j| j.bodies.iter().any(|b| b == name))
-            || scene
-                .springs
-                .iter()
-                .any(|s| s.bodies.iter().any(|b| b == name))
-            || scene.loads.iter().any(|l| l.body == name)
-    };
+    let touched: std::collections::HashSet<&str> = scene
+        .joints
+        .iter()
+        .flat_map(|j| j.bodies.iter())
+        .chain(scene.springs.iter().flat_map(|s| s.bodies.iter()))
+        .map(String::as_str)
+        .chain(scene.loads.iter().map(|l| l.body.as_str()))
+        .collect();
     scene
         .bodies
         .iter()
         .enumerate()
-        .filter(|(_, b)| !touched(&b.name))
+        .filter(|(_, b)| !touched.contains(b.name.as_str()))
         .map(|(i, b)| {
             Problem::new(
                 index("bodies", i),
@@ -137,6 +281,70 @@ pub fn warnings(scene: &Scene) -> Vec<Problem> {
             )
         })
         .collect()
+}
+
+/// A scene with its body and point names in hash maps, so that checking every reference is
+/// linear in the scene's size (a name looked up by scanning the bodies or points made 40 000
+/// points take seconds, 200 000 bodies minutes).
+struct Indexed<'a> {
+    scene: &'a Scene,
+    body_map: std::collections::HashMap<&'a str, usize>,
+    /// The point names of each body, built on first use of that body.
+    point_sets:
+        std::cell::RefCell<std::collections::HashMap<usize, std::collections::HashSet<&'a str>>>,
+}
+
+impl<'a> Indexed<'a> {
+    fn new(scene: &'a Scene) -> Self {
+        let mut bodies = std::collections::HashMap::with_capacity(scene.bodies.len());
+        for (i, b) in scene.bodies.iter().enumerate() {
+            // the first of duplicated names, as Scene::body_index finds it
+            bodies.entry(b.name.as_str()).or_insert(i);
+        }
+        Indexed {
+            scene,
+            body_map: bodies,
+            point_sets: Default::default(),
+        }
+    }
+
+    /// Index of the named body (`None` for ground or an unknown name).
+    fn body_index(&self, name: &str) -> Option<usize> {
+        self.body_map.get(name).copied()
+    }
+
+    /// Whether body `bi` has a point called `name`.
+    fn has_point(&self, bi: usize, name: &str) -> bool {
+        let body = &self.scene.bodies[bi];
+        if body.points.len() < 8 {
+            return body.point(name).is_some();
+        }
+        self.point_sets
+            .borrow_mut()
+            .entry(bi)
+            .or_insert_with(|| body.point_names().collect())
+            .contains(name)
+    }
+}
+
+impl std::ops::Deref for Indexed<'_> {
+    type Target = Scene;
+    fn deref(&self) -> &Scene {
+        self.scene
+    }
+}
+
+/// The first few of `names`, comma-separated, with how many more there are (a message must
+/// not list 40 000 point names).
+fn some_names<'n>(mut names: impl Iterator<Item = &'n str>) -> String {
+    const SHOWN: usize = 20;
+    let shown: Vec<&str> = names.by_ref().take(SHOWN).collect();
+    let more = names.count();
+    let mut text = shown.join(", ");
+    if more > 0 {
+        text.push_str(&format!(", … and {more} more"));
+    }
+    text
 }
 
 fn finite(p: &mut Problems, path: &str, x: f64) -> bool {
@@ -150,12 +358,6 @@ fn finite(p: &mut Problems, path: &str, x: f64) -> bool {
 fn bound(p: &mut Problems, path: &str, r: Result<(), BoundError>) {
     if let Err(e) = r {
         p.push(path, e.to_string());
-    }
-}
-
-fn positive(p: &mut Problems, path: &str, x: f64) {
-    if !(x > 0.0 && x.is_finite()) {
-        p.push(path, format!("must be > 0 and finite (got {x})"));
     }
 }
 
@@ -175,7 +377,7 @@ fn vec_len(p: &mut Problems, path: &str, v: &[f64], n: usize) {
     }
 }
 
-fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
+fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bool) {
     let dim = scene.dimension;
     let path = index("bodies", i);
     let np = field(&path, "name");
@@ -191,7 +393,15 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
             &np,
             format!("'{}' must not contain '.' (outputs use body.point)", b.name),
         );
-    } else if scene.bodies[..i].iter().any(|o| o.name == b.name) {
+    } else if b.name.contains('`') {
+        p.push(
+            &np,
+            format!(
+                "'{}' must not contain '`' (expressions quote names in backquotes: `left-arm.x`)",
+                b.name
+            ),
+        );
+    } else if duplicate {
         p.push(&np, format!("duplicate body name '{}'", b.name));
     }
     bound(p, &field(&path, "mass"), check_mass(b.mass));
@@ -219,8 +429,11 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
     let pp = field(&path, "points");
     for (name, c) in &b.points {
         let path_k = field(&pp, name);
-        if name.is_empty() || name.contains('.') {
-            p.push(&path_k, "a point name must be non-empty and contain no '.'");
+        if name.is_empty() || name.contains('.') || name.contains('`') {
+            p.push(
+                &path_k,
+                "a point name must be non-empty and contain no '.' and no '`'",
+            );
         }
         vec_len(p, &path_k, c, dim.coords());
     }
@@ -247,7 +460,7 @@ fn body(p: &mut Problems, scene: &Scene, i: usize, b: &Body) {
 /// Checks that `name` is ground or a known body and that `point` exists on it.
 fn point_on(
     p: &mut Problems,
-    scene: &Scene,
+    scene: &Indexed<'_>,
     body_path: &str,
     name: &str,
     point_path: &str,
@@ -272,12 +485,11 @@ fn point_on(
     match point {
         PointRef::Coords(c) => vec_len(p, point_path, c, dim.coords()),
         PointRef::Named(n) => {
-            if b.point(n).is_none() {
-                let names: Vec<&str> = b.point_names().collect();
-                let has = if names.is_empty() {
+            if !scene.has_point(bi, n) {
+                let has = if b.points.is_empty() {
                     "it has no named points".to_string()
                 } else {
-                    format!("it has: {}", names.join(", "))
+                    format!("it has: {}", some_names(b.point_names()))
                 };
                 p.push(
                     point_path,
@@ -290,7 +502,7 @@ fn point_on(
 
 fn attachment(
     p: &mut Problems,
-    scene: &Scene,
+    scene: &Indexed<'_>,
     path: &str,
     bodies: &[String; 2],
     points: &[PointRef; 2],
@@ -315,9 +527,17 @@ fn attachment(
     }
 }
 
-fn joint(p: &mut Problems, scene: &Scene, path: &str, j: &Joint) {
+fn joint(p: &mut Problems, scene: &Indexed<'_>, path: &str, j: &Joint) {
     if j.name.is_empty() {
         p.push(field(path, "name"), "must not be empty");
+    } else if j.name.contains('`') {
+        p.push(
+            field(path, "name"),
+            format!(
+                "'{}' must not contain '`' (expressions quote names in backquotes)",
+                j.name
+            ),
+        );
     }
     attachment(p, scene, path, &j.bodies, &j.points);
     let tp = field(path, "type");
@@ -346,7 +566,7 @@ fn joint(p: &mut Problems, scene: &Scene, path: &str, j: &Joint) {
     }
 }
 
-fn load(p: &mut Problems, scene: &Scene, path: &str, l: &Load) {
+fn load(p: &mut Problems, scene: &Indexed<'_>, path: &str, l: &Load) {
     let bp = field(path, "body");
     if l.body == GROUND {
         p.push(&bp, "a load on ground does nothing; load a moving body");
@@ -453,6 +673,38 @@ fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
         );
     }
     let span = s.t_end - if t0.is_finite() { t0 } else { 0.0 };
+    if t0.is_finite() && s.t_end.is_finite() && !span.is_finite() {
+        p.push(
+            "solve.t_end",
+            format!(
+                "t_end - t_start = {:e} - ({t0:e}) overflows to {span}: the time span must be finite",
+                s.t_end
+            ),
+        );
+    }
+    // the output times must be told apart in floating point: t + h must differ from t
+    let t_max = t0.abs().max(s.t_end.abs());
+    if t_max.is_finite() && span.is_finite() && span > 0.0 {
+        let h = match (s.output_step, &s.output_times) {
+            (Some(h), _) => h,
+            (None, Some(_)) => span,
+            (None, None) => span / SolveSettings::DEFAULT_OUTPUT_INTERVALS as f64,
+        };
+        if h.is_finite() && h > 0.0 && h <= MIN_RELATIVE_STEP * t_max {
+            let at = if s.output_step.is_some() {
+                "solve.output_step"
+            } else {
+                "solve.t_end"
+            };
+            p.push(
+                at,
+                format!(
+                    "an output interval of {h:e} s is below the resolution of doubles at t = {t_max:e} (t + h must differ from t; the interval must exceed {:e} s there): shift the times toward 0 with solve.t_start",
+                    MIN_RELATIVE_STEP * t_max
+                ),
+            );
+        }
+    }
     if let Some(h) = s.output_step {
         if !(h > 0.0 && h.is_finite()) {
             p.push(
@@ -505,11 +757,15 @@ fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
         p.push("solve.max_steps", "must be a positive integer (got 0)");
     }
     if let Some(w) = s.max_wall_seconds {
-        positive(p, "solve.max_wall_seconds", w);
+        bound(p, "solve.max_wall_seconds", check_wall_seconds(w));
     }
 }
 
-fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
+/// Smallest output interval relative to the largest time of the run: 2⁶ units in the last
+/// place, so that `t + h` is a different double from `t` with room for rounding.
+pub const MIN_RELATIVE_STEP: f64 = 64.0 * f64::EPSILON;
+
+fn output(p: &mut Problems, scene: &Indexed<'_>, path: &str, o: &str) {
     match o.split_once('.') {
         None => {
             if !SCALAR_OUTPUTS.contains(&o) {
@@ -536,13 +792,12 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                     Dimension::Planar => &["x", "y", "vx", "vy"],
                     Dimension::Spatial => &["x", "y", "z", "vx", "vy", "vz"],
                 };
-                if body.point(pt).is_none() {
-                    let names: Vec<&str> = body.point_names().collect();
+                if !scene.has_point(bi, pt) {
                     p.push(
                         path,
                         format!(
                             "body '{b}' has no point '{pt}' (it has: {})",
-                            names.join(", ")
+                            some_names(body.point_names())
                         ),
                     );
                 } else if !comps.contains(&comp) {
@@ -556,13 +811,12 @@ fn output(p: &mut Problems, scene: &Scene, path: &str, o: &str) {
                 }
                 return;
             }
-            if body.point(rest).is_none() && !BODY_COLUMNS.contains(&rest) {
-                let names: Vec<&str> = body.point_names().collect();
+            if !scene.has_point(bi, rest) && !BODY_COLUMNS.contains(&rest) {
                 p.push(
                     path,
                     format!(
                         "body '{b}' has no point '{rest}' (it has: {})",
-                        names.join(", ")
+                        some_names(body.point_names())
                     ),
                 );
             }
@@ -763,6 +1017,49 @@ pub fn check_t_end(value: f64, output_step: Option<f64>) -> Result<(), BoundErro
         }
     }
     Ok(())
+}
+
+/// A wall-clock budget (`solve.max_wall_seconds`, `--max-wall-seconds`, the service's
+/// `?max_wall_seconds=` and `--max-solve-seconds`, s): finite, `> 0`, at most
+/// [`MAX_WALL_SECONDS`] (1e9 s). The budget becomes a [`std::time::Duration`] through
+/// [`wall_clock`].
+pub fn check_wall_seconds(value: f64) -> Result<(), BoundError> {
+    finite_positive(value)?;
+    if value > MAX_WALL_SECONDS {
+        return Err(BoundError::TooLarge {
+            value,
+            max: MAX_WALL_SECONDS,
+            why: "a longer budget is no budget (leave the setting out for none)",
+        });
+    }
+    Ok(())
+}
+
+/// A grace period (the service's `--shutdown-grace`, s): finite, `>= 0`, at most
+/// [`MAX_WALL_SECONDS`].
+pub fn check_grace_seconds(value: f64) -> Result<(), BoundError> {
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(BoundError::Negative { value });
+    }
+    if value > MAX_WALL_SECONDS {
+        return Err(BoundError::TooLarge {
+            value,
+            max: MAX_WALL_SECONDS,
+            why: "a longer grace period never ends",
+        });
+    }
+    Ok(())
+}
+
+/// Seconds as a [`std::time::Duration`], for a number already checked by
+/// [`check_wall_seconds`] or [`check_grace_seconds`]: never panics (negative, NaN and
+/// non-finite numbers give an error, too large ones saturate at [`MAX_WALL_SECONDS`]).
+pub fn wall_clock(seconds: f64) -> Result<std::time::Duration, BoundError> {
+    if !(seconds.is_finite() && seconds >= 0.0) {
+        return Err(BoundError::Negative { value: seconds });
+    }
+    std::time::Duration::try_from_secs_f64(seconds.min(MAX_WALL_SECONDS))
+        .map_err(|_| BoundError::Negative { value: seconds })
 }
 
 /// The size of a mechanism (m): the largest distance of a body centre, a body point (from the

@@ -91,6 +91,13 @@ impl Default for Config {
     }
 }
 
+/// Most solves `--max-concurrent` may run at once (each is a blocking thread).
+pub const MAX_CONCURRENT: usize = 1024;
+/// Longest queue `--queue` may ask for.
+pub const MAX_QUEUE: u64 = 1_000_000;
+/// Largest request body `--max-body` may allow (1 GiB).
+pub const MAX_BODY: u64 = 1 << 30;
+
 /// The flags of `bondmech serve`.
 #[derive(clap::Args, Clone, Debug)]
 pub struct ServeArgs {
@@ -127,20 +134,38 @@ impl ServeArgs {
     /// The configuration, or a message naming the bad flag.
     pub fn config(&self) -> Result<Config, String> {
         let d = Config::default();
-        if !(self.max_solve_seconds > 0.0 && self.max_solve_seconds.is_finite()) {
-            return Err(format!(
-                "--max-solve-seconds: must be > 0 (got {})",
-                self.max_solve_seconds
-            ));
+        use crate::scene::validate::{check_grace_seconds, check_wall_seconds, wall_clock};
+        check_wall_seconds(self.max_solve_seconds)
+            .map_err(|e| format!("--max-solve-seconds: {e}"))?;
+        check_grace_seconds(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
+        let grace =
+            wall_clock(self.shutdown_grace).map_err(|e| format!("--shutdown-grace: {e}"))?;
+        if let Some(n) = self.max_concurrent {
+            if !(1..=MAX_CONCURRENT).contains(&n) {
+                return Err(format!(
+                    "--max-concurrent: must be between 1 and {MAX_CONCURRENT} (got {n})"
+                ));
+            }
         }
-        if !(self.shutdown_grace >= 0.0 && self.shutdown_grace.is_finite()) {
-            return Err(format!(
-                "--shutdown-grace: must be >= 0 (got {})",
-                self.shutdown_grace
-            ));
-        }
-        if self.max_concurrent == Some(0) {
-            return Err("--max-concurrent: must be >= 1".into());
+        // counts and sizes that become semaphores, threads or buffers: bounded where parsed
+        let counts: [(&str, u64, u64); 4] = [
+            ("--queue", self.queue as u64, MAX_QUEUE),
+            ("--max-body", self.max_body, MAX_BODY),
+            (
+                "--max-rows",
+                self.max_rows as u64,
+                crate::scene::validate::MAX_OUTPUT_TIMES as u64,
+            ),
+            (
+                "--max-elements",
+                self.max_elements as u64,
+                crate::scene::validate::MAX_SCENE_ENTRIES as u64,
+            ),
+        ];
+        for (flag, value, max) in counts {
+            if value > max {
+                return Err(format!("{flag}: must be at most {max} (got {value})"));
+            }
         }
         Ok(Config {
             addr: self.addr,
@@ -154,7 +179,7 @@ impl ServeArgs {
                 max_solve_seconds: self.max_solve_seconds,
                 body_timeout: d.limits.body_timeout,
             },
-            shutdown_grace: Duration::from_secs_f64(self.shutdown_grace),
+            shutdown_grace: grace,
             retry_after: d.retry_after,
         })
     }
@@ -209,7 +234,8 @@ async fn serve(
     stop: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
     let metrics = Arc::new(Metrics::default());
-    let queue_wait = Duration::from_secs_f64(config.limits.max_solve_seconds);
+    let queue_wait = crate::scene::validate::wall_clock(config.limits.max_solve_seconds)
+        .unwrap_or(Duration::from_secs(60));
     let app = Arc::new(App {
         pool: Pool::new(
             config.max_concurrent,

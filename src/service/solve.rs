@@ -225,7 +225,8 @@ impl Budget {
 
     /// As a duration.
     pub fn duration(&self) -> Duration {
-        Duration::from_secs_f64(self.seconds.max(0.0))
+        // the seconds were range-checked where they were given (scene, query, --max-solve-seconds)
+        crate::scene::validate::wall_clock(self.seconds).unwrap_or(Duration::ZERO)
     }
 }
 

@@ -50,7 +50,12 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
         .as_ref()
         .ok_or_else(|| Error::BondGraph("the scene has no bond_graph".into()))?;
     let raw = RawBondGraph::from_value(raw).map_err(validation_error)?;
-    raw.to_graph().map_err(validation_error)
+    let g = raw.to_graph().map_err(validation_error)?;
+    let errors = crate::bond::validate::check_expression_values(&g, scene.solve.t_start);
+    if !errors.is_empty() {
+        return Err(validation_error(crate::bond::ValidationErrors(errors)));
+    }
+    Ok(g)
 }
 
 /// The solve options written in a raw bond graph scene's `solve` section
@@ -70,7 +75,9 @@ pub fn raw_bond_graph_options(scene: &Scene) -> SolveOptions {
         t_start: s.t_start,
         output_times: scene.output_times(),
         max_steps: s.max_steps,
-        max_wall_clock: s.max_wall_seconds.map(std::time::Duration::from_secs_f64),
+        max_wall_clock: s
+            .max_wall_seconds
+            .and_then(|w| crate::scene::validate::wall_clock(w).ok()),
         ..SolveOptions::default()
     }
 }
@@ -257,14 +264,20 @@ fn solve_from_first_output(
         };
         let run = ThreadTime::now();
         let mut cv = super::integrators::make_cvode(Arc::new(ode), t0, &y0, &cv_opts, opts)?;
-        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
+        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0), opts.keep_rows);
         for &t in &opts.output_times[1..] {
             if stop {
                 break;
             }
             match cv.solve_to(t) {
                 Ok(step) => {
-                    stop = emit(&mut sol, observer, step.t, out.row(step.t, cv.y()));
+                    stop = emit(
+                        &mut sol,
+                        observer,
+                        step.t,
+                        out.row(step.t, cv.y()),
+                        opts.keep_rows,
+                    );
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &cv.stats());
@@ -318,14 +331,20 @@ fn solve_from_first_output(
         let dae = crate::dae::IdDae { dae, id };
         let run = ThreadTime::now();
         let mut ida = super::integrators::make_ida(Arc::new(dae), atol, t0, &y0, &yp0, opts)?;
-        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0));
+        let mut stop = emit(&mut sol, observer, t0, out.row(t0, &y0), opts.keep_rows);
         for &t in &opts.output_times[1..] {
             if stop {
                 break;
             }
             match ida.solve_to(t) {
                 Ok(step) => {
-                    stop = emit(&mut sol, observer, step.t, out.row(step.t, ida.y()));
+                    stop = emit(
+                        &mut sol,
+                        observer,
+                        step.t,
+                        out.row(step.t, ida.y()),
+                        opts.keep_rows,
+                    );
                 }
                 Err(e) => {
                     fill_stats(&mut summary, &ida.stats());

@@ -242,6 +242,11 @@ pub struct SolveOptions {
     /// non-smooth operations (`max`, `min`, `abs`, `sign`, `select`) and restarts it on the
     /// other branch, instead of stepping across the kinks (`expr::switches`). Default true.
     pub switching_functions: bool,
+    /// Keep every output row in the returned [`crate::Solution`] (the default). `false`: the
+    /// rows only go to the observer of [`crate::Model::solve_streaming`] and the solution
+    /// keeps just the latest one, so memory stays bounded whatever the number of rows (the
+    /// command line streams `run`'s CSV so).
+    pub keep_rows: bool,
 }
 
 impl Default for SolveOptions {
@@ -265,6 +270,7 @@ impl Default for SolveOptions {
             linear_solver: LinearSolverKind::Auto,
             integrator: Integrator::Auto,
             switching_functions: true,
+            keep_rows: true,
         }
     }
 }

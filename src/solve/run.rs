@@ -164,22 +164,22 @@ impl Solution {
         self.rows.get(k).map(|r| r[c])
     }
 
-    /// CSV text: header `t,<columns>`, one row per output time.
+    /// CSV text: header `t,<columns>`, one row per output time (written by the `csv` crate:
+    /// a column name holding a comma or a quote is quoted per RFC 4180).
     pub fn to_csv(&self) -> String {
-        let mut s = String::from("t");
-        for c in &self.columns {
-            s.push(',');
-            s.push_str(c);
-        }
-        s.push('\n');
+        let mut bytes = Vec::new();
+        self.write_csv(&mut bytes)
+            .expect("writing to memory does not fail");
+        String::from_utf8(bytes).expect("CSV of UTF-8 names and numbers is UTF-8")
+    }
+
+    /// Writes [`Solution::to_csv`] to `w`, row by row.
+    pub fn write_csv(&self, w: impl std::io::Write) -> std::io::Result<()> {
+        let mut csv = crate::output::CsvRows::new(w, &self.columns)?;
         for (t, r) in self.times.iter().zip(&self.rows) {
-            s.push_str(&format!("{t}"));
-            for v in r {
-                s.push_str(&format!(",{v:.17e}"));
-            }
-            s.push('\n');
+            csv.row(*t, r)?;
         }
-        s
+        csv.finish().map(drop)
     }
 }
 
@@ -579,8 +579,11 @@ pub(crate) fn from_t_start(
             observer(row)
         }
     };
+    let t0 = opts.t_start;
+    // the row at t_start is the first one, if it is still there (a solve that keeps only its
+    // latest row may have dropped it already)
     let drop_first = |sol: &mut Solution| {
-        if !listed && !sol.times.is_empty() {
+        if !listed && sol.times.first() == Some(&t0) && !sol.rows.is_empty() {
             sol.times.remove(0);
             sol.rows.remove(0);
         }
@@ -1020,7 +1023,7 @@ fn run_ggl(
     let mut compliant_time = 0.0;
     let first = out.row(t0, &y0);
     let mut last_output = (t0, y0.clone());
-    if !emit(&mut sol, observer, t0, first) {
+    if !emit(&mut sol, observer, t0, first, opts.keep_rows) {
         let mut k = 1;
         while k < opts.output_times.len() {
             let t = opts.output_times[k];
@@ -1087,7 +1090,7 @@ fn run_ggl(
                 };
                 last_output = (step.t, solver.ida.y().to_vec());
                 let row = out.row(step.t, solver.ida.y());
-                if emit(&mut sol, observer, step.t, row) || stop {
+                if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                     break;
                 }
                 continue;
@@ -1095,7 +1098,7 @@ fn run_ggl(
             k += 1;
             last_output = (step.t, solver.ida.y().to_vec());
             let row = out.row(step.t, solver.ida.y());
-            if emit(&mut sol, observer, step.t, row) {
+            if emit(&mut sol, observer, step.t, row, opts.keep_rows) {
                 break;
             }
             if error_test.active && error_test.check(&gv_at(step.t, solver.ida.y()), solver.eps()) {
@@ -1297,7 +1300,7 @@ fn run_index1(
     y_first.extend(std::iter::repeat_n(0.0, nc));
     y_first.extend(&init.lambda);
     let first = out.row(t0, &y_first);
-    if emit(&mut sol, observer, t0, first) {
+    if emit(&mut sol, observer, t0, first, opts.keep_rows) {
         set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
         set_completed(summary, &sol);
         sol.summary = summary.clone();
@@ -1426,7 +1429,7 @@ fn run_index1(
                 let mut yr = ida.y().to_vec();
                 complete_dependent(&tapes, &dependent, step.t, &mut yr);
                 let row = out.row(step.t, &yr);
-                if emit(&mut sol, observer, step.t, row) || stop {
+                if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                     total.accumulate(&ida.stats());
                     break 'restart;
                 }
@@ -1438,7 +1441,7 @@ fn run_index1(
             x.copy_from_slice(&yr[..nq + nv]);
             t_last = step.t;
             let row = out.row(step.t, &yr);
-            if emit(&mut sol, observer, step.t, row) {
+            if emit(&mut sol, observer, step.t, row, opts.keep_rows) {
                 total.accumulate(&ida.stats());
                 break 'restart;
             }
@@ -1676,7 +1679,7 @@ fn run_decoupled(
         summary: Summary::default(),
     };
     let first = out.row(t0, &y0);
-    let stop = emit(&mut sol, observer, t0, first);
+    let stop = emit(&mut sol, observer, t0, first, opts.keep_rows);
     if !stop {
         let mut k = 1;
         while k < opts.output_times.len() {
@@ -1700,14 +1703,14 @@ fn run_decoupled(
                     continue;
                 };
                 let row = out.row(step.t, cv.y());
-                if emit(&mut sol, observer, step.t, row) || stop {
+                if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                     break;
                 }
                 continue;
             }
             k += 1;
             let row = out.row(step.t, cv.y());
-            if emit(&mut sol, observer, step.t, row) {
+            if emit(&mut sol, observer, step.t, row, opts.keep_rows) {
                 break;
             }
         }
@@ -1721,14 +1724,21 @@ fn run_decoupled(
     Ok(sol)
 }
 
-/// Appends a row and hands it to the observer; `true` when the observer asks to stop.
+/// Hands a row to the observer and appends it to the solution (with `keep` false, the
+/// solution keeps only its latest row: [`SolveOptions::keep_rows`]); `true` when the observer
+/// asks to stop.
 pub(crate) fn emit(
     sol: &mut Solution,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     t: f64,
     row: Vec<f64>,
+    keep: bool,
 ) -> bool {
     let brk = observer(Row { t, values: &row }).is_break();
+    if !keep {
+        sol.times.clear();
+        sol.rows.clear();
+    }
     sol.times.push(t);
     sol.rows.push(row);
     brk

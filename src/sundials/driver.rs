@@ -52,6 +52,32 @@ pub(crate) struct DriverState {
     pub(crate) wall_used: Duration,
     /// Internal steps taken by `solve_to`/`step` so far (never reset).
     pub(crate) steps_used: u64,
+    /// Consecutive internal steps that did not advance the time (`t + h == t`).
+    pub(crate) stalled: u32,
+}
+
+/// Consecutive internal steps that leave the time where it was (`t + h == t` in floating
+/// point: the step size is below the resolution of doubles at `t`, e.g. at `t = 1e300`)
+/// after which the solve stops with [`SolverError::NoProgress`] instead of stepping forever.
+/// Steps shrinking against a non-finite value stall too; the non-finite detection (25
+/// evaluations) names the culprit before this count is reached.
+pub const MAX_STALLED_STEPS: u32 = 100;
+
+/// Counts a step from `before` to `after`: `Err(NoProgress)` after [`MAX_STALLED_STEPS`] in a
+/// row that did not advance the time.
+fn check_progress(d: &mut DriverState, before: f64, after: f64) -> Result<(), SolverError> {
+    if after > before {
+        d.stalled = 0;
+        return Ok(());
+    }
+    d.stalled += 1;
+    if d.stalled >= MAX_STALLED_STEPS {
+        return Err(SolverError::NoProgress {
+            t: before,
+            steps: d.stalled,
+        });
+    }
+    Ok(())
 }
 
 impl DriverState {
@@ -70,6 +96,7 @@ impl DriverState {
             max_total_steps,
             wall_used: Duration::ZERO,
             steps_used: 0,
+            stalled: 0,
         }
     }
 
@@ -161,6 +188,8 @@ fn solve_to_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<St
         let (tret, raw) = s.one_step(tout)?;
         steps += 1;
         s.driver().steps_used += 1;
+        let after = s.current_time();
+        check_progress(s.driver(), tn, after)?;
         let event = match raw {
             RawEvent::Success => continue,
             RawEvent::Root => StepEvent::Root(s.root_info()),
@@ -202,6 +231,8 @@ fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, 
     check_total_steps(s.driver(), tn)?;
     let (tret, raw) = s.one_step(tout)?;
     s.driver().steps_used += 1;
+    let after = s.current_time();
+    check_progress(s.driver(), tn, after)?;
     let event = match raw {
         RawEvent::Success => StepEvent::Reached,
         RawEvent::Root => StepEvent::Root(s.root_info()),

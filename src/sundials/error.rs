@@ -98,6 +98,15 @@ pub enum SolverError {
         /// Whether the solver's trial steps piled up against the non-finite value.
         stuck: bool,
     },
+    /// The steps stopped advancing the time: `t + h == t` in floating point, the step size
+    /// is below the resolution of doubles at `t` (a run at `t = 1e300`).
+    #[error("the step cannot advance the time at t = {t:e}: {steps} steps in a row left it unchanged (t + h == t: the step size is below the resolution of doubles there; move solve.t_start toward 0)")]
+    NoProgress {
+        /// Time reached.
+        t: f64,
+        /// Steps that did not advance it.
+        steps: u32,
+    },
     /// Bad arguments (lengths, non-finite values, ...).
     #[error("invalid input: {0}")]
     InvalidInput(String),
@@ -113,6 +122,7 @@ impl SolverError {
             | SolverError::TooMuchWork { t, .. }
             | SolverError::StepBudget { t, .. }
             | SolverError::WallClock { t, .. }
+            | SolverError::NoProgress { t, .. }
             | SolverError::NonFinite { t, .. } => Some(*t),
             SolverError::InvalidInput(_) => None,
         }

@@ -307,7 +307,7 @@ pub(super) fn run_partitioned(
             summary.compliance_used = compliant_time > 0.0 || !summary.singular_passages.is_empty();
             set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
         };
-    if emit(&mut sol, observer, t0, row) {
+    if emit(&mut sol, observer, t0, row, opts.keep_rows) {
         finish(summary, &out, &total, 0.0);
         set_completed(summary, &sol);
         sol.summary = summary.clone();
@@ -387,7 +387,7 @@ pub(super) fn run_partitioned(
                         continue;
                     };
                     let row = out.row(step.t, solver.ida.y());
-                    if emit(&mut sol, observer, step.t, row) || stop {
+                    if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                         total.accumulate(&solver.ida.stats());
                         compliant_time += step.t - t_in;
                         break 'segment;
@@ -396,7 +396,7 @@ pub(super) fn run_partitioned(
                 }
                 k_next += 1;
                 let row = out.row(step.t, solver.ida.y());
-                if emit(&mut sol, observer, step.t, row) {
+                if emit(&mut sol, observer, step.t, row, opts.keep_rows) {
                     total.accumulate(&solver.ida.stats());
                     compliant_time += step.t - t_in;
                     break 'segment;
@@ -570,7 +570,7 @@ pub(super) fn run_partitioned(
                 let fired = events_fired(&sys.events, user, step.t, summary);
                 if let Some(stop) = fired {
                     let row = out.row(step.t, &full);
-                    if emit(&mut sol, observer, step.t, row) || stop {
+                    if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                         total.accumulate(&integ.stats());
                         break 'segment;
                     }
@@ -625,7 +625,7 @@ pub(super) fn run_partitioned(
             x.copy_from_slice(&full[..nq + nv]);
             t_start = step.t;
             let row = out.row(step.t, &full);
-            if emit(&mut sol, observer, step.t, row) {
+            if emit(&mut sol, observer, step.t, row, opts.keep_rows) {
                 total.accumulate(&integ.stats());
                 break 'segment;
             }
