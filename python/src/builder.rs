@@ -18,7 +18,7 @@ fn frame(name: &str) -> PyResult<BodyFrame> {
         "inertial" => Ok(BodyFrame::Inertial),
         "body" => Ok(BodyFrame::BodyFixed),
         _ => Err(PyValueError::new_err(format!(
-            "frame={name:?}: expected 'inertial' or 'body'"
+            "frame='{name}': expected 'inertial' or 'body'"
         ))),
     }
 }
@@ -422,7 +422,7 @@ impl Mechanism {
             "both" => EventDirection::Both,
             d => {
                 return Err(PyValueError::new_err(format!(
-                    "direction={d:?}: expected rising, falling or both"
+                    "direction='{d}': expected rising, falling or both"
                 )))
             }
         };
@@ -431,7 +431,7 @@ impl Mechanism {
             "record" => EventAction::Record,
             a => {
                 return Err(PyValueError::new_err(format!(
-                    "action={a:?}: expected stop or record"
+                    "action='{a}': expected stop or record"
                 )))
             }
         };
@@ -458,7 +458,7 @@ impl Mechanism {
     fn formulation(&self, name: &str) -> PyResult<Self> {
         let f = Formulation::from_flag(name).ok_or_else(|| {
             PyValueError::new_err(format!(
-                "formulation={name:?}: expected dae, ggl, compliant_ggl, index1, partitioned or decoupled"
+                "formulation='{name}': expected dae, ggl, compliant_ggl, index1, partitioned or decoupled"
             ))
         })?;
         Ok(self.with(|m| m.formulation(f)))

@@ -348,7 +348,7 @@ impl RunArgs {
                     py,
                     "OptionsError",
                     (format!(
-                        "formulation={f:?}: unknown (expected dae, ggl, compliant_ggl, index1, partitioned or decoupled)"
+                        "formulation='{f}': unknown (expected dae, ggl, compliant_ggl, index1, partitioned or decoupled)"
                     ),),
                 )
             })?),
@@ -360,7 +360,7 @@ impl RunArgs {
                     py,
                     "OptionsError",
                     (format!(
-                        "linear_solver={l:?}: unknown (expected auto, dense, sparse or klu)"
+                        "linear_solver='{l}': unknown (expected auto, dense, sparse or klu)"
                     ),),
                 )
             })?),

@@ -1,8 +1,11 @@
 """The GIL is released during a solve: Python threads solve in parallel.
 
-Timing on a shared machine is noisy, so the solve is made long (about a second) and each
-measurement is tried up to three times; a solve that held the GIL would take twice as long for
-two threads every time, never 1.3×."""
+Two threads solving at once must take at most 1.3× the wall time of one solve (on two cores).
+The solve is made long (about one second of CPU) and the measurement is tried up to three
+times: a solve that held the GIL would take twice as long for two threads every time, never
+1.3×. On a machine whose cores are busy with other work the comparison says nothing about the
+GIL (one solve alone already gets less than a core); the test then says so and skips, and
+`test_python_runs_while_a_solve_is_in_progress` still checks the release on any machine."""
 
 from __future__ import annotations
 
@@ -15,26 +18,30 @@ import pytest
 
 import bondmech
 
+OPTS = dict(rtol=1e-10, atol=1e-12)
+
 
 def long_scene(double_pendulum_path):
     return bondmech.load(double_pendulum_path).set("solve.output_step", 0.05)
 
 
-def calibrated_t_end(scene, target=1.0):
-    """A horizon for which one solve takes about `target` seconds of wall time here."""
-    t0 = time.perf_counter()
-    scene.run(t_end=2.0, rtol=1e-10, atol=1e-12)
-    per_second = (time.perf_counter() - t0) / 2.0
-    return float(np.clip(target / max(per_second, 1e-4), 2.0, 400.0))
+def calibrated_t_end(scene, cpu_seconds=1.0):
+    """A horizon for which one solve takes about `cpu_seconds` of CPU here."""
+    t0 = time.thread_time()
+    scene.run(t_end=5.0, **OPTS)
+    per_second = (time.thread_time() - t0) / 5.0
+    return float(np.clip(cpu_seconds / max(per_second, 1e-5), 5.0, 2000.0))
 
 
 def solve_in_threads(scene, n, t_end):
-    results = [None] * n
-    errors = []
+    """Wall time of `n` threads solving at once, their solutions and thread CPU times."""
+    results, cpu, errors = [None] * n, [0.0] * n, []
 
     def work(i):
         try:
-            results[i] = scene.run(t_end=t_end, rtol=1e-10, atol=1e-12)
+            c0 = time.thread_time()
+            results[i] = scene.run(t_end=t_end, **OPTS)
+            cpu[i] = time.thread_time() - c0
         except BaseException as e:  # noqa: BLE001 - reported below
             errors.append(e)
 
@@ -46,39 +53,48 @@ def solve_in_threads(scene, n, t_end):
         th.join()
     wall = time.perf_counter() - t0
     assert not errors, errors
-    return wall, results
+    return wall, results, cpu
 
 
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
 def test_two_threads_take_at_most_1_3_times_one_solve(double_pendulum_path):
     scene = long_scene(double_pendulum_path)
     t_end = calibrated_t_end(scene)
-    ratios = []
-    for _attempt in range(3):
-        one, (alone,) = solve_in_threads(scene, 1, t_end)
-        two, (a, b) = solve_in_threads(scene, 2, t_end)
-        ratios.append(two / one)
-        # the threads computed the same thing as the lone solve
+    attempts = []
+    for _ in range(3):
+        one, (alone,), (cpu1,) = solve_in_threads(scene, 1, t_end)
+        two, (a, b), cpu2 = solve_in_threads(scene, 2, t_end)
+        # the threads computed what the lone solve did
         assert np.array_equal(a.values, alone.values) and np.array_equal(b.values, alone.values)
+        attempts.append(dict(one=one, two=two, ratio=two / one, cpu_one=cpu1, cpu_two=cpu2,
+                             overlap=sum(cpu2) / two))
         if two <= 1.3 * one:
             break
-    print(f"one solve {one:.3f} s (t_end {t_end:.1f}), two threads {two:.3f} s, ratios {ratios}")
-    assert min(ratios) <= 1.3, ratios
+    print(f"t_end {t_end:.0f} s of motion:", attempts)
+    best = min(attempts, key=lambda r: r["ratio"])
+    if best["ratio"] > 1.3 and all(r["cpu_one"] < 0.8 * r["one"] for r in attempts):
+        pytest.skip(f"the cores are busy with other work (one solve got {best['cpu_one']:.2f} s "
+                    f"of CPU in {best['one']:.2f} s): two threads cannot be timed here")
+    assert best["ratio"] <= 1.3, attempts
+    # and the two threads really ran at the same time: more CPU than wall time between them
+    assert best["overlap"] > 1.3, attempts
 
 
 def test_python_runs_while_a_solve_is_in_progress(double_pendulum_path):
-    # independent of the number of cores: with the GIL held, the main thread could not count
+    # independent of the number of cores and of the load: with the GIL held during the solve,
+    # the main thread could not run at all until the solve ended
     scene = long_scene(double_pendulum_path)
-    t_end = calibrated_t_end(scene, target=0.5)
-    worker = threading.Thread(target=scene.run, kwargs=dict(t_end=t_end, rtol=1e-10, atol=1e-12))
+    t_end = calibrated_t_end(scene, cpu_seconds=0.5)
+    done = threading.Event()
+    worker = threading.Thread(target=lambda: (scene.run(t_end=t_end, **OPTS), done.set()))
     ticks = 0
     worker.start()
     start = time.perf_counter()
-    while worker.is_alive():
+    while not done.is_set():
         ticks += 1
         time.sleep(0.001)
     elapsed = time.perf_counter() - start
     worker.join()
     assert elapsed > 0.1
-    # one tick per ~ms while the solve runs: many more than a held GIL would let through
-    assert ticks > 0.2 * elapsed / 0.001, (ticks, elapsed)
+    # about one tick per 1-2 ms while the solve runs
+    assert ticks > 0.1 * elapsed / 0.001, (ticks, elapsed)
