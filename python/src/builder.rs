@@ -202,7 +202,12 @@ impl SpringDamper {
     /// A spring of stiffness `stiffness` (N/m) between ends `a` and `b`; its rest length is the
     /// initial distance unless set.
     #[new]
-    fn new(name: &str, a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, stiffness: f64) -> PyResult<Self> {
+    fn new(
+        name: &str,
+        a: &Bound<'_, PyAny>,
+        b: &Bound<'_, PyAny>,
+        stiffness: f64,
+    ) -> PyResult<Self> {
         Ok(SpringDamper(bondmech::SpringDamper::new(
             name,
             endpoint(a)?,

@@ -33,11 +33,7 @@ pub const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(50);
 // errors
 
 /// `bondmech._errors.<name>(*args)` as a Python exception.
-fn py_error<'py>(
-    py: Python<'py>,
-    name: &str,
-    args: impl pyo3::call::PyCallArgs<'py>,
-) -> PyErr {
+fn py_error<'py>(py: Python<'py>, name: &str, args: impl pyo3::call::PyCallArgs<'py>) -> PyErr {
     let made = py
         .import("bondmech._errors")
         .and_then(|m| m.getattr(name))
@@ -250,9 +246,7 @@ impl Solution {
                 self.inner.columns.join(", ")
             )));
         };
-        self.values
-            .bind(py)
-            .get_item((PySlice::full(py), c))
+        self.values.bind(py).get_item((PySlice::full(py), c))
     }
 
     fn __contains__(&self, name: &str) -> bool {
@@ -478,7 +472,12 @@ impl Scene {
 
     /// Rebuilds a scene from its text, default name and `PATH=JSON` assignments (pickling).
     #[staticmethod]
-    fn _from_parts(py: Python<'_>, text: String, name: String, sets: Vec<String>) -> PyResult<Scene> {
+    fn _from_parts(
+        py: Python<'_>,
+        text: String,
+        name: String,
+        sets: Vec<String>,
+    ) -> PyResult<Scene> {
         let mut s = Scene::from_text(py, text, name)?;
         for a in sets {
             let a = parse_assignment(&a)
@@ -684,7 +683,8 @@ fn graph<'py>(
         ));
     }
     let decoupled = decoupled
-        || (!model.is_raw_bond_graph() && model.scene().solve.formulation == Formulation::Decoupled);
+        || (!model.is_raw_bond_graph()
+            && model.scene().solve.formulation == Formulation::Decoupled);
     let variant = if decoupled {
         bondmech::mech::Variant::Decoupled
     } else {
@@ -827,9 +827,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_sweep_csv, m)?)?;
     m.add_function(wrap_pyfunction!(_library_cpu_seconds, m)?)?;
     m.add_function(wrap_pyfunction!(_versions, m)?)?;
-    m.add(
-        "SIGNAL_CHECK_SECONDS",
-        SIGNAL_CHECK_INTERVAL.as_secs_f64(),
-    )?;
+    m.add("SIGNAL_CHECK_SECONDS", SIGNAL_CHECK_INTERVAL.as_secs_f64())?;
     Ok(())
 }
