@@ -5,4 +5,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test
-./scripts/test-python.sh
+# cargo test built the command line for its integration tests: the Python tests compare with it
+BONDMECH_CLI="$PWD/target/debug/bondmech" ./scripts/test-python.sh
