@@ -802,7 +802,7 @@ fn _versions() -> (String, (u32, u32, u32)) {
     )
 }
 
-/// Rejects an object that is not a `Scene`, naming what it got.
+/// The name of an object's Python type (for error messages).
 pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
     obj.get_type()
         .name()
@@ -810,7 +810,7 @@ pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .unwrap_or_else(|_| "?".into())
 }
 
-/// Helper for the builder: a `TypeError` naming the argument.
+/// A `TypeError`: what was expected (`what`) and the type that came instead.
 pub(crate) fn type_error(what: &str, obj: &Bound<'_, PyAny>) -> PyErr {
     PyTypeError::new_err(format!("{what}: got {}", type_name(obj)))
 }
