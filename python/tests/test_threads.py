@@ -4,7 +4,8 @@ Two threads solving at once must take at most 1.3× the wall time of one solve (
 The solve is made long (about one second of CPU) and the measurement is tried up to three
 times: a solve that held the GIL would take twice as long for two threads every time, never
 1.3×. On a machine whose cores are busy with other work the comparison says nothing about the
-GIL (one solve alone already gets less than a core); the test then says so and skips, and two
+GIL (two processes, each with its own GIL, are not faster than two threads either); the test then
+says so and skips, and two
 checks that hold on any machine remain: the main thread runs while a solve is in progress, and
 two threads solving at once take no longer than two processes (each with its own GIL) doing
 the same."""
@@ -68,18 +69,19 @@ def test_two_threads_take_at_most_1_3_times_one_solve(double_pendulum_path):
         two, (a, b), cpu2 = solve_in_threads(scene, 2, t_end)
         # the threads computed what the lone solve did
         assert np.array_equal(a.values, alone.values) and np.array_equal(b.values, alone.values)
-        attempts.append(dict(one=one, two=two, ratio=two / one, cpu_one=cpu1, cpu_two=cpu2,
-                             overlap=sum(cpu2) / two))
+        # what the machine gives two solves right now: two processes (each its own GIL)
+        procs = span_in_processes(scene, t_end, 2)
+        attempts.append(dict(one=one, two=two, ratio=two / one, processes=procs,
+                             process_ratio=procs / one, cpu_one=cpu1, cpu_two=cpu2))
         if two <= 1.3 * one:
             break
     print(f"t_end {t_end:.0f} s of motion:", attempts)
     best = min(attempts, key=lambda r: r["ratio"])
-    if best["ratio"] > 1.3 and all(r["cpu_one"] < 0.8 * r["one"] for r in attempts):
-        pytest.skip(f"the cores are busy with other work (one solve got {best['cpu_one']:.2f} s "
-                    f"of CPU in {best['one']:.2f} s): two threads cannot be timed here")
+    if best["ratio"] > 1.3 and all(r["process_ratio"] > 1.3 for r in attempts):
+        pytest.skip("the cores are busy with other work: two processes also took more than "
+                    f"1.3× one solve ({[round(r['process_ratio'], 2) for r in attempts]}), so "
+                    "two threads cannot be timed against one here")
     assert best["ratio"] <= 1.3, attempts
-    # and the two threads really ran at the same time: more CPU than wall time between them
-    assert best["overlap"] > 1.3, attempts
 
 
 def test_python_runs_while_a_solve_is_in_progress(double_pendulum_path):
@@ -115,14 +117,29 @@ def _span(out, n):
     return max(e for _, e in spans) - min(s for s, _ in spans)
 
 
+def span_in_processes(scene, t_end, n):
+    """Wall time of `n` processes solving at once (from the first start to the last end)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("spawn")
+    barrier, out = ctx.Barrier(n), ctx.Queue()
+    procs = [ctx.Process(target=_solve_after_barrier, args=(scene, t_end, barrier, out))
+             for _ in range(n)]
+    for p in procs:
+        p.start()
+    span = _span(out, n)
+    for p in procs:
+        p.join()
+        assert p.exitcode == 0
+    return span
+
+
 def test_two_threads_are_as_fast_as_two_processes(double_pendulum_path):
     """Load-independent: two threads solving at once take no longer than two processes doing
     the same (each process has its own GIL), whatever else the machine is doing. With the GIL
     held during a solve, the threads would take twice as long."""
-    import multiprocessing as mp
     import queue
 
-    ctx = mp.get_context("spawn")
     scene = long_scene(double_pendulum_path)
     t_end = calibrated_t_end(scene, cpu_seconds=0.5)
     attempts = []
@@ -135,15 +152,7 @@ def test_two_threads_are_as_fast_as_two_processes(double_pendulum_path):
         for th in threads:
             th.join()
         in_threads = _span(out, 2)
-        barrier, pout = ctx.Barrier(2), ctx.Queue()
-        procs = [ctx.Process(target=_solve_after_barrier, args=(scene, t_end, barrier, pout))
-                 for _ in range(2)]
-        for p in procs:
-            p.start()
-        in_processes = _span(pout, 2)
-        for p in procs:
-            p.join()
-            assert p.exitcode == 0
+        in_processes = span_in_processes(scene, t_end, 2)
         attempts.append((in_threads, in_processes, in_threads / in_processes))
         if in_threads <= 1.3 * in_processes:
             break
