@@ -59,3 +59,24 @@ def test_raw_bond_graph_equals_the_cli(cli, tmp_path):
     scene_path = SCENES / "bg_mass_spring_damper.json"
     cli("run", str(scene_path), "--out", str(out), "--summary", str(summ))
     check_equal(bondmech.load(scene_path).run(), out.read_text(), summ.read_text())
+
+
+def test_compare_equals_the_cli_compare_json(cli, tmp_path, double_pendulum_path):
+    out = tmp_path / "compare.json"
+    cli("compare", str(double_pendulum_path), "--t-end", "0.3", "--joint-stiffness", "1e7",
+        "--json", str(out))
+    ours = bondmech.compare(bondmech.load(double_pendulum_path), joint_stiffness=1e7, t_end=0.3)
+    theirs = json.loads(out.read_text())
+    for side in ("dae", "decoupled"):
+        for k in TIMING:
+            ours[side].pop(k, None)
+            theirs[side].pop(k, None)
+    assert ours == theirs
+    assert ours["decoupled"]["formulation"] == "decoupled"
+
+
+def test_graph_equals_the_cli_graph(cli, double_pendulum_path):
+    scene = bondmech.load(double_pendulum_path)
+    assert bondmech.graph(scene) == cli("graph", str(double_pendulum_path)).stdout
+    causality = cli("graph", str(double_pendulum_path), "--causality").stdout
+    assert bondmech.graph(scene, causality=True) == json.loads(causality)
