@@ -47,3 +47,9 @@ def test_public_api_has_docstrings():
         for m, f in vars(cls).items():
             if not m.startswith("_") and callable(f):
                 assert (f.__doc__ or "").strip(), f"{cls.__name__}.{m} has no docstring"
+
+
+def test_the_extension_is_one_abi3_module_on_sundials_6():
+    # abi3 (the stable ABI): one wheel serves every CPython >= 3.9
+    assert _native.__file__.endswith(".abi3.so"), _native.__file__
+    assert bondmech.SUNDIALS_VERSION[0] == 6
