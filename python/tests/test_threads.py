@@ -77,10 +77,12 @@ def test_two_threads_take_at_most_1_3_times_one_solve(double_pendulum_path):
             break
     print(f"t_end {t_end:.0f} s of motion:", attempts)
     best = min(attempts, key=lambda r: r["ratio"])
-    if best["ratio"] > 1.3 and all(r["process_ratio"] > 1.3 for r in attempts):
-        pytest.skip("the cores are busy with other work: two processes also took more than "
-                    f"1.3× one solve ({[round(r['process_ratio'], 2) for r in attempts]}), so "
-                    "two threads cannot be timed against one here")
+    # the machine ran two solves in parallel at least once (two processes within 1.2× one)
+    parallel = any(r["process_ratio"] <= 1.2 for r in attempts)
+    if best["ratio"] > 1.3 and not parallel:
+        pytest.skip("the cores are busy with other work: two processes took "
+                    f"{[round(r['process_ratio'], 2) for r in attempts]}× one solve, so two "
+                    "threads cannot be timed against one here")
     assert best["ratio"] <= 1.3, attempts
 
 
