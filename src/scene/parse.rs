@@ -238,6 +238,7 @@ const SCENE_KEYS: &[&str] = &[
     "solve",
     "outputs",
     "events",
+    "inputs",
     "bond_graph",
 ];
 
@@ -313,6 +314,12 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .enumerate()
         .filter_map(|(i, e)| event(p, i, e))
         .collect();
+    let inputs = f
+        .array(p, "inputs")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| input(p, i, e))
+        .collect();
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
         name,
@@ -325,8 +332,26 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         solve,
         outputs,
         events,
+        inputs,
         bond_graph,
         description,
+    })
+}
+
+const INPUT_KEYS: &[&str] = &["name", "start", "unit"];
+
+fn input(p: &mut Problems, i: usize, j: &Json) -> Option<Input> {
+    let path = index("inputs", i);
+    let f = Fields::new(p, &path, j, INPUT_KEYS)?;
+    let name = f
+        .required(p, "name")
+        .and_then(|j| string(p, &f.path("name"), j));
+    let start = f.number(p, "start").unwrap_or(0.0);
+    let unit = f.string(p, "unit");
+    Some(Input {
+        name: name?,
+        start,
+        unit,
     })
 }
 
