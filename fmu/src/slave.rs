@@ -1,24 +1,30 @@
 //! One FMU instance in safe Rust: variables, modes, communication steps, FMU state.
 //!
 //! The solve runs on a worker thread per *segment*: one [`bondmech::Model::solve_streaming`]
-//! of the scene from its start time over the communication grid, handing each row over a
-//! rendezvous channel, so it computes at most one communication step ahead of the importer and
-//! every step continues the same integration (the same numbers as `bondmech run` with those
-//! output times). A segment is replaced — the solve *replayed* from the scene's start time,
-//! rows before the current time skipped — when an input changes (the inputs' history enters
-//! the scene as piecewise-constant expressions of `t`,
-//! [`bondmech::scene::inputs::piecewise_constant`]), when the importer leaves the grid (another
-//! step size), and after an FMU state is restored.
+//! over the communication grid, which hands each row over a channel and then waits until the
+//! next step asks for the next row (nothing is computed ahead). While the inputs stay the same
+//! and the importer keeps to the grid, every step continues the same integration: the same
+//! numbers as `bondmech run` with those output times.
+//!
+//! A new segment starts when an input changes, when the importer leaves the grid (another step
+//! size) and after an FMU state is restored. It *restarts from the state*: the scene with every
+//! body's position, angle, velocity and angular velocity taken from the last row, its start time
+//! moved there, the springs' rest lengths fixed at their initial lengths and the inputs at their
+//! new values (constant). Two kinds of scene cannot restart so and *replay* instead — the solve
+//! from the scene's start time, the inputs' history as piecewise-constant expressions of `t`
+//! ([`bondmech::scene::inputs::piecewise_constant`]), rows before the current time skipped: a
+//! raw bond graph (no bodies to put the state in) and the decoupled twin (a restart would
+//! project the stretched joint springs back onto the joints).
 
 use std::ops::ControlFlow;
 use std::path::Path;
-use std::sync::mpsc::{sync_channel, Receiver, RecvError};
+use std::sync::mpsc::{sync_channel, Receiver, RecvError, SyncSender};
 use std::thread::JoinHandle;
 
 use bondmech::fmu::{FmuConfig, VariableKind, CONFIG_FILE, SCENE_FILE};
 use bondmech::scene::inputs::piecewise_constant;
 use bondmech::scene::path::{scene_from_json_with, Assignment, ScenePath};
-use bondmech::scene::{output_grid, Scene};
+use bondmech::scene::{output_grid, Dimension, Formulation, PointRef, Scene};
 use bondmech::Model;
 use serde::{Deserialize, Serialize};
 
@@ -74,24 +80,45 @@ pub enum StepOutcome {
 enum Msg {
     /// An output row: time and columns.
     Row(f64, Vec<f64>),
-    /// The solve ended: events met (name, time), or the error.
+    /// The solve ended: successfully (a `stop` event, or the end of the grid), or the error.
     Done(std::result::Result<(), String>),
 }
 
-/// A running solve on its own thread.
+/// A running solve on its own thread, paused after each row until asked for the next.
 struct Segment {
-    rx: Receiver<Msg>,
+    rows: Receiver<Msg>,
+    /// One message asks for the next row; closing it stops the solve.
+    next: Option<SyncSender<()>>,
+    /// Whether the worker waits for a request (it has handed over a row).
+    paused: bool,
     handle: Option<JoinHandle<()>>,
     /// The grid times still to come (front first).
     grid: std::collections::VecDeque<f64>,
 }
 
+impl Segment {
+    /// The next message: asks for it first if the worker is paused.
+    fn recv(&mut self) -> std::result::Result<Msg, RecvError> {
+        if self.paused {
+            if let Some(next) = &self.next {
+                // an error means the worker has ended: its last message is in `rows`
+                let _ = next.send(());
+            }
+            self.paused = false;
+        }
+        let m = self.rows.recv()?;
+        if matches!(m, Msg::Row(..)) {
+            self.paused = true;
+        }
+        Ok(m)
+    }
+}
+
 impl Drop for Segment {
     fn drop(&mut self) {
-        // close the channel first (the worker stops at its next row), then wait for it: the
-        // library must not be unloaded while one of its threads runs
-        let (_, rx) = sync_channel(0);
-        drop(std::mem::replace(&mut self.rx, rx));
+        // closing the request channel stops the solve at its next row (a paused worker at
+        // once); wait for it: the library must not be unloaded while one of its threads runs
+        self.next = None;
         if let Some(h) = self.handle.take() {
             let _ = h.join();
         }
@@ -103,6 +130,7 @@ impl Drop for Segment {
 pub struct State {
     time: f64,
     values: Vec<f64>,
+    row: Vec<f64>,
     history: Vec<(f64, Vec<f64>)>,
     step: Option<f64>,
     mode: Mode,
@@ -119,6 +147,10 @@ pub struct Slave {
     scene: Option<Scene>,
     /// Column index of each variable that is an output.
     columns: Vec<Option<usize>>,
+    /// The names of the run's columns.
+    column_names: Vec<String>,
+    /// The last row (every column) at `time`: where a restart starts from.
+    row: Vec<f64>,
     /// Value references of the inputs, in order.
     inputs: Vec<usize>,
     time: f64,
@@ -167,6 +199,8 @@ impl Slave {
         let mut slave = Slave {
             values: Vec::new(),
             columns: vec![None; config.variables.len()],
+            column_names: Vec::new(),
+            row: Vec::new(),
             inputs,
             time: config.start_time,
             mode: Mode::Instantiated,
@@ -363,6 +397,8 @@ impl Slave {
             .ok_or_else(|| SlaveError::Solve("no row at the start time".into()))?
             .clone();
         self.set_outputs(&row);
+        self.row = row;
+        self.column_names = first.columns;
         self.scene = Some(scene);
         Ok(())
     }
@@ -385,6 +421,57 @@ impl Slave {
         scene.with_input_expressions(&exprs)
     }
 
+    /// The scene restarted from the last row at `t` (see the module docs), running to at
+    /// least `end`, with the inputs at their current values; `None` for a scene that replays.
+    fn restarted(&self, base: &Scene, t: f64, end: f64) -> Option<Scene> {
+        if base.bond_graph.is_some() || base.solve.formulation == Formulation::Decoupled {
+            return None;
+        }
+        let col = |body: &str, c: &str| {
+            let name = format!("{body}.{c}");
+            let i = self.column_names.iter().position(|n| *n == name)?;
+            self.row.get(i).copied()
+        };
+        let mut s = base.clone();
+        for i in 0..s.springs.len() {
+            if s.springs[i].rest_length.is_none() {
+                s.springs[i].rest_length = Some(initial_length(base, i));
+            }
+        }
+        for b in &mut s.bodies {
+            let n = b.name.clone();
+            let get = |cs: &[&str]| cs.iter().map(|c| col(&n, c)).collect::<Option<Vec<f64>>>();
+            match s.dimension {
+                Dimension::Planar => {
+                    b.position = get(&["x", "y"])?;
+                    b.angle = col(&n, "angle")?;
+                    b.velocity = get(&["vx", "vy"])?;
+                    b.angular_velocity = get(&["omega"])?;
+                }
+                Dimension::Spatial => {
+                    b.position = get(&["x", "y", "z"])?;
+                    let c = get(&["psi", "theta", "phi"])?;
+                    b.cardan = [c[0], c[1], c[2]];
+                    b.velocity = get(&["vx", "vy", "vz"])?;
+                    b.angular_velocity = get(&["wx", "wy", "wz"])?;
+                }
+            }
+        }
+        s.solve.t_start = t;
+        s.solve.t_end = s.solve.t_end.max(end);
+        s.solve.output_times = None;
+        s.solve.output_step = None;
+        let exprs: Vec<(String, String)> = self
+            .inputs
+            .iter()
+            .map(|&i| {
+                let name = self.config.variables[i].name.clone();
+                (name, piecewise_constant(&[(t, self.values[i])]))
+            })
+            .collect();
+        Some(s.with_input_expressions(&exprs))
+    }
+
     fn set_outputs(&mut self, row: &[f64]) {
         for (i, c) in self.columns.iter().enumerate() {
             if let Some(c) = c {
@@ -398,26 +485,33 @@ impl Slave {
         1e-9 * h.abs().max(1e-12 * t.abs()).max(f64::MIN_POSITIVE)
     }
 
-    /// Starts a solve whose rows come at `t + h`, then on the grid.
+    /// Starts a solve whose rows come at `t + h`, then on the grid: from the scene's start
+    /// (the first segment, or a replay), or restarted from the state at `t`.
     fn start_segment(&mut self, t: f64, h: f64) -> Result<()> {
         self.segment = None;
-        let scene = self
+        let base = self
             .scene
             .as_ref()
             .ok_or_else(|| SlaveError::Call("not initialised".into()))?;
-        let scene = self.scene_with_inputs(scene);
-        let t0 = scene.solve.t_start;
+        let t0 = base.solve.t_start;
         let target = t + h;
         let tol = Self::tol(h, target);
         let base_end = self.stop_time.unwrap_or(self.config.stop_time);
         let mut end = if target <= base_end + tol {
             base_end.max(target)
         } else {
-            // past the stop time the importer gave: grow the grid geometrically (each growth
-            // replays the solve)
+            // past the stop time the importer gave: grow the grid geometrically
             t0 + 2.0 * (target - t0)
         };
         end = end.min(t + 1e6 * h);
+        let at_start = (t - t0).abs() <= tol;
+        let scene = match at_start {
+            true => self.scene_with_inputs(base),
+            false => match self.restarted(base, t, end) {
+                Some(s) => s,
+                None => self.scene_with_inputs(base),
+            },
+        };
         // the run's grid from the start time (the same times as `bondmech run` with
         // output_step = h), or a grid from here when the importer left it
         let mut grid: Vec<f64> = output_grid(t0, end, Some(h))
@@ -433,22 +527,29 @@ impl Slave {
         let model = Model::new(&scene).map_err(|e| SlaveError::Model(e.to_string()))?;
         let mut opts = model.default_options();
         opts.output_times = grid.clone();
-        let (tx, rx) = sync_channel(0);
+        let (row_tx, rows) = sync_channel(1);
+        let (next, next_rx) = sync_channel::<()>(1);
         let handle = std::thread::Builder::new()
             .name("bondmech-fmu-solve".into())
             .spawn(move || {
                 let mut observer = |row: bondmech::solve::Row<'_>| {
-                    match tx.send(Msg::Row(row.t, row.values.to_vec())) {
+                    if row_tx.send(Msg::Row(row.t, row.values.to_vec())).is_err() {
+                        return ControlFlow::Break(());
+                    }
+                    // paused until the next step asks for the next row
+                    match next_rx.recv() {
                         Ok(()) => ControlFlow::Continue(()),
                         Err(_) => ControlFlow::Break(()),
                     }
                 };
                 let result = model.solve_streaming(&opts, &mut observer);
-                let _ = tx.send(Msg::Done(result.map(|_| ()).map_err(|e| e.to_string())));
+                let _ = row_tx.send(Msg::Done(result.map(|_| ()).map_err(|e| e.to_string())));
             })
             .map_err(|e| SlaveError::Solve(format!("cannot start the solver thread: {e}")))?;
         self.segment = Some(Segment {
-            rx,
+            rows,
+            next: Some(next),
+            paused: false,
             handle: Some(handle),
             grid: grid.into(),
         });
@@ -495,24 +596,39 @@ impl Slave {
             }
         }
         self.step = Some(h);
+        let mut event_row: Option<(f64, Vec<f64>)> = None;
         loop {
             let Some(segment) = self.segment.as_mut() else {
                 return Err(self.fail(SlaveError::Call("no solve running".into())));
             };
-            match segment.rx.recv() {
+            match segment.recv() {
                 Ok(Msg::Row(tr, row)) => {
                     if tr < target - tol {
-                        // a row at an event time (action "record") inside the step
+                        // a row at an event time inside the step (kept in case a `stop`
+                        // event ends the run there)
                         self.events.push(("event".into(), tr));
+                        event_row = Some((tr, row));
                         continue;
                     }
                     segment.grid.pop_front();
                     self.set_outputs(&row);
+                    self.row = row;
                     self.time = target;
                     return Ok(StepOutcome::Done);
                 }
+                Ok(Msg::Done(Ok(()))) if segment.grid.is_empty() => {
+                    // the end of the grid (the stop time passed): a new segment goes on
+                    if let Err(e) = self.start_segment(t, h) {
+                        return Err(self.fail(e));
+                    }
+                }
                 Ok(Msg::Done(Ok(()))) => {
                     // the solve ended before the step's end: a `stop` event
+                    if let Some((te, row)) = event_row.take() {
+                        self.set_outputs(&row);
+                        self.row = row;
+                        self.time = te;
+                    }
                     self.segment = None;
                     self.mode = Mode::Terminated;
                     return Ok(StepOutcome::Terminated(self.time));
@@ -535,6 +651,7 @@ impl Slave {
             Mode::Stepping | Mode::Terminated => Ok(State {
                 time: self.time,
                 values: self.values.clone(),
+                row: self.row.clone(),
                 history: self.history.clone(),
                 step: self.step,
                 mode: self.mode,
@@ -555,12 +672,13 @@ impl Slave {
                 "an FMU state can be restored after initialisation".into(),
             ));
         }
-        if state.values.len() != self.values.len() {
+        if state.values.len() != self.values.len() || state.row.len() != self.row.len() {
             return Err(SlaveError::Call("the FMU state is of another FMU".into()));
         }
         self.segment = None;
         self.time = state.time;
         self.values = state.values.clone();
+        self.row = state.row.clone();
         self.history = state.history.clone();
         self.step = state.step;
         self.mode = state.mode;
@@ -580,4 +698,56 @@ impl State {
         serde_json::from_slice(bytes)
             .map_err(|e| SlaveError::Call(format!("not a serialised bondmech FMU state: {e}")))
     }
+}
+
+/// The initial distance between a spring's two points (its default rest length).
+fn initial_length(scene: &Scene, si: usize) -> f64 {
+    let s = &scene.springs[si];
+    let at = |k: usize| -> Vec<f64> {
+        let local: Vec<f64> = match &s.points[k] {
+            PointRef::Coords(c) => c.clone(),
+            PointRef::Named(n) => scene
+                .bodies
+                .iter()
+                .find(|b| b.name == s.bodies[k])
+                .and_then(|b| b.point(n))
+                .map(|c| c.to_vec())
+                .unwrap_or_default(),
+        };
+        let c = |i: usize| local.get(i).copied().unwrap_or(0.0);
+        let body = scene.bodies.iter().find(|b| b.name == s.bodies[k]);
+        match body {
+            None => local.clone(),
+            Some(b) => {
+                let p = |i: usize| b.position.get(i).copied().unwrap_or(0.0);
+                match scene.dimension {
+                    Dimension::Planar => {
+                        let (sn, cs) = b.angle.sin_cos();
+                        vec![p(0) + cs * c(0) - sn * c(1), p(1) + sn * c(0) + cs * c(1)]
+                    }
+                    Dimension::Spatial => {
+                        // R = Rz(psi) Ry(theta) Rx(phi), body to global (seed 16.2)
+                        let [psi, theta, phi] = b.cardan;
+                        let (s1, c1) = psi.sin_cos();
+                        let (s2, c2) = theta.sin_cos();
+                        let (s3, c3) = phi.sin_cos();
+                        let r = [
+                            [c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3],
+                            [s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3],
+                            [-s2, c2 * s3, c2 * c3],
+                        ];
+                        (0..3)
+                            .map(|i| p(i) + r[i][0] * c(0) + r[i][1] * c(1) + r[i][2] * c(2))
+                            .collect()
+                    }
+                }
+            }
+        }
+    };
+    let (a, b) = (at(0), at(1));
+    a.iter()
+        .zip(&b)
+        .map(|(x, y)| (y - x) * (y - x))
+        .sum::<f64>()
+        .sqrt()
 }
