@@ -1,0 +1,85 @@
+//! The FMU instance in Rust, without an importer: modes, steps, inputs, state.
+
+use bondmech::fmu::{describe, ExportOptions, FmiVersion, VariableKind};
+use bondmech_fmu::{Mode, Slave, State, StepOutcome};
+
+fn scene_text(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/../scenes/{name}.json", env!("CARGO_MANIFEST_DIR")))
+        .unwrap()
+}
+
+fn slave(name: &str, parameters: &[&str]) -> Slave {
+    let text = scene_text(name);
+    let options = ExportOptions {
+        fmi: FmiVersion::V3,
+        parameters: parameters.iter().map(|p| p.to_string()).collect(),
+        ..ExportOptions::default()
+    };
+    Slave::from_parts(describe(&text, name, &options).unwrap(), text)
+}
+
+fn outputs(s: &Slave, n: u32) -> Vec<f64> {
+    let vrs: Vec<u32> = (0..n).collect();
+    let mut v = vec![0.0; vrs.len()];
+    s.get(&vrs, &mut v).unwrap();
+    v
+}
+
+#[test]
+fn parameters_are_fixed_after_initialisation_and_steps_must_follow_on() {
+    let mut s = slave("double_pendulum", &["bodies[bar2].mass"]);
+    s.set(&[1], &[2.0]).unwrap();
+    s.enter_initialization(0.0, Some(1.0)).unwrap();
+    s.exit_initialization().unwrap();
+    assert_eq!(s.mode(), Mode::Stepping);
+    let e = s.set(&[1], &[3.0]).unwrap_err().to_string();
+    assert!(e.contains("fixed after initialisation"), "{e}");
+    assert!(s.set(&[0], &[1.0]).is_err(), "time is not settable");
+    let e = s.do_step(0.5, 0.01).unwrap_err().to_string();
+    assert!(e.contains("the FMU is at t = 0"), "{e}");
+    assert_eq!(s.mode(), Mode::Stepping, "a refused call does not fail the instance");
+    assert_eq!(s.do_step(0.0, 0.01).unwrap(), StepOutcome::Done);
+    assert!((s.time() - 0.01).abs() < 1e-15);
+}
+
+#[test]
+fn a_bad_parameter_fails_initialisation_with_the_scene_error() {
+    let mut s = slave("double_pendulum", &["bodies[bar2].mass"]);
+    s.set(&[1], &[-1.0]).unwrap();
+    s.enter_initialization(0.0, None).unwrap();
+    let e = s.exit_initialization().unwrap_err().to_string();
+    assert!(e.contains("bodies[1].mass"), "{e}");
+    assert_eq!(s.mode(), Mode::Failed);
+    s.reset();
+    assert_eq!(s.mode(), Mode::Instantiated);
+}
+
+#[test]
+fn state_bytes_round_trip_and_restore_continues_the_same() {
+    let text = scene_text("slider_crank_input");
+    let config = describe(&text, "slider_crank_input", &ExportOptions::default()).unwrap();
+    let input = config.of_kind(VariableKind::Input).next().unwrap().value_reference;
+    let n = config.variables.len() as u32;
+    let mut s = Slave::from_parts(config, text);
+    s.enter_initialization(0.0, Some(0.2)).unwrap();
+    s.exit_initialization().unwrap();
+    for k in 0..5 {
+        s.set(&[input], &[1.5 + 0.1 * k as f64]).unwrap();
+        s.do_step(k as f64 * 0.01, 0.01).unwrap();
+    }
+    let bytes = s.state().unwrap().to_bytes();
+    let mut run = |s: &mut Slave| {
+        let mut rows = Vec::new();
+        for k in 5..10 {
+            s.set(&[input], &[2.0 - 0.1 * k as f64]).unwrap();
+            s.do_step(k as f64 * 0.01, 0.01).unwrap();
+            rows.push(outputs(s, n));
+        }
+        rows
+    };
+    let first = run(&mut s);
+    s.restore(&State::from_bytes(&bytes).unwrap()).unwrap();
+    assert!((s.time() - 0.05).abs() < 1e-15);
+    assert_eq!(run(&mut s), first);
+    assert!(State::from_bytes(b"{}").is_err());
+}
