@@ -608,10 +608,9 @@ impl FmuConfig {
              Inputs are held constant over a communication step; parameters are fixed after \
              initialisation.</p>\n\
              <p>Requirements: Linux x86-64 and the SUNDIALS 6 shared libraries it was built \
-             against (Debian/Ubuntu: <code>apt-get install libsundials-dev</code>, or the runtime \
-             packages <code>libsundials-ida6 libsundials-cvode6 libsundials-arkode5 \
-             libsundials-nvecserial6 libsundials-sunlinsol3 libsundials-sunmatrix4</code>); the \
-             library links them dynamically.</p>\n\
+             against, linked dynamically (Debian 12: <code>apt-get install libsundials-dev</code>, \
+             or the runtime packages <code>libsundials-ida6 libsundials-cvode6 \
+             libsundials-arkode5 libsundials-sunlinsol3 libsundials-sunmatrix4</code>).</p>\n\
              <table><tr><th>value reference</th><th>name</th><th>kind</th><th>start</th><th>unit</th></tr>\n{rows}</table>\n\
              </body></html>\n",
             name = xml(&self.model_name),
