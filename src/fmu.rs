@@ -370,7 +370,10 @@ pub fn describe(
             return Err(FmuError::Unknown {
                 flag: "--output",
                 name,
-                message: format!("is not a column of the run; the columns are [{}]", columns.join(", ")),
+                message: format!(
+                    "is not a column of the run; the columns are [{}]",
+                    columns.join(", ")
+                ),
             });
         }
         let unit = column_unit(&name).map(String::from);
@@ -487,15 +490,10 @@ impl FmuConfig {
             for u in units {
                 match base_units(u) {
                     Some(base) => {
-                        let attrs: String = base
-                            .iter()
-                            .map(|(k, e)| format!(" {k}=\"{e}\""))
-                            .collect();
-                        let _ = writeln!(
-                            s,
-                            "    <Unit name=\"{}\"><BaseUnit{attrs}/></Unit>",
-                            xml(u)
-                        );
+                        let attrs: String =
+                            base.iter().map(|(k, e)| format!(" {k}=\"{e}\"")).collect();
+                        let _ =
+                            writeln!(s, "    <Unit name=\"{}\"><BaseUnit{attrs}/></Unit>", xml(u));
                     }
                     None => {
                         let _ = writeln!(s, "    <Unit name=\"{}\"/>", xml(u));
@@ -506,11 +504,21 @@ impl FmuConfig {
         }
         s.push_str("  <LogCategories>\n");
         for (name, what) in [
-            ("logStatusError", "errors: a failed solve (element and time), a bad call"),
-            ("logStatusWarning", "warnings of the model (redundant joints, …)"),
+            (
+                "logStatusError",
+                "errors: a failed solve (element and time), a bad call",
+            ),
+            (
+                "logStatusWarning",
+                "warnings of the model (redundant joints, …)",
+            ),
             ("logEvents", "the scene's events met during a step"),
         ] {
-            let _ = writeln!(s, "    <Category name=\"{name}\" description=\"{}\"/>", xml(what));
+            let _ = writeln!(
+                s,
+                "    <Category name=\"{name}\" description=\"{}\"/>",
+                xml(what)
+            );
         }
         s.push_str("  </LogCategories>\n");
         let _ = writeln!(
@@ -626,7 +634,10 @@ impl FmuConfig {
         let deflated = zip::write::SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Deflated);
         let files: [(String, Vec<u8>); 5] = [
-            ("modelDescription.xml".into(), self.model_description().into_bytes()),
+            (
+                "modelDescription.xml".into(),
+                self.model_description().into_bytes(),
+            ),
             (
                 format!(
                     "binaries/{}/{MODEL_IDENTIFIER}.so",
@@ -634,14 +645,20 @@ impl FmuConfig {
                 ),
                 library.to_vec(),
             ),
-            (format!("resources/{SCENE_FILE}"), scene_text.as_bytes().to_vec()),
+            (
+                format!("resources/{SCENE_FILE}"),
+                scene_text.as_bytes().to_vec(),
+            ),
             (
                 format!("resources/{CONFIG_FILE}"),
                 serde_json::to_string_pretty(self)
                     .unwrap_or_default()
                     .into_bytes(),
             ),
-            ("documentation/index.html".into(), self.documentation().into_bytes()),
+            (
+                "documentation/index.html".into(),
+                self.documentation().into_bytes(),
+            ),
         ];
         for (name, bytes) in files {
             // the shared library is most of the archive: compressed fast (measured on a debug

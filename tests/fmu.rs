@@ -21,7 +21,9 @@ fn check(name: &str) {
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_bondmech"));
     if !fmpy_available() {
         if std::env::var_os("CI").is_some() {
-            panic!("FMPy is missing (python3 -c 'import fmpy'): CI must install it (pip install fmpy)");
+            panic!(
+                "FMPy is missing (python3 -c 'import fmpy'): CI must install it (pip install fmpy)"
+            );
         }
         eprintln!("skipped: python3 with FMPy is not installed (pip install fmpy)");
         return;

@@ -104,10 +104,22 @@ mod tests {
 
     #[test]
     fn resource_uris_become_paths() {
-        assert_eq!(resource_dir("file:///tmp/a%20b/resources"), PathBuf::from("/tmp/a b/resources"));
-        assert_eq!(resource_dir("file:/tmp/x/resources/"), PathBuf::from("/tmp/x/resources/"));
-        assert_eq!(resource_dir("file://localhost/tmp/x"), PathBuf::from("/tmp/x"));
-        assert_eq!(resource_dir("/tmp/x/resources/"), PathBuf::from("/tmp/x/resources/"));
+        assert_eq!(
+            resource_dir("file:///tmp/a%20b/resources"),
+            PathBuf::from("/tmp/a b/resources")
+        );
+        assert_eq!(
+            resource_dir("file:/tmp/x/resources/"),
+            PathBuf::from("/tmp/x/resources/")
+        );
+        assert_eq!(
+            resource_dir("file://localhost/tmp/x"),
+            PathBuf::from("/tmp/x")
+        );
+        assert_eq!(
+            resource_dir("/tmp/x/resources/"),
+            PathBuf::from("/tmp/x/resources/")
+        );
     }
 
     #[test]

@@ -92,13 +92,23 @@ impl Instance {
         if status == OK && !self.logging_on {
             return;
         }
-        log_to(self.logger, self.environment, &self.name, status, category, message);
+        log_to(
+            self.logger,
+            self.environment,
+            &self.name,
+            status,
+            category,
+            message,
+        );
     }
 }
 
 /// Runs `f` on the instance behind `c`: errors are logged and returned as `fmi2Error`, a panic
 /// as `fmi2Fatal`.
-fn with(c: *mut c_void, f: impl FnOnce(&mut Instance) -> Result<Fmi2Status, SlaveError>) -> Fmi2Status {
+fn with(
+    c: *mut c_void,
+    f: impl FnOnce(&mut Instance) -> Result<Fmi2Status, SlaveError>,
+) -> Fmi2Status {
     if c.is_null() {
         return ERROR;
     }
@@ -202,7 +212,14 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 Box::into_raw(Box::new(inst)) as *mut c_void
             }
             Err(e) => {
-                log_to(logger, environment, &name, ERROR, "logStatusError", &e.to_string());
+                log_to(
+                    logger,
+                    environment,
+                    &name,
+                    ERROR,
+                    "logStatusError",
+                    &e.to_string(),
+                );
                 std::ptr::null_mut()
             }
         }

@@ -682,7 +682,10 @@ pub unsafe extern "C" fn fmi3SetFMUState(inst: *mut c_void, state: *mut c_void) 
 }
 
 #[no_mangle]
-pub unsafe extern "C" fn fmi3FreeFMUState(inst: *mut c_void, state: *mut *mut c_void) -> Fmi3Status {
+pub unsafe extern "C" fn fmi3FreeFMUState(
+    inst: *mut c_void,
+    state: *mut *mut c_void,
+) -> Fmi3Status {
     with(inst, |_| {
         if state.is_null() {
             return Ok(OK);

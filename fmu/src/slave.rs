@@ -312,7 +312,10 @@ impl Slave {
                 )));
             }
             if !x.is_finite() {
-                return Err(SlaveError::Call(format!("'{}': not a finite value ({x})", v.name)));
+                return Err(SlaveError::Call(format!(
+                    "'{}': not a finite value ({x})",
+                    v.name
+                )));
             }
             self.values[i] = *x;
         }
@@ -415,7 +418,10 @@ impl Slave {
             .enumerate()
             .map(|(k, &i)| {
                 let h: Vec<(f64, f64)> = self.history.iter().map(|(t, u)| (*t, u[k])).collect();
-                (self.config.variables[i].name.clone(), piecewise_constant(&h))
+                (
+                    self.config.variables[i].name.clone(),
+                    piecewise_constant(&h),
+                )
             })
             .collect();
         scene.with_input_expressions(&exprs)
@@ -579,7 +585,11 @@ impl Slave {
         let tol = Self::tol(h, target);
         let inputs = self.input_values();
         if self.history.last().is_some_and(|(_, u)| *u != inputs) {
-            if self.history.last().is_some_and(|(tl, _)| (*tl - t).abs() <= tol) {
+            if self
+                .history
+                .last()
+                .is_some_and(|(tl, _)| (*tl - t).abs() <= tol)
+            {
                 self.history.pop();
             }
             self.history.push((t, inputs));

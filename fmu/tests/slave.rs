@@ -4,8 +4,11 @@ use bondmech::fmu::{describe, ExportOptions, FmiVersion, VariableKind};
 use bondmech_fmu::{Mode, Slave, State, StepOutcome};
 
 fn scene_text(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/../scenes/{name}.json", env!("CARGO_MANIFEST_DIR")))
-        .unwrap()
+    std::fs::read_to_string(format!(
+        "{}/../scenes/{name}.json",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
 }
 
 fn slave(name: &str, parameters: &[&str]) -> Slave {
@@ -37,7 +40,11 @@ fn parameters_are_fixed_after_initialisation_and_steps_must_follow_on() {
     assert!(s.set(&[0], &[1.0]).is_err(), "time is not settable");
     let e = s.do_step(0.5, 0.01).unwrap_err().to_string();
     assert!(e.contains("the FMU is at t = 0"), "{e}");
-    assert_eq!(s.mode(), Mode::Stepping, "a refused call does not fail the instance");
+    assert_eq!(
+        s.mode(),
+        Mode::Stepping,
+        "a refused call does not fail the instance"
+    );
     assert_eq!(s.do_step(0.0, 0.01).unwrap(), StepOutcome::Done);
     assert!((s.time() - 0.01).abs() < 1e-15);
 }
@@ -58,7 +65,11 @@ fn a_bad_parameter_fails_initialisation_with_the_scene_error() {
 fn state_bytes_round_trip_and_restore_continues_the_same() {
     let text = scene_text("slider_crank_input");
     let config = describe(&text, "slider_crank_input", &ExportOptions::default()).unwrap();
-    let input = config.of_kind(VariableKind::Input).next().unwrap().value_reference;
+    let input = config
+        .of_kind(VariableKind::Input)
+        .next()
+        .unwrap()
+        .value_reference;
     let n = config.variables.len() as u32;
     let mut s = Slave::from_parts(config, text);
     s.enter_initialization(0.0, Some(0.2)).unwrap();
@@ -68,7 +79,7 @@ fn state_bytes_round_trip_and_restore_continues_the_same() {
         s.do_step(k as f64 * 0.01, 0.01).unwrap();
     }
     let bytes = s.state().unwrap().to_bytes();
-    let mut run = |s: &mut Slave| {
+    let run = |s: &mut Slave| {
         let mut rows = Vec::new();
         for k in 5..10 {
             s.set(&[input], &[2.0 - 0.1 * k as f64]).unwrap();

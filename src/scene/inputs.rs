@@ -26,8 +26,7 @@ use super::model::{LoadValue, Scene, SCALAR_OUTPUTS};
 
 /// Names an input may not take: the time, π and the expression functions.
 const RESERVED: &[&str] = &[
-    "t", "pi", "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "log", "atan2", "min", "max",
-    "pow",
+    "t", "pi", "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "log", "atan2", "min", "max", "pow",
 ];
 
 /// Whether `name` is a plain identifier: letters, digits and `_`, not starting with a digit.
@@ -52,8 +51,7 @@ pub(crate) fn validate(p: &mut Problems, scene: &Scene) {
                     u.name
                 ),
             );
-        } else if RESERVED.contains(&u.name.as_str()) || SCALAR_OUTPUTS.contains(&u.name.as_str())
-        {
+        } else if RESERVED.contains(&u.name.as_str()) || SCALAR_OUTPUTS.contains(&u.name.as_str()) {
             p.push(
                 &np,
                 format!(
@@ -66,7 +64,10 @@ pub(crate) fn validate(p: &mut Problems, scene: &Scene) {
         }
         seen.push(&u.name);
         if !u.start.is_finite() {
-            p.push(field(&path, "start"), format!("must be finite (got {})", u.start));
+            p.push(
+                field(&path, "start"),
+                format!("must be finite (got {})", u.start),
+            );
         }
         if scene.bond_graph.is_some() {
             p.push(
@@ -208,7 +209,10 @@ mod tests {
 
     #[test]
     fn names_are_replaced_whole_and_numbers_left_alone() {
-        assert_eq!(replace_name("u*1e5+u_2+max(u,u)", "u", "(3)"), "(3)*1e5+u_2+max((3),(3))");
+        assert_eq!(
+            replace_name("u*1e5+u_2+max(u,u)", "u", "(3)"),
+            "(3)*1e5+u_2+max((3),(3))"
+        );
         assert_eq!(replace_name("e5 + 2e5", "e5", "(1)"), "(1) + 2e5");
         assert_eq!(replace_name("u (2)", "u", "(1)"), "u (2)");
     }
@@ -222,7 +226,13 @@ mod tests {
         let e = g
             .parse(&text, &mut |n: &str| (n == "t").then_some(tv))
             .unwrap();
-        for (t, want) in [(0.0, -1.0), (0.4999, -1.0), (0.5, 2.0), (0.99, 2.0), (1.0, 0.25)] {
+        for (t, want) in [
+            (0.0, -1.0),
+            (0.4999, -1.0),
+            (0.5, 2.0),
+            (0.99, 2.0),
+            (1.0, 0.25),
+        ] {
             assert_eq!(g.eval(e, &[t]), want, "t = {t}");
         }
     }
