@@ -274,7 +274,10 @@ pub unsafe extern "C" fn fmi2ExitInitializationMode(c: *mut c_void) -> Fmi2Statu
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Terminate(c: *mut c_void) -> Fmi2Status {
-    with(c, |_| Ok(OK))
+    with(c, |inst| {
+        inst.slave.terminate();
+        Ok(OK)
+    })
 }
 
 #[no_mangle]

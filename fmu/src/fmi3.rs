@@ -279,7 +279,10 @@ pub unsafe extern "C" fn fmi3EnterEventMode(inst: *mut c_void) -> Fmi3Status {
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3Terminate(inst: *mut c_void) -> Fmi3Status {
-    with(inst, |_| Ok(OK))
+    with(inst, |i| {
+        i.slave.terminate();
+        Ok(OK)
+    })
 }
 
 #[no_mangle]

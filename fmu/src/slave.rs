@@ -235,6 +235,14 @@ impl Slave {
         self.step = None;
     }
 
+    /// Ends the simulation: stops the solver thread (the values stay readable).
+    pub fn terminate(&mut self) {
+        self.segment = None;
+        if self.mode == Mode::Stepping {
+            self.mode = Mode::Terminated;
+        }
+    }
+
     /// The mode.
     pub fn mode(&self) -> Mode {
         self.mode

@@ -94,3 +94,45 @@ fn state_bytes_round_trip_and_restore_continues_the_same() {
     assert_eq!(run(&mut s), first);
     assert!(State::from_bytes(b"{}").is_err());
 }
+
+#[test]
+fn a_stop_event_ends_the_simulation_at_the_event() {
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&scene_text("double_pendulum")).unwrap();
+    scene["events"] = serde_json::json!([
+        {"name": "low", "when": "bar2.A.y + 1.5", "direction": "falling", "action": "stop"}
+    ]);
+    let text = scene.to_string();
+    let config = describe(&text, "double_pendulum", &ExportOptions::default()).unwrap();
+    let tip = config
+        .variables
+        .iter()
+        .find(|v| v.name == "bar2.A.y")
+        .unwrap()
+        .value_reference;
+    let mut s = Slave::from_parts(config, text);
+    s.enter_initialization(0.0, Some(3.0)).unwrap();
+    s.exit_initialization().unwrap();
+    let mut k = 0;
+    let t_stop = loop {
+        match s.do_step(k as f64 * 0.01, 0.01).unwrap() {
+            StepOutcome::Done => k += 1,
+            StepOutcome::Terminated(t) => break t,
+        }
+        assert!(k < 300, "the event never stopped the run");
+    };
+    assert_eq!(s.mode(), Mode::Terminated);
+    assert!(
+        t_stop > k as f64 * 0.01 && t_stop < (k + 1) as f64 * 0.01,
+        "{t_stop} in step {k}"
+    );
+    assert_eq!(s.time(), t_stop);
+    let mut y = [0.0];
+    s.get(&[tip], &mut y).unwrap();
+    assert!((y[0] + 1.5).abs() < 1e-6, "the tip at the stop: {}", y[0]);
+    // stepping on is refused politely: still terminated at the same time
+    assert_eq!(
+        s.do_step(t_stop, 0.01).unwrap(),
+        StepOutcome::Terminated(t_stop)
+    );
+}
