@@ -1,8 +1,9 @@
 //! `bondmech fmu`: a scene as a co-simulation FMU (see `docs/fmu.md`).
 //!
 //! The FMU's shared library is `libbondmech_fmu.so`, the `bondmech-fmu` crate of this
-//! workspace, built by `cargo build` next to the `bondmech` executable; the command copies it
-//! into the archive. `--library` (or `BONDMECH_FMU_LIBRARY`) names another copy.
+//! workspace, built by `cargo build` next to the `bondmech` executable (by `cargo test` in
+//! `deps/` beside it); the command copies it into the archive. `--library` (or
+//! `BONDMECH_FMU_LIBRARY`) names another copy.
 
 use std::path::{Path, PathBuf};
 
@@ -48,7 +49,8 @@ fn io(path: &Path, source: std::io::Error) -> Error {
 }
 
 /// Where the shared library is: `--library`, `BONDMECH_FMU_LIBRARY`, or next to this
-/// executable (cargo's `target/<profile>/`, also from `target/<profile>/deps/`).
+/// executable: the newer of cargo's `target/<profile>/libbondmech_fmu.so` (`cargo build`) and
+/// `target/<profile>/deps/libbondmech_fmu.so` (`cargo test` builds only that one).
 fn library_path(given: Option<&Path>) -> Result<PathBuf, Error> {
     if let Some(p) = given {
         return Ok(p.to_path_buf());
@@ -58,11 +60,16 @@ fn library_path(given: Option<&Path>) -> Result<PathBuf, Error> {
     }
     let exe = std::env::current_exe().map_err(|e| io(Path::new("bondmech"), e))?;
     let dir = exe.parent().unwrap_or(Path::new("."));
-    let candidates = [dir.join(LIBRARY), dir.join("..").join(LIBRARY)];
+    let candidates = [
+        dir.join(LIBRARY),
+        dir.join("deps").join(LIBRARY),
+        dir.join("..").join(LIBRARY),
+    ];
     candidates
         .iter()
-        .find(|p| p.is_file())
-        .cloned()
+        .filter_map(|p| Some((std::fs::metadata(p).ok()?.modified().ok()?, p)))
+        .max_by_key(|(modified, _)| *modified)
+        .map(|(_, p)| p.clone())
         .ok_or_else(|| {
             Error::Options(format!(
                 "the FMU's shared library {LIBRARY} is not next to {} (build it with `cargo build -p bondmech-fmu`, or give --library FILE.so)",

@@ -2,10 +2,10 @@
 //! check of `tests/fmu_fmpy.py`, which exports FMUs with the CLI, simulates them with FMPy and
 //! compares with `bondmech run`.
 //!
-//! Needs `python3` with FMPy (`pip install fmpy`; `.ci/run` installs it) and the FMU's shared
-//! library `libbondmech_fmu.so` next to the `bondmech` executable, which `cargo test` builds
-//! (the `bondmech-fmu` crate is a default member of the workspace). Without FMPy the tests say
-//! so and pass, except in CI (`CI` set), where they fail.
+//! Needs `python3` with FMPy (`pip install fmpy`; `.ci/run` installs it). The FMU's shared
+//! library is the `bondmech-fmu` crate's, which cargo builds for these tests (a
+//! dev-dependency). Without FMPy the tests say so and pass, except in CI (`CI` set), where
+//! they fail.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -28,14 +28,13 @@ fn check(name: &str) {
         eprintln!("skipped: python3 with FMPy is not installed (pip install fmpy)");
         return;
     }
-    let lib = exe.parent().unwrap().join("libbondmech_fmu.so");
-    assert!(
-        lib.is_file(),
-        "{} is missing: build it with `cargo build -p bondmech-fmu` (`cargo test` builds it)",
-        lib.display()
-    );
+    // the library of this build: bondmech-fmu is a dev-dependency, so cargo has just built
+    // it in deps/ (target/debug/libbondmech_fmu.so is `cargo build`'s, possibly older)
+    let lib = exe.parent().unwrap().join("deps/libbondmech_fmu.so");
+    assert!(lib.is_file(), "{} is missing", lib.display());
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fmu_fmpy.py");
     let out = Command::new("python3")
+        .env("BONDMECH_FMU_LIBRARY", &lib)
         .arg(&script)
         .arg(name)
         .arg(&exe)
