@@ -97,6 +97,7 @@ fn empty_system() -> MultibodySystem {
         names: Vec::new(),
         flow_rows: Vec::new(),
         source: crate::mech::EquationSource::Assembled("raw bond graph".into()),
+        inertias: Vec::new(),
         bond_graph: None,
     }
 }
@@ -223,7 +224,8 @@ impl Model {
             Formulation::CompliantGgl => FormulationKind::CompliantGgl,
             Formulation::Index1 => FormulationKind::Index1,
             Formulation::Partitioned => FormulationKind::Partitioned,
-            _ => FormulationKind::Ggl,
+            Formulation::Dae => FormulationKind::Dae,
+            Formulation::Ggl => FormulationKind::Ggl,
         };
         SolveOptions {
             formulation,
@@ -339,7 +341,7 @@ impl Model {
         }
         let mut a = opts.clone();
         if a.formulation == FormulationKind::Decoupled {
-            a.formulation = FormulationKind::Ggl;
+            a.formulation = FormulationKind::Dae;
         }
         let mut b = opts.clone();
         b.formulation = FormulationKind::Decoupled;

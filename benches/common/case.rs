@@ -26,7 +26,29 @@ pub struct Case {
 
 /// Loads `scenes/<name>.json` and solves its reference.
 pub fn case(name: &'static str, minimal: MinimalModel) -> Case {
-    let scene = Scene::from_path(format!("scenes/{name}.json")).expect("scene loads");
+    case_at(&format!("scenes/{name}.json"), name, minimal)
+}
+
+/// The double pendulum and the smooth slider-crank of `../shared/docs/peers.md` with their
+/// output times (0.5, 1, 2, 3 s and 0.1, 0.25, 0.5, 1 s), `benches/scenes/peers_*.json`.
+pub fn peer_cases() -> [Case; 2] {
+    [
+        case_at(
+            "benches/scenes/peers_double_pendulum.json",
+            "peers_double_pendulum",
+            minimal::DOUBLE_PENDULUM,
+        ),
+        case_at(
+            "benches/scenes/peers_slider_crank.json",
+            "peers_slider_crank",
+            minimal::PEERS_SLIDER_CRANK,
+        ),
+    ]
+}
+
+/// Loads the scene at `path` as the case `name` and solves its reference.
+pub fn case_at(path: &str, name: &'static str, minimal: MinimalModel) -> Case {
+    let scene = Scene::from_path(path).expect("scene loads");
     let model = Model::new(&scene).expect("model builds");
     let times = scene.output_times();
     let r = solve_minimal(&minimal, Multistep::Adams, 1e-12, 1e-14, &times);

@@ -88,8 +88,10 @@ pub mod double_pendulum {
     }
 }
 
-/// Slider-crank of `scenes/slider_crank.json` in the crank angle φ (tests/common/slider_crank.rs):
-/// `J(φ) φ̈ = τ + F(φ) y_p′ − V′ − ½ J′ φ̇²`.
+/// Slider-crank in the crank angle φ (tests/common/slider_crank.rs):
+/// `J(φ) φ̈ = τ + F(φ) y_p′ − V′ − ½ J′ φ̇²`, for the bundled scene (`scenes/slider_crank.json`:
+/// 1.5 N·m, gas force −10·max(0, cos φ), released at 60°) and for the smooth one of
+/// `../shared/docs/peers.md` (`benches/scenes/peers_slider_crank.json`: 2 N·m, −20 N, 30°).
 pub mod slider_crank {
     const R: f64 = 0.1;
     const L: f64 = 0.3;
@@ -97,7 +99,27 @@ pub mod slider_crank {
     const MR: f64 = 0.5;
     const MP: f64 = 0.3;
     const G: f64 = 9.81;
-    const TAU: f64 = 1.5;
+
+    /// The loads of one slider-crank: torque on the crank, force on the piston at crank angle φ.
+    #[derive(Clone, Copy)]
+    pub struct Loads {
+        /// Constant torque τ on the crank.
+        pub torque: f64,
+        /// Piston force F(φ) along the cylinder.
+        pub force: fn(f64) -> f64,
+    }
+
+    /// The bundled scene's loads (1.5 N·m, gas force −10·max(0, cos φ)).
+    pub const BUNDLED: Loads = Loads {
+        torque: 1.5,
+        force: |phi| -10.0 * phi.cos().max(0.0),
+    };
+
+    /// The smooth slider-crank's loads (2 N·m, −20 N).
+    pub const SMOOTH: Loads = Loads {
+        torque: 2.0,
+        force: |_| -20.0,
+    };
 
     /// (x_r, y_r, y_p, β) and their first two φ-derivatives (branch σ = +1).
     fn kinematics(phi: f64) -> [[f64; 3]; 4] {
@@ -117,12 +139,8 @@ pub mod slider_crank {
         ]
     }
 
-    fn force(phi: f64) -> f64 {
-        -10.0 * phi.cos().max(0.0)
-    }
-
     /// φ̈ and ∂φ̈/∂φ̇.
-    fn acceleration(phi: f64, w: f64) -> (f64, f64) {
+    fn acceleration(loads: &Loads, phi: f64, w: f64) -> (f64, f64) {
         let [xr, yr, yp, be] = kinematics(phi);
         let jr = MR * L * L / 12.0;
         let j = MC * R * R / 3.0
@@ -132,28 +150,32 @@ pub mod slider_crank {
         let hdj = MR * (xr[1] * xr[2] + yr[1] * yr[2]) + jr * be[1] * be[2] + MP * yp[1] * yp[2];
         let dv = G * (MC * 0.5 * R * phi.cos() + MR * yr[1] + MP * yp[1]);
         (
-            (TAU + force(phi) * yp[1] - dv - hdj * w * w) / j,
+            (loads.torque + (loads.force)(phi) * yp[1] - dv - hdj * w * w) / j,
             -2.0 * hdj * w / j,
         )
     }
 
     /// `y' = f(y)`, `y = [φ, φ̇]`.
-    pub fn rhs(y: &[f64], yd: &mut [f64]) {
+    pub fn rhs(loads: &Loads, y: &[f64], yd: &mut [f64]) {
         yd[0] = y[1];
-        yd[1] = acceleration(y[0], y[1]).0;
+        yd[1] = acceleration(loads, y[0], y[1]).0;
     }
 
     /// `∂f/∂y`: ∂φ̈/∂φ̇ analytic; ∂φ̈/∂φ by a central difference of the analytic φ̈
     /// (h = 1e-7, relative error ~1e-9 — it only steers Newton, never the solution).
-    pub fn jacobian(y: &[f64], j: &mut [[f64; 2]; 2]) {
+    pub fn jacobian(loads: &Loads, y: &[f64], j: &mut [[f64; 2]; 2]) {
         let h = 1e-7;
-        let d = (acceleration(y[0] + h, y[1]).0 - acceleration(y[0] - h, y[1]).0) / (2.0 * h);
+        let d = (acceleration(loads, y[0] + h, y[1]).0 - acceleration(loads, y[0] - h, y[1]).0)
+            / (2.0 * h);
         j[0] = [0.0, 1.0];
-        j[1] = [d, acceleration(y[0], y[1]).1];
+        j[1] = [d, acceleration(loads, y[0], y[1]).1];
     }
 
-    /// Initial state: crank at 60°, at rest.
+    /// Initial state of the bundled scene: crank at 60°, at rest.
     pub const Y0: [f64; 2] = [std::f64::consts::FRAC_PI_3, 0.0];
+
+    /// Initial state of the smooth one: crank at 30°, at rest.
+    pub const Y0_SMOOTH: [f64; 2] = [std::f64::consts::FRAC_PI_6, 0.0];
 
     /// The bondmech columns compared.
     pub const COLUMNS: [&str; 7] = [
@@ -207,9 +229,13 @@ fn dp_jac(y: &[f64], yd: &[f64], set: &mut dyn FnMut(usize, usize, f64)) {
     }
 }
 
-fn sc_jac(y: &[f64], _yd: &[f64], set: &mut dyn FnMut(usize, usize, f64)) {
+fn sc_jac_with(
+    loads: &slider_crank::Loads,
+    y: &[f64],
+    set: &mut dyn FnMut(usize, usize, f64),
+) {
     let mut j = [[0.0; 2]; 2];
-    slider_crank::jacobian(y, &mut j);
+    slider_crank::jacobian(loads, y, &mut j);
     for (r, row) in j.iter().enumerate() {
         for (c, v) in row.iter().enumerate() {
             set(r, c, *v);
@@ -228,13 +254,24 @@ pub const DOUBLE_PENDULUM: MinimalModel = MinimalModel {
     outputs: double_pendulum::outputs,
 };
 
-/// The slider-crank.
+/// The bundled slider-crank.
 pub const SLIDER_CRANK: MinimalModel = MinimalModel {
     name: "slider_crank",
     n: 2,
     y0: &slider_crank::Y0,
-    rhs: slider_crank::rhs,
-    jacobian: sc_jac,
+    rhs: |y, yd| slider_crank::rhs(&slider_crank::BUNDLED, y, yd),
+    jacobian: |y, _, set| sc_jac_with(&slider_crank::BUNDLED, y, set),
+    columns: &slider_crank::COLUMNS,
+    outputs: slider_crank::outputs,
+};
+
+/// The smooth slider-crank of `../shared/docs/peers.md`.
+pub const PEERS_SLIDER_CRANK: MinimalModel = MinimalModel {
+    name: "peers_slider_crank",
+    n: 2,
+    y0: &slider_crank::Y0_SMOOTH,
+    rhs: |y, yd| slider_crank::rhs(&slider_crank::SMOOTH, y, yd),
+    jacobian: |y, _, set| sc_jac_with(&slider_crank::SMOOTH, y, set),
     columns: &slider_crank::COLUMNS,
     outputs: slider_crank::outputs,
 };

@@ -312,9 +312,19 @@ fn assign(
 ) -> Result<Causality, ValidationErrors> {
     validate(graph)?;
     let deferred = joint_rows(graph);
-    let at = constraint_rank(graph, t, values, &[], &deferred);
+    // an inertia of value zero stores no momentum: it cannot be a state (a degree of freedom)
+    // where the joints can fix its flow, so it is pivoted on first (a point mass's kinematic
+    // rotation, a massless link's angle)
+    let massless: Vec<ElementId> = canonical_elements(graph)
+        .into_iter()
+        .filter(|&e| {
+            let el = graph.element(e);
+            el.kind == ElementKind::I && matches!(el.parameter, Some(Parameter::Const(m)) if m == 0.0)
+        })
+        .collect();
+    let at = constraint_rank(graph, t, values, &massless, &deferred);
     let generic_values = |n: &str| Some(generic_value(n));
-    let mut generic = constraint_rank(graph, t, &generic_values, &[], &deferred);
+    let mut generic = constraint_rank(graph, t, &generic_values, &massless, &deferred);
     if !at_state && generic.rank > at.rank {
         // singular at the state: keep its well-conditioned pivots, complete them generically
         let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();

@@ -212,6 +212,7 @@ impl<'a> Geometry<'a> {
             },
             flow_rows: Vec::new(),
             source: EquationSource::Assembled("geometry only".into()),
+            inertias: Vec::new(),
             bond_graph: None,
         };
         let joint_names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();

@@ -164,6 +164,10 @@ pub struct MultibodySystem {
     pub flow_rows: Vec<Expr>,
     /// Where the equations come from.
     pub source: EquationSource,
+    /// The inertia (I element of [`MultibodySystem::bond_graph`]) whose flow each velocity is,
+    /// by element name (the names `graph --causality` reports); empty for equations assembled
+    /// beside the graph.
+    pub inertias: Vec<String>,
     /// The complete bond graph the equations were read from (the decoupled twin is read from
     /// its transformation, [`crate::bond::decouple`]); `None` for equations assembled beside it.
     pub bond_graph: Option<std::sync::Arc<crate::bond::model::BondGraph>>,
@@ -280,8 +284,9 @@ impl MultibodySystem {
     }
 
     /// The first scene quantity that is not finite at time `t` and state `x = [q, v]`: a load
-    /// expression (its JSON path, name and text), or else a generalized force (the velocity it
-    /// acts on). `None` when every load and force is finite there.
+    /// expression (its JSON path, name and text), a load whose derivative along a coordinate or
+    /// velocity is not (it makes the Newton matrix non-finite), or else a generalized force (the
+    /// velocity it acts on). `None` when every load and force is finite there.
     pub fn non_finite_source(&self, t: f64, x: &[f64]) -> Option<NonFiniteValue> {
         let mut vars = Vec::with_capacity(1 + x.len());
         vars.push(t);
@@ -295,6 +300,26 @@ impl MultibodySystem {
                     t,
                     value,
                 });
+            }
+        }
+        // a finite load whose rate of change is not (sqrt at 0): the Newton matrix is not finite
+        let mut g = self.graph.clone();
+        for l in &self.load_terms {
+            for slot in 1..vars.len() as u32 {
+                let d = g.diff(l.expr, slot);
+                let value = g.eval(d, &vars);
+                if !value.is_finite() {
+                    return Some(NonFiniteValue {
+                        path: l.path.clone(),
+                        what: format!(
+                            "the derivative of load '{}', {}",
+                            l.load,
+                            crate::expr::excerpt(&l.source, 0)
+                        ),
+                        t,
+                        value,
+                    });
+                }
             }
         }
         for (j, &f) in self.forces.iter().enumerate() {

@@ -341,7 +341,8 @@ pub struct Event {
 /// How the mechanism is turned into equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Formulation {
-    /// `"dae"`: the pinned mechanism as a DAE with IDA (currently GGL); the default.
+    /// `"dae"`: the pinned mechanism as the chapter's DAE on IDA (index 1 in the causality's
+    /// partition, [`crate::solve::FormulationKind::Dae`]); the default.
     #[default]
     Dae,
     /// `"ggl"`: stabilised index 2 (Gear–Gupta–Leimkuhler).

@@ -74,6 +74,8 @@ fn ida_options(atol: Vec<f64>, id: Vec<f64>, opts: &SolveOptions) -> IdaOptions 
             None => 1e-4,
         }),
         delta_cj_lsetup: opts.ida_delta_cj,
+        nonlin_conv_coef: std::env::var("BM_NCC").ok().and_then(|s| s.parse().ok()),
+        max_order: std::env::var("BM_MAXORD").ok().and_then(|s| s.parse().ok()),
         ..IdaOptions::default()
     }
 }

@@ -6,8 +6,17 @@ use std::time::Duration;
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FormulationKind {
+    /// The chapter's DAE on IDA, the default: the integral-causality inertias' flows and the
+    /// displacements they carry are IDA's differential unknowns; the differential-causality
+    /// inertias' flows and accelerations, the dependent displacements and the constraint
+    /// efforts are algebraic (index 1 at acceleration level, the constraint rows kept at
+    /// position and velocity level, [`crate::dae::Index1Formulation`]); the partition is the
+    /// causality's ([`crate::bond::causality`]), re-chosen when its block degrades. Needs
+    /// `q' = v` (planar bodies in the non-rotating frame); other mechanisms run [`Self::Ggl`]
+    /// and say so in the summary.
+    Dae,
     /// Stabilized index-2 DAE (Gear–Gupta–Leimkuhler) on IDA; switches to the compliant form by
-    /// itself where the constraints lose rank. The default.
+    /// itself where the constraints lose rank.
     Ggl,
     /// GGL with compliance ε from the start (`g − εμ = 0`, `G v − ελ = 0`).
     CompliantGgl,
@@ -68,6 +77,7 @@ impl FormulationKind {
     /// The name used in summaries and on the command line.
     pub fn name(self) -> &'static str {
         match self {
+            FormulationKind::Dae => "dae",
             FormulationKind::Ggl => "ggl",
             FormulationKind::CompliantGgl => "compliant_ggl",
             FormulationKind::Index1 => "index1",
@@ -76,10 +86,11 @@ impl FormulationKind {
         }
     }
 
-    /// Parses `dae`, `ggl`, `compliant_ggl` or `decoupled`.
+    /// Parses `dae`, `ggl`, `compliant_ggl`, `index1`, `decoupled` or `partitioned`.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
-            "dae" | "ggl" => Some(FormulationKind::Ggl),
+            "dae" => Some(FormulationKind::Dae),
+            "ggl" => Some(FormulationKind::Ggl),
             "compliant_ggl" | "compliant" => Some(FormulationKind::CompliantGgl),
             "index1" | "index-1" => Some(FormulationKind::Index1),
             "decoupled" | "ode" => Some(FormulationKind::Decoupled),
@@ -236,7 +247,7 @@ pub struct SolveOptions {
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
-            formulation: FormulationKind::Ggl,
+            formulation: FormulationKind::Dae,
             rtol: 1e-6,
             atol: 1e-8,
             multiplier_atol: None,

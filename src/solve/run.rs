@@ -38,6 +38,13 @@ pub struct Summary {
     pub formulation: String,
     /// `IDA` or `CVODE`.
     pub solver: String,
+    /// The partition at the start, by element name (the `dae`, `index1` and `partitioned`
+    /// formulations): the integral-causality inertias whose flows are the states, as
+    /// `graph --causality` lists them in `states`.
+    pub states: Vec<String>,
+    /// The differential-causality inertias whose flows are dependent unknowns at the start (as
+    /// `graph --causality` lists them in `differential[].element`).
+    pub dependent: Vec<String>,
     /// Number of unknowns handed to the solver.
     pub unknowns: usize,
     /// Linear solver of the Newton iterations: `dense`, `faer` or `klu` (what `auto` chose).
@@ -418,6 +425,41 @@ fn solve_from_first_output(
             summary.formulation = "index1".into();
             run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
         }
+        FormulationKind::Dae if init.redundant_joints.is_empty() && q_rates_are_v(&sys) => {
+            summary.formulation = "dae".into();
+            run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
+        }
+        FormulationKind::Dae => {
+            let why = if init.redundant_joints.is_empty() {
+                "its coordinates' rates are not its velocities (3D bodies or body-fixed frames)"
+            } else {
+                "its joints are redundant"
+            };
+            summary.formulation = "ggl".into();
+            summary.warnings.push(format!(
+                "dae: the chapter's index-1 DAE does not apply to this mechanism ({why}); solved with ggl"
+            ));
+            let t = ThreadTime::now();
+            let eps_default = default_compliance(&sys, opts);
+            let eps = if init.redundant_joints.is_empty() {
+                0.0
+            } else {
+                eps_default
+            };
+            let ggl = GglFormulation::build(&mut sys, &c, eps);
+            build += t.elapsed().as_secs_f64();
+            run_ggl(
+                &sys,
+                ggl,
+                tapes,
+                &init,
+                eps,
+                eps_default,
+                opts,
+                &mut summary,
+                observer,
+            )
+        }
         FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let t = ThreadTime::now();
             let eps_default = default_compliance(&sys, opts);
@@ -443,8 +485,9 @@ fn solve_from_first_output(
             )
         }
     };
-    let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds = build))?;
-    sol.summary.build_cpu_seconds = build;
+    // a formulation rebuilt during the run (index 1, dae) adds its own build time
+    let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds += build))?;
+    sol.summary.build_cpu_seconds += build;
     Ok(sol)
 }
 
@@ -609,6 +652,37 @@ pub struct SingularPassage {
     /// peak` for a passage found while the compliant GGL was already running (no restart; then
     /// `t` is the peak of κ located between outputs and `restarted_at = t`).
     pub failure: String,
+}
+
+/// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
+/// non-rotating frame, 16.8), as the index-1 DAE needs.
+fn q_rates_are_v(sys: &MultibodySystem) -> bool {
+    if sys.nq() != sys.nv() {
+        return false;
+    }
+    let mut g = sys.graph.clone();
+    (0..sys.nq()).all(|i| sys.kinematics[i] == g.var(sys.v_slot(i)))
+}
+
+/// The velocities whose inertias the causality assignment puts in differential causality at
+/// the mechanism's bond graph's initial configuration (the `differential[].element` of
+/// `graph --causality`), sorted; `None` when the equations were not read off a graph or the
+/// assignment does not give one dependent velocity per constraint row.
+fn causality_dependent(sys: &MultibodySystem, t0: f64) -> Option<Vec<usize>> {
+    let graph = sys.bond_graph.as_deref()?;
+    if sys.inertias.len() != sys.nv() {
+        return None;
+    }
+    let causality = crate::bond::causality::assign_causality_at(graph, t0, &|_| None).ok()?;
+    let report = causality.report(graph);
+    let mut dependent: Vec<usize> = report
+        .differential
+        .iter()
+        .filter_map(|d| sys.inertias.iter().position(|n| *n == d.element))
+        .collect();
+    dependent.sort_unstable();
+    dependent.dedup();
+    (dependent.len() == sys.nc()).then_some(dependent)
 }
 
 /// Velocities preferred as dependent (translations, as the seed's differential causality picks
@@ -1186,10 +1260,29 @@ fn run_index1(
     let mut t_start = t0;
     let mut k_next = 1;
     let mut reselections = 0u64;
+    let mut formulation_build = 0.0;
     let wall_start = std::time::Instant::now();
+    // the chapter's partition at the start: the differential-causality inertias' flows
+    // (kept unless its block is ill-conditioned there and a numeric choice is much better)
+    let mut from_causality = causality_dependent(&sys, t0).filter(|d| {
+        let gv = gv_at(&tapes, t0, &x);
+        let cond = dependent_condition(&gv, d);
+        cond <= INDEX1_CHECK_CONDITION
+            || select_dependent(&gv, &preferred)
+                .is_none_or(|b| dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN >= cond)
+    });
+    if from_causality.is_none() && !sys.inertias.is_empty() {
+        summary.warnings.push(format!(
+            "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",
+            summary.formulation
+        ));
+    }
     'restart: loop {
         let gv = gv_at(&tapes, t_start, &x);
-        let dependent = select_dependent(&gv, &preferred).ok_or_else(|| {
+        let chosen = from_causality
+            .take()
+            .or_else(|| select_dependent(&gv, &preferred));
+        let dependent = chosen.ok_or_else(|| {
             let c = joint_conditioning(&gv, &sys.mass, &sys.rows);
             Error::Init(crate::dae::InitError::Singular {
                 t: t_start,
@@ -1200,7 +1293,23 @@ fn run_index1(
                 ),
             })
         })?;
+        if reselections == 0 {
+            let name = |j: usize| {
+                sys.inertias
+                    .get(j)
+                    .cloned()
+                    .unwrap_or_else(|| sys.velocities[j].name.clone())
+            };
+            summary.dependent = dependent.iter().map(|&j| name(j)).collect();
+            summary.states = (0..nv)
+                .filter(|j| !dependent.contains(j))
+                .map(name)
+                .collect();
+        }
+        // the formulation's symbolic build is not integration time
+        let tb = ThreadTime::now();
         let f = Index1Formulation::build(&mut sys, c, &dependent)?;
+        formulation_build += tb.elapsed().as_secs_f64();
         summary.unknowns = f.dae.n;
         summary.linear_solver = opts.linear_solver.resolved_name(f.dae.n).into();
         let mut y0 = state.q.clone();
@@ -1226,7 +1335,8 @@ fn run_index1(
                     total.accumulate(&ida.stats());
                     fill_stats(summary, &total);
                     summary.index1_reselections = reselections;
-                    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+                    summary.cpu_seconds = clock.elapsed().as_secs_f64() - formulation_build;
+                    summary.build_cpu_seconds = formulation_build;
                     summary.max_constraint_error = out.max_g;
                     set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());
                     let last = budget_row_ida(&e, &mut ida, &mut out);
@@ -1274,7 +1384,8 @@ fn run_index1(
         break;
     }
     summary.index1_reselections = reselections;
-    summary.cpu_seconds = clock.elapsed().as_secs_f64();
+    summary.cpu_seconds = clock.elapsed().as_secs_f64() - formulation_build;
+    summary.build_cpu_seconds = formulation_build;
     fill_stats(summary, &total);
     summary.max_constraint_error = out.max_g;
     set_energy(summary, out.energy_drift(), out.energy_exchange.as_deref());

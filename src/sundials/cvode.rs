@@ -116,7 +116,8 @@ unsafe extern "C" fn jacobian_trampoline(
         return -1;
     };
     let code = status.guard(t, || jacobian(t, y, f, &mut j));
-    finite_or_recoverable(code, j.as_mut_slice())
+    // a non-finite Newton matrix counts toward the solver being stuck, as a residual's does
+    status.check_output("Jacobian", code, t, y, j.as_mut_slice())
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -155,7 +156,7 @@ unsafe extern "C" fn sparse_jacobian_trampoline(
         return -1;
     };
     let code = status.guard(t, || jacobian(t, y, f, &mut j));
-    finite_or_recoverable(code, j.values_mut())
+    status.check_output("Jacobian", code, t, y, j.values_mut())
 }
 
 unsafe extern "C" fn root_trampoline(

@@ -134,7 +134,8 @@ unsafe extern "C" fn jacobian_trampoline(
         return -1;
     };
     let code = status.guard(t, || jacobian(t, cj, y, yp, &mut j));
-    finite_or_recoverable(code, j.as_mut_slice())
+    // a non-finite Newton matrix counts toward the solver being stuck, as a residual's does
+    status.check_output("Jacobian", code, t, y, j.as_mut_slice())
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -175,7 +176,7 @@ unsafe extern "C" fn sparse_jacobian_trampoline(
         return -1;
     };
     let code = status.guard(t, || jacobian(t, cj, y, yp, &mut j));
-    finite_or_recoverable(code, j.values_mut())
+    status.check_output("Jacobian", code, t, y, j.values_mut())
 }
 
 unsafe extern "C" fn root_trampoline(
@@ -451,6 +452,14 @@ impl Ida {
                     P,
                     "IDASetDeltaCjLSetup",
                     sys::IDASetDeltaCjLSetup(raw, v),
+                    t0,
+                )?;
+            }
+            if let Some(v) = opts.nonlin_conv_coef {
+                check(
+                    P,
+                    "IDASetNonlinConvCoef",
+                    sys::IDASetNonlinConvCoef(raw, v),
                     t0,
                 )?;
             }

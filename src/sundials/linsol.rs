@@ -1,4 +1,5 @@
-//! RAII owner of a `SUNLinearSolver` (dense LU, or a custom one from [`super::custom_ls`]).
+//! RAII owner of a `SUNLinearSolver` (dense LU, [`super::dense_lu`], or a custom one from
+//! [`super::custom_ls`]).
 
 use super::context::Context;
 use super::error::SolverError;
@@ -12,18 +13,15 @@ pub(crate) struct LinearSolver {
 }
 
 impl LinearSolver {
-    /// Dense direct solver for `a` (template vector `y`).
+    /// Dense direct solver (LU with partial pivoting, [`super::dense_lu`]) for the dense
+    /// matrix the integrator attaches with it (the template vector and matrix are kept in the
+    /// signature of `SUNLinSol_Dense`, which it replaces).
     pub(crate) fn dense(
         ctx: &Context,
-        y: &NVector,
-        a: &DenseMatrix,
+        _y: &NVector,
+        _a: &DenseMatrix,
     ) -> Result<LinearSolver, SolverError> {
-        // SAFETY: vector, matrix and context are live and compatible (serial, n x n).
-        let raw = unsafe { sys::SUNLinSol_Dense(y.raw(), a.raw(), ctx.raw()) };
-        if raw.is_null() {
-            return Err(SolverError::InvalidInput("SUNLinSol_Dense failed".into()));
-        }
-        Ok(LinearSolver { raw })
+        super::dense_lu::new(ctx)
     }
 
     /// Take ownership of an already-built solver.

@@ -9,6 +9,8 @@
 //! Table of contents:
 //! - [`context`]: RAII `SUNContext`.
 //! - [`vector`], [`matrix`], [`linsol`]: RAII serial `N_Vector`, dense `SUNMatrix`, dense `SUNLinearSolver`.
+//! - [`dense_lu`]: the dense LU solver of the Newton iterations (compiled with the crate).
+//! - [`fast_ops`]: the serial vector kernels compiled with the crate (Debian builds SUNDIALS unoptimised).
 //! - [`error`]: [`SolverError`], [`CallbackError`] and flag-name lookup.
 //! - [`callback`]: panic-safe trampolines' shared state.
 //! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
@@ -24,8 +26,10 @@ pub mod callback;
 pub mod context;
 pub mod custom_ls;
 pub mod cvode;
+pub mod dense_lu;
 pub mod driver;
 pub mod erk;
+pub mod fast_ops;
 pub mod error;
 pub mod heap;
 pub mod ida;

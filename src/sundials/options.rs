@@ -43,6 +43,9 @@ pub struct IdaOptions {
     /// setups the Newton iteration runs on the old matrix, its steps scaled by
     /// `2/(1 + c_j/c_j,old)` (linear solution scaling).
     pub delta_cj_lsetup: Option<f64>,
+    /// `IDASetNonlinConvCoef`: the Newton iteration stops when its WRMS error estimate is below
+    /// this fraction of the local error test's bound (SUNDIALS default 0.33).
+    pub nonlin_conv_coef: Option<f64>,
 }
 
 impl Default for IdaOptions {
@@ -64,6 +67,7 @@ impl Default for IdaOptions {
             max_conv_fails: None,
             max_err_test_fails: None,
             delta_cj_lsetup: None,
+            nonlin_conv_coef: None,
         }
     }
 }

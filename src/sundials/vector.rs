@@ -21,6 +21,8 @@ impl NVector {
         if raw.is_null() {
             return Err(SolverError::InvalidInput("N_VNew_Serial failed".into()));
         }
+        // SAFETY: a live serial vector that owns its ops table (N_VNew_Serial allocates one).
+        unsafe { super::fast_ops::install(raw) };
         let mut v = NVector {
             raw,
             len: values.len(),
