@@ -229,11 +229,7 @@ fn dp_jac(y: &[f64], yd: &[f64], set: &mut dyn FnMut(usize, usize, f64)) {
     }
 }
 
-fn sc_jac_with(
-    loads: &slider_crank::Loads,
-    y: &[f64],
-    set: &mut dyn FnMut(usize, usize, f64),
-) {
+fn sc_jac_with(loads: &slider_crank::Loads, y: &[f64], set: &mut dyn FnMut(usize, usize, f64)) {
     let mut j = [[0.0; 2]; 2];
     slider_crank::jacobian(loads, y, &mut j);
     for (r, row) in j.iter().enumerate() {

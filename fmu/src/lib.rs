@@ -18,4 +18,4 @@ mod fmi2;
 mod fmi3;
 pub mod slave;
 
-pub use slave::{Mode, Slave, SlaveError, State, StepOutcome};
+pub use slave::{Mode, Slave, SlaveError, State, StepOutcome, REPLAYS};

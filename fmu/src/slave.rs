@@ -7,14 +7,17 @@
 //! numbers as `bondmech run` with those output times.
 //!
 //! A new segment starts when an input changes, when the importer leaves the grid (another step
-//! size) and after an FMU state is restored. It *restarts from the state*: the scene with every
-//! body's position, angle, velocity and angular velocity taken from the last row, its start time
-//! moved there, the springs' rest lengths fixed at their initial lengths and the inputs at their
-//! new values (constant). Two kinds of scene cannot restart so and *replay* instead — the solve
+//! size) and after an FMU state is restored. The first [`REPLAYS`] of them *replay*: the solve
 //! from the scene's start time, the inputs' history as piecewise-constant expressions of `t`
-//! ([`bondmech::scene::inputs::piecewise_constant`]), rows before the current time skipped: a
-//! raw bond graph (no bodies to put the state in) and the decoupled twin (a restart would
-//! project the stretched joint springs back onto the joints).
+//! ([`bondmech::scene::inputs::piecewise_constant`]), rows before the current time skipped —
+//! exactly the run of the scene with those inputs written as step functions of `t`, at a cost
+//! that grows with the time reached. Later ones *restart from the state*: the scene with every
+//! body's position, angle, velocity and angular velocity taken from the last row, its start
+//! time moved there, the springs' rest lengths fixed at their initial lengths and the inputs at
+//! their new values — a fresh integration whose cost does not grow with time, equal to the
+//! continued one within the solver's tolerance. A raw bond graph (no bodies to put the state
+//! in) and the decoupled twin (a restart would project its stretched joint springs back onto
+//! the joints) always replay.
 
 use std::ops::ControlFlow;
 use std::path::Path;
@@ -27,6 +30,10 @@ use bondmech::scene::path::{scene_from_json_with, Assignment, ScenePath};
 use bondmech::scene::{output_grid, Dimension, Formulation, PointRef, Scene};
 use bondmech::Model;
 use serde::{Deserialize, Serialize};
+
+/// How many new segments (input changes, steps off the grid, restored states) replay the
+/// solve from the start before they restart from the state instead.
+pub const REPLAYS: usize = 8;
 
 /// Why a call failed; the C layer logs the message and returns an error status.
 #[derive(Debug, thiserror::Error)]
@@ -133,6 +140,7 @@ pub struct State {
     row: Vec<f64>,
     history: Vec<(f64, Vec<f64>)>,
     step: Option<f64>,
+    replays: usize,
     mode: Mode,
     stop_time: Option<f64>,
 }
@@ -158,6 +166,8 @@ pub struct Slave {
     /// The inputs' values from each time on (first entry: the start time).
     history: Vec<(f64, Vec<f64>)>,
     step: Option<f64>,
+    /// New segments that replayed from the start so far (the first [`REPLAYS`] do).
+    replays: usize,
     segment: Option<Segment>,
     /// Events met during the last step (name, time), for the log.
     pub events: Vec<(String, f64)>,
@@ -208,6 +218,7 @@ impl Slave {
             stop_time: None,
             history: Vec::new(),
             step: None,
+            replays: 0,
             segment: None,
             events: Vec::new(),
             config,
@@ -233,6 +244,7 @@ impl Slave {
         self.stop_time = None;
         self.history.clear();
         self.step = None;
+        self.replays = 0;
     }
 
     /// Ends the simulation: stops the solver thread (the values stay readable).
@@ -519,12 +531,19 @@ impl Slave {
         };
         end = end.min(t + 1e6 * h);
         let at_start = (t - t0).abs() <= tol;
-        let scene = match at_start {
-            true => self.scene_with_inputs(base),
-            false => match self.restarted(base, t, end) {
-                Some(s) => s,
-                None => self.scene_with_inputs(base),
-            },
+        let restarted = if at_start || self.replays < REPLAYS {
+            None
+        } else {
+            self.restarted(base, t, end)
+        };
+        let scene = match restarted {
+            Some(s) => s,
+            None => {
+                if !at_start {
+                    self.replays += 1;
+                }
+                self.scene_with_inputs(base)
+            }
         };
         // the run's grid from the start time (the same times as `bondmech run` with
         // output_step = h), or a grid from here when the importer left it
@@ -622,10 +641,12 @@ impl Slave {
             match segment.recv() {
                 Ok(Msg::Row(tr, row)) => {
                     if tr < target - tol {
-                        // a row at an event time inside the step (kept in case a `stop`
-                        // event ends the run there)
-                        self.events.push(("event".into(), tr));
-                        event_row = Some((tr, row));
+                        // a row at an event time: inside the step (kept in case a `stop`
+                        // event ends the run there), or before it (a replay)
+                        if tr > t + tol {
+                            self.events.push(("event".into(), tr));
+                            event_row = Some((tr, row));
+                        }
                         continue;
                     }
                     segment.grid.pop_front();
@@ -672,6 +693,7 @@ impl Slave {
                 row: self.row.clone(),
                 history: self.history.clone(),
                 step: self.step,
+                replays: self.replays,
                 mode: self.mode,
                 stop_time: self.stop_time,
             }),
@@ -699,6 +721,7 @@ impl Slave {
         self.row = state.row.clone();
         self.history = state.history.clone();
         self.step = state.step;
+        self.replays = state.replays;
         self.mode = state.mode;
         self.stop_time = state.stop_time;
         Ok(())

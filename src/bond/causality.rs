@@ -319,7 +319,8 @@ fn assign(
         .into_iter()
         .filter(|&e| {
             let el = graph.element(e);
-            el.kind == ElementKind::I && matches!(el.parameter, Some(Parameter::Const(m)) if m == 0.0)
+            el.kind == ElementKind::I
+                && matches!(el.parameter, Some(Parameter::Const(m)) if m == 0.0)
         })
         .collect();
     let at = constraint_rank(graph, t, values, &massless, &deferred);

@@ -651,7 +651,11 @@ pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<Expr, Annot
     sys.constraints = closures;
     sys.flow_rows = flows;
     sys.source = EquationSource::BondGraph;
-    sys.inertias = eqs.inertias.iter().map(|&e| g.element(e).name.clone()).collect();
+    sys.inertias = eqs
+        .inertias
+        .iter()
+        .map(|&e| g.element(e).name.clone())
+        .collect();
     sys.bond_graph = Some(std::sync::Arc::new(g));
     Ok(eqs.stored)
 }
@@ -805,7 +809,11 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         names: Vec::new(),
         flow_rows,
         source: EquationSource::BondGraph,
-        inertias: eqs.inertias.iter().map(|&e| g.element(e).name.clone()).collect(),
+        inertias: eqs
+            .inertias
+            .iter()
+            .map(|&e| g.element(e).name.clone())
+            .collect(),
         bond_graph: Some(std::sync::Arc::new(g.clone())),
         graph: eqs.graph,
     })

@@ -143,8 +143,8 @@ unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int 
         lu.factors = data;
         lu.factored = false;
         // no panic may unwind into SUNDIALS
-        let zero = catch_unwind(AssertUnwindSafe(|| factor(m, n, &mut lu.pivots)))
-            .unwrap_or(usize::MAX);
+        let zero =
+            catch_unwind(AssertUnwindSafe(|| factor(m, n, &mut lu.pivots))).unwrap_or(usize::MAX);
         match zero {
             0 => {
                 lu.factored = true;

@@ -40,7 +40,13 @@ unsafe fn nth(a: *mut sys::N_Vector, i: usize) -> sys::N_Vector {
     unsafe { *a.add(i) }
 }
 
-unsafe extern "C" fn linear_sum(a: f64, x: sys::N_Vector, b: f64, y: sys::N_Vector, z: sys::N_Vector) {
+unsafe extern "C" fn linear_sum(
+    a: f64,
+    x: sys::N_Vector,
+    b: f64,
+    y: sys::N_Vector,
+    z: sys::N_Vector,
+) {
     // SAFETY: SUNDIALS passes live serial vectors of one length; each element is read before
     // the same element of z is written (aliasing as in the C loop).
     unsafe {
@@ -212,7 +218,11 @@ unsafe extern "C" fn wsqr_sum_local(x: sys::N_Vector, w: sys::N_Vector) -> f64 {
     unsafe { wsqr_sum(x, w, None) }
 }
 
-unsafe extern "C" fn wsqr_sum_mask_local(x: sys::N_Vector, w: sys::N_Vector, id: sys::N_Vector) -> f64 {
+unsafe extern "C" fn wsqr_sum_mask_local(
+    x: sys::N_Vector,
+    w: sys::N_Vector,
+    id: sys::N_Vector,
+) -> f64 {
     // SAFETY: live serial vectors of one length.
     unsafe { wsqr_sum(x, w, Some(id)) }
 }
