@@ -371,6 +371,7 @@ impl Mechanism {
                 solve: SolveSettings::with_t_end(1.0),
                 outputs: Vec::new(),
                 events: Vec::new(),
+                inputs: Vec::new(),
                 bond_graph: None,
                 description: None,
             },

@@ -38,6 +38,7 @@ impl SceneGraph {
     /// geometrically special mechanism, with its redundant joint rows named. A raw graph gets
     /// the generic (structural) count ([`assign_causality`]).
     pub fn new(scene: &Scene, variant: Variant) -> Result<SceneGraph> {
+        let scene = &scene.with_inputs_at_start();
         match &scene.bond_graph {
             Some(raw) => {
                 let raw: RawBondGraph = serde_json::from_value(raw.clone())

@@ -55,6 +55,7 @@
 //! | [`expr`] | expression DAG, symbolic derivatives, evaluation tapes |
 //! | [`bond`] | bond graphs: data model, validation, causality (matching + numeric rank), the equations read off a graph ([`bond::mechanics`]), the decoupled twin as a transformation ([`bond::decouple`]), DOT drawings |
 //! | [`graph`] | a scene's bond graph, causality report and drawing |
+//! | [`fmu`] | a scene as a co-simulation FMU (FMI 2.0, 3.0): the archive and its variables |
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
 //! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
 //! | [`dae`] | the formulations (GGL, index 1, partitioned, decoupled twin), consistent initialisation |
@@ -71,6 +72,7 @@ pub mod builder;
 pub mod dae;
 pub mod error;
 pub mod expr;
+pub mod fmu;
 pub mod graph;
 pub mod mech;
 pub mod model;

@@ -11,6 +11,8 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod fmu_cmd;
+
 use bondmech::scene::{Formulation, SolveOverrides};
 use bondmech::{Error, Model, Scene, SolveOptions};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -246,6 +248,8 @@ enum Command {
     },
     /// Serve the HTTP/JSON API until SIGTERM or Ctrl-C (routes: docs/service.md).
     Serve(bondmech::service::ServeArgs),
+    /// Export a scene as a co-simulation FMU (FMI 3.0, or 2.0 with --fmi 2; docs/fmu.md).
+    Fmu(fmu_cmd::FmuArgs),
 }
 
 /// A failure of a command, with what the command still managed to do (e.g. where the rows of
@@ -850,6 +854,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 out.display()
             ))?)
         }
+        Command::Fmu(args) => Ok(fmu_cmd::export(&args)?),
         Command::Serve(args) => {
             let config = args.config().map_err(Error::Options)?;
             let addr = config.addr.to_string();

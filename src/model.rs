@@ -108,8 +108,12 @@ impl Model {
     /// Errors name the culprit: the JSON path of a bad body, joint or load, or the bond graph
     /// element or bond that is invalid. A model whose dense matrices would not fit in this
     /// machine's memory is refused before it is built ([`crate::mech::size`]).
+    ///
+    /// A scene's `"inputs"` are held at their start values ([`Scene::with_inputs_at_start`]);
+    /// [`Model::scene`] is that scene.
     pub fn new(scene: &Scene) -> Result<Model> {
         let clock = ThreadTime::now();
+        let scene = &scene.with_inputs_at_start();
         crate::mech::size::check_scene_memory(scene, scene.solve.formulation)?;
         let kind = if scene.bond_graph.is_some() {
             let graph = scene_bond_graph(scene)?;
@@ -143,7 +147,7 @@ impl Model {
         })
     }
 
-    /// The scene this model was built from.
+    /// The scene this model was built from (its inputs, if any, at their start values).
     pub fn scene(&self) -> &Scene {
         &self.scene
     }

@@ -40,6 +40,7 @@
 //! `rest_length` = initial distance. `name` defaults to the file stem.
 
 mod error;
+pub mod inputs;
 pub mod model;
 pub mod overrides;
 pub mod parse;

@@ -47,6 +47,9 @@ pub struct Scene {
     pub outputs: Vec<String>,
     /// Events found by root finding while solving (`"events"`).
     pub events: Vec<Event>,
+    /// Named inputs load expressions may use (`"inputs"`), set from outside (an FMU's
+    /// importer); a run holds each at its start value ([`Scene::with_inputs_at_start`]).
+    pub inputs: Vec<Input>,
     /// A raw bond graph given instead of bodies and joints (validated by `bond`).
     pub bond_graph: Option<serde_json::Value>,
     /// Free text, e.g. the seed figure the scene follows.
@@ -252,6 +255,19 @@ impl Load {
             LoadKind::Torque => dimension.rotations(),
         }
     }
+}
+
+/// An input of the scene (`"inputs"`): a name the load expressions may use, whose value is
+/// set from outside (the importer of an FMU, `bondmech fmu`); a run holds it at `start`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Input {
+    /// The name used in load expressions (letters, digits and `_`, not starting with a digit;
+    /// not `t`, `pi`, a function or a scalar output).
+    pub name: String,
+    /// The value a run uses, and the FMU's start value.
+    pub start: f64,
+    /// Unit, as written in an FMU's model description (`"N.m"`), if given.
+    pub unit: Option<String>,
 }
 
 /// Which zero crossings of an event's `when` expression count.

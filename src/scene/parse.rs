@@ -242,6 +242,7 @@ const SCENE_KEYS: &[&str] = &[
     "solve",
     "outputs",
     "events",
+    "inputs",
     "bond_graph",
 ];
 
@@ -369,6 +370,12 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
     if let Some(g) = f.get("bond_graph") {
         duplicate_keys(p, "bond_graph", g);
     }
+    let inputs = f
+        .array(p, "inputs")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| input(p, i, e))
+        .collect();
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
         name,
@@ -381,6 +388,7 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         solve,
         outputs,
         events,
+        inputs,
         bond_graph,
         description,
     })
@@ -406,6 +414,23 @@ fn duplicate_keys(p: &mut Problems, path: &str, j: &Json) {
         }
         _ => {}
     }
+}
+
+const INPUT_KEYS: &[&str] = &["name", "start", "unit"];
+
+fn input(p: &mut Problems, i: usize, j: &Json) -> Option<Input> {
+    let path = index("inputs", i);
+    let f = Fields::new(p, &path, j, INPUT_KEYS)?;
+    let name = f
+        .required(p, "name")
+        .and_then(|j| string(p, &f.path("name"), j));
+    let start = f.number(p, "start").unwrap_or(0.0);
+    let unit = f.string(p, "unit");
+    Some(Input {
+        name: name?,
+        start,
+        unit,
+    })
 }
 
 const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];

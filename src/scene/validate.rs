@@ -244,6 +244,7 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
             );
         }
     }
+    super::inputs::validate(&mut p, scene);
     if scene.bond_graph.is_some() && scene.outputs.iter().any(|o| o == "reactions") {
         if let Some(i) = scene.outputs.iter().position(|o| o == "reactions") {
             p.push(

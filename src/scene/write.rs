@@ -220,6 +220,23 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
         "outputs",
         Json::Array(s.outputs.iter().map(|o| text(o)).collect()),
     ));
+    if !s.inputs.is_empty() {
+        e.push((
+            "inputs",
+            Json::Array(
+                s.inputs
+                    .iter()
+                    .map(|u| {
+                        let mut fields = vec![("name", text(&u.name)), ("start", num(u.start))];
+                        if let Some(unit) = &u.unit {
+                            fields.push(("unit", text(unit)));
+                        }
+                        obj(fields)
+                    })
+                    .collect(),
+            ),
+        ));
+    }
     if !s.events.is_empty() {
         e.push((
             "events",
