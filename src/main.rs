@@ -177,9 +177,10 @@ enum Command {
         /// Frames per second of playback.
         #[arg(long, default_value_t = 30.0)]
         fps: f64,
-        /// Seconds of motion per second of playback (0.5: slow motion).
-        #[arg(long, default_value_t = 1.0)]
-        speed: f64,
+        /// Seconds of motion per second of playback (0.5: slow motion). Default: 1, or slower
+        /// (said on the page) when a body would turn more than 15° in one frame of playback.
+        #[arg(long)]
+        speed: Option<f64>,
         /// Orthographic view (default: xy for a planar scene, iso for a spatial one).
         #[arg(long, value_enum)]
         view: Option<ViewArg>,
@@ -187,6 +188,10 @@ enum Command {
         /// the same column names) instead of solving the scene.
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Also write the frames exactly as drawn to this JSON file:
+        /// `{"frames": [{"t": …, "points": {"body.point": [x, y(, z)], …}}, …]}`.
+        #[arg(long)]
+        frames: Option<PathBuf>,
     },
     /// SVG plots against time of a run's CSV: coordinates, velocities, energy, constraint error.
     Plot {
@@ -637,7 +642,18 @@ fn run(cli: Cli) -> Result<(), CliError> {
             speed,
             view,
             csv,
-        } => Ok(animate(&args, &out, fps, speed, view, csv.as_deref())?),
+            frames,
+        } => Ok(animate(
+            &args,
+            &out,
+            AnimateFlags {
+                fps,
+                speed,
+                view,
+                csv: csv.as_deref(),
+                frames: frames.as_deref(),
+            },
+        )?),
         Command::Plot { csv, out } => {
             let sol = bondmech::report::reference::reference_from_csv(&csv)?;
             let files =
@@ -816,18 +832,37 @@ fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
     stdout_write(&format!("{}wrote {}\n", report.table(), out.display()))
 }
 
-/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
-fn animate(
-    args: &SolveArgs,
-    out: &Path,
+/// The flags of `bondmech animate` besides the solve flags.
+struct AnimateFlags<'a> {
     fps: f64,
-    speed: f64,
+    speed: Option<f64>,
     view: Option<ViewArg>,
-    csv: Option<&Path>,
-) -> Result<(), Error> {
-    use bondmech::report::animate::{animation, AnimationFormat, AnimationOptions, View};
+    csv: Option<&'a Path>,
+    frames: Option<&'a Path>,
+}
+
+/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
+fn animate(args: &SolveArgs, out: &Path, flags: AnimateFlags) -> Result<(), Error> {
+    use bondmech::report::animate::{
+        animation, denser_output_times, frames_json, AnimationFormat, AnimationOptions, View,
+    };
+    let AnimateFlags {
+        fps,
+        speed,
+        view,
+        csv,
+        frames,
+    } = flags;
     let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(csv).collect();
-    check_outputs(&inputs, &[("--out", Some(out))])?;
+    check_outputs(&inputs, &[("--out", Some(out)), ("--frames", frames)])?;
+    if let Some(f) = frames {
+        if f.extension().and_then(|e| e.to_str()) != Some("json") {
+            return Err(Error::Options(format!(
+                "--frames {}: give a .json file",
+                f.display()
+            )));
+        }
+    }
     let format = match out.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("svg") => AnimationFormat::Svg,
         Some(e) if e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm") => {
@@ -871,7 +906,17 @@ fn animate(
         None => {
             apply_flags(&mut scene, args)?;
             let model = Model::new(&scene)?;
-            let sol = model.solve(&model.default_options())?;
+            let mut opts = model.default_options();
+            let mut sol = model.solve(&opts)?;
+            // rows close enough that every frame is a row: no body turning more than 15°
+            // (a refinement cut from coarse rows may still miss, hence a few rounds)
+            for _ in 0..4 {
+                let Some(times) = denser_output_times(&scene, &sol)? else {
+                    break;
+                };
+                opts.output_times = times.into_iter().filter(|&t| t > opts.t_start).collect();
+                sol = model.solve(&opts)?;
+            }
             print_warnings(&sol.summary.warnings);
             (sol, format!("the solution of {}", args.scene.display()))
         }
@@ -891,6 +936,10 @@ fn animate(
     let text = animation(&scene, &sol, &opts, format)?;
     write(out, &text)?;
     println!("wrote {}", out.display());
+    if let Some(f) = frames {
+        write(f, &frames_json(&scene, &sol, &opts)?)?;
+        println!("wrote {}", f.display());
+    }
     Ok(())
 }
 
