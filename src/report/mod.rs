@@ -12,5 +12,5 @@ pub mod sweep;
 pub mod timeplot;
 pub mod vary;
 
-pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
+pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference, Verdict};
 pub use sweep::{ExternalReference, SweepConfig, SweepReport};
