@@ -914,7 +914,7 @@ fn animate(args: &SolveArgs, out: &Path, flags: AnimateFlags) -> Result<(), Erro
                 let Some(times) = denser_output_times(&scene, &sol)? else {
                     break;
                 };
-                opts.output_times = times.into_iter().filter(|&t| t > opts.t_start).collect();
+                opts.output_times = times.into_iter().filter(|&t| t >= opts.t_start).collect();
                 sol = model.solve(&opts)?;
             }
             print_warnings(&sol.summary.warnings);

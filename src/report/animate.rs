@@ -1212,15 +1212,29 @@ const SEEK_SVG: &str = r#"(function () {
   var d = +s.getAttribute('data-duration'), digits = +s.getAttribute('data-digits');
   var clock = document.getElementById('clock'), strip = document.getElementById('strip');
   clock.setAttribute('display', 'inline'); strip.setAttribute('display', 'none');
-  function tick() {
+  // one clock: the label shows the playback clock of the animations
+  function show() {
     clock.textContent = 't = ' + (t0 + (s.getCurrentTime() % d) * sp).toFixed(digits) + ' s';
-    requestAnimationFrame(tick);
   }
   var m = /[?#&]t=([-+0-9.eE]+)/.exec(location.href);
-  if (m) {
-    var tau = Math.min(Math.max((parseFloat(m[1]) - t0) / sp, 0), d * (1 - 1e-9));
+  // a standalone SVG opened at a time stays paused there (a pause before the timeline starts
+  // can be lost, so it is checked at every frame)
+  function target() { return Math.min(Math.max((parseFloat(m[1]) - t0) / sp, 0), d * (1 - 1e-9)); }
+  function tick() {
+    if (m && (!s.animationsPaused() || Math.abs(s.getCurrentTime() - target()) > 1e-6)) seek();
+    show();
+    requestAnimationFrame(tick);
+  }
+  function seek() {
     s.pauseAnimations();
-    s.setCurrentTime(tau);
+    s.setCurrentTime(target());
+    show();
+  }
+  // seek now and again once the document has loaded (a pause before the timeline starts is lost)
+  if (m) {
+    seek();
+    window.addEventListener('load', seek);
+    setTimeout(seek, 50);
   }
   tick();
 })();"#;
@@ -1618,18 +1632,30 @@ const HTML_SCRIPT: &str = r#"(function () {
     var tau = Math.min(Math.max((t - t0) / sp, 0), d * (1 - 1e-9));
     s.pauseAnimations(); s.setCurrentTime(tau); button.textContent = 'play'; show(t0 + tau * sp);
   }
+  var pinned = false, pinnedAt = 0;
   button.onclick = function () {
+    pinned = false;
     if (s.animationsPaused()) { s.unpauseAnimations(); button.textContent = 'pause'; }
     else { s.pauseAnimations(); button.textContent = 'play'; }
   };
-  slider.oninput = function () { seek(+slider.value); };
+  slider.oninput = function () { pinned = false; seek(+slider.value); };
   function tick() {
+    // opened at a time: stay there until played (a pause before the timeline starts is lost)
+    if (pinned && (!s.animationsPaused()
+        || Math.abs(t0 + s.getCurrentTime() * sp - Math.min(Math.max(pinnedAt, t0), t1)) > 1e-6 * (1 + Math.abs(t1)))) {
+      seek(pinnedAt);
+    }
     if (!s.animationsPaused()) show(t0 + (s.getCurrentTime() % d) * sp);
     requestAnimationFrame(tick);
   }
   var m = /[?#&]t=([-+0-9.eE]+)/.exec(location.href);
-  if (m) seek(parseFloat(m[1])); else button.textContent = 'pause';
-  requestAnimationFrame(tick);
+  // seek once the document (and its SMIL timeline) has started: a pause before it is lost
+  function start() {
+    if (m) { pinned = true; pinnedAt = parseFloat(m[1]); seek(pinnedAt); }
+    else button.textContent = 'pause';
+    requestAnimationFrame(tick);
+  }
+  if (document.readyState === 'complete') start(); else window.addEventListener('load', start);
 })();"#;
 
 /// Refuses a frame rate or speed that is not a positive number.
