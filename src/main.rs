@@ -128,7 +128,8 @@ enum Command {
         /// Print a short table instead of the CSV on standard output.
         #[arg(long)]
         table: bool,
-        /// Also write SVG plots against time of the columns into this directory.
+        /// Also write SVG plots against time of the columns into this directory (the CSV then
+        /// goes to standard output only when asked: `--out -`).
         #[arg(long)]
         plot: Option<PathBuf>,
     },
@@ -200,6 +201,12 @@ enum Command {
         /// Output directory (one SVG per group of columns).
         #[arg(long, default_value = "plots")]
         out: PathBuf,
+        /// The columns to draw (comma-separated names, or prefixes ending in `*`: `bar2.*`).
+        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+        /// The plots' title (default: the CSV's file name without extension).
+        #[arg(long)]
+        title: Option<String>,
     },
     /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
     Sweep {
@@ -519,6 +526,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             table,
             plot,
         } => {
+            // `--out -`: the CSV on standard output, asked for explicitly
+            let dash = out.as_deref() == Some(Path::new("-"));
+            let out = if dash { None } else { out };
+            // with --plot, the CSV goes to the terminal only when asked
+            let no_csv = table || (plot.is_some() && out.is_none() && !dash);
             check_outputs(
                 &[&args.scene],
                 &[("--out", out.as_deref()), ("--summary", summary.as_deref())],
@@ -532,18 +544,23 @@ fn run(cli: Cli) -> Result<(), CliError> {
                         return Err(e.into());
                     };
                     print_warnings(&partial.summary.warnings);
-                    write_solution(partial, out.as_deref(), summary.as_deref(), table)?;
+                    write_solution(partial, out.as_deref(), summary.as_deref(), no_csv)?;
                     let note = out.as_ref().map(|p| format!("written to {}", p.display()));
                     return Err(CliError { error: e, note });
                 }
             };
             if let Some(dir) = &plot {
                 let source = out.as_ref().unwrap_or(&args.scene).display().to_string();
-                bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
+                let opts = bondmech::report::timeplot::PlotOptions {
+                    title: model.scene().name.clone(),
+                    columns: None,
+                };
+                bondmech::report::timeplot::plot_solution_with(&sol, &source, dir, &opts)?;
             }
+
             // the model's own warnings, redundant joints, singular passages, re-selections
             print_warnings(&sol.summary.warnings);
-            write_solution(&sol, out.as_deref(), summary.as_deref(), table)?;
+            write_solution(&sol, out.as_deref(), summary.as_deref(), no_csv)?;
             if table {
                 let mut text = short_table(&sol, 11);
                 let s = &sol.summary;
@@ -654,10 +671,23 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 frames: frames.as_deref(),
             },
         )?),
-        Command::Plot { csv, out } => {
+        Command::Plot {
+            csv,
+            out,
+            columns,
+            title,
+        } => {
             let sol = bondmech::report::reference::reference_from_csv(&csv)?;
-            let files =
-                bondmech::report::timeplot::plot_solution(&sol, &csv.display().to_string(), &out)?;
+            let opts = bondmech::report::timeplot::PlotOptions {
+                title: title.unwrap_or_default(),
+                columns,
+            };
+            let files = bondmech::report::timeplot::plot_solution_with(
+                &sol,
+                &csv.display().to_string(),
+                &out,
+                &opts,
+            )?;
             for f in files {
                 println!("wrote {}", f.display());
             }
