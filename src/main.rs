@@ -143,6 +143,12 @@ enum Command {
         /// Draw the decoupled twin (joints replaced by stiff springs) instead.
         #[arg(long)]
         decoupled: bool,
+        /// Draw one node per body or joint (the default above 200 elements).
+        #[arg(long, conflicts_with = "expand")]
+        collapse: bool,
+        /// Draw every element, however large the graph.
+        #[arg(long)]
+        expand: bool,
         /// Print the mechanism's complete bond graph as a raw `bond_graph` scene (JSON, with
         /// its closures, coordinates, output columns, `solve` and `outputs`): `run` on it gives
         /// the mechanism's trajectories.
@@ -595,6 +601,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
             decoupled,
             as_scene,
             out,
+            collapse,
+            expand,
         } => {
             if as_scene {
                 if let Some(p) = out.as_ref() {
@@ -643,6 +651,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
             let g = model.scene_graph(variant)?;
             let text = if causality {
                 serde_json::to_string_pretty(&g.report()).expect("report serialises") + "\n"
+            } else if collapse || expand {
+                g.dot_with(collapse)
             } else {
                 g.dot()
             };

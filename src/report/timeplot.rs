@@ -481,7 +481,7 @@ mod tests {
         assert_eq!(OffsetScale::for_range(0.0, 1.0), None);
         assert_eq!(tick_label(-0.00001, -1.0, 1.0), "0.0");
         assert_eq!(tick_label(0.25, 0.0, 1.0), "0.2");
-        assert_eq!(tick_label(0.0026, 0.0, 0.01), "0.0026");
+        assert_eq!(tick_label(0.0026, 0.0, 0.01), "0.003");
         let near_zero = OffsetScale::for_range(-4e-6, 1e-6).unwrap();
         assert_eq!((near_zero.offset, near_zero.scale), (0.0, 1e-6));
         let c: std::collections::BTreeSet<(u8, u8, u8)> = (0..100)
