@@ -221,7 +221,8 @@ enum Command {
         /// Output directory for the CSV, JSON and SVG files.
         #[arg(long, default_value = "sweep-out")]
         out: PathBuf,
-        /// A small sweep (3 tolerances, 3 stiffnesses, 1 s, one timed run per point).
+        /// A small sweep (3 tolerances, 3 stiffnesses, the scene's horizon up to 1 s, each point
+        /// timed by its own run and stopped after 2 s of wall clock).
         #[arg(long)]
         quick: bool,
         /// Error the smallest sufficient joint stiffness must reach.
@@ -230,7 +231,7 @@ enum Command {
         /// Timed runs per point (median reported).
         #[arg(long)]
         repeats: Option<usize>,
-        /// End time of every run (default: the scene's; --quick: 1 s).
+        /// End time of every run (default: the scene's; --quick: the scene's, at most 1 s).
         #[arg(long = "t-end")]
         t_end: Option<f64>,
         /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
