@@ -661,6 +661,63 @@ pub fn denser_output_times(scene: &Scene, sol: &Solution) -> Result<Option<Vec<f
     Ok(denser.then_some(out))
 }
 
+/// One frame of the 3D view: its time and each body's centre and attitude quaternion
+/// `[w, x, y, z]`.
+pub(crate) struct FramePose {
+    pub(crate) t: f64,
+    pub(crate) poses: Vec<([f64; 3], [f64; 4])>,
+}
+
+fn quaternion(p: &Pose) -> [f64; 4] {
+    use nalgebra::{Matrix3, Rotation3, UnitQuaternion};
+    let m = Matrix3::from_fn(|i, j| p.rot[i][j]);
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m));
+    [q.w, q.i, q.j, q.k]
+}
+
+/// The 3D page of a spatial scene ([`super::view3d`]).
+fn page_3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<String> {
+    let cols = pose_columns(scene, sol, &opts.source)?;
+    let plan = plan_frames(scene, sol, opts)?;
+    let frames: Vec<FramePose> = plan
+        .times
+        .iter()
+        .zip(&plan.poses)
+        .map(|(&t, poses)| FramePose {
+            t,
+            poses: poses.iter().map(|p| (p.r, quaternion(p))).collect(),
+        })
+        .collect();
+    let mut traces = Vec::new();
+    for o in &scene.outputs {
+        let Some((b, p)) = o.split_once('.') else {
+            continue;
+        };
+        let (Some(bi), Some(coords)) = (
+            scene.body_index(b),
+            scene.bodies.iter().find(|x| x.name == b).and_then(|x| x.point(p)),
+        ) else {
+            continue;
+        };
+        traces.push((
+            o.clone(),
+            sol.rows
+                .iter()
+                .map(|row| pose(&cols[bi], row).apply(coords))
+                .collect(),
+        ));
+    }
+    let span = plan.times[plan.times.len() - 1] - plan.times[0];
+    super::view3d::page(
+        scene,
+        &frames,
+        &traces,
+        plan.speed,
+        plan.slowed,
+        clock_digits(span),
+    )
+}
+
 /// One frame as drawn: its time and the world coordinates of every body's named points.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Frame {
@@ -1694,6 +1751,14 @@ pub fn animation(
             "--view {}: a planar scene has only the xy view",
             view.as_str()
         )));
+    }
+    if format == AnimationFormat::Html && scene.dimension == Dimension::Spatial {
+        if scene.bodies.is_empty() || sol.times.is_empty() {
+            return Err(Error::Options(
+                "animate needs a scene with bodies and rows to draw".into(),
+            ));
+        }
+        return page_3d(scene, sol, opts);
     }
     let drawing = build_drawing(scene, sol, opts)?;
     Ok(match format {

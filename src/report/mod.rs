@@ -4,6 +4,7 @@
 //! that produce a sweep's solutions are [`crate::study`]'s.
 
 pub mod animate;
+pub mod view3d;
 pub mod compare;
 pub mod generate;
 pub mod plot;
