@@ -194,3 +194,55 @@ fn request_ids_are_echoed_or_generated() {
     assert_ne!(r.header("x-request-id"), Some("a b <c>"));
     drop(server);
 }
+
+#[test]
+fn openapi_scene_schema_is_generated_and_every_bundled_scene_fits_it() {
+    let server = start(config());
+    let doc = get(server.addr(), "/openapi.json").json();
+    let scene = &doc["components"]["schemas"]["Scene"];
+    assert_eq!(
+        doc["paths"]["/v1/run"]["post"]["requestBody"]["content"]["application/json"]["schema"]
+            ["$ref"],
+        "#/components/schemas/Scene"
+    );
+    assert_eq!(scene["additionalProperties"], false);
+    let defs = &scene["$defs"];
+    // every reference resolves inside the document
+    let text = scene.to_string();
+    for r in text.split("\"$ref\":\"").skip(1) {
+        let target = &r[..r.find('"').unwrap()];
+        let name = target
+            .strip_prefix("#/components/schemas/Scene/$defs/")
+            .unwrap_or_else(|| panic!("reference {target}"));
+        assert!(defs.get(name).is_some(), "{target} does not resolve");
+    }
+    // the bundled scenes use only the keys the schema names, and have its required ones
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for e in std::fs::read_dir(dir).unwrap() {
+        let path = e.unwrap().path();
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let fits = |obj: &serde_json::Value, schema: &serde_json::Value, what: &str| {
+            for k in obj.as_object().unwrap().keys() {
+                assert!(
+                    schema["properties"].get(k).is_some(),
+                    "{}: {what} key {k} is not in the schema",
+                    path.display()
+                );
+            }
+            for r in schema["required"].as_array().into_iter().flatten() {
+                assert!(obj.get(r.as_str().unwrap()).is_some(), "{what} needs {r}");
+            }
+        };
+        fits(&v, scene, "scene");
+        for (list, def) in [("bodies", "Body"), ("joints", "Joint"), ("springs", "Spring"), ("loads", "Load")] {
+            for item in v[list].as_array().into_iter().flatten() {
+                fits(item, &defs[def], def);
+            }
+        }
+        if let Some(s) = v.get("solve") {
+            fits(s, &defs["Solve"], "solve");
+        }
+    }
+    drop(server);
+}

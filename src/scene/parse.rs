@@ -226,7 +226,7 @@ fn syntax_problem(e: &serde_json::Error) -> super::Problem {
     )
 }
 
-const SCENE_KEYS: &[&str] = &[
+pub(crate) const SCENE_KEYS: &[&str] = &[
     "name",
     "description",
     "dimension",
@@ -330,7 +330,7 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
     })
 }
 
-const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
+pub(crate) const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
 
 fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
     let path = index("events", i);
@@ -372,7 +372,7 @@ fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
     })
 }
 
-const BODY_KEYS: &[&str] = &[
+pub(crate) const BODY_KEYS: &[&str] = &[
     "name",
     "mass",
     "inertia",
@@ -508,7 +508,7 @@ fn describe(j: &Json) -> String {
     }
 }
 
-const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
 
 fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     let path = index("joints", i);
@@ -568,7 +568,7 @@ fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     })
 }
 
-const SPRING_KEYS: &[&str] = &[
+pub(crate) const SPRING_KEYS: &[&str] = &[
     "name",
     "bodies",
     "points",
@@ -603,7 +603,7 @@ fn spring(p: &mut Problems, i: usize, j: &Json) -> Option<Spring> {
     })
 }
 
-const LOAD_KEYS: &[&str] = &["name", "type", "body", "point", "value"];
+pub(crate) const LOAD_KEYS: &[&str] = &["name", "type", "body", "point", "value"];
 
 fn load(p: &mut Problems, i: usize, j: &Json) -> Option<Load> {
     let path = index("loads", i);
@@ -720,7 +720,7 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
     }
 }
 
-const SOLVE_KEYS: &[&str] = &[
+pub(crate) const SOLVE_KEYS: &[&str] = &[
     "formulation",
     "t_start",
     "t_end",
