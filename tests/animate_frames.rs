@@ -22,8 +22,11 @@ fn run_ok(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// A body's named points: `(point, coords)`.
+type Points = Vec<(String, Vec<f64>)>;
+
 /// `name → [(point, coords)]` of every body, from the scene file.
-fn bodies(scene: &Value) -> Vec<(String, Vec<(String, Vec<f64>)>)> {
+fn bodies(scene: &Value) -> Vec<(String, Points)> {
     scene["bodies"]
         .as_array()
         .unwrap()
@@ -93,7 +96,10 @@ fn check_scene(file: &str) {
     let dims = if spatial { 3 } else { 2 };
     let bodies = bodies(&scene_json);
     let times: Vec<f64> = frames.iter().map(|f| f["t"].as_f64().unwrap()).collect();
-    assert!(times.windows(2).all(|w| w[1] > w[0]), "{name}: times increase");
+    assert!(
+        times.windows(2).all(|w| w[1] > w[0]),
+        "{name}: times increase"
+    );
 
     // 1. rigid: every pair of a body's points keeps the scene's distance
     let mut worst_rigid = 0.0f64;
@@ -145,7 +151,12 @@ fn check_scene(file: &str) {
     let scene2 = tmp(&format!("frames-{name}-run.json"));
     std::fs::write(&scene2, serde_json::to_string(&s2).unwrap()).unwrap();
     let csv = tmp(&format!("frames-{name}-run.csv"));
-    run_ok(&["run", scene2.to_str().unwrap(), "--out", csv.to_str().unwrap()]);
+    run_ok(&[
+        "run",
+        scene2.to_str().unwrap(),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
     let (header, rows) = read_csv(&std::fs::read_to_string(&csv).unwrap());
     let col = |c: &str| {
         header

@@ -566,12 +566,7 @@ fn every_bundled_scene_animates_without_a_console_error() {
         for ext in ["html", "svg"] {
             let stem = name.trim_end_matches(".json");
             let file = tmp(&format!("console-{stem}.{ext}"));
-            run_ok(&[
-                "animate",
-                &scene(name),
-                "--out",
-                file.to_str().unwrap(),
-            ]);
+            run_ok(&["animate", &scene(name), "--out", file.to_str().unwrap()]);
             let text = std::fs::read_to_string(&file).unwrap();
             for remote in ["src=\"http", "href=\"http", "<link", "@import", "url(http"] {
                 assert!(!text.contains(remote), "{stem}.{ext} loads {remote}");

@@ -211,7 +211,8 @@ fn energy_ticks_resolve_the_drift_and_columns_pick_curves() {
     );
     // the scene's name is the title
     assert!(
-        t.iter().any(|(_, _, s)| s.starts_with("double_pendulum: energy")),
+        t.iter()
+            .any(|(_, _, s)| s.starts_with("double_pendulum: energy")),
         "{t:?}"
     );
     // --columns: only the picked curves, and a wrong name is refused with the column named
@@ -266,7 +267,11 @@ fn run_plot_writes_no_csv_to_the_terminal_unless_asked() {
     ];
     let out = bondmech(&args);
     assert!(out.status.success());
-    assert!(out.stdout.is_empty(), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     assert!(dir.join("positions.svg").exists());
     let mut asked = args.to_vec();
     asked.extend(["--out", "-"]);

@@ -60,10 +60,16 @@ fn compare_verdict_recommends_the_twin_only_when_cheaper_and_within_tolerance() 
     for k in ["1e4", "1e8"] {
         let (doc, table) = compare(k);
         let v = &doc["verdict"];
-        let f = |x: &Value| x.as_f64().unwrap_or_else(|| panic!("k = {k}: {x} is a number"));
+        let f = |x: &Value| {
+            x.as_f64()
+                .unwrap_or_else(|| panic!("k = {k}: {x} is a number"))
+        };
         let cpu = f(&doc["decoupled"]["cpu_seconds"]) / f(&doc["dae"]["cpu_seconds"]);
         let steps = f(&doc["decoupled"]["steps"]) / f(&doc["dae"]["steps"]);
-        assert!((f(&v["cpu_ratio"]) - cpu).abs() <= 1e-9 * cpu, "k = {k}: {v}");
+        assert!(
+            (f(&v["cpu_ratio"]) - cpu).abs() <= 1e-9 * cpu,
+            "k = {k}: {v}"
+        );
         assert!((f(&v["steps_ratio"]) - steps).abs() <= 1e-9 * steps);
         let d = f(&v["max_position_difference"]);
         assert_eq!(d, f(&doc["position"]["value"]));
@@ -86,7 +92,11 @@ fn compare_verdict_recommends_the_twin_only_when_cheaper_and_within_tolerance() 
             "{table}"
         );
         // no reactions were computed: their differences are null, not 0
-        assert!(doc["force"].is_null() && doc["moment"].is_null(), "{}", doc["force"]);
+        assert!(
+            doc["force"].is_null() && doc["moment"].is_null(),
+            "{}",
+            doc["force"]
+        );
         assert!(doc["decoupled_energy_note"]
             .as_str()
             .unwrap()
@@ -114,6 +124,10 @@ fn compare_reports_reaction_differences_when_computed() {
         String::from_utf8_lossy(&out.stderr)
     );
     let doc: Value = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
-    assert!(doc["force"]["value"].as_f64().unwrap() > 0.0, "{}", doc["force"]);
+    assert!(
+        doc["force"]["value"].as_f64().unwrap() > 0.0,
+        "{}",
+        doc["force"]
+    );
     assert!(doc["moment"].is_null(), "pins transmit no moment");
 }

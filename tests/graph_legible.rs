@@ -55,10 +55,7 @@ fn graph_svg(file: &str, extra: &[&str]) -> ((f64, f64), Vec<String>) {
 fn bricard_graph_fits_4000_pt_with_labels_of_at_most_60_characters() {
     for extra in [&[][..], &["--expand"][..], &["--collapse"][..]] {
         let ((w, h), texts) = graph_svg("bricard.json", extra);
-        assert!(
-            w.max(h) <= 4000.0,
-            "{extra:?}: the drawing is {w} × {h} pt"
-        );
+        assert!(w.max(h) <= 4000.0, "{extra:?}: the drawing is {w} × {h} pt");
         assert!(texts.len() > 5, "{extra:?}: {} texts", texts.len());
         let longest = texts.iter().max_by_key(|t| t.chars().count()).unwrap();
         assert!(

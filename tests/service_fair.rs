@@ -56,7 +56,10 @@ fn fairness(seconds: f64) -> (Vec<f64>, usize) {
     // let the long requests fill the slots
     let t0 = Instant::now();
     while metric(&get(addr, "/metrics").text(), "bondmech_solves_in_flight") < Some(2.0) {
-        assert!(t0.elapsed() < Duration::from_secs(30), "the slots never filled");
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the slots never filled"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     let mut lat = Vec::new();
@@ -83,7 +86,9 @@ fn short_requests_are_not_stuck_behind_long_ones() {
     let (mut lat, answered) = fairness(6.0);
     let n = lat.len();
     let (p50, p99) = (percentile(&mut lat, 0.5), percentile(&mut lat, 0.99));
-    eprintln!("short requests: {n}, p50 {p50:.4} s, p99 {p99:.4} s; long solves answered: {answered}");
+    eprintln!(
+        "short requests: {n}, p50 {p50:.4} s, p99 {p99:.4} s; long solves answered: {answered}"
+    );
     assert!(n >= 40, "{n} probes");
     assert!(p99 <= 0.25, "p99 {p99} s (p50 {p50} s)");
 }
@@ -110,10 +115,14 @@ fn healthz_is_503_while_draining_and_the_request_in_flight_gets_its_200() {
     let addr = server.addr();
     // a long solve: Bricard over 30 s
     let long = scene_text("bricard.json");
-    let flight = std::thread::spawn(move || post(addr, "/v1/run?format=csv&t_end=30", long.as_bytes()));
+    let flight =
+        std::thread::spawn(move || post(addr, "/v1/run?format=csv&t_end=30", long.as_bytes()));
     let t0 = Instant::now();
     while metric(&get(addr, "/metrics").text(), "bondmech_solves_in_flight") < Some(1.0) {
-        assert!(t0.elapsed() < Duration::from_secs(30), "the solve never started");
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the solve never started"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
     assert_eq!(get(addr, "/healthz").status, 200);
@@ -126,14 +135,24 @@ fn healthz_is_503_while_draining_and_the_request_in_flight_gets_its_200() {
         health = get(addr, "/healthz");
     }
     let p = health.problem(503);
-    assert!(p["detail"].as_str().unwrap().contains("shutting down"), "{p}");
-    let refused = post(addr, "/v1/run?t_end=0.1", scene_text("pendulum.json").as_bytes());
+    assert!(
+        p["detail"].as_str().unwrap().contains("shutting down"),
+        "{p}"
+    );
+    let refused = post(
+        addr,
+        "/v1/run?t_end=0.1",
+        scene_text("pendulum.json").as_bytes(),
+    );
     assert_eq!(refused.status, 503);
     // the request in flight is answered in full
     let r = flight.join().unwrap();
     assert_eq!(r.status, 200, "{}", r.text());
     let (_, rows) = parse_csv(&r.text());
-    assert!((rows.last().unwrap()[0] - 30.0).abs() < 1e-9, "the whole run");
+    assert!(
+        (rows.last().unwrap()[0] - 30.0).abs() < 1e-9,
+        "the whole run"
+    );
     drop(server);
 }
 
@@ -141,7 +160,11 @@ fn healthz_is_503_while_draining_and_the_request_in_flight_gets_its_200() {
 fn metrics_parse_as_prometheus_text_with_process_figures_and_latencies() {
     let server = start(config());
     let addr = server.addr();
-    let r = post(addr, "/v1/run?t_end=0.1", scene_text("pendulum.json").as_bytes());
+    let r = post(
+        addr,
+        "/v1/run?t_end=0.1",
+        scene_text("pendulum.json").as_bytes(),
+    );
     assert_eq!(r.status, 200);
     let text = get(addr, "/metrics").text();
     let scrape = prometheus_parse::Scrape::parse(text.lines().map(|l| Ok(l.to_string())))
@@ -185,7 +208,10 @@ fn request_ids_are_echoed_or_generated() {
     assert_eq!(r.header("x-request-id"), Some("client-42"));
     let a = get(addr, "/healthz");
     let b = get(addr, "/nowhere");
-    let (ia, ib) = (a.header("x-request-id").unwrap(), b.header("x-request-id").unwrap());
+    let (ia, ib) = (
+        a.header("x-request-id").unwrap(),
+        b.header("x-request-id").unwrap(),
+    );
     assert!(!ia.is_empty() && ia != ib, "{ia} {ib}");
     // a header that is not a plain token is replaced
     let mut s = connect(addr);
@@ -235,7 +261,12 @@ fn openapi_scene_schema_is_generated_and_every_bundled_scene_fits_it() {
             }
         };
         fits(&v, scene, "scene");
-        for (list, def) in [("bodies", "Body"), ("joints", "Joint"), ("springs", "Spring"), ("loads", "Load")] {
+        for (list, def) in [
+            ("bodies", "Body"),
+            ("joints", "Joint"),
+            ("springs", "Spring"),
+            ("loads", "Load"),
+        ] {
             for item in v[list].as_array().into_iter().flatten() {
                 fits(item, &defs[def], def);
             }

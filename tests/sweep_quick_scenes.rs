@@ -17,7 +17,13 @@ use support::cli::{bondmech, scene, tmp};
 fn quick(file: &str) -> (f64, Value, String) {
     let dir = tmp(&format!("quick-{file}"));
     let start = Instant::now();
-    let out = bondmech(&["sweep", &scene(file), "--quick", "--out", dir.to_str().unwrap()]);
+    let out = bondmech(&[
+        "sweep",
+        &scene(file),
+        "--quick",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     let secs = start.elapsed().as_secs_f64();
     assert!(
         out.status.success(),
@@ -39,7 +45,8 @@ fn check_legend(file: &str, report: &Value, svg: &str) {
         let ok = wp
             .iter()
             .any(|w| w["series"] == s && w["failure"].is_null());
-        let in_legend = svg.contains(&format!(">\n{s}\n</text>")) || svg.contains(&format!(">{s}</text>"));
+        let in_legend =
+            svg.contains(&format!(">\n{s}\n</text>")) || svg.contains(&format!(">{s}</text>"));
         assert_eq!(
             ok, in_legend,
             "{file}: series {s} has usable points: {ok}, in the legend: {in_legend}"
@@ -51,7 +58,11 @@ fn check_legend(file: &str, report: &Value, svg: &str) {
 fn quick_sweep_keeps_the_scenes_own_short_horizon() {
     // Andrews' squeezer lasts 0.03 s: a quick sweep used to force 1 s and fail
     let (_, report, svg) = quick("andrews_squeezer.json");
-    assert!((report["t_end"].as_f64().unwrap() - 0.03).abs() < 1e-12, "{}", report["t_end"]);
+    assert!(
+        (report["t_end"].as_f64().unwrap() - 0.03).abs() < 1e-12,
+        "{}",
+        report["t_end"]
+    );
     check_legend("andrews_squeezer.json", &report, &svg);
 }
 
@@ -80,7 +91,10 @@ fn quick_sweep_of_every_bundled_scene_within_30_s() {
     names.sort();
     for name in &names {
         let (secs, report, svg) = quick(name);
-        eprintln!("sweep --quick {name}: {secs:.1} s (t_end {})", report["t_end"]);
+        eprintln!(
+            "sweep --quick {name}: {secs:.1} s (t_end {})",
+            report["t_end"]
+        );
         assert!(secs <= 30.0, "{name}: {secs} s");
         check_legend(name, &report, &svg);
     }

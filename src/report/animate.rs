@@ -412,10 +412,15 @@ fn parts_needed(a: &[Pose], b: &[Pose], sizes: &[f64]) -> usize {
     let mut parts = 1.0f64;
     for ((pa, pb), size) in a.iter().zip(b).zip(sizes) {
         let turn = turn_angle(pa, pb).to_degrees() / MAX_TURN_DEGREES;
-        let d = (0..3).map(|i| (pb.r[i] - pa.r[i]).powi(2)).sum::<f64>().sqrt();
+        let d = (0..3)
+            .map(|i| (pb.r[i] - pa.r[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let moved = d / (MAX_MOVE_FRACTION * size);
         // a hair below the limit counts as within it
-        parts = parts.max((turn * (1.0 - 1e-9)).ceil()).max((moved * (1.0 - 1e-9)).ceil());
+        parts = parts
+            .max((turn * (1.0 - 1e-9)).ceil())
+            .max((moved * (1.0 - 1e-9)).ceil());
     }
     if parts.is_finite() {
         parts.max(1.0) as usize
@@ -695,7 +700,11 @@ fn page_3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<Str
         };
         let (Some(bi), Some(coords)) = (
             scene.body_index(b),
-            scene.bodies.iter().find(|x| x.name == b).and_then(|x| x.point(p)),
+            scene
+                .bodies
+                .iter()
+                .find(|x| x.name == b)
+                .and_then(|x| x.point(p)),
         ) else {
             continue;
         };
@@ -841,9 +850,8 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
     let plan = plan_frames(scene, sol, opts)?;
     let frames = plan.times.len();
     let index = |name: &str| scene.body_index(name);
-    let body_pose = |k: usize, name: &str| -> Pose {
-        index(name).map_or(Pose::GROUND, |i| plan.poses[k][i])
-    };
+    let body_pose =
+        |k: usize, name: &str| -> Pose { index(name).map_or(Pose::GROUND, |i| plan.poses[k][i]) };
     let track = |name: &str, p: &[f64]| -> Vec<[f64; 3]> {
         (0..frames).map(|k| body_pose(k, name).apply(p)).collect()
     };
@@ -1469,7 +1477,14 @@ fn draw_local(s: &mut String, shape: &Shape, scale: f64) {
 
 /// One shape whose points are moved frame by frame (a spatial scene's bodies: the projection of
 /// a turning body is not a transform of one flat picture).
-fn draw_moving(s: &mut String, shape: &Shape, px: &[[f64; 3]], dirs: &[[f64; 3]], proj: &Projection, t: &Timing) {
+fn draw_moving(
+    s: &mut String,
+    shape: &Shape,
+    px: &[[f64; 3]],
+    dirs: &[[f64; 3]],
+    proj: &Projection,
+    t: &Timing,
+) {
     // px[k * n + v]: vertex v of the shape in frame k (world), n vertices
     let n = shape.points().len();
     let frames = px.len() / n.max(1);
@@ -1481,7 +1496,12 @@ fn draw_moving(s: &mut String, shape: &Shape, px: &[[f64; 3]], dirs: &[[f64; 3]]
                 s,
                 "line",
                 &format!("stroke=\"{colour}\" stroke-width=\"{width}\" stroke-linecap=\"round\""),
-                &[("x1", v(0, 0)), ("y1", v(0, 1)), ("x2", v(1, 0)), ("y2", v(1, 1))],
+                &[
+                    ("x1", v(0, 0)),
+                    ("y1", v(0, 1)),
+                    ("x2", v(1, 0)),
+                    ("y2", v(1, 1)),
+                ],
                 t,
             );
         }
@@ -1559,7 +1579,12 @@ fn draw_item(s: &mut String, item: &Item, drawing: &Drawing, proj: &Projection, 
                 (None, _) => {
                     // fixed to the ground: world coordinates, drawn once
                     let o = f([0.0; 3]);
-                    let _ = writeln!(s, "<g transform=\"translate({} {})\">", num(o[0]), num(o[1]));
+                    let _ = writeln!(
+                        s,
+                        "<g transform=\"translate({} {})\">",
+                        num(o[0]),
+                        num(o[1])
+                    );
                     for sh in shapes {
                         draw_local(s, sh, proj.scale);
                     }
@@ -1568,9 +1593,12 @@ fn draw_item(s: &mut String, item: &Item, drawing: &Drawing, proj: &Projection, 
                 (Some(b), true) => {
                     // a rigid group: translated to the centre, turned by the body's angle; SMIL
                     // interpolates the pose between frames, so the body stays rigid in between
-                    let centre: Vec<[f64; 2]> =
-                        (0..frames).map(|k| f(drawing.plan.poses[k][*b].r)).collect();
-                    let deg: Vec<f64> = (0..frames).map(|k| -drawing.angles[k][*b].to_degrees()).collect();
+                    let centre: Vec<[f64; 2]> = (0..frames)
+                        .map(|k| f(drawing.plan.poses[k][*b].r))
+                        .collect();
+                    let deg: Vec<f64> = (0..frames)
+                        .map(|k| -drawing.angles[k][*b].to_degrees())
+                        .collect();
                     let _ = write!(
                         s,
                         "<g class=\"body\" data-body=\"{b}\" transform=\"translate({} {}) rotate({:.4})\">",
@@ -1815,10 +1843,22 @@ mod tests {
     #[test]
     fn intervals_are_cut_so_that_no_body_turns_more_than_15_degrees() {
         let a = [planar(0.0, 0.0)];
-        assert_eq!(parts_needed(&a, &[planar(14f64.to_radians(), 0.0)], &[1.0]), 1);
-        assert_eq!(parts_needed(&a, &[planar(15f64.to_radians(), 0.0)], &[1.0]), 1);
-        assert_eq!(parts_needed(&a, &[planar(16f64.to_radians(), 0.0)], &[1.0]), 2);
-        assert_eq!(parts_needed(&a, &[planar(-100f64.to_radians(), 0.0)], &[1.0]), 7);
+        assert_eq!(
+            parts_needed(&a, &[planar(14f64.to_radians(), 0.0)], &[1.0]),
+            1
+        );
+        assert_eq!(
+            parts_needed(&a, &[planar(15f64.to_radians(), 0.0)], &[1.0]),
+            1
+        );
+        assert_eq!(
+            parts_needed(&a, &[planar(16f64.to_radians(), 0.0)], &[1.0]),
+            2
+        );
+        assert_eq!(
+            parts_needed(&a, &[planar(-100f64.to_radians(), 0.0)], &[1.0]),
+            7
+        );
         // or move more than a tenth of its size: 0.35 m for a body of 1 m is 4 parts
         assert_eq!(parts_needed(&a, &[planar(0.0, 0.35)], &[1.0]), 4);
         assert!((turn_angle(&a[0], &planar(0.3, 0.0)) - 0.3).abs() < 1e-15);

@@ -160,14 +160,23 @@ pub struct Verdict {
 
 impl Verdict {
     /// Judges the twin against the DAE: cheaper and within `position_tolerance`, or not.
-    pub fn new(dae: &Summary, dec: &Summary, max_position_difference: f64, position_tolerance: f64) -> Verdict {
+    pub fn new(
+        dae: &Summary,
+        dec: &Summary,
+        max_position_difference: f64,
+        position_tolerance: f64,
+    ) -> Verdict {
         let cpu_ratio = dec.cpu_seconds / dae.cpu_seconds.max(1e-12);
         let steps_ratio = dec.steps as f64 / (dae.steps.max(1)) as f64;
         let d = max_position_difference;
         let within = d <= position_tolerance;
         let cheaper = cpu_ratio < 1.0;
         let complete = dae.completed && dec.completed;
-        let recommended = if within && cheaper && complete { "decoupled" } else { "dae" };
+        let recommended = if within && cheaper && complete {
+            "decoupled"
+        } else {
+            "dae"
+        };
         let k = dec.joint_stiffness;
         let reason = if !complete {
             "one of the runs did not reach the end; the DAE keeps the joints exact".to_string()
@@ -401,7 +410,10 @@ impl Comparison {
             ));
         }
         let v = &self.verdict;
-        s.push_str(&format!("\nverdict: use {} — {}\n", v.recommended, v.reason));
+        s.push_str(&format!(
+            "\nverdict: use {} — {}\n",
+            v.recommended, v.reason
+        ));
         s
     }
 }

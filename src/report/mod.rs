@@ -4,7 +4,6 @@
 //! that produce a sweep's solutions are [`crate::study`]'s.
 
 pub mod animate;
-pub mod view3d;
 pub mod compare;
 pub mod generate;
 pub mod plot;
@@ -12,6 +11,7 @@ pub mod reference;
 pub mod sweep;
 pub mod timeplot;
 pub mod vary;
+pub mod view3d;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference, Verdict};
 pub use sweep::{ExternalReference, SweepConfig, SweepReport};

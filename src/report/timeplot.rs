@@ -258,7 +258,11 @@ impl OffsetScale {
         if o.contains('.') {
             o = o.trim_end_matches('0').trim_end_matches('.').to_string();
         }
-        let o = if o == "-0" { "0".to_string() } else { o.replace('-', "−") };
+        let o = if o == "-0" {
+            "0".to_string()
+        } else {
+            o.replace('-', "−")
+        };
         let sc = format!("{:e}", self.scale);
         if self.offset == 0.0 {
             format!("{sc} ×")
@@ -344,7 +348,9 @@ fn plot_group_svg(
     let (lo, hi) = series
         .iter()
         .flat_map(|s| s.1.iter().map(|p| p.1))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
     let shift = if group.log {
         None
     } else {

@@ -90,8 +90,12 @@ pub(crate) fn page(
                         0.0
                     }
                 };
-                [e(j[0], j[1], j[2]), e(j[1], j[2], j[0]), e(j[2], j[0], j[1])]
-                    .map(|h| h.max(0.5 * floor))
+                [
+                    e(j[0], j[1], j[2]),
+                    e(j[1], j[2], j[0]),
+                    e(j[2], j[0], j[1]),
+                ]
+                .map(|h| h.max(0.5 * floor))
             }
             _ => [0.5 * floor; 3],
         };
@@ -156,13 +160,7 @@ pub(crate) fn page(
         );
     }
     s.push_str("],\"t\":[");
-    s.push_str(
-        &frames
-            .iter()
-            .map(|f| n(f.t))
-            .collect::<Vec<_>>()
-            .join(","),
-    );
+    s.push_str(&frames.iter().map(|f| n(f.t)).collect::<Vec<_>>().join(","));
     // poses: per frame, per body: x y z qw qx qy qz
     s.push_str("],\"poses\":[");
     for (k, f) in frames.iter().enumerate() {
@@ -182,7 +180,12 @@ pub(crate) fn page(
             s.push(',');
         }
         let p: Vec<String> = pts.iter().map(|p| v3(p)).collect();
-        let _ = write!(s, "{{\"name\":{},\"pts\":[{}]}}", json_str(name), p.join(","));
+        let _ = write!(
+            s,
+            "{{\"name\":{},\"pts\":[{}]}}",
+            json_str(name),
+            p.join(",")
+        );
     }
     let g = &scene.gravity;
     let _ = write!(

@@ -110,9 +110,13 @@ fn scene_schema() -> Value {
     s.as_object_mut().map(|o| o.remove("$schema"));
     // inline the definitions as `$defs` of the component itself: references stay valid
     // relative to the component once rewritten
-    let text = s.to_string().replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
+    let text = s
+        .to_string()
+        .replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
     let mut s: Value = serde_json::from_str(&text).expect("the schema stays JSON");
-    let defs_text = defs.to_string().replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
+    let defs_text = defs
+        .to_string()
+        .replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
     s["$defs"] = serde_json::from_str(&defs_text).expect("the schema stays JSON");
     s
 }

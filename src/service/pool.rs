@@ -102,7 +102,7 @@ impl Pool {
     /// free solve slot or else waits for the fast lane; any other waits for a solve slot
     /// ([`Pool::acquire`]).
     pub async fn acquire_for(&self, cost: f64) -> Result<OwnedSemaphorePermit, Problem> {
-        if !(cost <= FAST_LANE_COST) {
+        if cost.is_nan() || cost > FAST_LANE_COST {
             return self.acquire().await;
         }
         if let Ok(p) = self.slots.clone().try_acquire_owned() {

@@ -54,8 +54,7 @@ fn request_id(headers: &HeaderMap) -> String {
         let v = v.trim();
         if !v.is_empty()
             && v.len() <= 128
-            && v
-                .chars()
+            && v.chars()
                 .all(|c| c.is_ascii_alphanumeric() || "-_.:/+=".contains(c))
         {
             return v.to_string();
@@ -84,7 +83,10 @@ pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Nex
     impl Drop for Active<'_> {
         fn drop(&mut self) {
             if self.1 {
-                self.0.metrics.active_requests.fetch_sub(1, Ordering::SeqCst);
+                self.0
+                    .metrics
+                    .active_requests
+                    .fetch_sub(1, Ordering::SeqCst);
             }
         }
     }

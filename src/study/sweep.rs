@@ -219,8 +219,7 @@ pub fn run_sweep(
         // a reference stopped part-way (a singular passage at a tight tolerance, say): the
         // sweep runs up to its last row, and the report says so
         Err(e)
-            if external.is_none()
-                && e.partial_solution().is_some_and(|p| p.times.len() >= 3) =>
+            if external.is_none() && e.partial_solution().is_some_and(|p| p.times.len() >= 3) =>
         {
             let partial = e.partial_solution().expect("checked").clone();
             let t_last = partial.times[partial.times.len() - 1];
