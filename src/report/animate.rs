@@ -5,7 +5,8 @@
 //! What is drawn, from the scene and the solution's columns (`b.x, b.y, b.angle` for a planar
 //! body; `b.x, b.y, b.z` and the attitude — the quaternion `b.qw…b.qz`, or else the Cardan
 //! angles `b.psi, b.theta, b.phi` — for a spatial one):
-//! - each body as arms from its centre of mass to each of its points (a bar between its two end
+//! - each body (colours from [`body_colour`], which do not repeat within 60 bodies) as arms
+//!   from its centre of mass to each of its points (a bar between its two end
 //!   points), a translucent polygon through its points when it has three or more, a dot at the
 //!   centre of mass; a point mass (no rotational inertia) as a large dot;
 //! - joints as circles at the joint point (a weld as a square), a slider as a block on its rail
@@ -21,10 +22,16 @@
 //! root `<svg>` element states them as `data-right`, `data-up`, `data-scale` and `data-origin`,
 //! so other tools (and the tests) can locate any point in the picture.
 //!
-//! Frames are sampled from the solution at `t₀ + k·Δ` (linear interpolation between its rows),
-//! with `Δ ≈ speed / fps` chosen so that the last frame is the last row; the animation lasts
-//! `(t_end − t₀) / speed` seconds and loops. Appending `#t=0.7` (or `?t=0.7`) to the file's URL
-//! opens it paused at t = 0.7 s of the motion.
+//! The frames are rows of the solution: those nearest to `t₀ + k·speed/fps`, plus the rows
+//! needed so that no body turns more than [`MAX_TURN_DEGREES`] or moves more than
+//! [`MAX_MOVE_FRACTION`] of its size between two frames (poses interpolated between rows that
+//! are further apart; [`denser_output_times`] tells a caller that can solve again which times
+//! avoid that). A planar body is one SVG group moved by its pose (SMIL interpolates its centre
+//! and angle), so it stays rigid between frames; a spatial scene's HTML page is the 3D view of
+//! [`super::view3d`]. The animation lasts `(t_end − t₀) / speed` seconds and loops; without a
+//! given speed, fast motions are slowed and the picture says so. Appending `#t=0.7` (or
+//! `?t=0.7`) to the file's URL opens it paused at t = 0.7 s of the motion; [`frames_json`]
+//! gives the frames exactly as drawn.
 
 use std::fmt::Write;
 
