@@ -83,9 +83,16 @@ impl SceneGraph {
         self.causality.report(&self.graph)
     }
 
-    /// Graphviz DOT with half arrows, causal strokes and differential storages in red.
+    /// Graphviz DOT with half arrows, causal strokes and differential storages in red
+    /// (collapsed to one node per body or joint above [`crate::bond::dot::COLLAPSE_ABOVE`]
+    /// elements).
     pub fn dot(&self) -> String {
         to_dot(&self.graph, Some(&self.causality))
+    }
+
+    /// [`SceneGraph::dot`], collapsed (one node per body or joint) or expanded as asked.
+    pub fn dot_with(&self, collapse: bool) -> String {
+        crate::bond::dot::to_dot_with(&self.graph, Some(&self.causality), collapse)
     }
 }
 

@@ -131,7 +131,8 @@ enum Command {
         /// Print a short table instead of the CSV on standard output.
         #[arg(long)]
         table: bool,
-        /// Also write SVG plots against time of the columns into this directory.
+        /// Also write SVG plots against time of the columns into this directory (the CSV then
+        /// goes to standard output only when asked: `--out -`).
         #[arg(long)]
         plot: Option<PathBuf>,
     },
@@ -145,6 +146,12 @@ enum Command {
         /// Draw the decoupled twin (joints replaced by stiff springs) instead.
         #[arg(long)]
         decoupled: bool,
+        /// Draw one node per body or joint (the default above 200 elements).
+        #[arg(long, conflicts_with = "expand")]
+        collapse: bool,
+        /// Draw every element, however large the graph.
+        #[arg(long)]
+        expand: bool,
         /// Print the mechanism's complete bond graph as a raw `bond_graph` scene (JSON, with
         /// its closures, coordinates, output columns, `solve` and `outputs`): `run` on it gives
         /// the mechanism's trajectories.
@@ -180,9 +187,10 @@ enum Command {
         /// Frames per second of playback.
         #[arg(long, default_value_t = 30.0)]
         fps: f64,
-        /// Seconds of motion per second of playback (0.5: slow motion).
-        #[arg(long, default_value_t = 1.0)]
-        speed: f64,
+        /// Seconds of motion per second of playback (0.5: slow motion). Default: 1, or slower
+        /// (said on the page) when a body would turn more than 15° in one frame of playback.
+        #[arg(long)]
+        speed: Option<f64>,
         /// Orthographic view (default: xy for a planar scene, iso for a spatial one).
         #[arg(long, value_enum)]
         view: Option<ViewArg>,
@@ -190,6 +198,10 @@ enum Command {
         /// the same column names) instead of solving the scene.
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Also write the frames exactly as drawn to this JSON file:
+        /// `{"frames": [{"t": …, "points": {"body.point": [x, y(, z)], …}}, …]}`.
+        #[arg(long)]
+        frames: Option<PathBuf>,
     },
     /// SVG plots against time of a run's CSV: coordinates, velocities, energy, constraint error.
     Plot {
@@ -198,6 +210,12 @@ enum Command {
         /// Output directory (one SVG per group of columns).
         #[arg(long, default_value = "plots")]
         out: PathBuf,
+        /// The columns to draw (comma-separated names, or prefixes ending in `*`: `bar2.*`).
+        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+        /// The plots' title (default: the CSV's file name without extension).
+        #[arg(long)]
+        title: Option<String>,
     },
     /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
     Sweep {
@@ -206,7 +224,8 @@ enum Command {
         /// Output directory for the CSV, JSON and SVG files.
         #[arg(long, default_value = "sweep-out")]
         out: PathBuf,
-        /// A small sweep (3 tolerances, 3 stiffnesses, 1 s, one timed run per point).
+        /// A small sweep (3 tolerances, 3 stiffnesses, the scene's horizon up to 1 s, each point
+        /// timed by its own run and stopped after 2 s of wall clock).
         #[arg(long)]
         quick: bool,
         /// Error the smallest sufficient joint stiffness must reach.
@@ -215,7 +234,7 @@ enum Command {
         /// Timed runs per point (median reported).
         #[arg(long)]
         repeats: Option<usize>,
-        /// End time of every run (default: the scene's; --quick: 1 s).
+        /// End time of every run (default: the scene's; --quick: the scene's, at most 1 s).
         #[arg(long = "t-end")]
         t_end: Option<f64>,
         /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
@@ -483,7 +502,7 @@ fn run_command(
     args: &SolveArgs,
     out: Option<&Path>,
     summary: Option<&Path>,
-    table: bool,
+    (table, no_csv): (bool, bool),
     plot: Option<&Path>,
 ) -> Result<(), CliError> {
     check_outputs(&[&args.scene], &[("--out", out), ("--summary", summary)])?;
@@ -494,7 +513,7 @@ fn run_command(
     let (model, mut opts) = load(args)?;
     opts.keep_rows = table || plot.is_some();
     let columns = model.row_columns()?;
-    let mut sink = match (out, table) {
+    let mut sink = match (out, no_csv) {
         (None, true) => None,
         (out, _) => Some(RowSink::new(out, &columns)?),
     };
@@ -585,7 +604,11 @@ fn run_command(
     }
     if let Some(dir) = plot {
         let source = out.unwrap_or(&args.scene).display().to_string();
-        bondmech::report::timeplot::plot_solution(&sol, &source, dir)?;
+        let popts = bondmech::report::timeplot::PlotOptions {
+            title: model.scene().name.clone(),
+            columns: None,
+        };
+        bondmech::report::timeplot::plot_solution_with(&sol, &source, dir, &popts)?;
     }
     if table {
         let mut text = short_table(&sol, 11);
@@ -615,13 +638,20 @@ fn run(cli: Cli) -> Result<(), CliError> {
             summary,
             table,
             plot,
-        } => run_command(
-            &args,
-            out.as_deref(),
-            summary.as_deref(),
-            table,
-            plot.as_deref(),
-        ),
+        } => {
+            // `--out -`: the CSV on standard output, asked for explicitly
+            let dash = out.as_deref() == Some(Path::new("-"));
+            let out = if dash { None } else { out };
+            // with --plot, the CSV goes to the terminal only when asked
+            let no_csv = table || (plot.is_some() && out.is_none() && !dash);
+            run_command(
+                &args,
+                out.as_deref(),
+                summary.as_deref(),
+                (table, no_csv),
+                plot.as_deref(),
+            )
+        }
         Command::Equations { scene } => {
             let model = Model::new(&read_scene(&scene)?)?;
             if model.is_raw_bond_graph() {
@@ -637,6 +667,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
             decoupled,
             as_scene,
             out,
+            collapse,
+            expand,
         } => {
             if as_scene {
                 if let Some(p) = out.as_ref() {
@@ -685,6 +717,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
             let g = model.scene_graph(variant)?;
             let text = if causality {
                 serde_json::to_string_pretty(&g.report()).expect("report serialises") + "\n"
+            } else if collapse || expand {
+                g.dot_with(collapse)
             } else {
                 g.dot()
             };
@@ -701,12 +735,36 @@ fn run(cli: Cli) -> Result<(), CliError> {
             speed,
             view,
             csv,
-        } => Ok(animate(&args, &out, fps, speed, view, csv.as_deref())?),
-        Command::Plot { csv, out } => {
+            frames,
+        } => Ok(animate(
+            &args,
+            &out,
+            AnimateFlags {
+                fps,
+                speed,
+                view,
+                csv: csv.as_deref(),
+                frames: frames.as_deref(),
+            },
+        )?),
+        Command::Plot {
+            csv,
+            out,
+            columns,
+            title,
+        } => {
             bondmech::output::check_output_dir("--out", &out, &[&csv]).map_err(Error::from)?;
             let sol = bondmech::report::reference::reference_from_csv(&csv)?;
-            let files =
-                bondmech::report::timeplot::plot_solution(&sol, &csv.display().to_string(), &out)?;
+            let opts = bondmech::report::timeplot::PlotOptions {
+                title: title.unwrap_or_default(),
+                columns,
+            };
+            let files = bondmech::report::timeplot::plot_solution_with(
+                &sol,
+                &csv.display().to_string(),
+                &out,
+                &opts,
+            )?;
             for f in files {
                 println!("wrote {}", f.display());
             }
@@ -899,18 +957,37 @@ fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
     stdout_write(&format!("{}wrote {}\n", report.table(), out.display()))
 }
 
-/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
-fn animate(
-    args: &SolveArgs,
-    out: &Path,
+/// The flags of `bondmech animate` besides the solve flags.
+struct AnimateFlags<'a> {
     fps: f64,
-    speed: f64,
+    speed: Option<f64>,
     view: Option<ViewArg>,
-    csv: Option<&Path>,
-) -> Result<(), Error> {
-    use bondmech::report::animate::{animation, AnimationFormat, AnimationOptions, View};
+    csv: Option<&'a Path>,
+    frames: Option<&'a Path>,
+}
+
+/// `bondmech animate`: solve the scene (or read `--csv`) and write the animation.
+fn animate(args: &SolveArgs, out: &Path, flags: AnimateFlags) -> Result<(), Error> {
+    use bondmech::report::animate::{
+        animation, denser_output_times, frames_json, AnimationFormat, AnimationOptions, View,
+    };
+    let AnimateFlags {
+        fps,
+        speed,
+        view,
+        csv,
+        frames,
+    } = flags;
     let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(csv).collect();
-    check_outputs(&inputs, &[("--out", Some(out))])?;
+    check_outputs(&inputs, &[("--out", Some(out)), ("--frames", frames)])?;
+    if let Some(f) = frames {
+        if f.extension().and_then(|e| e.to_str()) != Some("json") {
+            return Err(Error::Options(format!(
+                "--frames {}: give a .json file",
+                f.display()
+            )));
+        }
+    }
     let format = match out.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("svg") => AnimationFormat::Svg,
         Some(e) if e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm") => {
@@ -954,7 +1031,17 @@ fn animate(
         None => {
             apply_flags(&mut scene, args)?;
             let model = Model::new(&scene)?;
-            let sol = model.solve(&model.default_options())?;
+            let mut opts = model.default_options();
+            let mut sol = model.solve(&opts)?;
+            // rows close enough that every frame is a row: no body turning more than 15°
+            // (a refinement cut from coarse rows may still miss, hence a few rounds)
+            for _ in 0..4 {
+                let Some(times) = denser_output_times(&scene, &sol)? else {
+                    break;
+                };
+                opts.output_times = times.into_iter().filter(|&t| t >= opts.t_start).collect();
+                sol = model.solve(&opts)?;
+            }
             print_warnings(&sol.summary.warnings);
             (sol, format!("the solution of {}", args.scene.display()))
         }
@@ -974,6 +1061,10 @@ fn animate(
     let text = animation(&scene, &sol, &opts, format)?;
     write(out, &text)?;
     println!("wrote {}", out.display());
+    if let Some(f) = frames {
+        write(f, &frames_json(&scene, &sol, &opts)?)?;
+        println!("wrote {}", f.display());
+    }
     Ok(())
 }
 

@@ -371,7 +371,7 @@ impl Model {
         b.formulation = FormulationKind::Decoupled;
         let dae = self.solve(&a)?;
         let dec = self.solve(&b)?;
-        Ok((Comparison::new(&dae, &dec), dae, dec))
+        Ok((Comparison::judged(&dae, &dec, (a.rtol, a.atol)), dae, dec))
     }
 }
 

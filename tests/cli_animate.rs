@@ -433,7 +433,7 @@ fn another_tools_csv_with_a_time_column_and_quoted_names_animates_the_same() {
         std::fs::read_to_string(a).unwrap(),
         std::fs::read_to_string(b).unwrap(),
     );
-    assert!(a.contains("<animate "), "the motion is animated");
+    assert!(a.contains("<animateTransform "), "the motion is animated");
     assert_eq!(a, b, "the same motion read from either table");
 }
 
@@ -517,4 +517,79 @@ fn animate_refuses_a_raw_bond_graph_scene() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("animate needs a scene with bodies"), "{err}");
+}
+
+/// Loads `file` in headless Chromium with its console logged; returns the console lines and
+/// the DOM after the scripts ran.
+fn console_and_dom(browser: &Path, file: &Path, name: &str) -> (Vec<String>, String) {
+    let profile = tmp(&format!("chromium-profile-console-{name}"));
+    let url = format!("file://{}#t=0.01", file.canonicalize().unwrap().display());
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            "--enable-logging=stderr",
+            "--v=0",
+            "--virtual-time-budget=3000",
+            "--dump-dom",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(&url)
+        .output()
+        .expect("chromium starts");
+    let console = String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| l.contains("CONSOLE"))
+        .map(str::to_string)
+        .collect();
+    (console, String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+#[test]
+fn every_bundled_scene_animates_without_a_console_error() {
+    let Some(browser) = chromium() else { return };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json") && !n.starts_with("bg_"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    let mut failures = Vec::new();
+    for name in &names {
+        for ext in ["html", "svg"] {
+            let stem = name.trim_end_matches(".json");
+            let file = tmp(&format!("console-{stem}.{ext}"));
+            run_ok(&["animate", &scene(name), "--out", file.to_str().unwrap()]);
+            let text = std::fs::read_to_string(&file).unwrap();
+            for remote in ["src=\"http", "href=\"http", "<link", "@import", "url(http"] {
+                assert!(!text.contains(remote), "{stem}.{ext} loads {remote}");
+            }
+            let (console, dom) = console_and_dom(&browser, &file, &format!("{stem}-{ext}"));
+            let errors: Vec<&String> = console
+                .iter()
+                .filter(|l| l.contains("ERROR") || l.contains("Uncaught") || l.contains("WARNING"))
+                .collect();
+            if !errors.is_empty() {
+                failures.push(format!("{stem}.{ext}: {errors:?}"));
+            }
+            // the page's script ran: the clock shows the time the page was opened at
+            let clock = dom
+                .find("id=\"clock\"")
+                .map(|i| &dom[i..(i + 200).min(dom.len())])
+                .unwrap_or("no clock");
+            assert!(
+                clock.contains("t = 0.01"),
+                "{stem}.{ext}: the clock does not show t = 0.01: {clock} ({} console lines)",
+                console.len()
+            );
+        }
+    }
+    assert!(failures.is_empty(), "console errors: {failures:#?}");
 }

@@ -154,3 +154,155 @@ fn plot_refuses_a_table_without_time_naming_file_and_line() {
     assert!(err.contains("plot-bad.csv line 1"), "{err}");
     assert!(err.contains("`t` or `time`"), "{err}");
 }
+
+/// The texts of a plotters SVG: `(x, text-anchor, text)`.
+fn texts(svg: &str) -> Vec<(f64, String, String)> {
+    let mut out = Vec::new();
+    let mut rest = svg;
+    while let Some(i) = rest.find("<text") {
+        rest = &rest[i..];
+        let head_end = rest.find('>').unwrap();
+        let head = &rest[..head_end];
+        let attr = |name: &str| -> String {
+            let key = format!("{name}=\"");
+            head.find(&key)
+                .map(|s| {
+                    let s = s + key.len();
+                    head[s..s + head[s..].find('"').unwrap()].to_string()
+                })
+                .unwrap_or_default()
+        };
+        let end = rest.find("</text>").unwrap();
+        out.push((
+            attr("x").parse().unwrap_or(f64::NAN),
+            attr("text-anchor"),
+            rest[head_end + 1..end].trim().to_string(),
+        ));
+        rest = &rest[end..];
+    }
+    out
+}
+
+#[test]
+fn energy_ticks_resolve_the_drift_and_columns_pick_curves() {
+    let dir = tmp("plots-energy");
+    let csv = tmp("plots-energy.csv");
+    let out = bondmech(&[
+        "run",
+        &scene("double_pendulum.json"),
+        "--out",
+        csv.to_str().unwrap(),
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let svg = std::fs::read_to_string(dir.join("energy.svg")).unwrap();
+    let t = texts(&svg);
+    // y tick labels: right-aligned numbers left of the plotting area
+    let ticks: std::collections::BTreeSet<String> = t
+        .iter()
+        .filter(|(x, anchor, s)| *x < 100.0 && anchor == "end" && s.parse::<f64>().is_ok())
+        .map(|(_, _, s)| s.clone())
+        .collect();
+    assert!(
+        ticks.len() >= 3,
+        "the energy axis has {} distinct tick labels: {ticks:?}",
+        ticks.len()
+    );
+    // the scene's name is the title
+    assert!(
+        t.iter()
+            .any(|(_, _, s)| s.starts_with("double_pendulum: energy")),
+        "{t:?}"
+    );
+    // --columns: only the picked curves, and a wrong name is refused with the column named
+    let dir2 = tmp("plots-columns");
+    let out = bondmech(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--out",
+        dir2.to_str().unwrap(),
+        "--columns",
+        "bar2.*,energy",
+        "--title",
+        "picked",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let pos = std::fs::read_to_string(dir2.join("positions.svg")).unwrap();
+    let legend: Vec<String> = texts(&pos)
+        .into_iter()
+        .filter(|(x, _, _)| *x > 760.0)
+        .map(|(_, _, s)| s)
+        .collect();
+    assert!(legend.iter().any(|s| s == "bar2.x"), "{legend:?}");
+    assert!(!legend.iter().any(|s| s.starts_with("bar1")), "{legend:?}");
+    assert!(pos.contains("picked: positions"));
+    assert!(!dir2.join("constraint_error.svg").exists(), "not picked");
+    let out = bondmech(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--out",
+        dir2.to_str().unwrap(),
+        "--columns",
+        "bar9.x",
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no column `bar9.x`"));
+}
+
+#[test]
+fn run_plot_writes_no_csv_to_the_terminal_unless_asked() {
+    let dir = tmp("plots-quiet");
+    let args = [
+        "run",
+        &scene("double_pendulum.json"),
+        "--t-end",
+        "0.2",
+        "--plot",
+        dir.to_str().unwrap(),
+    ];
+    let out = bondmech(&args);
+    assert!(out.status.success());
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(dir.join("positions.svg").exists());
+    let mut asked = args.to_vec();
+    asked.extend(["--out", "-"]);
+    let out = bondmech(&asked);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("t,"));
+}
+
+#[test]
+fn many_curves_do_not_share_a_colour() {
+    let dir = tmp("plots-bricard");
+    let out = bondmech(&[
+        "run",
+        &scene("bricard.json"),
+        "--t-end",
+        "0.2",
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let svg = std::fs::read_to_string(dir.join("positions.svg")).unwrap();
+    let colours: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with("<polyline") && l.contains("stroke-width=\"2\""))
+        .filter_map(|l| {
+            let s = l.find("stroke=\"")? + 8;
+            Some(&l[s..s + l[s..].find('"')?])
+        })
+        .collect();
+    let distinct: std::collections::BTreeSet<&str> = colours.iter().copied().collect();
+    // every data curve and its legend sample: each colour twice at most
+    assert!(colours.len() >= 30, "{} curves", colours.len());
+    assert_eq!(distinct.len() * 2, colours.len(), "{colours:?}");
+}

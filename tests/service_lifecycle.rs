@@ -106,11 +106,11 @@ fn a_client_that_disconnects_stops_its_ndjson_stream() {
 fn graceful_shutdown_finishes_in_flight_work_and_refuses_new_work() {
     let mut server = start(long_budget());
     let addr = server.addr();
-    // a solve of a second or so of work
+    // a solve of half a second or so of work (the scene's 20 s; 5 s became too quick to see)
     let client = std::thread::spawn(move || {
         post(
             addr,
-            "/v1/run?t_end=5",
+            "/v1/run?t_end=20",
             scene_text("four_bar_chain_3.json").as_bytes(),
         )
     });
@@ -118,7 +118,7 @@ fn graceful_shutdown_finishes_in_flight_work_and_refuses_new_work() {
     server.begin_shutdown();
     // new connections are refused (the listener is closed), or answered 503 if accepted
     // before it closed
-    std::thread::sleep(Duration::from_millis(200));
+    std::thread::sleep(Duration::from_millis(50));
     if let Ok(r) = request(addr, "GET", "/healthz", None, b"") {
         assert_eq!(r.status, 503, "{}", r.text());
         assert!(r.header("retry-after").is_some());
@@ -128,8 +128,8 @@ fn graceful_shutdown_finishes_in_flight_work_and_refuses_new_work() {
     let j = r.json();
     assert_eq!(
         j["rows"].as_array().unwrap().len(),
-        101,
-        "the whole run: 5 s every 0.05 s"
+        401,
+        "the whole run: 20 s every 0.05 s"
     );
     server.shutdown().unwrap();
     assert!(

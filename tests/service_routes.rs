@@ -637,16 +637,16 @@ fn sweep_streams_progress_then_the_report() {
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    // quick: 3 tolerances × (GGL, index 1, 3 twins) + 3 stiffnesses + the DAE baseline + the
-    // reference = 20 points, each reported once
-    let total = 3 * (2 + 3) + 3 + 2;
+    // quick: 3 tolerances × (GGL, index 1, 1 twin) + 3 stiffnesses + the DAE baseline + the
+    // reference = 14 points, each reported once
+    let total = 3 * (2 + 1) + 3 + 2;
     assert_eq!(lines.len(), total + 1, "{}", r.text());
     for (k, l) in lines[..total].iter().enumerate() {
         assert_eq!(l["progress"]["done"], k + 1);
         assert_eq!(l["progress"]["total"], total);
     }
     let report = &lines[total]["sweep"];
-    assert_eq!(report["work_precision"].as_array().unwrap().len(), 15);
+    assert_eq!(report["work_precision"].as_array().unwrap().len(), 9);
     assert_eq!(report["stiffness"].as_array().unwrap().len(), 3);
     assert_eq!(report["t_end"], 0.1);
     let p = post(

@@ -36,13 +36,13 @@ fn cli_sweep_quick_writes_csv_json_and_svg() {
         .next()
         .unwrap()
         .starts_with("series,formulation,joint_stiffness,rtol"));
-    // 3 tolerances × (ggl, index1, 3 decoupled)
-    assert_eq!(lines.count(), 15, "{wp}");
+    // 3 tolerances × (ggl, index1, decoupled k = 1e6)
+    assert_eq!(lines.count(), 9, "{wp}");
     let k = std::fs::read_to_string(dir.join("stiffness.csv")).expect("csv written");
     assert_eq!(k.lines().count(), 1 + 1 + 3, "{k}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("sweep.json")).unwrap()).unwrap();
-    assert_eq!(json["work_precision"].as_array().unwrap().len(), 15);
+    assert_eq!(json["work_precision"].as_array().unwrap().len(), 9);
     for svg in ["work_precision.svg", "stiffness.svg"] {
         let s = std::fs::read_to_string(dir.join(svg)).expect("svg written");
         assert!(s.starts_with("<svg") && s.contains("polyline"), "{svg}");

@@ -126,6 +126,88 @@ fn paired_rows(dae: &Solution, dec: &Solution) -> Vec<(usize, usize)> {
     out
 }
 
+/// Serialises a largest difference as `null` when no column of its kind was compared (e.g.
+/// reactions that neither run computed), never as a difference of 0.
+fn null_when_absent<S: serde::Serializer>(
+    d: &LargestDifference,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    if d.column.is_empty() {
+        s.serialize_none()
+    } else {
+        d.serialize(s)
+    }
+}
+
+/// Which formulation `compare` recommends, and why.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Verdict {
+    /// `"dae"` or `"decoupled"`: the decoupled twin is recommended only where it is both
+    /// cheaper (CPU) and within the scene's position tolerance of the DAE.
+    pub recommended: String,
+    /// Decoupled CPU time / DAE CPU time.
+    pub cpu_ratio: f64,
+    /// Decoupled steps / DAE steps.
+    pub steps_ratio: f64,
+    /// Largest position difference between the two (m).
+    pub max_position_difference: f64,
+    /// The scene's position tolerance: `atol + rtol · L`, `L` the largest position coordinate
+    /// of the DAE's motion (m).
+    pub position_tolerance: f64,
+    /// One sentence.
+    pub reason: String,
+}
+
+impl Verdict {
+    /// Judges the twin against the DAE: cheaper and within `position_tolerance`, or not.
+    pub fn new(
+        dae: &Summary,
+        dec: &Summary,
+        max_position_difference: f64,
+        position_tolerance: f64,
+    ) -> Verdict {
+        let cpu_ratio = dec.cpu_seconds / dae.cpu_seconds.max(1e-12);
+        let steps_ratio = dec.steps as f64 / (dae.steps.max(1)) as f64;
+        let d = max_position_difference;
+        let within = d <= position_tolerance;
+        let cheaper = cpu_ratio < 1.0;
+        let complete = dae.completed && dec.completed;
+        let recommended = if within && cheaper && complete {
+            "decoupled"
+        } else {
+            "dae"
+        };
+        let k = dec.joint_stiffness;
+        let reason = if !complete {
+            "one of the runs did not reach the end; the DAE keeps the joints exact".to_string()
+        } else if within && cheaper {
+            format!(
+                "the decoupled twin (k = {k:.0e}) is cheaper ({cpu_ratio:.2}× the DAE's CPU, {steps_ratio:.2}× its steps) and within the scene's tolerance ({d:.1e} m ≤ {position_tolerance:.1e} m)"
+            )
+        } else if within {
+            format!(
+                "the decoupled twin (k = {k:.0e}) agrees ({d:.1e} m ≤ {position_tolerance:.1e} m) but costs {cpu_ratio:.1}× the DAE's CPU and {steps_ratio:.1}× its steps"
+            )
+        } else if cheaper {
+            format!(
+                "the decoupled twin (k = {k:.0e}) is cheaper ({cpu_ratio:.2}× the DAE's CPU) but {d:.1e} m off, beyond the scene's tolerance {position_tolerance:.1e} m"
+            )
+        } else {
+            format!(
+                "the decoupled twin (k = {k:.0e}) costs {cpu_ratio:.1}× the DAE's CPU and {steps_ratio:.1}× its steps for a {d:.1e} m difference (tolerance {position_tolerance:.1e} m)"
+            )
+        };
+        Verdict {
+            recommended: recommended.into(),
+            cpu_ratio,
+            steps_ratio,
+            max_position_difference: d,
+            position_tolerance,
+            reason,
+        }
+    }
+}
+
 /// The result of `bondmech compare`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Comparison {
@@ -138,19 +220,34 @@ pub struct Comparison {
     pub velocity: LargestDifference,
     /// Largest angular velocity difference (rad/s).
     pub angular_velocity: LargestDifference,
-    /// Largest joint reaction force difference (N; reaction columns present in both runs).
+    /// Largest joint reaction force difference (N; reaction columns present in both runs;
+    /// JSON `null` when no reactions were computed).
+    #[serde(serialize_with = "null_when_absent")]
     pub force: LargestDifference,
-    /// Largest joint reaction moment difference (N·m).
+    /// Largest joint reaction moment difference (N·m; JSON `null` when not computed).
+    #[serde(serialize_with = "null_when_absent")]
     pub moment: LargestDifference,
     /// DAE run.
     pub dae: Summary,
     /// Decoupled run.
     pub decoupled: Summary,
+    /// What the twin's energy figure measures: its total includes the energy stored in the
+    /// joint springs, which the DAE does not have.
+    pub decoupled_energy_note: String,
+    /// Which formulation to use, and why.
+    pub verdict: Verdict,
 }
 
 impl Comparison {
-    /// Compares two solutions at the same output times.
+    /// Compares two solutions at the same output times, judged at the default tolerances
+    /// (`rtol` 1e-8, `atol` 1e-10).
     pub fn new(dae: &Solution, dec: &Solution) -> Comparison {
+        Comparison::judged(dae, dec, (1e-8, 1e-10))
+    }
+
+    /// Compares two solutions at the same output times; `tolerances = (rtol, atol)` of the scene
+    /// set the position tolerance of the verdict.
+    pub fn judged(dae: &Solution, dec: &Solution, tolerances: (f64, f64)) -> Comparison {
         let mut best = [
             LargestDifference::default(),
             LargestDifference::default(),
@@ -191,6 +288,17 @@ impl Comparison {
             }
         }
         let [position, angle, velocity, angular_velocity, force, moment] = best;
+        // the scene's tolerance, from the DAE's motion: atol + rtol · L
+        let extent = dae
+            .columns
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| column_kind(n) == ColumnKind::Position)
+            .flat_map(|(c, _)| dae.rows.iter().map(move |r| r[c].abs()))
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max);
+        let tolerance = tolerances.1 + tolerances.0 * extent;
+        let verdict = Verdict::new(&dae.summary, &dec.summary, position.value, tolerance);
         Comparison {
             position,
             angle,
@@ -200,6 +308,11 @@ impl Comparison {
             moment,
             dae: dae.summary.clone(),
             decoupled: dec.summary.clone(),
+            decoupled_energy_note: format!(
+                "the decoupled twin's energy includes its joint springs' (k = {:.0e}): its drift is measured on that total, not on the mechanism's energy alone",
+                dec.summary.joint_stiffness
+            ),
+            verdict,
         }
     }
 
@@ -280,6 +393,9 @@ impl Comparison {
         for (k, x, y) in rows {
             s.push_str(&format!("{k:<26} {x:>16} {y:>16}\n"));
         }
+        if b.energy_drift.is_some() {
+            s.push_str(&format!("(energy drift: {})\n", self.decoupled_energy_note));
+        }
         for p in &a.singular_passages {
             let how = if p.failure == "conditioning peak" {
                 "passed by the compliant GGL".to_string()
@@ -293,6 +409,11 @@ impl Comparison {
                 p.joints.join(", "),
             ));
         }
+        let v = &self.verdict;
+        s.push_str(&format!(
+            "\nverdict: use {} — {}\n",
+            v.recommended, v.reason
+        ));
         s
     }
 }

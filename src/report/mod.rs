@@ -11,6 +11,7 @@ pub mod reference;
 pub mod sweep;
 pub mod timeplot;
 pub mod vary;
+pub mod view3d;
 
-pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference};
+pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference, Verdict};
 pub use sweep::{ExternalReference, SweepConfig, SweepReport};

@@ -82,13 +82,14 @@ fn usable(w: &WorkPoint) -> bool {
 /// Error against CPU time, log-log, one line per series, each point labelled with its `rtol`.
 pub fn work_precision_svg(report: &SweepReport, path: &Path) -> Result<()> {
     let err = |e| plot_error(path, e);
+    // a series whose points all failed is left out of the plot and its legend
+    let pts: Vec<&WorkPoint> = report.work_precision.iter().filter(|w| usable(w)).collect();
     let mut series: Vec<&str> = Vec::new();
-    for w in &report.work_precision {
+    for w in &pts {
         if !series.contains(&w.series.as_str()) {
             series.push(&w.series);
         }
     }
-    let pts: Vec<&WorkPoint> = report.work_precision.iter().filter(|w| usable(w)).collect();
     let (x0, x1) = log_range(pts.iter().map(|w| w.cpu_seconds));
     let (y0, y1) = log_range(pts.iter().map(|w| w.error));
     let root = SVGBackend::new(path, (800 + LEGEND_WIDTH, 560)).into_drawing_area();
@@ -430,6 +431,21 @@ mod tests {
         }
         assert!(svg.contains("CPU time per solve, median (s)"));
         assert!(svg.contains("largest error vs reference (m, rad)"));
+        let _ = std::fs::remove_file(path);
+    }
+
+    #[test]
+    fn a_series_whose_points_all_failed_is_left_out_of_the_legend() {
+        let mut r = report();
+        for w in r.work_precision.iter_mut().filter(|w| w.series == "index1") {
+            w.failure = Some("initialisation failed".into());
+        }
+        let path = std::env::temp_dir().join(format!("wp-failed-{}.svg", std::process::id()));
+        work_precision_svg(&r, &path).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        let t = texts(&svg);
+        assert!(t.iter().any(|(_, s, _)| s == "ggl"));
+        assert!(!t.iter().any(|(_, s, _)| s == "index1"), "{t:?}");
         let _ = std::fs::remove_file(path);
     }
 

@@ -117,19 +117,73 @@ pub fn plot_group(column: &str) -> PlotGroup {
     GROUPS[i]
 }
 
+/// What to plot and how to title it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlotOptions {
+    /// The plots' title (the scene's name); empty: the source's file stem.
+    pub title: String,
+    /// The columns to draw: exact names, or a prefix ending in `*` (`bar2.*`); `None`: all.
+    pub columns: Option<Vec<String>>,
+}
+
 /// Writes one SVG per group of `sol`'s columns into `dir` (created when missing) and returns
-/// the files written; `source` names the run in the titles.
+/// the files written; `source` names the run (errors, and the title when it has no other).
 pub fn plot_solution(sol: &Solution, source: &str, dir: &Path) -> Result<Vec<PathBuf>> {
+    plot_solution_with(sol, source, dir, &PlotOptions::default())
+}
+
+/// The columns `patterns` pick (exact names or `prefix*`), in the solution's order; a pattern
+/// that picks nothing is an error naming it.
+pub fn pick_columns(columns: &[String], patterns: &[String]) -> Result<Vec<usize>> {
+    let matches = |p: &str, c: &str| match p.strip_suffix('*') {
+        Some(prefix) => c.starts_with(prefix),
+        None => p == c,
+    };
+    for p in patterns {
+        if !columns.iter().any(|c| matches(p, c)) {
+            let shown: Vec<&str> = columns.iter().take(12).map(String::as_str).collect();
+            return Err(Error::Options(format!(
+                "--columns: no column `{p}` (the columns are {}{})",
+                shown.join(", "),
+                if columns.len() > 12 { ", …" } else { "" }
+            )));
+        }
+    }
+    Ok((0..columns.len())
+        .filter(|&c| patterns.iter().any(|p| matches(p, &columns[c])))
+        .collect())
+}
+
+/// [`plot_solution`] with a title and a choice of columns.
+pub fn plot_solution_with(
+    sol: &Solution,
+    source: &str,
+    dir: &Path,
+    opts: &PlotOptions,
+) -> Result<Vec<PathBuf>> {
     if sol.times.is_empty() {
         return Err(Error::Options(format!("{source}: no rows to plot")));
     }
+    let picked = match &opts.columns {
+        Some(p) => pick_columns(&sol.columns, p)?,
+        None => (0..sol.columns.len()).collect(),
+    };
+    let title = if opts.title.is_empty() {
+        Path::new(source)
+            .file_stem()
+            .map_or_else(|| source.to_string(), |s| s.to_string_lossy().into_owned())
+    } else {
+        opts.title.clone()
+    };
     std::fs::create_dir_all(dir).map_err(|e| Error::Io {
         path: dir.display().to_string(),
         source: e,
     })?;
     let mut written = Vec::new();
     for group in GROUPS {
-        let cols: Vec<usize> = (0..sol.columns.len())
+        let cols: Vec<usize> = picked
+            .iter()
+            .copied()
             .filter(|&c| plot_group(&sol.columns[c]) == group)
             .collect();
         if cols.is_empty() {
@@ -142,7 +196,7 @@ pub fn plot_solution(sol: &Solution, source: &str, dir: &Path) -> Result<Vec<Pat
                 path.display()
             )));
         }
-        plot_group_svg(sol, source, &group, &cols, &path)?;
+        plot_group_svg(sol, &title, &group, &cols, &path)?;
         written.push(path);
     }
     Ok(written)
@@ -168,6 +222,98 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
     let pad = 0.05 * (hi - lo);
     (lo - pad, hi + pad)
+}
+
+/// A y axis that resolves small variations: values shown as `offset + scale × tick` when the
+/// data vary by less than a thousandth of their size (energy conserved to 1e-9, say).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OffsetScale {
+    /// Subtracted from every value.
+    pub offset: f64,
+    /// The unit of the ticks.
+    pub scale: f64,
+}
+
+impl OffsetScale {
+    /// The offset and scale for data in `[lo, hi]` (`None`: plain ticks suffice).
+    pub fn for_range(lo: f64, hi: f64) -> Option<OffsetScale> {
+        let range = hi - lo;
+        let size = lo.abs().max(hi.abs());
+        // small against the values (a conserved energy) or small in itself (a drift near 0)
+        if !(range > 0.0 && range.is_finite()) || (range >= 1e-3 * size && size >= 1e-3) {
+            return None;
+        }
+        let e = range.log10().floor();
+        let scale = 10f64.powf(e);
+        // the offset keeps the digits above the varying ones
+        let unit = 10f64.powf(e + 1.0);
+        let offset = ((lo + hi) / 2.0 / unit).round() * unit;
+        Some(OffsetScale { offset, scale })
+    }
+
+    /// `−29.43 + 1e-8 ×`.
+    pub fn label(&self) -> String {
+        let decimals = (-(self.scale.log10().round()) - 1.0).max(0.0) as usize;
+        let mut o = format!("{:.decimals$}", self.offset);
+        if o.contains('.') {
+            o = o.trim_end_matches('0').trim_end_matches('.').to_string();
+        }
+        let o = if o == "-0" {
+            "0".to_string()
+        } else {
+            o.replace('-', "−")
+        };
+        let sc = format!("{:e}", self.scale);
+        if self.offset == 0.0 {
+            format!("{sc} ×")
+        } else {
+            format!("{o} + {sc} ×")
+        }
+    }
+}
+
+/// A tick label with as many decimals as the ticks' spacing needs (never `-0.0`).
+fn tick_label(v: f64, lo: f64, hi: f64) -> String {
+    // plotters draws about ten ticks
+    let step = (hi - lo).abs() / 10.0;
+    let decimals = if step > 0.0 && step.is_finite() {
+        (-step.log10()).ceil().clamp(0.0, 12.0) as usize
+    } else {
+        2
+    };
+    let s = format!("{v:.decimals$}");
+    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
+        s[1..].to_string()
+    } else {
+        s
+    }
+}
+
+/// The colour of series `i` in a plot: tab10 first, then hues by the golden angle at three
+/// lightnesses, so that no two series of a plot share a colour.
+pub fn series_colour(i: usize) -> RGBColor {
+    if i < COLOURS.len() {
+        return COLOURS[i];
+    }
+    let j = i - COLOURS.len();
+    let h = (j as f64 * 137.507_764_05 + 15.0) % 360.0;
+    let l = [0.42, 0.30, 0.55][j % 3];
+    let s = 0.75;
+    // HSL → RGB
+    let c = (1.0 - (2.0 * l - 1.0f64).abs()) * s;
+    let hp = h / 60.0;
+    let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
+    let (r, g, b) = match hp as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = l - c / 2.0;
+    let v = |u: f64| ((u + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    RGBColor(v(r), v(g), v(b))
 }
 
 fn plot_group_svg(
@@ -198,24 +344,57 @@ fn plot_group_svg(
             (sol.columns[c].clone(), pts)
         })
         .collect();
+    // tiny variations on a large value: plot (v − offset) / scale
+    let (lo, hi) = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.1))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    let shift = if group.log {
+        None
+    } else {
+        OffsetScale::for_range(lo, hi)
+    };
+    let series: Vec<(String, Vec<(f64, f64)>)> = match shift {
+        Some(os) => series
+            .into_iter()
+            .map(|(n, pts)| {
+                let pts = pts
+                    .into_iter()
+                    .map(|(t, v)| (t, (v - os.offset) / os.scale))
+                    .collect();
+                (n, pts)
+            })
+            .collect(),
+        None => series,
+    };
     let (y0, y1) = range(
         series.iter().flat_map(|s| s.1.iter().map(|p| p.1)),
         group.log,
     );
-    let y_desc = if group.unit.is_empty() {
+    let mut y_desc = if group.unit.is_empty() {
         group.quantity.to_string()
     } else {
         format!("{} ({})", group.quantity, group.unit)
     };
+    if let Some(os) = shift {
+        y_desc = format!("{y_desc} = {}", os.label());
+    }
     let title = format!("{source}: {}", group.file.replace('_', " "));
+    let title = if series.len() > 1 {
+        title
+    } else {
+        format!("{title} ({})", series[0].0)
+    };
     let mut builder = ChartBuilder::on(&plot_area);
     builder
         .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80);
-    let colour = |i: usize| COLOURS[i % COLOURS.len()];
-    let width = |i: usize| if i < COLOURS.len() { 2 } else { 1 };
+    let colour = series_colour;
+    let width = |_: usize| 2;
     if group.log {
         let mut chart = builder
             .build_cartesian_2d(t0..t1, (y0..y1).log_scale())
@@ -247,6 +426,7 @@ fn plot_group_svg(
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
             .light_line_style(RGBColor(245, 245, 245))
+            .y_label_formatter(&|v| tick_label(*v, y0, y1))
             .draw()
             .map_err(err)?;
         for (i, (_, pts)) in series.iter().enumerate() {
@@ -296,6 +476,27 @@ mod tests {
         assert_eq!(plot_group("b.qw").file, "quaternions");
         assert_eq!(plot_group("constraint_error").file, "constraint_error");
         assert_eq!(plot_group("something").file, "other");
+    }
+
+    #[test]
+    fn small_variations_get_an_offset_and_a_scale() {
+        let os = OffsetScale::for_range(-29.430000004, -29.429999997).unwrap();
+        assert_eq!(os.scale, 1e-9);
+        assert!((os.offset + 29.43).abs() < 1e-12, "{os:?}");
+        assert_eq!(os.label(), "−29.43 + 1e-9 ×");
+        assert_eq!(OffsetScale::for_range(0.0, 1.0), None);
+        assert_eq!(tick_label(-0.00001, -1.0, 1.0), "0.0");
+        assert_eq!(tick_label(0.25, 0.0, 1.0), "0.2");
+        assert_eq!(tick_label(0.0026, 0.0, 0.01), "0.003");
+        let near_zero = OffsetScale::for_range(-4e-6, 1e-6).unwrap();
+        assert_eq!((near_zero.offset, near_zero.scale), (0.0, 1e-6));
+        let c: std::collections::BTreeSet<(u8, u8, u8)> = (0..100)
+            .map(|i| {
+                let c = series_colour(i);
+                (c.0, c.1, c.2)
+            })
+            .collect();
+        assert_eq!(c.len(), 100, "no colour repeats within 100 series");
     }
 
     #[test]

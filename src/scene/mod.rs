@@ -45,6 +45,7 @@ pub mod model;
 pub mod overrides;
 pub mod parse;
 pub mod path;
+pub mod schema;
 pub(crate) mod tree;
 pub mod validate;
 mod write;

@@ -230,7 +230,7 @@ fn syntax_problem(e: &serde_json::Error) -> super::Problem {
     )
 }
 
-const SCENE_KEYS: &[&str] = &[
+pub(crate) const SCENE_KEYS: &[&str] = &[
     "name",
     "description",
     "dimension",
@@ -433,7 +433,7 @@ fn input(p: &mut Problems, i: usize, j: &Json) -> Option<Input> {
     })
 }
 
-const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
+pub(crate) const EVENT_KEYS: &[&str] = &["name", "when", "direction", "action"];
 
 fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
     let path = index("events", i);
@@ -475,7 +475,7 @@ fn event(p: &mut Problems, i: usize, j: &Json) -> Option<Event> {
     })
 }
 
-const BODY_KEYS: &[&str] = &[
+pub(crate) const BODY_KEYS: &[&str] = &[
     "name",
     "mass",
     "inertia",
@@ -612,7 +612,7 @@ fn describe(j: &Json) -> String {
     }
 }
 
-const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
 
 fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     let path = index("joints", i);
@@ -672,7 +672,7 @@ fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
     })
 }
 
-const SPRING_KEYS: &[&str] = &[
+pub(crate) const SPRING_KEYS: &[&str] = &[
     "name",
     "bodies",
     "points",
@@ -707,7 +707,7 @@ fn spring(p: &mut Problems, i: usize, j: &Json) -> Option<Spring> {
     })
 }
 
-const LOAD_KEYS: &[&str] = &["name", "type", "body", "point", "value"];
+pub(crate) const LOAD_KEYS: &[&str] = &["name", "type", "body", "point", "value"];
 
 fn load(p: &mut Problems, i: usize, j: &Json) -> Option<Load> {
     let path = index("loads", i);
@@ -824,7 +824,7 @@ fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
     }
 }
 
-const SOLVE_KEYS: &[&str] = &[
+pub(crate) const SOLVE_KEYS: &[&str] = &[
     "formulation",
     "t_start",
     "t_end",

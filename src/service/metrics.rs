@@ -10,6 +10,11 @@ pub const SOLVE_BUCKETS: [f64; 12] = [
     0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 10.0, 60.0,
 ];
 
+/// Upper bounds (s) of the per-route request latency histogram buckets.
+pub const LATENCY_BUCKETS: [f64; 14] = [
+    0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5, 5.0, 10.0, 60.0,
+];
+
 /// Why a request was refused without being solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Rejection {
@@ -46,6 +51,9 @@ pub struct Metrics {
     cancelled: AtomicU64,
     budget_stops: AtomicU64,
     hist: Mutex<Histogram>,
+    latency: Mutex<BTreeMap<&'static str, Latency>>,
+    /// Requests being answered now (every route but `/healthz` and `/metrics`).
+    pub active_requests: AtomicUsize,
 }
 
 #[derive(Debug, Default)]
@@ -53,6 +61,42 @@ struct Histogram {
     counts: [u64; SOLVE_BUCKETS.len()],
     count: u64,
     sum: f64,
+}
+
+#[derive(Debug, Default)]
+struct Latency {
+    counts: [u64; LATENCY_BUCKETS.len()],
+    count: u64,
+    sum: f64,
+}
+
+/// The process's own figures from `/proc/self` (Linux): resident memory (bytes), CPU seconds
+/// (user + system), open file descriptors, start time (Unix seconds).
+struct ProcessFigures {
+    resident_bytes: Option<u64>,
+    cpu_seconds: f64,
+    open_fds: Option<usize>,
+}
+
+fn process_figures() -> ProcessFigures {
+    let resident_bytes = std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmRSS:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map(|kb| kb * 1024);
+    let open_fds = std::fs::read_dir("/proc/self/fd").ok().map(|d| d.count());
+    let cpu_seconds = cpu_time::ProcessTime::try_now()
+        .map(|t| t.as_duration().as_secs_f64())
+        .unwrap_or(0.0);
+    ProcessFigures {
+        resident_bytes,
+        cpu_seconds,
+        open_fds,
+    }
 }
 
 impl Metrics {
@@ -82,6 +126,19 @@ impl Metrics {
     pub fn observe_solve(&self, seconds: f64) {
         let mut h = self.hist.lock().unwrap_or_else(|e| e.into_inner());
         for (c, &b) in h.counts.iter_mut().zip(SOLVE_BUCKETS.iter()) {
+            if seconds <= b {
+                *c += 1;
+            }
+        }
+        h.count += 1;
+        h.sum += seconds;
+    }
+
+    /// Records how long one request to `route` took to answer (its headers).
+    pub fn observe_latency(&self, route: &'static str, seconds: f64) {
+        let mut m = self.latency.lock().unwrap_or_else(|e| e.into_inner());
+        let h = m.entry(route).or_default();
+        for (c, &b) in h.counts.iter_mut().zip(LATENCY_BUCKETS.iter()) {
             if seconds <= b {
                 *c += 1;
             }
@@ -168,6 +225,52 @@ impl Metrics {
             s,
             "bondmech_solve_seconds_bucket{{le=\"+Inf\"}} {}\nbondmech_solve_seconds_sum {}\nbondmech_solve_seconds_count {}",
             h.count, h.sum, h.count
+        );
+        drop(h);
+        let _ = writeln!(
+            s,
+            "# HELP bondmech_request_duration_seconds Seconds from a request's arrival to its answer's headers, by route.\n# TYPE bondmech_request_duration_seconds histogram"
+        );
+        for (route, h) in self
+            .latency
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .iter()
+        {
+            for (c, b) in h.counts.iter().zip(LATENCY_BUCKETS.iter()) {
+                let _ = writeln!(
+                    s,
+                    "bondmech_request_duration_seconds_bucket{{route=\"{route}\",le=\"{b}\"}} {c}"
+                );
+            }
+            let _ = writeln!(
+                s,
+                "bondmech_request_duration_seconds_bucket{{route=\"{route}\",le=\"+Inf\"}} {}\nbondmech_request_duration_seconds_sum{{route=\"{route}\"}} {}\nbondmech_request_duration_seconds_count{{route=\"{route}\"}} {}",
+                h.count, h.sum, h.count
+            );
+        }
+        let p = process_figures();
+        let _ = writeln!(
+            s,
+            "# HELP process_cpu_seconds_total Total user and system CPU time spent in seconds.\n# TYPE process_cpu_seconds_total counter\nprocess_cpu_seconds_total {}",
+            p.cpu_seconds
+        );
+        if let Some(rss) = p.resident_bytes {
+            let _ = writeln!(
+                s,
+                "# HELP process_resident_memory_bytes Resident memory size in bytes.\n# TYPE process_resident_memory_bytes gauge\nprocess_resident_memory_bytes {rss}"
+            );
+        }
+        if let Some(fds) = p.open_fds {
+            let _ = writeln!(
+                s,
+                "# HELP process_open_fds Number of open file descriptors.\n# TYPE process_open_fds gauge\nprocess_open_fds {fds}"
+            );
+        }
+        let _ = writeln!(
+            s,
+            "# HELP bondmech_requests_active Requests being answered now.\n# TYPE bondmech_requests_active gauge\nbondmech_requests_active {}",
+            self.active_requests.load(Ordering::Relaxed)
         );
         s
     }

@@ -252,6 +252,9 @@ async fn serve(
     });
     let app2 = app.clone();
     let grace = config.shutdown_grace;
+    // the drain: on the stop signal, refuse new work and answer 503 on /healthz (the listener
+    // stays open, so a load balancer sees it), let the requests in flight finish (for at most
+    // the grace period, then their solves stop at the next row), then close
     let signal = async move {
         stop.await;
         app2.shutting_down.store(true, Ordering::SeqCst);
@@ -260,6 +263,17 @@ async fn serve(
             tokio::time::sleep(grace).await;
             app3.stop_all.store(true, Ordering::SeqCst);
         });
+        let deadline = tokio::time::Instant::now() + grace;
+        loop {
+            let m = &app2.metrics;
+            let busy = m.active_requests.load(Ordering::SeqCst)
+                + m.in_flight.load(Ordering::SeqCst)
+                + m.queued.load(Ordering::SeqCst);
+            if busy == 0 || tokio::time::Instant::now() >= deadline {
+                break;
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
     };
     axum::serve(listener, router(app))
         .with_graceful_shutdown(signal)

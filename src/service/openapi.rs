@@ -75,7 +75,7 @@ fn scene_body() -> Value {
     json!({
         "required": true,
         "description": "A scene, exactly the file format (docs/scene-format.md): a mechanism or a raw bond graph.",
-        "content": {"application/json": {"schema": {"type": "object"}}}
+        "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Scene"}}}
     })
 }
 
@@ -96,6 +96,29 @@ fn post(summary: &str, params: Vec<Value>, ok: Value) -> Value {
         responses.insert(code.into(), v);
     }
     json!({"post": {"summary": summary, "parameters": params, "requestBody": scene_body(), "responses": responses}})
+}
+
+/// The scene schema ([`crate::scene::schema::scene_schema`]) as an OpenAPI component: its
+/// definitions moved under `components/schemas` (`Scene.Body`, …) and its references
+/// rewritten to point there.
+fn scene_schema() -> Value {
+    let mut s = crate::scene::schema::scene_schema();
+    let defs = s
+        .as_object_mut()
+        .and_then(|o| o.remove("$defs"))
+        .unwrap_or_else(|| json!({}));
+    s.as_object_mut().map(|o| o.remove("$schema"));
+    // inline the definitions as `$defs` of the component itself: references stay valid
+    // relative to the component once rewritten
+    let text = s
+        .to_string()
+        .replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
+    let mut s: Value = serde_json::from_str(&text).expect("the schema stays JSON");
+    let defs_text = defs
+        .to_string()
+        .replace("\"#/$defs/", "\"#/components/schemas/Scene/$defs/");
+    s["$defs"] = serde_json::from_str(&defs_text).expect("the schema stays JSON");
+    s
 }
 
 /// The document.
@@ -154,6 +177,7 @@ pub fn document() -> Value {
             }))
         },
         "components": {"schemas": {
+            "Scene": scene_schema(),
             "Problem": {"type": "object", "description": "RFC 9457 problem details with extension members.", "properties": {
                 "type": {"type": "string"}, "title": {"type": "string"}, "status": {"type": "integer"}, "detail": {"type": "string"},
                 "errors": {"type": "array", "items": {"type": "object", "properties": {"path": {"type": "string"}, "message": {"type": "string"}}}},

@@ -1,6 +1,11 @@
 //! The bounded pool: at most `max_concurrent` solve jobs on blocking threads, at most `queue`
 //! requests waiting for one (for at most the solve budget), everything beyond refused with 503
-//! and `Retry-After` (counted as rejections where the answer is made). A job's slot is held until the job itself ends, even when its client has
+//! and `Retry-After` (counted as rejections where the answer is made).
+//!
+//! Short requests are not stuck behind long ones: a request whose estimated cost
+//! ([`estimated_cost`]: unknowns × output rows, from the scene's size and horizon) is at most
+//! [`FAST_LANE_COST`] takes a free solve slot, or else one of [`FAST_LANE_SLOTS`] extra slots
+//! kept for such requests (the fast lane), with its own queue. A job's slot is held until the job itself ends, even when its client has
 //! gone, so the bound holds for the work actually running.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -14,10 +19,44 @@ use tokio::task::JoinHandle;
 use super::metrics::Metrics;
 use super::problem::Problem;
 
+/// Requests estimated at most this costly ([`estimated_cost`]) may use the fast lane.
+pub const FAST_LANE_COST: f64 = 5_000.0;
+
+/// Extra solve slots kept for cheap requests.
+pub const FAST_LANE_SLOTS: usize = 1;
+
+/// A request's estimated cost: unknowns (3 per planar body, 6 per spatial one, one per joint,
+/// spring and bond graph element) times output rows, ×20 for the decoupled twin's stiff
+/// springs. A rough ordering of requests, not a prediction of seconds.
+pub fn estimated_cost(scene: &crate::scene::Scene) -> f64 {
+    use crate::scene::{Dimension, Formulation};
+    let per_body = match scene.dimension {
+        Dimension::Planar => 3.0,
+        Dimension::Spatial => 6.0,
+    };
+    let mut unknowns = per_body * scene.bodies.len() as f64
+        + scene.joints.len() as f64
+        + scene.springs.len() as f64;
+    if let Some(g) = &scene.bond_graph {
+        unknowns += g
+            .get("elements")
+            .and_then(|e| e.as_array())
+            .map_or(0, |e| e.len()) as f64;
+    }
+    let rows = scene.output_times().len().max(1) as f64;
+    let factor = if scene.solve.formulation == Formulation::Decoupled {
+        20.0
+    } else {
+        1.0
+    };
+    unknowns.max(1.0) * rows * factor
+}
+
 /// Solve slots and the queue in front of them.
 #[derive(Debug)]
 pub struct Pool {
     slots: Arc<Semaphore>,
+    fast: Arc<Semaphore>,
     queue: usize,
     queue_wait: Duration,
     retry_after: u64,
@@ -51,6 +90,7 @@ impl Pool {
     ) -> Pool {
         Pool {
             slots: Arc::new(Semaphore::new(max_concurrent.max(1))),
+            fast: Arc::new(Semaphore::new(FAST_LANE_SLOTS)),
             queue,
             queue_wait,
             retry_after,
@@ -58,11 +98,29 @@ impl Pool {
         }
     }
 
+    /// A slot for a request of estimated `cost` ([`estimated_cost`]): a cheap one takes a
+    /// free solve slot or else waits for the fast lane; any other waits for a solve slot
+    /// ([`Pool::acquire`]).
+    pub async fn acquire_for(&self, cost: f64) -> Result<OwnedSemaphorePermit, Problem> {
+        if cost.is_nan() || cost > FAST_LANE_COST {
+            return self.acquire().await;
+        }
+        if let Ok(p) = self.slots.clone().try_acquire_owned() {
+            return Ok(p);
+        }
+        self.wait_for(&self.fast).await
+    }
+
     /// A solve slot: at once when one is free, else after waiting in the queue; 503 with
     /// `Retry-After` when the queue is full or the wait longer than allowed. A request
     /// whose client disconnects while queued leaves the queue (its future is dropped).
     pub async fn acquire(&self) -> Result<OwnedSemaphorePermit, Problem> {
-        if let Ok(p) = self.slots.clone().try_acquire_owned() {
+        self.wait_for(&self.slots).await
+    }
+
+    /// A permit of `slots`, at once or after a bounded wait in the queue.
+    async fn wait_for(&self, slots: &Arc<Semaphore>) -> Result<OwnedSemaphorePermit, Problem> {
+        if let Ok(p) = slots.clone().try_acquire_owned() {
             return Ok(p);
         }
         let waiting = Gauge::up(&self.metrics.queued);
@@ -76,7 +134,7 @@ impl Pool {
                 self.retry_after,
             ));
         }
-        let r = tokio::time::timeout(self.queue_wait, self.slots.clone().acquire_owned()).await;
+        let r = tokio::time::timeout(self.queue_wait, slots.clone().acquire_owned()).await;
         drop(waiting);
         match r {
             Ok(Ok(p)) => Ok(p),

@@ -45,11 +45,68 @@ fn route_label(path: &str) -> &'static str {
         .unwrap_or("other")
 }
 
-/// Counts every answer by route and status.
+/// A request id: the client's `X-Request-Id` when it is a short printable token, else a new
+/// one (process-unique: the start time and a counter).
+fn request_id(headers: &HeaderMap) -> String {
+    use std::sync::atomic::AtomicU64;
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    if let Some(v) = headers.get("x-request-id").and_then(|v| v.to_str().ok()) {
+        let v = v.trim();
+        if !v.is_empty()
+            && v.len() <= 128
+            && v.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.:/+=".contains(c))
+        {
+            return v.to_string();
+        }
+    }
+    static START: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    let start = *START.get_or_init(|| {
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_micros() as u64)
+    });
+    format!("{start:x}-{:x}", NEXT.fetch_add(1, Ordering::Relaxed))
+}
+
+/// Counts every answer by route and status, times it (per-route latency histogram), gives it
+/// a request id (`X-Request-Id`: the client's, or a new one; echoed on the answer and logged
+/// with every error answer), and counts the requests being answered (a drain waits for them).
 pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Next) -> Response {
     let route = route_label(req.uri().path());
-    let resp = next.run(req).await;
-    app.metrics.request(route, resp.status().as_u16());
+    let id = request_id(req.headers());
+    let counted = !matches!(route, "/healthz" | "/metrics");
+    if counted {
+        app.metrics.active_requests.fetch_add(1, Ordering::SeqCst);
+    }
+    struct Active<'a>(&'a App, bool);
+    impl Drop for Active<'_> {
+        fn drop(&mut self) {
+            if self.1 {
+                self.0
+                    .metrics
+                    .active_requests
+                    .fetch_sub(1, Ordering::SeqCst);
+            }
+        }
+    }
+    let _active = Active(&app, counted);
+    let start = std::time::Instant::now();
+    let mut resp = next.run(req).await;
+    let status = resp.status().as_u16();
+    app.metrics.request(route, status);
+    app.metrics
+        .observe_latency(route, start.elapsed().as_secs_f64());
+    if let Ok(v) = HeaderValue::from_str(&id) {
+        resp.headers_mut().insert("x-request-id", v);
+    }
+    if status >= 500 || (status >= 400 && route != "other") {
+        eprintln!(
+            "bondmech: request {id} {} → {status} ({:.3} s)",
+            route,
+            start.elapsed().as_secs_f64()
+        );
+    }
     resp
 }
 
@@ -206,7 +263,10 @@ async fn run_inner(
     // scene's own rules on the query's values
     check_rows(&scene, solve.overrides.t_end, &app.limits)?;
     solve.apply_to_scene(&mut scene)?;
-    let slot = app.pool.acquire().await?;
+    let slot = app
+        .pool
+        .acquire_for(super::pool::estimated_cost(&scene))
+        .await?;
     let stop = app.stop_flags();
     let mut guard = CancelOnDrop::new(&stop);
     if format == "ndjson" {
@@ -386,7 +446,7 @@ async fn graph_inner(
     let format = params.choice("format", &["dot", "svg", "causality"])?;
     let decoupled = params.flag("decoupled")?.unwrap_or(false);
     let scene = scene_from(app, headers, body).await?;
-    let slot = app.pool.acquire().await?;
+    let slot = app.pool.acquire_for(0.0).await?;
     let limits = app.limits.clone();
     let job = app.pool.spawn(slot, move || {
         let budget = Budget::of(&scene, &limits);

@@ -52,6 +52,9 @@ fn point(
     opts.formulation = f;
     opts.rtol = rtol;
     opts.atol = rtol * cfg.atol_per_rtol;
+    if let Some(w) = cfg.point_wall_seconds {
+        opts.max_wall_clock = Some(std::time::Duration::from_secs_f64(w));
+    }
     let series = match k {
         Some(k) => {
             opts.joint_stiffness = k;
@@ -182,6 +185,11 @@ pub fn run_sweep(
         }
         let step = model.scene().solve.output_step.unwrap_or(t / 100.0).min(t);
         base.output_times = SolveOptions::times(t, step);
+    } else if let Some(cap) = cfg.t_end_cap {
+        // the scene's own horizon, at most `cap`
+        if base.output_times.last().is_some_and(|&t| t > cap) {
+            base.output_times = model.output_times_until(cap)?;
+        }
     }
     let external = match &cfg.reference {
         Some(r) => {
@@ -201,16 +209,39 @@ pub fn run_sweep(
         }
         None => None,
     };
-    let t_end = base.output_times.last().copied().unwrap_or(0.0);
 
-    // the reference
-    let ref_point = point(&base, FormulationKind::Ggl, cfg.reference_rtol, None, cfg);
-    let tight = model.solve(&ref_point.opts).map_err(|e| {
-        Error::Options(format!(
-            "sweep: the GGL reference at rtol {:e} failed: {e}",
-            cfg.reference_rtol
-        ))
-    })?;
+    // the reference (not stopped by the points' wall-clock budget)
+    let mut ref_point = point(&base, FormulationKind::Ggl, cfg.reference_rtol, None, cfg);
+    ref_point.opts.max_wall_clock = base.max_wall_clock;
+    let mut stopped_note = None;
+    let tight = match model.solve(&ref_point.opts) {
+        Ok(sol) => sol,
+        // a reference stopped part-way (a singular passage at a tight tolerance, say): the
+        // sweep runs up to its last row, and the report says so
+        Err(e)
+            if external.is_none() && e.partial_solution().is_some_and(|p| p.times.len() >= 3) =>
+        {
+            let partial = e.partial_solution().expect("checked").clone();
+            let t_last = partial.times[partial.times.len() - 1];
+            base.output_times.retain(|&t| t <= t_last);
+            ref_point.opts.output_times = base.output_times.clone();
+            stopped_note = Some(format!(
+                " (stopped part-way: {e}; the sweep runs to t = {t_last})"
+            ));
+            let mut sol = partial;
+            let keep = sol.times.iter().filter(|&&t| t <= t_last).count();
+            sol.times.truncate(keep);
+            sol.rows.truncate(keep);
+            sol
+        }
+        Err(e) => {
+            return Err(Error::Options(format!(
+                "sweep: the GGL reference at rtol {:e} failed: {e}",
+                cfg.reference_rtol
+            )))
+        }
+    };
+    let t_end = base.output_times.last().copied().unwrap_or(0.0);
     tick("reference");
     let ref_run = measured(&ref_point, &tight, external.as_ref());
     if let (Some(ext), Some(r)) = (&external, &cfg.reference) {
@@ -233,7 +264,11 @@ pub fn run_sweep(
     let reference = external.unwrap_or(tight);
     let reference_source = match &cfg.reference {
         Some(r) => r.source.clone(),
-        None => format!("GGL rtol {:e}", cfg.reference_rtol),
+        None => format!(
+            "GGL rtol {:e}{}",
+            cfg.reference_rtol,
+            stopped_note.unwrap_or_default()
+        ),
     };
 
     // the points
