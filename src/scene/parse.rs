@@ -416,7 +416,7 @@ fn duplicate_keys(p: &mut Problems, path: &str, j: &Json) {
     }
 }
 
-const INPUT_KEYS: &[&str] = &["name", "start", "unit"];
+pub(crate) const INPUT_KEYS: &[&str] = &["name", "start", "unit"];
 
 fn input(p: &mut Problems, i: usize, j: &Json) -> Option<Input> {
     let path = index("inputs", i);

@@ -190,6 +190,17 @@ struct Event {
     action: Option<Action>,
 }
 
+/// An input of the scene (an FMU input): a name load expressions may use, held at `start` by
+/// the CLI.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+#[allow(dead_code)]
+struct Input {
+    name: String,
+    start: Option<f64>,
+    unit: Option<String>,
+}
+
 /// Formulation.
 #[derive(JsonSchema)]
 #[schemars(rename_all = "snake_case")]
@@ -248,6 +259,8 @@ struct Scene {
     /// Extra columns: "body.point", "energy", "constraint_error", "reactions", expressions.
     outputs: Option<Vec<String>>,
     events: Option<Vec<Event>>,
+    /// Inputs (`docs/fmu.md`): names usable in load expressions.
+    inputs: Option<Vec<Input>>,
     /// A raw bond graph: `{"elements": [...], "bonds": [...]}` (docs/scene-format.md).
     bond_graph: Option<serde_json::Map<String, serde_json::Value>>,
 }
@@ -261,7 +274,8 @@ pub fn scene_schema() -> serde_json::Value {
 mod tests {
     use super::*;
     use crate::scene::parse::{
-        BODY_KEYS, EVENT_KEYS, JOINT_KEYS, LOAD_KEYS, SCENE_KEYS, SOLVE_KEYS, SPRING_KEYS,
+        BODY_KEYS, EVENT_KEYS, INPUT_KEYS, JOINT_KEYS, LOAD_KEYS, SCENE_KEYS, SOLVE_KEYS,
+        SPRING_KEYS,
     };
 
     fn keys(schema: &serde_json::Value, def: Option<&str>) -> Vec<String> {
@@ -289,6 +303,7 @@ mod tests {
             (Some("Spring"), SPRING_KEYS),
             (Some("Load"), LOAD_KEYS),
             (Some("Event"), EVENT_KEYS),
+            (Some("Input"), INPUT_KEYS),
             (Some("Solve"), SOLVE_KEYS),
         ] {
             let mut want: Vec<String> = accepted.iter().map(|k| k.to_string()).collect();
