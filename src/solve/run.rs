@@ -429,38 +429,19 @@ fn solve_from_first_output(
             summary.formulation = "dae".into();
             run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
         }
-        FormulationKind::Dae => {
-            let why = if init.redundant_joints.is_empty() {
-                "its coordinates' rates are not its velocities (3D bodies or body-fixed frames)"
-            } else {
-                "its joints are redundant"
-            };
-            summary.formulation = "ggl".into();
-            summary.warnings.push(format!(
-                "dae: the chapter's index-1 DAE does not apply to this mechanism ({why}); solved with ggl"
-            ));
-            let t = ThreadTime::now();
-            let eps_default = default_compliance(&sys, opts);
-            let eps = if init.redundant_joints.is_empty() {
-                0.0
-            } else {
-                eps_default
-            };
-            let ggl = GglFormulation::build(&mut sys, &c, eps);
-            build += t.elapsed().as_secs_f64();
-            run_ggl(
-                &sys,
-                ggl,
-                tapes,
-                &init,
-                eps,
-                eps_default,
-                opts,
-                &mut summary,
-                observer,
-            )
-        }
-        FormulationKind::Ggl | FormulationKind::CompliantGgl => {
+        FormulationKind::Dae | FormulationKind::Ggl | FormulationKind::CompliantGgl => {
+            if opts.formulation == FormulationKind::Dae {
+                // the index-1 DAE does not apply (the arm above): the GGL, said so
+                let why = if init.redundant_joints.is_empty() {
+                    "its coordinates' rates are not its velocities (3D bodies or body-fixed frames)"
+                } else {
+                    "its joints are redundant"
+                };
+                summary.formulation = "ggl".into();
+                summary.warnings.push(format!(
+                    "dae: the chapter's index-1 DAE does not apply to this mechanism ({why}); solved with ggl"
+                ));
+            }
             let t = ThreadTime::now();
             let eps_default = default_compliance(&sys, opts);
             let eps = if opts.formulation == FormulationKind::CompliantGgl
