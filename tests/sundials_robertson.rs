@@ -622,3 +622,22 @@ fn sparsity_pattern_is_sorted_deduplicated_with_the_diagonal_and_refuses_outside
     let e = CscPattern::new(3, [(3, 0)]).unwrap_err().to_string();
     assert!(e.contains("(3, 0)") && e.contains("3 × 3"), "{e}");
 }
+
+/// The dense LU is a custom direct solver too (the Debian SUNDIALS one is unoptimised): asking
+/// a dense IDA for its faer counters used to read its LU state as faer's.
+#[test]
+fn regression_dense_ida_reported_the_dense_lu_as_faer_counters() {
+    let ida = Ida::new(
+        0.0,
+        &[1.0, 0.0, 0.0],
+        &[-0.04, 0.04, 0.0],
+        Box::new(robertson_residual),
+        Some(Box::new(|_t, cj, y, _yp, j| {
+            robertson_dae_jacobian(cj, y, j);
+            Ok(())
+        })),
+        &ida_options(),
+    )
+    .unwrap();
+    assert_eq!(ida.faer_counters(), None);
+}

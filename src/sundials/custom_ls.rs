@@ -10,7 +10,7 @@
 use super::callback::CallbackStatus;
 use super::context::Context;
 use super::error::{CallbackResult, SolverError};
-use super::linsol::LinearSolver;
+use super::linsol::{self, LinearSolver};
 use super::vector::{slice_of, slice_of_mut};
 use std::os::raw::{c_int, c_void};
 use std::ptr;
@@ -34,10 +34,6 @@ struct Content {
 
 unsafe extern "C" fn get_type(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
     sys::SUNLinearSolver_Type_SUNLINEARSOLVER_MATRIX_EMBEDDED
-}
-
-unsafe extern "C" fn get_id(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
-    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
 }
 
 unsafe extern "C" fn no_op(_s: sys::SUNLinearSolver) -> c_int {
@@ -99,52 +95,25 @@ unsafe extern "C" fn solve(
     }
 }
 
-unsafe extern "C" fn free(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: `s` was built by new_linear_solver; its content is our Box<Content>,
-    // reclaimed once here, then the empty shell and ops are freed by SUNDIALS.
-    unsafe {
-        if s.is_null() {
-            return 0;
-        }
-        if !(*s).content.is_null() {
-            drop(Box::from_raw((*s).content as *mut Content));
-            (*s).content = ptr::null_mut();
-        }
-        sys::SUNLinSolFreeEmpty(s);
-    }
-    0
-}
-
 /// Build the custom `SUNLinearSolver` (not yet attached to IDA memory).
 pub(crate) fn new_linear_solver(
     ctx: &Context,
     solver: Box<dyn IdaLinearSolver>,
     n: usize,
 ) -> Result<LinearSolver, SolverError> {
-    // SAFETY: valid context; NULL checked; the ops table was allocated by SUNLinSolNewEmpty.
-    unsafe {
-        let s = sys::SUNLinSolNewEmpty(ctx.raw());
-        if s.is_null() {
-            return Err(SolverError::InvalidInput("SUNLinSolNewEmpty failed".into()));
-        }
-        let ops = &mut *(*s).ops;
-        ops.gettype = Some(get_type);
-        ops.getid = Some(get_id);
+    let content = Box::new(Content {
+        solver,
+        n,
+        ida_mem: ptr::null_mut(),
+        status: ptr::null_mut(),
+        last_setup: None,
+    });
+    linsol::custom(ctx, get_type, content, |ops| {
         ops.initialize = Some(no_op);
         ops.setup = Some(no_setup);
         ops.solve = Some(solve);
         ops.numiters = Some(zero_iters);
-        ops.free = Some(free);
-        let content = Box::new(Content {
-            solver,
-            n,
-            ida_mem: ptr::null_mut(),
-            status: ptr::null_mut(),
-            last_setup: None,
-        });
-        (*s).content = Box::into_raw(content) as *mut c_void;
-        Ok(LinearSolver::from_raw(s))
-    }
+    })
 }
 
 /// Tell the custom solver which IDA memory and callback status it serves.

@@ -9,13 +9,13 @@
 //! place of `A`, which the integrators rebuild before every setup), so the step sequences are
 //! those of the SUNDIALS solver up to rounding.
 
-use std::os::raw::{c_int, c_void};
+use std::os::raw::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
 use super::context::Context;
 use super::error::SolverError;
-use super::linsol::LinearSolver;
+use super::linsol::{self, LinearSolver};
 use super::vector::{slice_of, slice_of_mut};
 use sundials_sys as sys;
 
@@ -105,14 +105,6 @@ pub fn solve(a: &[f64], n: usize, pivots: &[usize], b: &mut [f64]) {
     }
 }
 
-unsafe extern "C" fn get_type(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
-    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
-}
-
-unsafe extern "C" fn get_id(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
-    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
-}
-
 unsafe extern "C" fn initialize(s: sys::SUNLinearSolver) -> c_int {
     // SAFETY: content is the Box<DenseLu> installed by `LinearSolver::dense`.
     unsafe {
@@ -191,46 +183,19 @@ unsafe extern "C" fn solve_op(
     }
 }
 
-unsafe extern "C" fn free(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: `s` was built by `new`; its content is our Box<DenseLu>, reclaimed once here,
-    // then the empty shell and ops are freed by SUNDIALS.
-    unsafe {
-        if s.is_null() {
-            return 0;
-        }
-        if !(*s).content.is_null() {
-            drop(Box::from_raw((*s).content as *mut DenseLu));
-            (*s).content = ptr::null_mut();
-        }
-        sys::SUNLinSolFreeEmpty(s);
-    }
-    0
-}
-
 /// A new dense LU solver (attached to an integrator with its dense matrix).
 pub(crate) fn new(ctx: &Context) -> Result<LinearSolver, SolverError> {
-    // SAFETY: valid context; NULL checked; the ops table was allocated by SUNLinSolNewEmpty.
-    unsafe {
-        let s = sys::SUNLinSolNewEmpty(ctx.raw());
-        if s.is_null() {
-            return Err(SolverError::InvalidInput("SUNLinSolNewEmpty failed".into()));
-        }
-        let ops = &mut *(*s).ops;
-        ops.gettype = Some(get_type);
-        ops.getid = Some(get_id);
+    let content = Box::new(DenseLu {
+        n: 0,
+        pivots: Vec::new(),
+        factors: ptr::null_mut(),
+        factored: false,
+    });
+    linsol::custom(ctx, linsol::direct_type, content, |ops| {
         ops.initialize = Some(initialize);
         ops.setup = Some(setup);
         ops.solve = Some(solve_op);
-        ops.free = Some(free);
-        let content = Box::new(DenseLu {
-            n: 0,
-            pivots: Vec::new(),
-            factors: ptr::null_mut(),
-            factored: false,
-        });
-        (*s).content = Box::into_raw(content) as *mut c_void;
-        Ok(LinearSolver::from_raw(s))
-    }
+    })
 }
 
 #[cfg(test)]

@@ -22,15 +22,14 @@
 
 use super::context::Context;
 use super::error::SolverError;
-use super::linsol::LinearSolver;
+use super::linsol::{self, LinearSolver};
 use super::vector::{slice_of, slice_of_mut, NVector};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
-use std::os::raw::{c_int, c_void};
+use std::os::raw::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::ptr;
 use sundials_sys as sys;
 
 /// Which sparse LU factors the Newton matrix.
@@ -353,14 +352,6 @@ fn faer_solve(lu: &mut FaerLu, x: &mut [f64]) -> c_int {
     }
 }
 
-unsafe extern "C" fn faer_get_type(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
-    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
-}
-
-unsafe extern "C" fn faer_get_id(_s: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
-    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
-}
-
 unsafe extern "C" fn faer_initialize(s: sys::SUNLinearSolver) -> c_int {
     // SAFETY: content is the Box<FaerLu> installed by new_faer_solver.
     unsafe {
@@ -418,60 +409,38 @@ unsafe extern "C" fn faer_solve_op(
     }
 }
 
-unsafe extern "C" fn faer_free(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: `s` was built by new_faer_solver; its content is our Box<FaerLu>, reclaimed
-    // once here, then the empty shell and ops are freed by SUNDIALS.
-    unsafe {
-        if s.is_null() {
-            return 0;
-        }
-        if !(*s).content.is_null() {
-            drop(Box::from_raw((*s).content as *mut FaerLu));
-            (*s).content = ptr::null_mut();
-        }
-        sys::SUNLinSolFreeEmpty(s);
-    }
-    0
-}
-
 fn new_faer_solver(ctx: &Context) -> Result<LinearSolver, SolverError> {
-    // SAFETY: valid context; NULL checked; the ops table was allocated by SUNLinSolNewEmpty.
-    unsafe {
-        let s = sys::SUNLinSolNewEmpty(ctx.raw());
-        if s.is_null() {
-            return Err(SolverError::InvalidInput("SUNLinSolNewEmpty failed".into()));
-        }
-        let ops = &mut *(*s).ops;
-        ops.gettype = Some(faer_get_type);
-        ops.getid = Some(faer_get_id);
+    let content = Box::new(FaerLu {
+        colptr: Vec::new(),
+        rowidx: Vec::new(),
+        symbolic: None,
+        numeric: NumericLu::new(),
+        factored: false,
+        factor_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+        solve_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+        counters: FaerCounters::default(),
+    });
+    linsol::custom(ctx, linsol::direct_type, content, |ops| {
         ops.initialize = Some(faer_initialize);
         ops.setup = Some(faer_setup_op);
         ops.solve = Some(faer_solve_op);
-        ops.free = Some(faer_free);
-        let content = Box::new(FaerLu {
-            colptr: Vec::new(),
-            rowidx: Vec::new(),
-            symbolic: None,
-            numeric: NumericLu::new(),
-            factored: false,
-            factor_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
-            solve_mem: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
-            counters: FaerCounters::default(),
-        });
-        (*s).content = Box::into_raw(content) as *mut c_void;
-        Ok(LinearSolver::from_raw(s))
-    }
+    })
 }
 
 /// The counters of a faer solver built by [`new_sparse_solver`] (`None` for KLU).
 pub(crate) fn faer_counters(ls: &LinearSolver) -> Option<FaerCounters> {
-    // SAFETY: a live solver; the id tells whether its content is our FaerLu.
+    // SAFETY: a live solver; its setup operation tells whether its content is our FaerLu (the
+    // dense LU is also a custom direct solver: id and type cannot tell them apart).
     unsafe {
         let s = ls.raw();
-        if sys::SUNLinSolGetID(s) != sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
-            || sys::SUNLinSolGetType(s) != sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
-            || (*s).content.is_null()
-        {
+        let ours = (*(*s).ops).setup.is_some_and(|f| {
+            std::ptr::fn_addr_eq(
+                f,
+                faer_setup_op
+                    as unsafe extern "C" fn(sys::SUNLinearSolver, sys::SUNMatrix) -> c_int,
+            )
+        });
+        if !ours || (*s).content.is_null() {
             return None;
         }
         Some((*((*s).content as *const FaerLu)).counters)
