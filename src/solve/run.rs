@@ -578,6 +578,21 @@ pub(crate) fn from_t_start(
     }
 }
 
+/// The counters [`fill_stats`] wrote into a summary (the inverse of it).
+fn counters_of(summary: &Summary) -> SolverStats {
+    SolverStats {
+        steps: summary.steps,
+        residual_evals: summary.residual_evals,
+        jacobian_evals: summary.jacobian_evals,
+        linear_setups: summary.linear_setups,
+        error_test_failures: summary.error_test_failures,
+        nonlinear_iterations: summary.nonlinear_iterations,
+        nonlinear_conv_failures: summary.nonlinear_conv_failures,
+        last_step: summary.last_step,
+        ..SolverStats::default()
+    }
+}
+
 fn fill_stats(summary: &mut Summary, s: &SolverStats) {
     summary.steps = s.steps;
     summary.residual_evals = s.residual_evals;
@@ -1482,7 +1497,7 @@ fn run_index1(
             (t_h, &x),
             k_next,
             opts,
-            summary,
+            (summary, &total),
             sol,
             observer,
             &why,
@@ -1526,7 +1541,7 @@ fn continue_with_ggl(
     (t_h, x_h): (f64, &[f64]),
     k_next: usize,
     opts: &SolveOptions,
-    summary: &mut Summary,
+    (summary, dae_counters): (&mut Summary, &SolverStats),
     mut sol: Solution,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     why: &str,
@@ -1566,13 +1581,9 @@ fn continue_with_ggl(
         part.rows = rows;
         let s = &mut part.summary;
         s.formulation = "dae".into();
-        s.steps += before.steps;
-        s.residual_evals += before.residual_evals;
-        s.jacobian_evals += before.jacobian_evals;
-        s.linear_setups += before.linear_setups;
-        s.error_test_failures += before.error_test_failures;
-        s.nonlinear_iterations += before.nonlinear_iterations;
-        s.nonlinear_conv_failures += before.nonlinear_conv_failures;
+        let mut counters = dae_counters.clone();
+        counters.accumulate(&counters_of(s));
+        fill_stats(s, &counters);
         s.cpu_seconds += before.cpu_seconds;
         s.index1_reselections = before.index1_reselections;
         s.max_constraint_error = s.max_constraint_error.max(before.max_constraint_error);
