@@ -263,14 +263,35 @@ unsafe extern "C" fn linear_combination(
         return -1;
     }
     let nvec = nvec as usize;
+    // the inputs' data pointers, looked up once (IDA and CVODE combine at most order + 2 ≤ 14)
+    const MOST: usize = 16;
+    if nvec > MOST {
+        // more than any integrator here asks: z = Σ c_k X_k one input at a time
+        // SAFETY: as below; z_i is written only after every input's element i was read.
+        unsafe {
+            let (n, zd) = parts(z);
+            for i in 0..n {
+                let mut s = 0.0;
+                for k in 0..nvec {
+                    s += *c.add(k) * *parts(nth(xs, k)).1.add(i);
+                }
+                *zd.add(i) = s;
+            }
+        }
+        return 0;
+    }
+    let mut data = [std::ptr::null_mut::<f64>(); MOST];
     // SAFETY: SUNDIALS passes nvec coefficients and nvec live serial vectors of z's length;
     // z may be one of them: every element i of every input is read before z_i is written.
     unsafe {
+        for (k, d) in data.iter_mut().enumerate().take(nvec) {
+            *d = parts(nth(xs, k)).1;
+        }
         let (n, zd) = parts(z);
         for i in 0..n {
-            let mut s = *c * *parts(nth(xs, 0)).1.add(i);
-            for k in 1..nvec {
-                s += *c.add(k) * *parts(nth(xs, k)).1.add(i);
+            let mut s = *c * *data[0].add(i);
+            for (k, d) in data.iter().enumerate().take(nvec).skip(1) {
+                s += *c.add(k) * *d.add(i);
             }
             *zd.add(i) = s;
         }
