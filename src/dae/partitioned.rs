@@ -259,6 +259,35 @@ impl PartitionedSystem {
         })
     }
 
+    /// The partition whose dependent velocities are `dep_v` (the causality's differential
+    /// inertias, [`crate::bond::causality`]): the dependent coordinates are the same indices
+    /// where `q' = v`, else the numeric choice on `G_q`. `None` when `dep_v` is not one
+    /// velocity per row or `G_q` has no regular block.
+    pub fn with_dependent_velocities(
+        &self,
+        t: f64,
+        x: &[f64],
+        dep_v: Vec<usize>,
+    ) -> Option<Partition> {
+        let (nq, nv, nc) = self.dims;
+        if dep_v.len() != nc || dep_v.iter().any(|&j| j >= nv) {
+            return None;
+        }
+        let dep_q = if self.identity_kinematics {
+            dep_v.clone()
+        } else {
+            let (gq, _) = self.jacobians(t, x);
+            select_dependent(&gq, &self.preferred_q)?
+        };
+        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
+        Some(Partition {
+            ind_q: rest(nq, &dep_q),
+            ind_v: rest(nv, &dep_v),
+            dep_q,
+            dep_v,
+        })
+    }
+
     /// Condition number (2-norm) of the dependent blocks of `G_q` and `G_v` (the larger) at
     /// `(t, x)`.
     pub fn condition(&self, p: &Partition, t: f64, x: &[f64]) -> f64 {

@@ -237,8 +237,13 @@ fn solve_from_first_output(
     }
     let causality = assign_causality(g).map_err(bond_error)?;
     let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
+    // the equations are the causality's: its integral storages are the states, its
+    // differential inertias the dependent unknowns
+    let report = causality.report(g);
     let mut summary = Summary {
         unknowns: eq.n,
+        states: report.states,
+        dependent: report.differential.into_iter().map(|d| d.element).collect(),
         ..Summary::default()
     };
     let mut out = Outputs::new(&eq);

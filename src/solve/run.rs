@@ -39,7 +39,8 @@ pub struct Summary {
     /// `IDA` or `CVODE`.
     pub solver: String,
     /// The partition at the start, by element name (the `dae`, `index1` and `partitioned`
-    /// formulations): the integral-causality inertias whose flows are the states, as
+    /// formulations, and raw bond graphs): the integral-causality storages whose flows (the
+    /// inertias) and displacements (the springs' capacitors) are the states, as
     /// `graph --causality` lists them in `states`.
     pub states: Vec<String>,
     /// The differential-causality inertias whose flows are dependent unknowns at the start (as
@@ -709,17 +710,30 @@ fn q_rates_are_v(sys: &MultibodySystem) -> bool {
     (0..sys.nq()).all(|i| sys.kinematics[i] == g.var(sys.v_slot(i)))
 }
 
-/// The velocities whose inertias the causality assignment puts in differential causality at
-/// the mechanism's bond graph's initial configuration (the `differential[].element` of
-/// `graph --causality`), sorted; `None` when the equations were not read off a graph or the
-/// assignment does not give one dependent velocity per constraint row.
-fn causality_dependent(sys: &MultibodySystem, t0: f64) -> Option<Vec<usize>> {
+/// The causality assignment of the mechanism's bond graph at its configuration at `t0` (what
+/// `graph --causality` reports); `None` when the equations were not read off a graph or the
+/// assignment fails.
+pub(super) fn causality_at(
+    sys: &MultibodySystem,
+    t0: f64,
+) -> Option<crate::bond::causality::CausalityReport> {
     let graph = sys.bond_graph.as_deref()?;
+    let causality = crate::bond::causality::assign_causality_at(graph, t0, &|_| None).ok()?;
+    Some(causality.report(graph))
+}
+
+/// The velocities whose inertias the causality assignment puts in differential causality (the
+/// `differential[].element` of `graph --causality`), sorted; `None` when the velocities are
+/// not one inertia each or the assignment does not give one dependent velocity per
+/// constraint row.
+pub(super) fn causality_dependent(
+    sys: &MultibodySystem,
+    report: Option<&crate::bond::causality::CausalityReport>,
+) -> Option<Vec<usize>> {
+    let report = report?;
     if sys.inertias.len() != sys.nv() {
         return None;
     }
-    let causality = crate::bond::causality::assign_causality_at(graph, t0, &|_| None).ok()?;
-    let report = causality.report(graph);
     let mut dependent: Vec<usize> = report
         .differential
         .iter()
@@ -728,6 +742,36 @@ fn causality_dependent(sys: &MultibodySystem, t0: f64) -> Option<Vec<usize>> {
     dependent.sort_unstable();
     dependent.dedup();
     (dependent.len() == sys.nc()).then_some(dependent)
+}
+
+/// The summary's names of a partition (`summary.states`, `summary.dependent`): the dependent
+/// velocities' inertias; and the states, the other inertias followed by the storages the
+/// causality keeps integral that are not inertias (the springs' capacitors) — the `states`
+/// of `graph --causality` when the partition is the causality's.
+pub(super) fn partition_names(
+    sys: &MultibodySystem,
+    report: Option<&crate::bond::causality::CausalityReport>,
+    dependent: &[usize],
+) -> (Vec<String>, Vec<String>) {
+    let name = |j: usize| {
+        sys.inertias
+            .get(j)
+            .cloned()
+            .unwrap_or_else(|| sys.velocities[j].name.clone())
+    };
+    let mut states: Vec<String> = (0..sys.nv())
+        .filter(|j| !dependent.contains(j))
+        .map(name)
+        .collect();
+    if let Some(r) = report {
+        states.extend(
+            r.states
+                .iter()
+                .filter(|s| !sys.inertias.contains(s))
+                .cloned(),
+        );
+    }
+    (states, dependent.iter().map(|&j| name(j)).collect())
 }
 
 /// Velocities preferred as dependent (translations, as the seed's differential causality picks
@@ -1314,7 +1358,8 @@ fn run_index1(
     let mut t_last = t0;
     // the chapter's partition at the start: the differential-causality inertias' flows
     // (kept unless its block is ill-conditioned there and a numeric choice is much better)
-    let mut from_causality = causality_dependent(&sys, t0).filter(|d| {
+    let causality = causality_at(&sys, t0);
+    let mut from_causality = causality_dependent(&sys, causality.as_ref()).filter(|d| {
         let gv = gv_at(&tapes, t0, &x);
         let cond = dependent_condition(&gv, d);
         cond <= INDEX1_CHECK_CONDITION
@@ -1364,17 +1409,8 @@ fn run_index1(
             })
         })?;
         if reselections == 0 {
-            let name = |j: usize| {
-                sys.inertias
-                    .get(j)
-                    .cloned()
-                    .unwrap_or_else(|| sys.velocities[j].name.clone())
-            };
-            summary.dependent = dependent.iter().map(|&j| name(j)).collect();
-            summary.states = (0..nv)
-                .filter(|j| !dependent.contains(j))
-                .map(name)
-                .collect();
+            (summary.states, summary.dependent) =
+                partition_names(&sys, causality.as_ref(), &dependent);
         }
         // the formulation's symbolic build is not integration time
         let tb = ThreadTime::now();

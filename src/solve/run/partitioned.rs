@@ -10,9 +10,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use cpu_time::ThreadTime;
 
 use super::{
-    budget_row_ida, emit, event_eval, events_fired, fill_stats, is_budget, joint_conditioning,
-    make_ggl_ida, multiplier_atol, restart_state, set_completed, set_energy, set_ida_events,
-    stopped, OutputEval, Row, SingularPassage, Solution, Summary,
+    budget_row_ida, causality_at, causality_dependent, emit, event_eval, events_fired, fill_stats,
+    is_budget, joint_conditioning, make_ggl_ida, multiplier_atol, partition_names, restart_state,
+    set_completed, set_energy, set_ida_events, stopped, OutputEval, Row, SingularPassage, Solution,
+    Summary,
 };
 use crate::dae::{
     consistent_state_from, ConsistentState, ConstraintExprs, GglFormulation, MechanicsTapes,
@@ -253,6 +254,10 @@ fn newton_tolerance(opts: &SolveOptions, qscale: f64) -> f64 {
         .max(16.0 * f64::EPSILON * qscale)
 }
 
+/// How much better conditioned the numeric partition must be at the start for the causality's
+/// to be set aside there.
+const CAUSALITY_KEPT_GAIN: f64 = 10.0;
+
 /// Runs the partitioned formulation (see the module documentation).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run_partitioned(
@@ -271,6 +276,8 @@ pub(super) fn run_partitioned(
         // (the caller has named the joints in a warning)
         let eps = super::default_compliance(&sys, opts);
         let ggl = GglFormulation::build(&mut sys, c, eps);
+        // the summary names what runs: no formulation silently becomes another
+        summary.formulation = "compliant_ggl".into();
         return super::run_ggl(&sys, ggl, tapes, init, eps, eps, opts, summary, observer);
     }
     let psys = Arc::new(PartitionedSystem::new(&mut sys, c));
@@ -328,9 +335,28 @@ pub(super) fn run_partitioned(
     let scale = psys.choose(t0, &x).map_or(1.0, |p| {
         (psys.condition(&p, t0, &x) / TYPICAL_CONDITION).max(1.0)
     });
+    // the chapter's partition at the start: the differential-causality inertias' flows as the
+    // dependent velocities (kept unless its block is ill-conditioned there and the numeric
+    // choice is much better conditioned)
+    let causality = causality_at(&sys, t0);
+    let mut from_causality = causality_dependent(&sys, causality.as_ref())
+        .and_then(|d| psys.with_dependent_velocities(t0, &x, d))
+        .filter(|p| {
+            let k = psys.condition(p, t0, &x);
+            k <= REPARTITION_CONDITION
+                || psys
+                    .choose(t0, &x)
+                    .is_none_or(|b| psys.condition(&b, t0, &x) * CAUSALITY_KEPT_GAIN >= k)
+        });
+    if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() {
+        summary.warnings.push(format!(
+            "partitioned: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
+        ));
+    }
     'segment: while k_next < n_out {
-        let choice = psys
-            .choose(t_start, &x)
+        let choice = from_causality
+            .take()
+            .or_else(|| psys.choose(t_start, &x))
             .map(|p| {
                 let k = psys.condition(&p, t_start, &x);
                 (p, k)
@@ -422,6 +448,10 @@ pub(super) fn run_partitioned(
             last_part = None;
             continue 'segment;
         };
+        if last_part.is_none() && rechoices == 0 && summary.dependent.is_empty() {
+            (summary.states, summary.dependent) =
+                partition_names(&sys, causality.as_ref(), &part.dep_v);
+        }
         if let Some(lp) = &last_part {
             if *lp != part {
                 rechoices += 1;
