@@ -144,8 +144,6 @@ pub struct PartitionedSystem {
     gv_is_gq: bool,
     /// Coordinates preferred as dependent (translations, as the seed's causality picks them).
     preferred_q: Vec<bool>,
-    /// Velocities preferred as dependent.
-    preferred_v: Vec<bool>,
 }
 
 impl PartitionedSystem {
@@ -196,11 +194,6 @@ impl PartitionedSystem {
                 .iter()
                 .map(|c| matches!(last(&c.name).as_str(), "x" | "y" | "z"))
                 .collect(),
-            preferred_v: sys
-                .velocities
-                .iter()
-                .map(|v| matches!(last(&v.name).as_str(), "vx" | "vy" | "vz" | "u" | "w"))
-                .collect(),
         }
     }
 
@@ -241,10 +234,10 @@ impl PartitionedSystem {
     /// column-pivoted Gram–Schmidt (translations first, as the seed's differential causality
     /// picks them). `None` when `G_v` or `G_q` has lower rank than its number of rows (a
     /// singular configuration: no partition exists).
-    pub fn choose(&self, t: f64, x: &[f64]) -> Option<Partition> {
+    pub fn choose(&self, t: f64, x: &[f64], preferred_v: &[bool]) -> Option<Partition> {
         let (nq, nv, _) = self.dims;
         let (gq, gv) = self.jacobians(t, x);
-        let dep_v = select_dependent(&gv, &self.preferred_v)?;
+        let dep_v = select_dependent(&gv, preferred_v)?;
         let dep_q = if self.identity_kinematics {
             dep_v.clone()
         } else {

@@ -5,6 +5,7 @@ pub mod bond_run;
 mod integrators;
 pub(crate) mod non_finite;
 pub mod options;
+mod partition;
 mod reactions;
 pub mod run;
 

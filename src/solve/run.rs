@@ -20,6 +20,7 @@ use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
 use super::integrators::{make_cvode, make_ida};
+use super::partition::CausalPartition;
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
@@ -710,82 +711,6 @@ fn q_rates_are_v(sys: &MultibodySystem) -> bool {
     (0..sys.nq()).all(|i| sys.kinematics[i] == g.var(sys.v_slot(i)))
 }
 
-/// The causality assignment of the mechanism's bond graph at its configuration at `t0` (what
-/// `graph --causality` reports); `None` when the equations were not read off a graph or the
-/// assignment fails.
-pub(super) fn causality_at(
-    sys: &MultibodySystem,
-    t0: f64,
-) -> Option<crate::bond::causality::CausalityReport> {
-    let graph = sys.bond_graph.as_deref()?;
-    let causality = crate::bond::causality::assign_causality_at(graph, t0, &|_| None).ok()?;
-    Some(causality.report(graph))
-}
-
-/// The velocities whose inertias the causality assignment puts in differential causality (the
-/// `differential[].element` of `graph --causality`), sorted; `None` when the velocities are
-/// not one inertia each or the assignment does not give one dependent velocity per
-/// constraint row.
-pub(super) fn causality_dependent(
-    sys: &MultibodySystem,
-    report: Option<&crate::bond::causality::CausalityReport>,
-) -> Option<Vec<usize>> {
-    let report = report?;
-    if sys.inertias.len() != sys.nv() {
-        return None;
-    }
-    let mut dependent: Vec<usize> = report
-        .differential
-        .iter()
-        .filter_map(|d| sys.inertias.iter().position(|n| *n == d.element))
-        .collect();
-    dependent.sort_unstable();
-    dependent.dedup();
-    (dependent.len() == sys.nc()).then_some(dependent)
-}
-
-/// The summary's names of a partition (`summary.states`, `summary.dependent`): the dependent
-/// velocities' inertias; and the states, the other inertias followed by the storages the
-/// causality keeps integral that are not inertias (the springs' capacitors) — the `states`
-/// of `graph --causality` when the partition is the causality's.
-pub(super) fn partition_names(
-    sys: &MultibodySystem,
-    report: Option<&crate::bond::causality::CausalityReport>,
-    dependent: &[usize],
-) -> (Vec<String>, Vec<String>) {
-    let name = |j: usize| {
-        sys.inertias
-            .get(j)
-            .cloned()
-            .unwrap_or_else(|| sys.velocities[j].name.clone())
-    };
-    let mut states: Vec<String> = (0..sys.nv())
-        .filter(|j| !dependent.contains(j))
-        .map(name)
-        .collect();
-    if let Some(r) = report {
-        states.extend(
-            r.states
-                .iter()
-                .filter(|s| !sys.inertias.contains(s))
-                .cloned(),
-        );
-    }
-    (states, dependent.iter().map(|&j| name(j)).collect())
-}
-
-/// Velocities preferred as dependent (translations, as the seed's differential causality picks
-/// them: the pins force the translational inertias, the rotations stay integral).
-fn preferred_dependent(sys: &MultibodySystem) -> Vec<bool> {
-    sys.velocities
-        .iter()
-        .map(|v| {
-            let last = v.name.rsplit('.').next().unwrap_or("");
-            matches!(last, "vx" | "vy" | "vz" | "u" | "w")
-        })
-        .collect()
-}
-
 /// Which velocities the GGL leaves out of IDA's local error test
 /// (`SolveOptions::ggl_dependent_velocity_error_test = false`).
 ///
@@ -1025,7 +950,7 @@ fn run_ggl(
         !opts.ggl_dependent_velocity_error_test && nc > 0,
         ggl.id.clone(),
         nq,
-        preferred_dependent(sys),
+        CausalPartition::new(sys, t0).preferred_at(t0, &y0[..nq]),
     );
     let mut ggl = ggl;
     if error_test.active {
@@ -1321,7 +1246,7 @@ fn run_index1(
     let t0 = opts.output_times[0];
     let gv_at = |tapes: &MechanicsTapes, t: f64, x: &[f64]| tapes.gv.matrix(t, x);
     let mut x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
-    let preferred = preferred_dependent(&sys);
+    let causal = CausalPartition::new(&sys, t0);
     let mut state = init.clone();
     summary.solver = "IDA".into();
     let clock = ThreadTime::now();
@@ -1358,12 +1283,11 @@ fn run_index1(
     let mut t_last = t0;
     // the chapter's partition at the start: the differential-causality inertias' flows
     // (kept unless its block is ill-conditioned there and a numeric choice is much better)
-    let causality = causality_at(&sys, t0);
-    let mut from_causality = causality_dependent(&sys, causality.as_ref()).filter(|d| {
+    let mut from_causality = causal.dependent().filter(|d| {
         let gv = gv_at(&tapes, t0, &x);
         let cond = dependent_condition(&gv, d);
         cond <= INDEX1_CHECK_CONDITION
-            || select_dependent(&gv, &preferred)
+            || select_dependent(&gv, &causal.preferred_at(t0, &x[..nq]))
                 .is_none_or(|b| dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN >= cond)
     });
     // what the hand-over compares with: the joints' and the partition's conditioning at the start
@@ -1371,7 +1295,7 @@ fn run_index1(
         let gv = gv_at(&tapes, t0, &x);
         let block = from_causality
             .as_ref()
-            .or(select_dependent(&gv, &preferred).as_ref())
+            .or(select_dependent(&gv, &causal.preferred_at(t0, &x[..nq])).as_ref())
             .map_or(f64::INFINITY, |d| dependent_condition(&gv, d));
         HandoverWatch {
             joints: if hands_over {
@@ -1392,7 +1316,7 @@ fn run_index1(
         let gv = gv_at(&tapes, t_start, &x);
         let chosen = from_causality
             .take()
-            .or_else(|| select_dependent(&gv, &preferred));
+            .or_else(|| select_dependent(&gv, &causal.preferred_at(t_start, &x[..nq])));
         if chosen.is_none() && hands_over {
             handover = Some((t_start, "no regular set of dependent velocities".into()));
             break 'restart;
@@ -1409,8 +1333,7 @@ fn run_index1(
             })
         })?;
         if reselections == 0 {
-            (summary.states, summary.dependent) =
-                partition_names(&sys, causality.as_ref(), &dependent);
+            (summary.states, summary.dependent) = causal.names(&dependent);
         }
         // the formulation's symbolic build is not integration time
         let tb = ThreadTime::now();
@@ -1482,7 +1405,7 @@ fn run_index1(
                 // the partition degrades: are the joints approaching a singular configuration?
                 let gv = gv_at(&tapes, step.t, &x);
                 let kappa = crate::dae::joint_condition_number(&gv, &sys.mass);
-                let best = select_dependent(&gv, &preferred)
+                let best = select_dependent(&gv, &causal.preferred_at(step.t, &x[..nq]))
                     .map_or(f64::INFINITY, |b| dependent_condition(&gv, &b))
                     .min(cond);
                 if kappa > DAE_HANDOVER_RISE * watch.joints || best > DAE_HANDOVER_CONDITION {
@@ -1499,7 +1422,7 @@ fn run_index1(
             }
             if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
                 let gv = gv_at(&tapes, step.t, &x);
-                let better = select_dependent(&gv, &preferred);
+                let better = select_dependent(&gv, &causal.preferred_at(step.t, &x[..nq]));
                 if let Some(b) = better {
                     if b != dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
                     {

@@ -10,10 +10,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use cpu_time::ThreadTime;
 
 use super::{
-    budget_row_ida, causality_at, causality_dependent, emit, event_eval, events_fired, fill_stats,
-    is_budget, joint_conditioning, make_ggl_ida, multiplier_atol, partition_names, restart_state,
-    set_completed, set_energy, set_ida_events, stopped, OutputEval, Row, SingularPassage, Solution,
-    Summary,
+    budget_row_ida, emit, event_eval, events_fired, fill_stats, is_budget, joint_conditioning,
+    make_ggl_ida, multiplier_atol, restart_state, set_completed, set_energy, set_ida_events,
+    stopped, OutputEval, Row, SingularPassage, Solution, Summary,
 };
 use crate::dae::{
     consistent_state_from, ConsistentState, ConstraintExprs, GglFormulation, MechanicsTapes,
@@ -21,6 +20,7 @@ use crate::dae::{
 };
 use crate::mech::MultibodySystem;
 use crate::solve::options::{Integrator, SolveOptions};
+use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::sundials::{
     CallbackError, Cvode, CvodeOptions, Erk, ErkOptions, Multistep, SolverError, SolverStats, Step,
@@ -331,21 +331,24 @@ pub(super) fn run_partitioned(
     // the threshold of the partition kept after a re-choice found nothing better
     let mut keep_threshold = REPARTITION_CONDITION;
     let mut stalls = 0;
-    // the thresholds' scale: the best partition's condition at the start
-    let scale = psys.choose(t0, &x).map_or(1.0, |p| {
-        (psys.condition(&p, t0, &x) / TYPICAL_CONDITION).max(1.0)
-    });
     // the chapter's partition at the start: the differential-causality inertias' flows as the
     // dependent velocities (kept unless its block is ill-conditioned there and the numeric
     // choice is much better conditioned)
-    let causality = causality_at(&sys, t0);
-    let mut from_causality = causality_dependent(&sys, causality.as_ref())
+    let causal = CausalPartition::new(&sys, t0);
+    // the numeric choice at (t, x) takes the inertias the causality puts in differential
+    // causality there first
+    let choose = |t: f64, x: &[f64]| psys.choose(t, x, &causal.preferred_at(t, &x[..nq]));
+    // the thresholds' scale: the best partition's condition at the start
+    let scale = choose(t0, &x).map_or(1.0, |p| {
+        (psys.condition(&p, t0, &x) / TYPICAL_CONDITION).max(1.0)
+    });
+    let mut from_causality = causal
+        .dependent()
         .and_then(|d| psys.with_dependent_velocities(t0, &x, d))
         .filter(|p| {
             let k = psys.condition(p, t0, &x);
             k <= REPARTITION_CONDITION
-                || psys
-                    .choose(t0, &x)
+                || choose(t0, &x)
                     .is_none_or(|b| psys.condition(&b, t0, &x) * CAUSALITY_KEPT_GAIN >= k)
         });
     if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() {
@@ -356,7 +359,7 @@ pub(super) fn run_partitioned(
     'segment: while k_next < n_out {
         let choice = from_causality
             .take()
-            .or_else(|| psys.choose(t_start, &x))
+            .or_else(|| choose(t_start, &x))
             .map(|p| {
                 let k = psys.condition(&p, t_start, &x);
                 (p, k)
@@ -428,8 +431,7 @@ pub(super) fn run_partitioned(
                     break 'segment;
                 }
                 let xr = solver.ida.y()[..nq + nv].to_vec();
-                let back = psys
-                    .choose(step.t, &xr)
+                let back = choose(step.t, &xr)
                     .is_some_and(|p| psys.condition(&p, step.t, &xr) < REGULAR_PARTITION * scale);
                 if back && k_next < n_out {
                     let st = consistent_state_from(&sys, &tapes, step.t, &xr)?;
@@ -449,8 +451,7 @@ pub(super) fn run_partitioned(
             continue 'segment;
         };
         if last_part.is_none() && rechoices == 0 && summary.dependent.is_empty() {
-            (summary.states, summary.dependent) =
-                partition_names(&sys, causality.as_ref(), &part.dep_v);
+            (summary.states, summary.dependent) = causal.names(&part.dep_v);
         }
         if let Some(lp) = &last_part {
             if *lp != part {

@@ -1,0 +1,142 @@
+//! The partition of the velocities into states and dependent unknowns, as the chapter's
+//! causality gives it (seed 16.5, 16.7): the inertias the joints force into differential
+//! causality are the dependent unknowns, the integral ones the states.
+//!
+//! [`CausalPartition`] runs the causality assignment of the mechanism's own bond graph
+//! ([`crate::bond::causality::assign_causality_at`]) at the start, and again at the current
+//! configuration when a formulation re-chooses its partition: the assignment's pivots are the
+//! inertias best conditioned *at that state*, which the numeric choice
+//! ([`crate::dae::select_dependent`]) then takes first. No name heuristics: what
+//! `graph --causality` draws is the partition the solvers start from.
+
+use std::sync::Arc;
+
+use crate::bond::causality::{assign_causality_at, CausalityReport};
+use crate::bond::model::BondGraph;
+use crate::mech::MultibodySystem;
+
+/// The causality of a mechanism's bond graph, evaluated at its configurations.
+pub(crate) struct CausalPartition {
+    /// The assignment at the start time (what `graph --causality` reports).
+    pub start: Option<CausalityReport>,
+    /// `(x_<junction>, coordinate index)`: the graph's displacement variables that the
+    /// moduli reference, and the coordinate each is.
+    displacement_vars: Vec<(String, usize)>,
+    /// The mechanism's bond graph.
+    graph: Option<Arc<BondGraph>>,
+    /// The inertia of each velocity (empty when the equations were not read off a graph).
+    inertias: Vec<String>,
+    /// Each velocity's name (for velocities without an inertia).
+    velocities: Vec<String>,
+    /// Constraint rows.
+    nc: usize,
+}
+
+impl CausalPartition {
+    /// The causality of `sys`'s bond graph at its configuration at `t0` (`None` inside when the
+    /// equations were not read off a graph or the assignment fails).
+    pub fn new(sys: &MultibodySystem, t0: f64) -> Self {
+        let displacement_vars = sys
+            .bond_graph
+            .as_deref()
+            .map(|g| {
+                g.displacements
+                    .iter()
+                    .filter_map(|d| {
+                        let i = sys.coords.iter().position(|c| c.name == d.name)?;
+                        Some((format!("x_{}", g.element(d.element).name), i))
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut cp = CausalPartition {
+            start: None,
+            displacement_vars,
+            graph: sys.bond_graph.clone(),
+            inertias: if sys.inertias.len() == sys.nv() {
+                sys.inertias.clone()
+            } else {
+                Vec::new()
+            },
+            velocities: sys.velocities.iter().map(|v| v.name.clone()).collect(),
+            nc: sys.nc(),
+        };
+        cp.start = cp.report(t0, None);
+        cp
+    }
+
+    /// The assignment at `(t, q)` (the graph's initial values where `q` is `None`).
+    fn report(&self, t: f64, q: Option<&[f64]>) -> Option<CausalityReport> {
+        let graph = self.graph.as_deref()?;
+        let values = |name: &str| {
+            let q = q?;
+            self.displacement_vars
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|&(_, i)| q[i])
+        };
+        let causality = assign_causality_at(graph, t, &values).ok()?;
+        Some(causality.report(graph))
+    }
+
+    /// The velocities whose inertias the assignment at the start puts in differential causality
+    /// (the `differential[].element` of `graph --causality`), sorted; `None` when the
+    /// velocities are not one inertia each or the assignment does not give one dependent
+    /// velocity per constraint row.
+    pub fn dependent(&self) -> Option<Vec<usize>> {
+        let report = self.start.as_ref()?;
+        if self.inertias.is_empty() {
+            return None;
+        }
+        let mut dependent: Vec<usize> = report
+            .differential
+            .iter()
+            .filter_map(|d| self.inertias.iter().position(|n| *n == d.element))
+            .collect();
+        dependent.sort_unstable();
+        dependent.dedup();
+        (dependent.len() == self.nc).then_some(dependent)
+    }
+
+    /// Which velocities the assignment at the configuration `q` at `t` puts in differential
+    /// causality: the preference of a re-choice there ([`crate::dae::select_dependent`] takes
+    /// them first and completes the set by pivoting where they are not enough). All `false`
+    /// when no assignment exists.
+    pub fn preferred_at(&self, t: f64, q: &[f64]) -> Vec<bool> {
+        let mut mask = vec![false; self.velocities.len()];
+        if let Some(r) = self.report(t, Some(q)) {
+            for d in &r.differential {
+                if let Some(j) = self.inertias.iter().position(|n| *n == d.element) {
+                    mask[j] = true;
+                }
+            }
+        }
+        mask
+    }
+
+    /// The summary's names of a partition (`summary.states`, `summary.dependent`): the
+    /// dependent velocities' inertias; and the states, the other inertias followed by the
+    /// storages the causality keeps integral that are not inertias (the springs' capacitors)
+    /// — the `states` of `graph --causality` when the partition is the causality's.
+    pub fn names(&self, dependent: &[usize]) -> (Vec<String>, Vec<String>) {
+        let name = |j: usize| {
+            self.inertias
+                .get(j)
+                .cloned()
+                .unwrap_or_else(|| self.velocities[j].clone())
+        };
+        let mut states: Vec<String> = (0..self.velocities.len())
+            .filter(|j| !dependent.contains(j))
+            .map(name)
+            .collect();
+        if let Some(r) = &self.start {
+            states.extend(
+                r.states
+                    .iter()
+                    .filter(|s| !self.inertias.contains(s))
+                    .cloned(),
+            );
+        }
+        (states, dependent.iter().map(|&j| name(j)).collect())
+    }
+}
