@@ -512,7 +512,7 @@ fn run_command(
     }
     let (model, mut opts) = load(args)?;
     opts.keep_rows = table || plot.is_some();
-    let columns = model.row_columns()?;
+    let columns = model.row_columns(&opts)?;
     let mut sink = match (out, no_csv) {
         (None, true) => None,
         (out, _) => Some(RowSink::new(out, &columns)?),

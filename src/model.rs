@@ -17,7 +17,7 @@ use crate::expr::ExprGraph;
 use crate::graph::SceneGraph;
 use crate::mech::{MultibodySystem, Variant};
 use crate::report::Comparison;
-use crate::scene::{Formulation, Scene};
+use crate::scene::Scene;
 use crate::solve::bond_run::{
     raw_bond_graph_options, scene_bond_graph, solve_bond_graph_streaming,
 };
@@ -223,16 +223,8 @@ impl Model {
             return raw_bond_graph_options(&self.scene);
         }
         let s = &self.scene.solve;
-        let formulation = match s.formulation {
-            Formulation::Decoupled => FormulationKind::Decoupled,
-            Formulation::CompliantGgl => FormulationKind::CompliantGgl,
-            Formulation::Index1 => FormulationKind::Index1,
-            Formulation::Partitioned => FormulationKind::Partitioned,
-            Formulation::Dae => FormulationKind::Dae,
-            Formulation::Ggl => FormulationKind::Ggl,
-        };
         SolveOptions {
-            formulation,
+            formulation: s.formulation.into(),
             rtol: s.rtol,
             atol: s.atol,
             t_start: s.t_start,
@@ -294,12 +286,13 @@ impl Model {
         self.mechanism().map(crate::solve::run::output_columns)
     }
 
-    /// The names of the columns of every row a solve produces (without `t`), in order, for
-    /// mechanisms and raw bond graphs alike (a raw graph's come from its causal equations).
-    pub fn row_columns(&self) -> Result<Vec<String>> {
+    /// The names of the columns of every row a solve with `opts` produces (without `t`), in
+    /// order, for mechanisms and raw bond graphs alike (a raw graph's come from its causal
+    /// equations, its decoupled twin's from the twin's).
+    pub fn row_columns(&self, opts: &SolveOptions) -> Result<Vec<String>> {
         match &self.kind {
             Kind::Mechanism(sys) => Ok(crate::solve::run::output_columns(sys)),
-            Kind::BondGraph(g, _) => crate::solve::bond_run::bond_graph_columns(g),
+            Kind::BondGraph(g, _) => crate::solve::bond_run::bond_graph_columns(g, opts),
         }
     }
 
@@ -335,16 +328,6 @@ impl Model {
                     .map_err(|e| crate::solve::non_finite::name_in_mechanism(sys, e))
             }
             Kind::BondGraph(g, _) => {
-                if opts.formulation == FormulationKind::Decoupled {
-                    return Err(Error::Options(
-                        "formulation 'decoupled' does not apply to a raw bond graph (it has no joints to open); use dae or index1".into(),
-                    ));
-                }
-                if opts.formulation == FormulationKind::CompliantGgl {
-                    return Err(Error::Options(
-                        "formulation 'compliant_ggl' does not apply to a raw bond graph (its constraints are velocity rows, without closures); use dae or index1".into(),
-                    ));
-                }
                 let mut sol = solve_bond_graph_streaming(g, opts, observer).map_err(|e| {
                     e.map_partial(|p| p.summary.build_cpu_seconds += self.build_cpu_seconds)
                 })?;

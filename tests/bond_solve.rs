@@ -103,7 +103,7 @@ fn check_rigid_pair(formulation: FormulationKind, tol: f64) {
 
 #[test]
 fn rigidly_coupled_masses_as_index2_dae_move_as_one_mass() {
-    check_rigid_pair(FormulationKind::Ggl, 1e-6);
+    check_rigid_pair(FormulationKind::Dae, 1e-6);
 }
 
 #[test]

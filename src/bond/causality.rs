@@ -396,6 +396,19 @@ fn joint_rows(graph: &BondGraph) -> Vec<bool> {
     d
 }
 
+/// The elements whose rows are joint constraints (see `joint_rows`): the graph's annotated
+/// constraint junctions, or, in a graph without annotations, every Sf and every 1-junction of
+/// two bonds with no storage on it — what the decoupled twin opens
+/// ([`crate::bond::decouple::decouple`]).
+pub fn joint_row_elements(graph: &BondGraph) -> Vec<ElementId> {
+    joint_rows(graph)
+        .iter()
+        .enumerate()
+        .filter(|(_, &d)| d)
+        .map(|(i, _)| ElementId(i))
+        .collect()
+}
+
 /// Adjacency in canonical bond order.
 fn adjacency(graph: &BondGraph) -> Vec<Vec<BondId>> {
     let mut adj = vec![Vec::new(); graph.elements.len()];

@@ -49,15 +49,12 @@ use super::model::{BondGraph, ElementId, ElementKind, Parameter};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum DecoupleError {
-    /// A constraint junction without a closure: the spring would have no displacement.
-    #[error("joint '{joint}' ({direction}, junction '{junction}') has no closure: the decoupled twin's spring needs the joint's position-level row as its displacement")]
-    NoClosure {
-        /// Joint name.
-        joint: String,
-        /// Row direction.
-        direction: String,
-        /// Junction name.
-        junction: String,
+    /// A flow source with a prescribed non-zero flow in a graph without annotated joints: it
+    /// drives the graph rather than holding a joint, and has no spring to become.
+    #[error("flow source '{source_name}' prescribes a flow that is not zero: only joints (Sf = 0 and two-bond 1-junctions) are opened by the decoupled twin")]
+    DrivenFlow {
+        /// The Sf's name.
+        source_name: String,
     },
     /// A constraint junction that is neither a two-bond 1-junction nor an Sf.
     #[error("constraint junction '{junction}' must be a 1-junction with two bonds or an Sf to be opened")]
@@ -106,7 +103,10 @@ pub struct DecoupledGraph {
 
 /// Opens every constraint junction of `graph` and puts in a spring of stiffness `stiffness`
 /// (and a damper of `damping`, when not zero) whose displacement is the joint's closure (see
-/// the module documentation).
+/// the module documentation). A graph without annotated constraint junctions (the seed's own
+/// form) has its joint rows opened as the causality reads them (every `Sf = 0` and every
+/// two-bond 1-junction without storage), each spring a plain C whose displacement is the
+/// integral of the row's flow from the start.
 pub fn decouple(
     graph: &BondGraph,
     stiffness: f64,
@@ -116,15 +116,29 @@ pub fn decouple(
         return Err(DecoupleError::Parameters { stiffness, damping });
     }
     let mut g = graph.clone();
-    let junctions = std::mem::take(&mut g.constraint_junctions);
+    let mut junctions = std::mem::take(&mut g.constraint_junctions);
+    if junctions.is_empty() {
+        // a graph without annotations (the seed's form): its joint rows are its Sf and its
+        // two-bond 1-junctions (as the causality reads them), without closures
+        for e in super::causality::joint_row_elements(graph) {
+            let el = graph.element(e);
+            if el.kind == ElementKind::Sf && el.parameter != Some(Parameter::Const(0.0)) {
+                return Err(DecoupleError::DrivenFlow {
+                    source_name: el.name.clone(),
+                });
+            }
+            junctions.push(super::model::ConstraintJunction {
+                element: e,
+                joint: el.name.clone(),
+                direction: "flow".into(),
+                closure: None,
+            });
+        }
+    }
     let mut springs = Vec::with_capacity(junctions.len());
     for cj in junctions {
         let name = g.element(cj.element).name.clone();
-        let closure = cj.closure.clone().ok_or_else(|| DecoupleError::NoClosure {
-            joint: cj.joint.clone(),
-            direction: cj.direction.clone(),
-            junction: name.clone(),
-        })?;
+        let closure = cj.closure.clone();
         let bonds = g.bonds_of(cj.element);
         let mut sign = 1.0;
         let rel = match g.element(cj.element).kind {
@@ -135,7 +149,26 @@ pub fn decouple(
                     .filter(|&&b| g.bond(b).to == cj.element)
                     .count();
                 if into != 1 {
-                    return Err(DecoupleError::Shape { junction: name });
+                    if closure.is_some() {
+                        return Err(DecoupleError::Shape { junction: name });
+                    }
+                    // both bonds into (or out of) J, as the seed draws a pin (Fig. 16: the
+                    // pin forces equal and opposite): a TF of modulus −1 on the second bond
+                    // turns its flow and effort, so that the 0-junction forms f_a − f_b and
+                    // pushes both sides apart with the spring's one effort
+                    let b = bonds[1];
+                    let tf = g.add_element(
+                        format!("{name}.turn"),
+                        ElementKind::TF,
+                        Some(Parameter::Const(-1.0)),
+                    );
+                    if g.bond(b).to == cj.element {
+                        g.bonds[b.0].to = tf;
+                        g.add_bond(tf, cj.element);
+                    } else {
+                        g.bonds[b.0].from = tf;
+                        g.add_bond(cj.element, tf);
+                    }
                 }
                 g.elements[cj.element.0].kind = ElementKind::Zero;
                 let rel = g.add_junction(format!("{name}.rel"), ElementKind::One);
@@ -160,18 +193,22 @@ pub fn decouple(
             }
             _ => return Err(DecoupleError::Shape { junction: name }),
         };
-        let spring_displacement = if sign < 0.0 {
-            format!("-({closure})")
-        } else {
-            closure
-        };
+        // without a closure the spring's displacement is its own state, the integral of the
+        // row's flow from the start (zero there: the joint holds at the start)
+        let spring_displacement = closure.map(|closure| {
+            if sign < 0.0 {
+                format!("-({closure})")
+            } else {
+                closure
+            }
+        });
         let spring = g.add_element(
             format!("{name}.k"),
             ElementKind::C,
             Some(Parameter::Const(1.0 / stiffness)),
         );
         g.add_bond(rel, spring);
-        g.elements[spring.0].displacement = Some(spring_displacement);
+        g.elements[spring.0].displacement = spring_displacement;
         let damper = (damping != 0.0).then(|| {
             let r = g.add_element(
                 format!("{name}.c"),

@@ -381,15 +381,6 @@ impl Failure {
     }
 }
 
-/// The columns of the model's rows (without `t`), known before solving: the mechanism's
-/// output columns, or those of a raw bond graph's causal equations.
-pub fn model_columns(model: &Model) -> crate::Result<Vec<String>> {
-    match model.columns() {
-        Some(c) => Ok(c),
-        None => crate::solve::bond_run::bond_graph_columns(&model.bond_graph()?),
-    }
-}
-
 /// What a solve job hands its caller before the first row: the columns (with `t`) and the
 /// number of rows asked for.
 pub type OnStart<'a> = &'a mut dyn FnMut(&[String], usize);
@@ -407,10 +398,13 @@ pub fn solve_rows(
 ) -> Result<Solution, Failure> {
     let budget = Budget::of(scene, limits);
     let model = Model::new(scene).map_err(|e| Failure::before(library_problem(&e, budget)))?;
-    let mut columns = vec!["t".to_string()];
-    columns
-        .extend(model_columns(&model).map_err(|e| Failure::before(library_problem(&e, budget)))?);
     let opts = options(&model, budget, limits).map_err(Failure::before)?;
+    let mut columns = vec!["t".to_string()];
+    columns.extend(
+        model
+            .row_columns(&opts)
+            .map_err(|e| Failure::before(library_problem(&e, budget)))?,
+    );
     let n_rows = opts.output_times.len();
     on_start(&columns, n_rows);
     #[derive(PartialEq)]

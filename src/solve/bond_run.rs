@@ -25,7 +25,7 @@ use crate::bond::json::RawBondGraph;
 use crate::bond::model::{BondGraph, ElementKind, Parameter};
 use crate::dae::ImplicitDae;
 use crate::expr::Tape;
-use crate::scene::{Formulation, Scene};
+use crate::scene::Scene;
 use crate::sundials::{CvodeOptions, SolverStats};
 use crate::Error;
 
@@ -58,18 +58,14 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
     Ok(g)
 }
 
-/// The solve options written in a raw bond graph scene's `solve` section
-/// (`decoupled` has no meaning here; `index1` selects the index-1 DAE).
+/// The solve options written in a raw bond graph scene's `solve` section (see
+/// [`solve_bond_graph_streaming`] for what each formulation does on a raw graph).
 pub fn raw_bond_graph_options(scene: &Scene) -> SolveOptions {
     let s = &scene.solve;
     SolveOptions {
-        // decoupled and compliant_ggl are kept, so that solving refuses them by name
-        formulation: match s.formulation {
-            Formulation::Index1 => FormulationKind::Index1,
-            Formulation::Decoupled => FormulationKind::Decoupled,
-            Formulation::CompliantGgl => FormulationKind::CompliantGgl,
-            _ => FormulationKind::Ggl,
-        },
+        formulation: s.formulation.into(),
+        joint_stiffness: s.joint_stiffness,
+        joint_damping: s.joint_damping,
         rtol: s.rtol,
         atol: s.atol,
         t_start: s.t_start,
@@ -89,10 +85,25 @@ pub fn solve_raw_bond_graph(scene: &Scene, opts: &SolveOptions) -> Result<Soluti
 
 /// The output columns of a raw bond graph's solutions (see the module documentation), known
 /// before solving.
-pub fn bond_graph_columns(g: &BondGraph) -> Result<Vec<String>, Error> {
+pub fn bond_graph_columns(g: &BondGraph, opts: &SolveOptions) -> Result<Vec<String>, Error> {
+    let g = &graph_solved(g, opts)?;
     let causality = assign_causality(g).map_err(bond_error)?;
     let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
     Ok(columns_of(&eq).1)
+}
+
+/// The graph a formulation solves: the graph itself, or under `decoupled` its twin, every
+/// joint row opened and a spring put in its place (seed 16.6, [`crate::bond::decouple`]).
+fn graph_solved<'a>(
+    g: &'a BondGraph,
+    opts: &SolveOptions,
+) -> Result<std::borrow::Cow<'a, BondGraph>, Error> {
+    if opts.formulation != FormulationKind::Decoupled {
+        return Ok(std::borrow::Cow::Borrowed(g));
+    }
+    let twin = crate::bond::decouple::decouple(g, opts.joint_stiffness, opts.joint_damping)
+        .map_err(|e| Error::Options(format!("formulation 'decoupled': {e}")))?;
+    Ok(std::borrow::Cow::Owned(twin.graph))
 }
 
 /// The indices into `y` of the leading columns, and all column names.
@@ -204,6 +215,29 @@ pub fn solve_bond_graph_streaming(
     })
 }
 
+/// A raw bond graph's joint rows constrain its flows only (no position-level closures): the
+/// formulations that need `g(q)` (`ggl`, `compliant_ggl`, `partitioned`) are refused by name,
+/// never run as another; `dae` and `index1` run the graph's own DAE and `decoupled` its twin.
+fn refuse_without_closures(g: &BondGraph, f: FormulationKind) -> Result<(), Error> {
+    match f {
+        FormulationKind::Dae | FormulationKind::Index1 => Ok(()),
+        FormulationKind::Decoupled => Err(Error::Options(
+            "formulation 'decoupled': the twin still has constraint rows (a joint row that is not an Sf = 0 or a two-bond 1-junction)".into(),
+        )),
+        FormulationKind::Ggl | FormulationKind::CompliantGgl | FormulationKind::Partitioned => {
+            let rows: Vec<String> = crate::bond::causality::joint_row_elements(g)
+                .into_iter()
+                .map(|e| format!("'{}'", g.element(e).name))
+                .collect();
+            Err(Error::Options(format!(
+                "formulation '{}' needs the joints' position-level closures g(q), and this raw bond graph's constraint junctions ({}) carry none; use dae, index1 or decoupled, or give the junctions closures (a mechanism scene's `graph --as-scene` export has them)",
+                f.name(),
+                rows.join(", ")
+            )))
+        }
+    }
+}
+
 /// Why a bond graph's stored energy `Σ p²/2m + Σ q²/2C` is not conserved: its first resistor
 /// or source that delivers power (a constant zero source does not); `None` when it is.
 fn energy_exchange(g: &BondGraph) -> Option<String> {
@@ -235,6 +269,8 @@ fn solve_from_first_output(
             "signal '{s}' has no source in a raw bond graph scene (signals are supplied by the mechanism layer)"
         )));
     }
+    let decoupled = opts.formulation == FormulationKind::Decoupled;
+    let g = &graph_solved(g, opts)?;
     let causality = assign_causality(g).map_err(bond_error)?;
     let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
     // the equations are the causality's: its integral storages are the states, its
@@ -254,7 +290,12 @@ fn solve_from_first_output(
         summary: Summary::default(),
     };
     if let Some(ode) = eq.ode() {
-        summary.formulation = "bond_ode".into();
+        summary.formulation = if decoupled {
+            summary.joint_stiffness = opts.joint_stiffness;
+            "decoupled".into()
+        } else {
+            "bond_ode".into()
+        };
         summary.solver = "CVODE".into();
         summary.build_cpu_seconds = clock.elapsed().as_secs_f64();
         let y0 = eq.initial.clone();
@@ -302,6 +343,7 @@ fn solve_from_first_output(
         summary.cpu_seconds = run.elapsed().as_secs_f64();
         fill_stats(&mut summary, &cv.stats());
     } else {
+        refuse_without_closures(g, opts.formulation)?;
         let index1 = opts.formulation == FormulationKind::Index1;
         let dae: ImplicitDae = if index1 {
             eq.index1()

@@ -32,6 +32,21 @@ pub enum FormulationKind {
     Partitioned,
 }
 
+impl From<crate::scene::Formulation> for FormulationKind {
+    /// The scene's `solve.formulation` as the formulation solved.
+    fn from(f: crate::scene::Formulation) -> Self {
+        use crate::scene::Formulation;
+        match f {
+            Formulation::Decoupled => FormulationKind::Decoupled,
+            Formulation::CompliantGgl => FormulationKind::CompliantGgl,
+            Formulation::Index1 => FormulationKind::Index1,
+            Formulation::Partitioned => FormulationKind::Partitioned,
+            Formulation::Dae => FormulationKind::Dae,
+            Formulation::Ggl => FormulationKind::Ggl,
+        }
+    }
+}
+
 /// The integrator of the partitioned formulation (`solve.integrator`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
