@@ -86,13 +86,12 @@ fn seed_double_pendulum(reversed: bool) -> Value {
     })
 }
 
+/// A run's summary, CSV columns and rows.
+type Run = (Value, Vec<String>, Vec<Vec<f64>>);
+
 /// `bondmech run` with `--formulation f`: the summary and the CSV's columns and rows, or the
 /// error's text.
-fn run(
-    scene: &Path,
-    f: &str,
-    extra: &[&str],
-) -> Result<(Value, Vec<String>, Vec<Vec<f64>>), String> {
+fn run(scene: &Path, f: &str, extra: &[&str]) -> Result<Run, String> {
     let tag = format!("{}-{f}", scene.file_stem().unwrap().to_string_lossy());
     let (summary, csv) = (tmp(&format!("{tag}.json")), tmp(&format!("{tag}.csv")));
     let out = Command::new(BIN)
