@@ -36,9 +36,10 @@
 //! ```
 
 use crate::scene::{
-    Body, BodyFrame, Dimension, Formulation, Inertia, Joint, JointKind, Load, LoadKind, LoadValue,
-    PointRef, Problem, Scene, SceneError, SolveSettings, Spring, GROUND,
+    Body, BodyFrame, Dimension, Inertia, Joint, JointKind, Load, LoadKind, LoadValue, PointRef,
+    Problem, Scene, SceneError, SolveSettings, Spring, GROUND,
 };
+use crate::settings::FormulationKind;
 use crate::{Error, Result};
 
 /// A planar rigid body (seed 16.3, 16.8): mass, moment of inertia about the centre of mass,
@@ -583,8 +584,8 @@ impl Mechanism {
         self
     }
 
-    /// The formulation the scene asks for (default [`Formulation::Dae`]).
-    pub fn formulation(mut self, formulation: Formulation) -> Self {
+    /// The formulation the scene asks for (default [`FormulationKind::Dae`]).
+    pub fn formulation(mut self, formulation: FormulationKind) -> Self {
         self.scene.solve.formulation = formulation;
         self
     }

@@ -81,6 +81,7 @@ pub mod output;
 pub mod report;
 pub mod scene;
 pub mod service;
+pub mod settings;
 pub mod solve;
 pub mod study;
 #[allow(unsafe_code)]

@@ -13,9 +13,10 @@ use std::process::ExitCode;
 
 mod fmu_cmd;
 
-use bondmech::scene::{Formulation, SolveOverrides};
+use bondmech::scene::SolveOverrides;
+use bondmech::FormulationKind;
 use bondmech::{Error, Model, Scene, SolveOptions};
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -28,48 +29,13 @@ struct Cli {
     command: Command,
 }
 
-/// The formulation flag's values (`solve.formulation` of the scene format).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum FormulationArg {
-    /// The pinned mechanism as a DAE on IDA (GGL, switching to the compliant GGL at singular
-    /// configurations); the default.
-    Dae,
-    /// Same as dae.
-    Ggl,
-    /// GGL with compliance from the start.
-    #[value(name = "compliant_ggl", alias = "compliant")]
-    CompliantGgl,
-    /// Acceleration-level index 1 with dummy derivatives, on IDA.
-    #[value(alias = "index-1")]
-    Index1,
-    /// Joints replaced by stiff springs, an ODE on CVODE.
-    #[value(alias = "ode")]
-    Decoupled,
-    /// The degrees of freedom as ODE states (dependent coordinates by Newton), on explicit
-    /// Runge–Kutta or CVODE; singular passages on the compliant GGL.
-    Partitioned,
-}
-
-impl FormulationArg {
-    fn scene(self) -> Formulation {
-        match self {
-            FormulationArg::Dae => Formulation::Dae,
-            FormulationArg::Ggl => Formulation::Ggl,
-            FormulationArg::CompliantGgl => Formulation::CompliantGgl,
-            FormulationArg::Index1 => Formulation::Index1,
-            FormulationArg::Decoupled => Formulation::Decoupled,
-            FormulationArg::Partitioned => Formulation::Partitioned,
-        }
-    }
-}
-
 #[derive(clap::Args, Clone)]
 struct SolveArgs {
     /// Scene file (JSON, see docs/scene-format.md); `-` reads it from standard input.
     scene: PathBuf,
     /// Formulation (the scene's solve.formulation by default).
     #[arg(long, value_enum)]
-    formulation: Option<FormulationArg>,
+    formulation: Option<FormulationKind>,
     /// Relative tolerance (solve.rtol).
     #[arg(long)]
     rtol: Option<f64>,
@@ -362,7 +328,7 @@ fn apply_flags(scene: &mut Scene, args: &SolveArgs) -> Result<(), Error> {
     apply_overrides(
         scene,
         &SolveOverrides {
-            formulation: args.formulation.map(FormulationArg::scene),
+            formulation: args.formulation,
             rtol: args.rtol,
             atol: args.atol,
             t_end: args.t_end,
@@ -708,7 +674,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             // the scene's own `solve.formulation: "decoupled"` draws the twin too
             let decoupled = decoupled
                 || (!model.is_raw_bond_graph()
-                    && model.scene().solve.formulation == bondmech::scene::Formulation::Decoupled);
+                    && model.scene().solve.formulation == bondmech::FormulationKind::Decoupled);
             let variant = if decoupled {
                 bondmech::mech::Variant::Decoupled
             } else {
@@ -771,7 +737,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             Ok(())
         }
         Command::Compare { args, json } => {
-            if args.formulation == Some(FormulationArg::Decoupled) {
+            if args.formulation == Some(FormulationKind::Decoupled) {
                 return Err(options_error(
                     "--formulation decoupled: compare always solves the decoupled twin as its second run; --formulation chooses the DAE side (dae, compliant_ggl or index1)".into(),
                 ));

@@ -224,7 +224,7 @@ impl Model {
         }
         let s = &self.scene.solve;
         SolveOptions {
-            formulation: s.formulation.into(),
+            formulation: s.formulation,
             rtol: s.rtol,
             atol: s.atol,
             t_start: s.t_start,

@@ -1,7 +1,8 @@
 //! The builder API: a scene built in code equals the same scene read from JSON, solves to the
 //! same bits, and its errors name the element at fault.
 
-use bondmech::scene::{BodyFrame, Formulation, LoadValue, PointRef};
+use bondmech::scene::{BodyFrame, LoadValue, PointRef};
+use bondmech::FormulationKind;
 use bondmech::{Error, Ground, Mechanism, Model, PlanarBody, Scene, SpatialBody, SpringDamper};
 
 /// `scenes/double_pendulum.json`, built in code. The file writes the bars' inertia 1/12
@@ -159,7 +160,7 @@ fn free_body_built_in_code_equals_the_json_file() {
         .t_end(20.0)
         .output_step(0.01)
         .tolerances(1e-8, 1e-10)
-        .formulation(Formulation::Dae)
+        .formulation(FormulationKind::Dae)
         .output("body.tip")
         .output("energy")
         .build()
@@ -349,7 +350,7 @@ fn hinged_double_pendulum_3d_built_in_code_equals_the_json_file() {
         .t_end(5.0)
         .output_step(0.01)
         .tolerances(1e-8, 1e-10)
-        .formulation(Formulation::Dae)
+        .formulation(FormulationKind::Dae)
         .output("bar2.A")
         .output("energy")
         .output("constraint_error")

@@ -494,11 +494,11 @@ fn chain(n: usize) -> Scene {
 #[test]
 fn regression_6000_free_bodies_are_refused_on_a_4_gib_machine_naming_the_limit() {
     use bondmech::mech::size::{check_memory, estimate_memory, estimate_memory_with};
-    use bondmech::scene::Formulation;
+    use bondmech::FormulationKind;
     use bondmech::LinearSolverKind;
     const GIB: u64 = 1 << 30;
     let scene = free_bodies(6000);
-    let est = estimate_memory_with(&scene, Formulation::Dae, LinearSolverKind::Dense);
+    let est = estimate_memory_with(&scene, FormulationKind::Dae, LinearSolverKind::Dense);
     // 18 000 coordinates and velocities: the GGL Newton matrix (36 000²) and the start's SVD
     // (4 × 18 000²) are both 9.7 GiB
     assert_eq!(
@@ -512,14 +512,14 @@ fn regression_6000_free_bodies_are_refused_on_a_4_gib_machine_naming_the_limit()
         "{e}"
     );
     // the decoupled twin keeps two dense matrices of 36 000²
-    let twin = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
+    let twin = estimate_memory_with(&scene, FormulationKind::Decoupled, LinearSolverKind::Dense);
     assert!(
         twin.bytes > 1.9 * est.bytes && twin.what.contains("CVODE"),
         "{twin:?}"
     );
     // chains of a few hundred bodies are far from the limit
     for n in [300, 500] {
-        let est = estimate_memory(&chain(n), Formulation::Dae);
+        let est = estimate_memory(&chain(n), FormulationKind::Dae);
         assert_eq!(est.constraint_rows, 2 * n);
         check_memory(&est, Some(4 * GIB)).unwrap_or_else(|e| panic!("{n}-link chain: {e}"));
     }
@@ -562,14 +562,14 @@ fn free_spatial_bodies(n: usize) -> Scene {
 #[test]
 fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_solver() {
     use bondmech::mech::size::{check_memory, estimate_memory_with, SPARSE_BYTES_PER_UNKNOWN};
-    use bondmech::scene::Formulation;
+    use bondmech::FormulationKind;
     use bondmech::LinearSolverKind;
     // 4000 free spatial bodies: 52 000 GGL unknowns. Dense Newton matrix 8 · 52 000² bytes
     // = 21.6e9; the consistent start's SVD 4 · 8 · 24 000² = 18.4e9; symbolic part 4096 B
     // per unknown = 0.21e9.
     let scene = free_spatial_bodies(4000);
     let n = 52_000.0;
-    let dense = estimate_memory_with(&scene, Formulation::Dae, LinearSolverKind::Dense);
+    let dense = estimate_memory_with(&scene, FormulationKind::Dae, LinearSolverKind::Dense);
     assert_eq!(dense.unknowns, 52_000);
     assert_eq!(dense.bytes, 8.0 * n * n + 4096.0 * n);
     // a machine with 25 GiB available (limit 80 % = 21.5e9 bytes) refuses it dense …
@@ -586,7 +586,7 @@ fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_so
         LinearSolverKind::Klu,
         LinearSolverKind::Auto,
     ] {
-        let sparse = estimate_memory_with(&scene, Formulation::Dae, ls);
+        let sparse = estimate_memory_with(&scene, FormulationKind::Dae, ls);
         assert_eq!(
             sparse.bytes,
             4.0 * 8.0 * 24_000f64.powi(2) + 4096.0 * n,
@@ -602,12 +602,14 @@ fn model_too_large_for_a_dense_newton_matrix_is_accepted_with_a_sparse_linear_so
     let mut dense_scene = scene.clone();
     dense_scene.solve.linear_solver = LinearSolverKind::Dense;
     assert_eq!(
-        bondmech::mech::size::estimate_memory(&dense_scene, Formulation::Dae),
+        bondmech::mech::size::estimate_memory(&dense_scene, FormulationKind::Dae),
         dense
     );
     // the decoupled twin likewise: two dense 52 000² matrices, or a sparse one
-    let twin_dense = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Dense);
+    let twin_dense =
+        estimate_memory_with(&scene, FormulationKind::Decoupled, LinearSolverKind::Dense);
     assert!(check_memory(&twin_dense, available).is_err());
-    let twin_sparse = estimate_memory_with(&scene, Formulation::Decoupled, LinearSolverKind::Klu);
+    let twin_sparse =
+        estimate_memory_with(&scene, FormulationKind::Decoupled, LinearSolverKind::Klu);
     check_memory(&twin_sparse, available).unwrap();
 }

@@ -146,7 +146,7 @@ fn spatial_scenes_round_trip_through_their_bond_graphs() {
 #[test]
 fn exported_graph_has_the_mechanisms_decoupled_twin() {
     let mut s = tight(scene("double_pendulum"), 0.5);
-    s.solve.formulation = bondmech::scene::Formulation::Decoupled;
+    s.solve.formulation = bondmech::FormulationKind::Decoupled;
     s.solve.joint_stiffness = 1e5;
     s.solve.joint_damping = 2.0;
     let raw = bondmech::graph::bond_graph_scene(&s).unwrap();

@@ -1,6 +1,7 @@
 //! Defaults and output times, checked against values written by hand.
 
-use bondmech::scene::{BodyFrame, Dimension, Formulation, LoadValue, Scene};
+use bondmech::scene::{BodyFrame, Dimension, LoadValue, Scene};
+use bondmech::FormulationKind;
 
 const MINIMAL: &str = r#"{
   "bodies": [{ "name": "b", "mass": 2, "inertia": 0.5 }],
@@ -18,7 +19,7 @@ fn omitted_fields_take_the_documented_defaults() {
     assert_eq!(b.position, vec![0.0, 0.0]);
     assert_eq!(b.velocity, vec![0.0, 0.0]);
     assert_eq!(b.angular_velocity, vec![0.0]);
-    assert_eq!(s.solve.formulation, Formulation::Dae);
+    assert_eq!(s.solve.formulation, FormulationKind::Dae);
     assert_eq!(s.solve.rtol, 1e-6);
     assert_eq!(s.solve.atol, 1e-8);
     assert_eq!(s.solve.joint_stiffness, 1e8);

@@ -27,7 +27,8 @@ use std::thread::JoinHandle;
 use bondmech::fmu::{FmuConfig, VariableKind, CONFIG_FILE, SCENE_FILE};
 use bondmech::scene::inputs::piecewise_constant;
 use bondmech::scene::path::{scene_from_json_with, Assignment, ScenePath};
-use bondmech::scene::{output_grid, Dimension, Formulation, PointRef, Scene};
+use bondmech::scene::{output_grid, Dimension, PointRef, Scene};
+use bondmech::FormulationKind;
 use bondmech::Model;
 use serde::{Deserialize, Serialize};
 
@@ -450,7 +451,7 @@ impl Slave {
     /// The scene restarted from the last row at `t` (see the module docs), running to at
     /// least `end`, with the inputs at their current values; `None` for a scene that replays.
     fn restarted(&self, base: &Scene, t: f64, end: f64) -> Option<Scene> {
-        if base.bond_graph.is_some() || base.solve.formulation == Formulation::Decoupled {
+        if base.bond_graph.is_some() || base.solve.formulation == FormulationKind::Decoupled {
             return None;
         }
         let col = |body: &str, c: &str| {

@@ -9,7 +9,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PySequence, PyString, PyTuple};
 
-use bondmech::scene::{BodyFrame, EventAction, EventDirection, Formulation, LoadValue, PointRef};
+use bondmech::scene::{BodyFrame, EventAction, EventDirection, LoadValue, PointRef};
+use bondmech::FormulationKind;
 
 use crate::{type_error, IntoPyResult, Scene};
 
@@ -461,7 +462,7 @@ impl Mechanism {
     /// The default formulation (`dae`, `ggl`, `compliant_ggl`, `index1`, `partitioned`,
     /// `decoupled`).
     fn formulation(&self, name: &str) -> PyResult<Self> {
-        let f = Formulation::from_flag(name).ok_or_else(|| {
+        let f = FormulationKind::parse(name).ok_or_else(|| {
             PyValueError::new_err(format!(
                 "formulation='{name}': expected dae, ggl, compliant_ggl, index1, partitioned or decoupled"
             ))

@@ -20,7 +20,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PySlice, PyString, PyTuple};
 
 use bondmech::scene::path::{parse_assignment, scene_from_json_with, Assignment};
-use bondmech::scene::{Formulation, SolveOverrides};
+use bondmech::scene::SolveOverrides;
+use bondmech::FormulationKind;
 use bondmech::{Error, LinearSolverKind, Model};
 
 mod builder;
@@ -337,7 +338,7 @@ impl RunArgs {
         }
         let formulation = match &self.formulation {
             None => None,
-            Some(f) => Some(Formulation::from_flag(f).ok_or_else(|| {
+            Some(f) => Some(FormulationKind::parse(f).ok_or_else(|| {
                 py_error(
                     py,
                     "OptionsError",
@@ -632,8 +633,8 @@ fn compare<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     if formulation
         .as_deref()
-        .and_then(Formulation::from_flag)
-        .is_some_and(|f| f == Formulation::Decoupled)
+        .and_then(FormulationKind::parse)
+        .is_some_and(|f| f == FormulationKind::Decoupled)
     {
         return Err(py_error(
             py,
@@ -684,7 +685,7 @@ fn graph<'py>(
     }
     let decoupled = decoupled
         || (!model.is_raw_bond_graph()
-            && model.scene().solve.formulation == Formulation::Decoupled);
+            && model.scene().solve.formulation == FormulationKind::Decoupled);
     let variant = if decoupled {
         bondmech::mech::Variant::Decoupled
     } else {

@@ -26,8 +26,9 @@
 //! spatial hinge chains (`nv + nc = 11 N`, `n = 23 N`) it is 9 % less. Chains of a few hundred
 //! bodies (a 500-link pendulum needs about 0.2 GiB) are far from the limit either way.
 
-use crate::scene::{Dimension, Formulation, JointKind, Scene};
-use crate::solve::LinearSolverKind;
+use crate::scene::{Dimension, JointKind, Scene};
+use crate::settings::FormulationKind;
+use crate::settings::LinearSolverKind;
 
 /// Fraction of the available memory a model may plan to use.
 pub const MEMORY_FRACTION: f64 = 0.8;
@@ -159,7 +160,7 @@ fn gib(bytes: f64) -> String {
 
 /// Estimates the memory a scene needs when solved with `formulation` and the scene's own
 /// `solve.linear_solver` (see [`estimate_memory_with`]).
-pub fn estimate_memory(scene: &Scene, formulation: Formulation) -> MemoryEstimate {
+pub fn estimate_memory(scene: &Scene, formulation: FormulationKind) -> MemoryEstimate {
     estimate_memory_with(scene, formulation, scene.solve.linear_solver)
 }
 
@@ -171,7 +172,7 @@ pub fn estimate_memory(scene: &Scene, formulation: Formulation) -> MemoryEstimat
 /// always dense (raw bond graphs use the dense solver).
 pub fn estimate_memory_with(
     scene: &Scene,
-    formulation: Formulation,
+    formulation: FormulationKind,
     linear_solver: LinearSolverKind,
 ) -> MemoryEstimate {
     let spatial = scene.dimension == Dimension::Spatial;
@@ -206,7 +207,7 @@ pub fn estimate_memory_with(
     let raw = scene.bond_graph.is_some();
     let sparse = |n: usize| !raw && linear_solver.resolve(n).is_some();
     let newton = match (
-        formulation == Formulation::Decoupled,
+        formulation == FormulationKind::Decoupled,
         sparse(nq + nv),
         sparse(ggl),
     ) {
@@ -369,7 +370,7 @@ pub fn check_memory_against(
 /// scene's `solve.linear_solver`) against this process's [`memory_limit`].
 /// [`Model::new`](crate::Model::new) calls it with the scene's own `solve.formulation`; a
 /// caller that solves with another (`--formulation decoupled`) calls it again with that one.
-pub fn check_scene_memory(scene: &Scene, formulation: Formulation) -> Result<(), SizeError> {
+pub fn check_scene_memory(scene: &Scene, formulation: FormulationKind) -> Result<(), SizeError> {
     check_memory_against(&estimate_memory(scene, formulation), memory_limit())
 }
 

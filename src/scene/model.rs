@@ -6,6 +6,8 @@
 //! [`SolveSettings`]. The fixed body is the reserved name [`GROUND`]; it is
 //! never listed in [`Scene::bodies`].
 
+use crate::settings::{FormulationKind, Integrator, LinearSolverKind};
+
 /// The reserved name of the fixed body.
 pub const GROUND: &str = "ground";
 
@@ -338,69 +340,11 @@ pub struct Event {
     pub action: EventAction,
 }
 
-/// How the mechanism is turned into equations.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Formulation {
-    /// `"dae"`: the pinned mechanism as the chapter's DAE on IDA (index 1 in the causality's
-    /// partition, [`crate::solve::FormulationKind::Dae`]); the default.
-    #[default]
-    Dae,
-    /// `"ggl"`: stabilised index 2 (Gear–Gupta–Leimkuhler).
-    Ggl,
-    /// `"index1"`: acceleration-level index 1.
-    Index1,
-    /// `"decoupled"`: joints replaced by stiff springs, ODE with CVODE.
-    Decoupled,
-    /// `"compliant_ggl"`: GGL with a small compliance, passes singular configurations.
-    CompliantGgl,
-    /// `"partitioned"`: the degrees of freedom as ODE states (coordinate partitioning).
-    Partitioned,
-}
-
-impl Formulation {
-    /// The JSON name.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Formulation::Dae => "dae",
-            Formulation::Ggl => "ggl",
-            Formulation::Index1 => "index1",
-            Formulation::Decoupled => "decoupled",
-            Formulation::CompliantGgl => "compliant_ggl",
-            Formulation::Partitioned => "partitioned",
-        }
-    }
-
-    /// Parses a name as the command line and the service accept it: a JSON name or one of the
-    /// aliases `compliant`, `index-1`, `ode`.
-    pub fn from_flag(name: &str) -> Option<Formulation> {
-        match name {
-            "compliant" => Some(Formulation::CompliantGgl),
-            "index-1" => Some(Formulation::Index1),
-            "ode" => Some(Formulation::Decoupled),
-            _ => Formulation::from_name(name),
-        }
-    }
-
-    /// Parses a JSON name (`"dae"`, `"ggl"`, `"index1"`, `"decoupled"`, `"compliant_ggl"`).
-    pub fn from_name(name: &str) -> Option<Formulation> {
-        [
-            Formulation::Dae,
-            Formulation::Ggl,
-            Formulation::Index1,
-            Formulation::Decoupled,
-            Formulation::CompliantGgl,
-            Formulation::Partitioned,
-        ]
-        .into_iter()
-        .find(|f| f.as_str() == name)
-    }
-}
-
 /// Solver settings (`"solve"`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolveSettings {
     /// Formulation (default `dae`).
-    pub formulation: Formulation,
+    pub formulation: FormulationKind,
     /// Time of the initial state given by the bodies, in s (default 0).
     pub t_start: f64,
     /// End time in s (> `t_start`, required).
@@ -423,9 +367,9 @@ pub struct SolveSettings {
     /// Wall-clock budget in s (none by default).
     pub max_wall_seconds: Option<f64>,
     /// Linear solver of the Newton iterations (default `auto`).
-    pub linear_solver: crate::solve::LinearSolverKind,
+    pub linear_solver: LinearSolverKind,
     /// Integrator of the partitioned formulation (default `auto`).
-    pub integrator: crate::solve::Integrator,
+    pub integrator: Integrator,
     /// The partitioned formulation stops at the zeros of the loads' non-smooth operations
     /// (default true; see [`crate::solve::SolveOptions::switching_functions`]).
     pub switching_functions: bool,
@@ -444,7 +388,7 @@ impl SolveSettings {
     /// Settings with all defaults and the given end time.
     pub fn with_t_end(t_end: f64) -> Self {
         SolveSettings {
-            formulation: Formulation::Dae,
+            formulation: FormulationKind::Dae,
             t_start: 0.0,
             t_end,
             output_step: None,
@@ -455,8 +399,8 @@ impl SolveSettings {
             joint_damping: 0.0,
             max_steps: None,
             max_wall_seconds: None,
-            linear_solver: crate::solve::LinearSolverKind::Auto,
-            integrator: crate::solve::Integrator::Auto,
+            linear_solver: LinearSolverKind::Auto,
+            integrator: Integrator::Auto,
             switching_functions: true,
         }
     }

@@ -14,13 +14,14 @@
 //! ```
 
 use super::error::Problem;
-use super::model::{Formulation, Scene};
+use super::model::Scene;
+use crate::settings::FormulationKind;
 
 /// Values that replace the scene's `solve` fields (`None`: keep the scene's).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SolveOverrides {
     /// `solve.formulation`.
-    pub formulation: Option<Formulation>,
+    pub formulation: Option<FormulationKind>,
     /// `solve.rtol`.
     pub rtol: Option<f64>,
     /// `solve.atol`.
@@ -35,7 +36,7 @@ pub struct SolveOverrides {
     /// `solve.max_wall_seconds`.
     pub max_wall_seconds: Option<f64>,
     /// `solve.linear_solver`.
-    pub linear_solver: Option<crate::solve::LinearSolverKind>,
+    pub linear_solver: Option<crate::settings::LinearSolverKind>,
 }
 
 /// One problem of a scene with overrides applied, and the override it comes from (the field

@@ -12,6 +12,7 @@
 use super::error::{field, index, Problems};
 use super::model::*;
 use super::tree::Json;
+use crate::settings::FormulationKind;
 
 /// Keys allowed in every object.
 const COMMENT: &str = "comment";
@@ -844,13 +845,13 @@ pub(crate) const SOLVE_KEYS: &[&str] = &[
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
     let f = Fields::new(p, "solve", j, SOLVE_KEYS)?;
     let formulation = match f.string(p, "formulation") {
-        None => Formulation::Dae,
-        Some(s) => Formulation::from_name(&s).unwrap_or_else(|| {
+        None => FormulationKind::Dae,
+        Some(s) => FormulationKind::from_name(&s).unwrap_or_else(|| {
             p.push(
                 f.path("formulation"),
                 format!("unknown formulation \"{s}\" (expected dae, ggl, index1, decoupled, compliant_ggl or partitioned)"),
             );
-            Formulation::Dae
+            FormulationKind::Dae
         }),
     };
     let t_start = f.number(p, "t_start").unwrap_or(0.0);
@@ -876,23 +877,23 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
     };
     let max_wall_seconds = f.number(p, "max_wall_seconds");
     let linear_solver = match f.string(p, "linear_solver") {
-        None => crate::solve::LinearSolverKind::Auto,
-        Some(s) => crate::solve::LinearSolverKind::parse(&s).unwrap_or_else(|| {
+        None => crate::settings::LinearSolverKind::Auto,
+        Some(s) => crate::settings::LinearSolverKind::parse(&s).unwrap_or_else(|| {
             p.push(
                 f.path("linear_solver"),
                 format!("unknown linear solver \"{s}\" (expected auto, dense, sparse or klu)"),
             );
-            crate::solve::LinearSolverKind::Auto
+            crate::settings::LinearSolverKind::Auto
         }),
     };
     let integrator = match f.string(p, "integrator") {
-        None => crate::solve::Integrator::Auto,
-        Some(s) => crate::solve::Integrator::parse(&s).unwrap_or_else(|| {
+        None => crate::settings::Integrator::Auto,
+        Some(s) => crate::settings::Integrator::parse(&s).unwrap_or_else(|| {
             p.push(
                 f.path("integrator"),
                 format!("unknown integrator \"{s}\" (expected auto, adams, bdf or erk)"),
             );
-            crate::solve::Integrator::Auto
+            crate::settings::Integrator::Auto
         }),
     };
     let switching_functions = f.boolean(p, "switching_functions").unwrap_or(true);

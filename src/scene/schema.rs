@@ -201,25 +201,12 @@ struct Input {
     unit: Option<String>,
 }
 
-/// Formulation.
-#[derive(JsonSchema)]
-#[schemars(rename_all = "snake_case")]
-#[allow(dead_code)]
-enum Formulation {
-    Dae,
-    Ggl,
-    Index1,
-    Decoupled,
-    CompliantGgl,
-    Partitioned,
-}
-
 /// How to solve.
 #[derive(JsonSchema)]
 #[schemars(deny_unknown_fields)]
 #[allow(dead_code)]
 struct Solve {
-    formulation: Option<Formulation>,
+    formulation: Option<crate::settings::FormulationKind>,
     t_start: Option<f64>,
     /// End time (s).
     t_end: Option<f64>,

@@ -162,7 +162,7 @@ fn load(l: &Load) -> Json {
 
 fn solve(s: &SolveSettings) -> Json {
     let mut e = vec![
-        ("formulation", text(s.formulation.as_str())),
+        ("formulation", text(s.formulation.name())),
         ("t_end", num(s.t_end)),
     ];
     if s.t_start != 0.0 {
@@ -184,10 +184,10 @@ fn solve(s: &SolveSettings) -> Json {
     if let Some(w) = s.max_wall_seconds {
         e.push(("max_wall_seconds", num(w)));
     }
-    if s.linear_solver != crate::solve::LinearSolverKind::Auto {
+    if s.linear_solver != crate::settings::LinearSolverKind::Auto {
         e.push(("linear_solver", text(s.linear_solver.name())));
     }
-    if s.integrator != crate::solve::Integrator::Auto {
+    if s.integrator != crate::settings::Integrator::Auto {
         e.push(("integrator", text(s.integrator.name())));
     }
     if !s.switching_functions {

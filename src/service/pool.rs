@@ -29,7 +29,8 @@ pub const FAST_LANE_SLOTS: usize = 1;
 /// spring and bond graph element) times output rows, ×20 for the decoupled twin's stiff
 /// springs. A rough ordering of requests, not a prediction of seconds.
 pub fn estimated_cost(scene: &crate::scene::Scene) -> f64 {
-    use crate::scene::{Dimension, Formulation};
+    use crate::scene::Dimension;
+    use crate::settings::FormulationKind;
     let per_body = match scene.dimension {
         Dimension::Planar => 3.0,
         Dimension::Spatial => 6.0,
@@ -44,7 +45,7 @@ pub fn estimated_cost(scene: &crate::scene::Scene) -> f64 {
             .map_or(0, |e| e.len()) as f64;
     }
     let rows = scene.output_times().len().max(1) as f64;
-    let factor = if scene.solve.formulation == Formulation::Decoupled {
+    let factor = if scene.solve.formulation == FormulationKind::Decoupled {
         20.0
     } else {
         1.0

@@ -16,7 +16,8 @@ use super::limits::Limits;
 use super::metrics::Metrics;
 use super::pool::StopFlags;
 use super::problem::Problem;
-use crate::scene::{Formulation, Scene, SolveOverrides};
+use crate::scene::{Scene, SolveOverrides};
+use crate::settings::FormulationKind;
 use crate::sundials::SolverError;
 use crate::{Error, LinearSolverKind, Model, Solution, SolveOptions};
 
@@ -144,7 +145,7 @@ impl SolveParams {
         };
         let formulation = match p.text("formulation") {
             None => None,
-            Some(f) => Some(Formulation::from_flag(f).ok_or_else(|| {
+            Some(f) => Some(FormulationKind::parse(f).ok_or_else(|| {
                 invalid_value(
                     "formulation",
                     format!("formulation: unknown '{f}' (expected dae, ggl, compliant_ggl, index1, decoupled or partitioned)"),

@@ -63,7 +63,7 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
 pub fn raw_bond_graph_options(scene: &Scene) -> SolveOptions {
     let s = &scene.solve;
     SolveOptions {
-        formulation: s.formulation.into(),
+        formulation: s.formulation,
         joint_stiffness: s.joint_stiffness,
         joint_damping: s.joint_damping,
         rtol: s.rtol,
