@@ -145,7 +145,7 @@ pub(crate) fn flag_name(package: Package, flag: i32) -> String {
         let p: *mut c_char = match package {
             Package::Ida => sundials_sys::IDAGetReturnFlagName(flag as c_long),
             Package::Cvode => sundials_sys::CVodeGetReturnFlagName(flag as c_long),
-            Package::Arkode => super::erk::ffi::ERKStepGetReturnFlagName(flag as c_long),
+            Package::Arkode => super::arkode_ffi::ERKStepGetReturnFlagName(flag as c_long),
         };
         if p.is_null() {
             return format!("UNKNOWN_FLAG_{flag}");

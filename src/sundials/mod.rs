@@ -28,6 +28,7 @@ pub mod custom_ls;
 pub mod cvode;
 pub mod dense_lu;
 pub mod driver;
+mod arkode_ffi;
 pub mod erk;
 pub mod error;
 pub mod fast_ops;
