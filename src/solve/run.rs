@@ -16,15 +16,15 @@ use std::sync::Arc;
 use cpu_time::ThreadTime;
 use serde::Serialize;
 
-use super::options::{FormulationKind, SolveOptions};
+use super::options::{FormulationKind, LinearSolverKind, SolveOptions};
 use nalgebra::DMatrix;
 
-use super::integrators::{make_cvode, make_ida};
+use super::integrators::{make_cvode, make_ida, make_ida_schur};
 use super::reactions::{EventEval, Multipliers, ReactionEval};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
-    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation,
-    GglDae, GglFormulation, Index1Formulation, MechanicsTapes,
+    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
+    DecoupledFormulation, GglDae, GglFormulation, Index1Formulation, MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
@@ -1381,7 +1381,7 @@ fn run_index1(
         let f = Index1Formulation::build(&mut sys, c, &dependent)?;
         formulation_build += tb.elapsed().as_secs_f64();
         summary.unknowns = f.dae.n;
-        summary.linear_solver = opts.linear_solver.resolved_name(f.dae.n).into();
+        let split = f.schur_split();
         let mut y0 = state.q.clone();
         y0.extend(&state.v);
         y0.extend(dependent.iter().map(|&j| state.vdot[j]));
@@ -1392,7 +1392,19 @@ fn run_index1(
         let mut atol = vec![opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(opts.atol, nc));
         atol.extend(std::iter::repeat_n(multiplier_atol(opts), nc));
-        let mut ida = make_ida(Arc::new(f), atol, t_start, &y0, &yp0, opts)?;
+        let f: Arc<dyn DaeFormulation> = Arc::new(f);
+        // `auto`: the Newton matrix by elimination of the dependent blocks (Schur complement)
+        let schur = (opts.linear_solver == LinearSolverKind::Auto)
+            .then(|| make_ida_schur(f.clone(), split, atol.clone(), t_start, (&y0, &yp0), opts))
+            .flatten();
+        summary.linear_solver = match schur {
+            Some(_) => "schur".into(),
+            None => opts.linear_solver.resolved_name(f.len()).into(),
+        };
+        let mut ida = match schur {
+            Some(ida) => ida?,
+            None => make_ida(f, atol, t_start, &y0, &yp0, opts)?,
+        };
         set_ida_events(&mut ida, &events)?;
         // The wall-clock and step budgets cover the whole solve, earlier segments included.
         ida.charge_wall_clock(wall_start.elapsed());
