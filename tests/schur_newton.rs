@@ -31,6 +31,11 @@ fn check_scene(path: &str) {
         "{path}: the DOF block"
     );
     let partition = SchurPartition::new(n, outer, &blocks, f.structure()).expect("structure");
+    eprintln!(
+        "{path}: n = {n}, blocks {:?}, non-zeros of B, C, D below its diagonal {:?}",
+        blocks.iter().map(Vec::len).collect::<Vec<_>>(),
+        partition.coupling_nonzeros()
+    );
     let mut lu = SchurLu::new(partition);
     let mut ws = f.workspace();
     // states: the consistent start, then perturbed ones (the Newton iterates are not on the

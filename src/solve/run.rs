@@ -1305,7 +1305,6 @@ fn run_index1(
     let mut t_start = t0;
     let mut k_next = 1;
     let mut reselections = 0u64;
-    let mut formulation_build = 0.0;
     let wall_start = std::time::Instant::now();
     // `dae` hands the rest of the run to the GGL where the joints near a singular configuration
     // (no regular dependent block exists) or IDA fails: (time, state [q, v], why)
@@ -1314,6 +1313,8 @@ fn run_index1(
     let mut t_last = t0;
     // the chapter's partition at the start: the differential-causality inertias' flows
     // (kept unless its block is ill-conditioned there and a numeric choice is much better)
+    // the causality assignment is the model's analysis, not integration: build time
+    let analysis = ThreadTime::now();
     let mut from_causality = causality_dependent(&sys, t0).filter(|d| {
         let gv = gv_at(&tapes, t0, &x);
         let cond = dependent_condition(&gv, d);
@@ -1337,6 +1338,7 @@ fn run_index1(
             block: block.max(INDEX1_CHECK_CONDITION / 2.0),
         }
     };
+    let mut formulation_build = analysis.elapsed().as_secs_f64();
     if from_causality.is_none() && !sys.inertias.is_empty() {
         summary.warnings.push(format!(
             "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",

@@ -173,6 +173,12 @@ impl SchurPartition {
     pub fn outer_len(&self) -> usize {
         self.outer.len()
     }
+
+    /// The structural non-zeros visited besides the diagonal blocks and `A`: those of `B`,
+    /// of `C` and of `D` below its block diagonal.
+    pub fn coupling_nonzeros(&self) -> (usize, usize, usize) {
+        (self.b.len(), self.c.len(), self.lower.len())
+    }
 }
 
 fn flatten<T>(groups: Vec<Vec<T>>) -> (Vec<T>, Vec<usize>) {
