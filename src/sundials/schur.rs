@@ -379,9 +379,9 @@ fn forward(
 ) {
     for k in 0..p.starts.len() - 1 {
         let (s0, s1) = (p.starts[k], p.starts[k + 1]);
-        for i in p.lower_at[k]..p.lower_at[k + 1] {
-            let (r, c, _) = p.lower[i];
-            z[r] -= lower_val[i] * z[c];
+        let range = p.lower_at[k]..p.lower_at[k + 1];
+        for (&(r, c, _), &v) in p.lower[range.clone()].iter().zip(&lower_val[range]) {
+            z[r] -= v * z[c];
         }
         apply(
             &diag[diag_at[k]..diag_at[k + 1]],
