@@ -99,6 +99,26 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
 }
 
 impl Index1Formulation {
+    /// The split of `y = [q, v, a_D, λ]` for the Schur solver of the Newton matrix
+    /// ([`crate::sundials::schur`]): the independent coordinates and velocities `(q_I, v_I)`,
+    /// and the dependent blocks in the order that makes them block lower triangular — `q_D`
+    /// (rows `g = 0`, block `G_qD`), `v_D` (rows `G_v v = 0`, block `G_vD`), then `(a_D, λ)`
+    /// (the dynamics of the dependent inertias and the acceleration constraints, the saddle
+    /// `[M_D G_Dᵀ; G_D 0]`).
+    pub fn schur_split(&self) -> (Vec<usize>, Vec<Vec<usize>>) {
+        let nc = self.dependent.len();
+        let nq = (self.dae.n - 2 * nc) / 2;
+        let outer = (0..2 * nq)
+            .filter(|&i| !self.dependent.contains(&(i % nq)))
+            .collect();
+        let blocks = vec![
+            self.dependent.clone(),
+            self.dependent.iter().map(|&j| nq + j).collect(),
+            (2 * nq..self.dae.n).collect(),
+        ];
+        (outer, blocks)
+    }
+
     /// Builds the residual for the dependent set `dependent` (velocity indices).
     ///
     /// Slots: `y = [q, v, a_D, λ]` at `1..=n`, `y'` at `n+1..=2n`.

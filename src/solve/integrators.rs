@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use crate::dae::{DaeFormulation, ExplicitOde};
 use crate::solve::SolveOptions;
+use crate::sundials::schur::SchurPartition;
 use crate::sundials::{
     CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SparseMatrixMut,
 };
@@ -51,6 +52,37 @@ pub(crate) fn make_ida(
         },
     );
     Ok(Ida::new(t0, y0, yp0, residual, Some(jacobian), &ida_opts)?)
+}
+
+/// IDA on formulation `f` as [`make_ida`], its Newton matrix solved by eliminating the
+/// dependent `blocks` (block lower triangular in that order) and factoring the Schur complement
+/// on `outer` ([`crate::sundials::schur`]). `None` when the Jacobian's structure does not have
+/// that shape (the caller then uses [`make_ida`]).
+pub(crate) fn make_ida_schur(
+    f: Arc<dyn DaeFormulation>,
+    (outer, blocks): (Vec<usize>, Vec<Vec<usize>>),
+    atol: Vec<f64>,
+    t0: f64,
+    (y0, yp0): (&[f64], &[f64]),
+    opts: &SolveOptions,
+) -> Option<Result<Ida, Error>> {
+    let partition = SchurPartition::new(f.len(), outer, &blocks, f.structure()).ok()?;
+    let ida_opts = ida_options(atol, f.id().to_vec(), opts);
+    let (f1, f2) = (f.clone(), f.clone());
+    let mut ws1 = f1.workspace();
+    let mut ws2 = f2.workspace();
+    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
+        f1.residual(&mut ws1, t, y, yp, r);
+        Ok(())
+    });
+    // the matrix arrives zeroed (IDA and the trampoline clear it)
+    let jacobian = Box::new(
+        move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {
+            f2.jacobian(&mut ws2, t, cj, y, yp, &mut |r, c, v| jm.add(r, c, v));
+            Ok(())
+        },
+    );
+    Some(Ida::new_schur(t0, y0, yp0, residual, jacobian, partition, &ida_opts).map_err(Error::from))
 }
 
 /// IDA options shared by the formulations: the algebraic unknowns (id 0) are suppressed from

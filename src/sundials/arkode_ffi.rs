@@ -10,9 +10,8 @@ pub type ArkRhsFn = Option<
     unsafe extern "C" fn(t: f64, y: sys::N_Vector, yd: sys::N_Vector, ud: *mut c_void) -> c_int,
 >;
 /// `ARKRootFn`.
-pub type ArkRootFn = Option<
-    unsafe extern "C" fn(t: f64, y: sys::N_Vector, g: *mut f64, ud: *mut c_void) -> c_int,
->;
+pub type ArkRootFn =
+    Option<unsafe extern "C" fn(t: f64, y: sys::N_Vector, g: *mut f64, ud: *mut c_void) -> c_int>;
 /// `ARKErrHandlerFn`.
 pub type ArkErrHandlerFn =
     Option<unsafe extern "C" fn(c_int, *const c_char, *const c_char, *mut c_char, *mut c_void)>;
@@ -59,11 +58,7 @@ extern "C" {
     ) -> *mut c_void;
     pub fn ARKodeButcherTable_Free(b: *mut c_void);
     pub fn ERKStepSetStopTime(mem: *mut c_void, tstop: f64) -> c_int;
-    pub fn ERKStepSetErrHandlerFn(
-        mem: *mut c_void,
-        f: ArkErrHandlerFn,
-        d: *mut c_void,
-    ) -> c_int;
+    pub fn ERKStepSetErrHandlerFn(mem: *mut c_void, f: ArkErrHandlerFn, d: *mut c_void) -> c_int;
     pub fn ERKStepRootInit(mem: *mut c_void, n: c_int, g: ArkRootFn) -> c_int;
     pub fn ERKStepEvolve(
         mem: *mut c_void,

@@ -16,6 +16,7 @@ use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
 use super::options::{check_tolerances, check_vector, CalcIc, IdaOptions, Step};
+use super::schur::SchurPartition;
 use super::sparse::{self, CscPattern, FaerCounters, SparseMatrix, SparseMatrixMut, SparseSolver};
 use super::stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 use super::vector::{slice_of, slice_of_mut, NVector};
@@ -208,6 +209,7 @@ unsafe extern "C" fn root_trampoline(
 
 enum Linear {
     Dense(Option<IdaJacobianFn>),
+    Schur(IdaJacobianFn, SchurPartition),
     Custom(Box<dyn IdaLinearSolver>),
     Sparse(IdaSparseJacobianFn, CscPattern, SparseSolver),
 }
@@ -224,6 +226,35 @@ impl Ida {
         opts: &IdaOptions,
     ) -> Result<Ida, SolverError> {
         Ida::build(t0, y0, yp0, residual, Linear::Dense(jacobian), opts)
+    }
+
+    /// Create an IDA solver whose dense Newton matrix `J = ∂F/∂y + cj ∂F/∂y'` (filled by
+    /// `jacobian`) is solved by eliminating the dependent blocks of `partition` and factoring
+    /// the Schur complement ([`super::schur`]).
+    pub fn new_schur(
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        residual: ResidualFn,
+        jacobian: IdaJacobianFn,
+        partition: SchurPartition,
+        opts: &IdaOptions,
+    ) -> Result<Ida, SolverError> {
+        if partition.len() != y0.len() {
+            return Err(SolverError::InvalidInput(format!(
+                "the Schur partition has {} unknowns but y0 has length {}",
+                partition.len(),
+                y0.len()
+            )));
+        }
+        Ida::build(
+            t0,
+            y0,
+            yp0,
+            residual,
+            Linear::Schur(jacobian, partition),
+            opts,
+        )
     }
 
     /// Create an IDA solver that solves its Newton systems with a user linear solver.
@@ -300,10 +331,11 @@ impl Ida {
         let y = NVector::from_slice(&ctx, y0)?;
         let yp = NVector::from_slice(&ctx, yp0)?;
         let tmp = NVector::from_slice(&ctx, y0)?;
-        let (jacobian, custom, sparse_jac) = match linear {
-            Linear::Dense(j) => (j, None, None),
-            Linear::Custom(c) => (None, Some(c), None),
-            Linear::Sparse(j, p, s) => (None, None, Some((j, p, s))),
+        let (jacobian, custom, sparse_jac, schur) = match linear {
+            Linear::Dense(j) => (j, None, None, None),
+            Linear::Schur(j, p) => (Some(j), None, None, Some(p)),
+            Linear::Custom(c) => (None, Some(c), None, None),
+            Linear::Sparse(j, p, s) => (None, None, Some((j, p, s)), None),
         };
         let has_jac = jacobian.is_some();
         let sparse_kind = sparse_jac.as_ref().map(|(_, _, s)| *s);
@@ -324,7 +356,10 @@ impl Ida {
             (_, Some(sm), Some(kind)) => (None, sparse::new_sparse_solver(&ctx, &y, sm, kind)?),
             (None, _, _) => {
                 let mat = DenseMatrix::square(&ctx, n)?;
-                let ls = LinearSolver::dense(&ctx, &y, &mat)?;
+                let ls = match schur {
+                    Some(p) => super::schur::new(&ctx, p)?,
+                    None => LinearSolver::dense(&ctx, &y, &mat)?,
+                };
                 (Some(mat), ls)
             }
             (Some(c), _, _) => (None, custom_ls::new_linear_solver(&ctx, c, n)?),

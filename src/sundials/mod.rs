@@ -10,6 +10,8 @@
 //! - [`context`]: RAII `SUNContext`.
 //! - [`vector`], [`matrix`], [`linsol`]: RAII serial `N_Vector`, dense `SUNMatrix`, dense `SUNLinearSolver`.
 //! - [`dense_lu`]: the dense LU solver of the Newton iterations (compiled with the crate).
+//! - [`schur`]: the Newton matrix by elimination of a block-lower-triangular dependent part
+//!   and an LU of the Schur complement (the index-1 DAE's degrees of freedom).
 //! - [`fast_ops`]: the serial vector kernels compiled with the crate (Debian builds SUNDIALS unoptimised).
 //! - [`error`]: [`SolverError`], [`CallbackError`] and flag-name lookup.
 //! - [`callback`]: panic-safe trampolines' shared state.
@@ -22,13 +24,13 @@
 //! - [`mod@version`]: linked library version.
 //! - [`heap`]: bytes in use by `malloc`, for leak tests.
 
+mod arkode_ffi;
 pub mod callback;
 pub mod context;
 pub mod custom_ls;
 pub mod cvode;
 pub mod dense_lu;
 pub mod driver;
-mod arkode_ffi;
 pub mod erk;
 pub mod error;
 pub mod fast_ops;
@@ -37,6 +39,7 @@ pub mod ida;
 pub mod linsol;
 pub mod matrix;
 pub mod options;
+pub mod schur;
 pub mod sparse;
 pub mod stats;
 pub mod tables;
