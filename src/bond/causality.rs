@@ -304,6 +304,18 @@ pub fn assign_causality_at(
     assign(graph, t, &state, true)
 }
 
+/// [`assign_causality_at`] on a graph already known to be valid (a mechanism's graph that
+/// was assigned once): the validation, whose messages cost more than the assignment itself,
+/// is skipped. What a formulation's re-choice at run time calls.
+pub fn reassign_causality_at(graph: &BondGraph, t: f64, values: Valuation) -> Causality {
+    let state = |n: &str| {
+        values(n)
+            .or_else(|| initial_value(graph, n))
+            .or_else(|| Some(generic_value(n)))
+    };
+    assign_valid(graph, t, &state, true)
+}
+
 fn assign(
     graph: &BondGraph,
     t: f64,
@@ -311,6 +323,10 @@ fn assign(
     at_state: bool,
 ) -> Result<Causality, ValidationErrors> {
     validate(graph)?;
+    Ok(assign_valid(graph, t, values, at_state))
+}
+
+fn assign_valid(graph: &BondGraph, t: f64, values: Valuation, at_state: bool) -> Causality {
     let deferred = joint_rows(graph);
     let at = constraint_rank(graph, t, values, &[], &deferred);
     let generic_values = |n: &str| Some(generic_value(n));
@@ -366,7 +382,7 @@ fn assign(
             break;
         }
     }
-    Ok(finish(graph, sources, constraints))
+    finish(graph, sources, constraints)
 }
 
 /// The elements whose rows are joint constraints: the graph's annotated constraint junctions,

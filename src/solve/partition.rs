@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use crate::bond::causality::{assign_causality_at, CausalityReport};
+use crate::bond::causality::{assign_causality_at, reassign_causality_at, CausalityReport};
 use crate::bond::model::BondGraph;
 use crate::mech::MultibodySystem;
 
@@ -65,17 +65,23 @@ impl CausalPartition {
         cp
     }
 
-    /// The assignment at `(t, q)` (the graph's initial values where `q` is `None`).
+    /// The assignment at `(t, q)` (the graph's initial values where `q` is `None`: the start,
+    /// which validates the graph; the re-choices at a state skip that).
     fn report(&self, t: f64, q: Option<&[f64]>) -> Option<CausalityReport> {
         let graph = self.graph.as_deref()?;
-        let values = |name: &str| {
-            let q = q?;
-            self.displacement_vars
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|&(_, i)| q[i])
+        let causality = match q {
+            None => assign_causality_at(graph, t, &|_| None).ok()?,
+            Some(q) => {
+                self.start.as_ref()?;
+                let values = |name: &str| {
+                    self.displacement_vars
+                        .iter()
+                        .find(|(n, _)| n == name)
+                        .map(|&(_, i)| q[i])
+                };
+                reassign_causality_at(graph, t, &values)
+            }
         };
-        let causality = assign_causality_at(graph, t, &values).ok()?;
         Some(causality.report(graph))
     }
 
