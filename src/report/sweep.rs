@@ -24,13 +24,10 @@
 //! The accuracy runs of all points go in parallel (`rayon`); the timing runs one at a time
 //! (a point whose accuracy run took over [`SLOW_RUN_SECONDS`] is timed once).
 
-use std::path::Path;
-
 use serde::Serialize;
 
 use super::compare::{column_kind, ColumnKind};
 use crate::solve::Solution;
-use crate::{Error, Result};
 
 /// What to sweep.
 #[derive(Clone, Debug, PartialEq)]
@@ -383,27 +380,5 @@ impl SweepReport {
             )),
         }
         s
-    }
-
-    /// Writes `work_precision.csv`, `stiffness.csv`, `sweep.json`, `work_precision.svg` and
-    /// `stiffness.svg` into `dir` (created if missing).
-    pub fn write_all(&self, dir: &Path) -> Result<()> {
-        let io = |p: &Path, source| Error::Io {
-            path: p.display().to_string(),
-            source,
-        };
-        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-        let json = serde_json::to_string_pretty(self).expect("report serialises");
-        for (name, text) in [
-            ("work_precision.csv", self.work_precision_csv()),
-            ("stiffness.csv", self.stiffness_csv()),
-            ("sweep.json", json),
-        ] {
-            let p = dir.join(name);
-            crate::output::write_atomic(&p, text.as_bytes()).map_err(|e| io(&p, e))?;
-        }
-        super::plot::work_precision_svg(self, &dir.join("work_precision.svg"))?;
-        super::plot::stiffness_svg(self, &dir.join("stiffness.svg"))?;
-        Ok(())
     }
 }

@@ -48,7 +48,7 @@ pub enum SceneError {
     },
     /// A `PATH=JSON` assignment (`--set`, `sweep --vary`) could not be parsed or applied.
     #[error("{0}")]
-    Path(Box<super::path::PathError>),
+    Path(Box<PathError>),
     /// The scene file could not be read.
     #[error("cannot read scene file '{}': {source}", path.display())]
     Io {
@@ -104,8 +104,102 @@ pub(crate) fn index(parent: &str, i: usize) -> String {
     format!("{parent}[{i}]")
 }
 
-impl From<super::path::PathError> for SceneError {
-    fn from(e: super::path::PathError) -> SceneError {
+impl From<PathError> for SceneError {
+    fn from(e: PathError) -> SceneError {
         SceneError::Path(Box::new(e))
+    }
+}
+
+/// Why a path or an assignment could not be parsed or applied.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PathError {
+    /// The path text is malformed.
+    #[error("bad scene path '{path}': {message}")]
+    Syntax {
+        /// The path as given.
+        path: String,
+        /// What is wrong (with the character position).
+        message: String,
+    },
+    /// An assignment is not `PATH=JSON`, or its value is not JSON.
+    #[error("bad assignment '{assignment}': {message}")]
+    Assignment {
+        /// The assignment as given.
+        assignment: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A key is not there (and could not be added, because an index follows it).
+    #[error(
+        "{path}: no key '{key}' in {} (keys there: {})",
+        where_(at),
+        list(available)
+    )]
+    UnknownKey {
+        /// The whole path.
+        path: String,
+        /// The path of the object searched (empty: the scene).
+        at: String,
+        /// The missing key.
+        key: String,
+        /// The keys the object has.
+        available: Vec<String>,
+    },
+    /// An index past the end of an array.
+    #[error("{path}: index {index} out of range: {} has {len} entries", where_(at))]
+    IndexOutOfRange {
+        /// The whole path.
+        path: String,
+        /// The path of the array.
+        at: String,
+        /// The index asked for.
+        index: usize,
+        /// The array's length.
+        len: usize,
+    },
+    /// No entry of an array has this `"name"`.
+    #[error(
+        "{path}: no entry named '{name}' in {} (names there: {})",
+        where_(at),
+        list(names)
+    )]
+    UnknownName {
+        /// The whole path.
+        path: String,
+        /// The path of the array.
+        at: String,
+        /// The name asked for.
+        name: String,
+        /// The names present.
+        names: Vec<String>,
+    },
+    /// A key or index applied to something that has none (a number, a string, …).
+    #[error("{path}: {} is {found}, it has no {wanted}", where_(at))]
+    NotContainer {
+        /// The whole path.
+        path: String,
+        /// The path of the value.
+        at: String,
+        /// Its JSON type (`a number`, `an array`, …).
+        found: String,
+        /// What the segment needs (`key 'mass'`, `index 1`, `entry named 'bar2'`).
+        wanted: String,
+    },
+}
+
+fn where_(at: &str) -> String {
+    if at.is_empty() {
+        "the scene".into()
+    } else {
+        format!("'{at}'")
+    }
+}
+
+fn list(v: &[String]) -> String {
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
     }
 }

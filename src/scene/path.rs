@@ -20,7 +20,7 @@
 //! Applying an assignment replaces the value at the path. A missing *object key* is added
 //! (`solve.rtol` in a scene that relies on the default), so the scene's own parser judges it:
 //! a misspelt last key comes back as `solve.rtl: unknown field (expected one of: …)`. Every
-//! other mistake is a [`PathError`] naming the path: a key missing in front of an index (with
+//! other mistake is a [`PathError`](super::error::PathError) naming the path: a key missing in front of an index (with
 //! the keys present there), an index out of range (with the length), an unknown name (with the
 //! names present), indexing into something that is not an array or object, a malformed path,
 //! malformed JSON. After the assignments the scene is parsed and validated as if read from a
@@ -45,6 +45,7 @@
 use std::fmt;
 use std::path::Path;
 
+pub use super::error::PathError;
 use super::error::{Problem, SceneError};
 use super::parse;
 use super::tree::Json;
@@ -67,100 +68,6 @@ pub enum Segment {
 pub struct ScenePath {
     text: String,
     segments: Vec<Segment>,
-}
-
-/// Why a path or an assignment could not be parsed or applied.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum PathError {
-    /// The path text is malformed.
-    #[error("bad scene path '{path}': {message}")]
-    Syntax {
-        /// The path as given.
-        path: String,
-        /// What is wrong (with the character position).
-        message: String,
-    },
-    /// An assignment is not `PATH=JSON`, or its value is not JSON.
-    #[error("bad assignment '{assignment}': {message}")]
-    Assignment {
-        /// The assignment as given.
-        assignment: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A key is not there (and could not be added, because an index follows it).
-    #[error(
-        "{path}: no key '{key}' in {} (keys there: {})",
-        where_(at),
-        list(available)
-    )]
-    UnknownKey {
-        /// The whole path.
-        path: String,
-        /// The path of the object searched (empty: the scene).
-        at: String,
-        /// The missing key.
-        key: String,
-        /// The keys the object has.
-        available: Vec<String>,
-    },
-    /// An index past the end of an array.
-    #[error("{path}: index {index} out of range: {} has {len} entries", where_(at))]
-    IndexOutOfRange {
-        /// The whole path.
-        path: String,
-        /// The path of the array.
-        at: String,
-        /// The index asked for.
-        index: usize,
-        /// The array's length.
-        len: usize,
-    },
-    /// No entry of an array has this `"name"`.
-    #[error(
-        "{path}: no entry named '{name}' in {} (names there: {})",
-        where_(at),
-        list(names)
-    )]
-    UnknownName {
-        /// The whole path.
-        path: String,
-        /// The path of the array.
-        at: String,
-        /// The name asked for.
-        name: String,
-        /// The names present.
-        names: Vec<String>,
-    },
-    /// A key or index applied to something that has none (a number, a string, …).
-    #[error("{path}: {} is {found}, it has no {wanted}", where_(at))]
-    NotContainer {
-        /// The whole path.
-        path: String,
-        /// The path of the value.
-        at: String,
-        /// Its JSON type (`a number`, `an array`, …).
-        found: String,
-        /// What the segment needs (`key 'mass'`, `index 1`, `entry named 'bar2'`).
-        wanted: String,
-    },
-}
-
-fn where_(at: &str) -> String {
-    if at.is_empty() {
-        "the scene".into()
-    } else {
-        format!("'{at}'")
-    }
-}
-
-fn list(v: &[String]) -> String {
-    if v.is_empty() {
-        "none".into()
-    } else {
-        v.join(", ")
-    }
 }
 
 fn is_key_char(c: char) -> bool {

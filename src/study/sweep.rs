@@ -372,6 +372,28 @@ pub fn sweep_command(model: &Model, cfg: &SweepConfig, out: &Path) -> Result<Swe
         bar.inc(1);
     })?;
     bar.finish_and_clear();
-    report.write_all(out)?;
+    write_sweep(&report, out)?;
     Ok(report)
+}
+
+/// Writes `work_precision.csv`, `stiffness.csv`, `sweep.json`, `work_precision.svg` and
+/// `stiffness.svg` into `dir` (created if missing).
+pub fn write_sweep(report: &SweepReport, dir: &Path) -> Result<()> {
+    let io = |p: &Path, source| Error::Io {
+        path: p.display().to_string(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    let json = serde_json::to_string_pretty(report).expect("report serialises");
+    for (name, text) in [
+        ("work_precision.csv", report.work_precision_csv()),
+        ("stiffness.csv", report.stiffness_csv()),
+        ("sweep.json", json),
+    ] {
+        let p = dir.join(name);
+        crate::output::write_atomic(&p, text.as_bytes()).map_err(|e| io(&p, e))?;
+    }
+    crate::report::plot::work_precision_svg(report, &dir.join("work_precision.svg"))?;
+    crate::report::plot::stiffness_svg(report, &dir.join("stiffness.svg"))?;
+    Ok(())
 }
