@@ -336,19 +336,11 @@ impl Erk {
         driver::solve_to(self, tout)
     }
 
+    driver::budget_methods!();
+
     /// Time of the last accepted step (at or after [`Self::t`]).
     pub fn last_step_time(&self) -> f64 {
         self.accepted
-    }
-
-    /// Counts `spent` against the wall-clock budget (a solve continued from an earlier solver).
-    pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
-        self.driver.wall_used += spent;
-    }
-
-    /// Counts `steps` against the total step budget.
-    pub fn charge_steps(&mut self, steps: u64) {
-        self.driver.steps_used += steps;
     }
 
     /// Time of the state in `y()`.

@@ -613,34 +613,7 @@ impl Ida {
         driver::solve_to(self, tout)
     }
 
-    /// Take one internal step toward `tout`.
-    pub fn step(&mut self, tout: f64) -> Result<Step, SolverError> {
-        driver::step(self, tout)
-    }
-
-    /// Wall-clock time spent in `solve_to`/`step` since the solver was built; the
-    /// `max_wall_clock` budget is checked against it.
-    pub fn wall_clock_used(&self) -> std::time::Duration {
-        self.driver.wall_used
-    }
-
-    /// Count `spent` against the wall-clock budget as if it had been spent in this solver
-    /// (for a solve that continues on a new solver after an earlier one).
-    pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
-        self.driver.wall_used += spent;
-    }
-
-    /// Internal steps taken by `solve_to`/`step` since the solver was built; the
-    /// `max_total_steps` budget is checked against it.
-    pub fn steps_used(&self) -> u64 {
-        self.driver.steps_used
-    }
-
-    /// Count `steps` against the total step budget as if they had been taken by this solver
-    /// (for a solve that continues on a new solver after an earlier one).
-    pub fn charge_steps(&mut self, steps: u64) {
-        self.driver.steps_used += steps;
-    }
+    driver::budget_methods!();
 
     /// Time of the state in `y()`/`yp()`.
     pub fn t(&self) -> f64 {

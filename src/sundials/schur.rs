@@ -2,8 +2,8 @@
 //! it eliminates the dependent unknowns block by block and factors only the Schur complement
 //! on the remaining ones (the mechanism's degrees of freedom).
 //!
-//! With the unknowns split into `x` (the [`SchurPartition::outer`] set) and `z` (the
-//! [`SchurPartition::blocks`], in order), the matrix and its solution read
+//! With the unknowns split into `x` (the outer set of a [`SchurPartition`]: the degrees of
+//! freedom) and `z` (its dependent blocks, in order), the matrix and its solution read
 //!
 //! ```text
 //!   J = [A B; C D],   D = [D₁₁ 0 … 0; D₂₁ D₂₂ 0 …; …]  (block lower triangular),
