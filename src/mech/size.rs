@@ -26,7 +26,7 @@
 //! spatial hinge chains (`nv + nc = 11 N`, `n = 23 N`) it is 9 % less. Chains of a few hundred
 //! bodies (a 500-link pendulum needs about 0.2 GiB) are far from the limit either way.
 
-use crate::scene::{Dimension, Formulation, JointKind, Scene};
+use crate::scene::{Dimension, Formulation, Scene};
 use crate::solve::LinearSolverKind;
 
 /// Fraction of the available memory a model may plan to use.
@@ -184,13 +184,7 @@ pub fn estimate_memory_with(
     let nc: usize = scene
         .joints
         .iter()
-        .map(|j| match (&j.kind, spatial) {
-            (JointKind::Revolute, false) | (JointKind::Prismatic { .. }, false) => 2,
-            (JointKind::Weld, false) | (JointKind::Spherical, _) => 3,
-            (JointKind::Hinge { .. }, _) | (JointKind::Prismatic { .. }, true) => 5,
-            (JointKind::Weld, true) => 6,
-            (JointKind::Revolute, true) => 5,
-        })
+        .map(|j| super::joints::locks(&j.kind, spatial))
         .sum();
     if let Some(elements) = scene
         .bond_graph

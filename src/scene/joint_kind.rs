@@ -1,0 +1,175 @@
+//! The joint kinds a scene can name, as data: each kind's `"type"`, the fields it carries
+//! beyond the generic `name`, `bodies` and `points`, and the checks and writing of those fields.
+//!
+//! This is the scene side of a joint kind (`docs/scene-format.md` §5). What a kind *does* —
+//! its bond-graph fragment, its closure rows `g_k(q)`, what it locks, its twin's springs, its
+//! reaction and its glyph — lives in one file per kind under `crate::mech::joints`, which
+//! dispatches on [`JointKind`] once. A new kind adds its variant and its arms here (one file)
+//! and its dispatch line and file there.
+
+use super::error::{field, Problems};
+use super::model::Dimension;
+use super::parse::Fields;
+use super::tree::Json;
+
+/// The keys a joint object may carry (the generic ones and every kind's own).
+pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+
+/// Every kind's `"type"` spelling, in the order the documentation lists them.
+pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld"];
+
+/// The JSON schema of each kind-specific key (`(key, description, schema type)`), for
+/// [`super::schema::scene_schema`].
+pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[(
+    "axis",
+    "Sliding direction (prismatic) or hinge axis (spatial revolute), first body's frame.",
+    "vector",
+)];
+
+/// The kind of a joint.
+#[derive(Debug, Clone, PartialEq)]
+pub enum JointKind {
+    /// `"revolute"` without `axis`: planar pin (the two points coincide).
+    Revolute,
+    /// `"prismatic"`: slider along `axis` (frame of the first body); relative rotation fixed
+    /// (planar: one normal row and the relative angle; spatial: two normal rows and three
+    /// rotation rows, the latter left out when the second body is a point mass).
+    Prismatic {
+        /// Sliding direction in the frame of the first body (non-zero; not normalised).
+        axis: Vec<f64>,
+    },
+    /// `"revolute"` with an `axis` in a spatial scene: a hinge. Five rows: the two points
+    /// coincide (3) and the hinge axis `a = R_1 axis` stays perpendicular to two body-2 vectors
+    /// `R_2 c_1`, `R_2 c_2` (2), where `c_1, c_2` span the plane perpendicular to the axis as seen
+    /// in body 2 at the initial configuration (`R_2(0)ᵀ R_1(0) axis`).
+    Hinge {
+        /// Hinge axis in the frame of the first body (global for ground; non-zero).
+        axis: Vec<f64>,
+    },
+    /// `"spherical"`: 3D ball joint.
+    Spherical,
+    /// `"weld"`: the two bodies are fixed together.
+    Weld,
+}
+
+impl JointKind {
+    /// The kind's `"type"` in a scene.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            JointKind::Revolute | JointKind::Hinge { .. } => "revolute",
+            JointKind::Prismatic { .. } => "prismatic",
+            JointKind::Spherical => "spherical",
+            JointKind::Weld => "weld",
+        }
+    }
+
+    /// The kind's own fields, as written after `"points"`.
+    pub(super) fn write(&self, e: &mut Vec<(&'static str, Json)>) {
+        if let JointKind::Prismatic { axis } | JointKind::Hinge { axis } = self {
+            e.push(("axis", nums(axis)));
+        }
+    }
+
+    /// Checks what the kind's own fields mean in a scene of dimension `dim` (the generic
+    /// `bodies` and `points` are checked by the caller); `path` is the joint's.
+    pub(super) fn validate(
+        &self,
+        p: &mut Problems,
+        dim: Dimension,
+        path: &str,
+        bodies: &[String; 2],
+    ) {
+        let _ = bodies;
+        let tp = field(path, "type");
+        match (self, dim) {
+            (JointKind::Spherical, Dimension::Planar) => p.push(
+                tp,
+                "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane",
+            ),
+            (JointKind::Revolute, Dimension::Spatial) => p.push(
+                field(path, "axis"),
+                "a revolute joint in a spatial scene is a hinge and needs an axis (the hinge axis in the frame of the first body, global for ground; body 2 keeps the relative orientation of the initial configuration about it); use spherical for a ball joint",
+            ),
+            (JointKind::Hinge { .. }, Dimension::Planar) => p.push(
+                field(path, "axis"),
+                "only a prismatic joint has an axis in a planar scene (a planar revolute pins about z)",
+            ),
+            (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
+                direction(p, &field(path, "axis"), axis, dim.coords());
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Checks a direction field: `n` components, not all zero.
+pub(super) fn direction(p: &mut Problems, path: &str, v: &[f64], n: usize) {
+    if v.len() != n {
+        p.push(path, format!("expected {n} components, got {}", v.len()));
+    }
+    let norm2: f64 = v.iter().map(|x| x * x).sum();
+    if norm2.is_finite() && norm2 == 0.0 {
+        p.push(path, "must be a non-zero direction");
+    }
+}
+
+fn nums(v: &[f64]) -> Json {
+    Json::Array(v.iter().copied().map(Json::Number).collect())
+}
+
+/// Whether the kind attaches at two points (`"points"` required); a kind without points
+/// gets both bodies' centres.
+pub fn has_points(type_name: &str) -> bool {
+    let _ = type_name;
+    true
+}
+
+/// Reads the kind `type_name` and its own fields from a joint object (`f`), reporting
+/// shape problems at their paths; `None` when it cannot be read.
+pub(super) fn parse(
+    p: &mut Problems,
+    f: &Fields<'_>,
+    type_name: &str,
+    dim: Dimension,
+) -> Option<JointKind> {
+    let _ = dim;
+    let axis = f.vector(p, "axis");
+    match type_name {
+        "prismatic" => match axis {
+            Some(axis) => Some(JointKind::Prismatic { axis }),
+            None => {
+                if f.get("axis").is_none() {
+                    p.push(f.path("axis"), "a prismatic joint needs an axis (the sliding direction in the frame of the first body)");
+                }
+                None
+            }
+        },
+        "revolute" => match axis {
+            Some(axis) => Some(JointKind::Hinge { axis }),
+            None if f.get("axis").is_some() => None,
+            None => Some(JointKind::Revolute),
+        },
+        k => {
+            if f.get("axis").is_some() {
+                p.push(
+                    f.path("axis"),
+                    "only a prismatic joint or a spatial revolute (hinge) has an axis",
+                );
+            }
+            match k {
+                "spherical" => Some(JointKind::Spherical),
+                "weld" => Some(JointKind::Weld),
+                other => {
+                    p.push(
+                        f.path("type"),
+                        format!(
+                            "unknown joint type \"{other}\" (expected {})",
+                            JOINT_TYPES.join(", ")
+                        ),
+                    );
+                    None
+                }
+            }
+        }
+    }
+}
