@@ -26,6 +26,10 @@ pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[(
     "vector",
 )];
 
+/// The kinds that may carry each kind-specific key other than `axis` (whose refusal has its
+/// own message); a key given to another kind is refused.
+const KEY_OWNERS: &[(&str, &[&str])] = &[];
+
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
 pub enum JointKind {
@@ -133,6 +137,14 @@ pub(super) fn parse(
     dim: Dimension,
 ) -> Option<JointKind> {
     let _ = dim;
+    for &(key, owners) in KEY_OWNERS {
+        if f.get(key).is_some() && !owners.contains(&type_name) {
+            p.push(
+                f.path(key),
+                format!("only a {} joint has a {key}", owners.join(" or ")),
+            );
+        }
+    }
     let axis = f.vector(p, "axis");
     match type_name {
         "prismatic" => match axis {

@@ -55,7 +55,7 @@ impl<'a> Fields<'a> {
         field(&self.path, key)
     }
 
-    fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
+    pub(super) fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
         let v = self.get(key);
         if v.is_none() {
             p.push(self.path(key), "required field is missing");
@@ -67,7 +67,7 @@ impl<'a> Fields<'a> {
         self.get(key).and_then(|j| number(p, &self.path(key), j))
     }
 
-    fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
+    pub(super) fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
         self.required(p, key)
             .and_then(|j| number(p, &self.path(key), j))
     }
@@ -128,7 +128,7 @@ fn string(p: &mut Problems, path: &str, j: &Json) -> Option<String> {
     }
 }
 
-fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
+pub(super) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
     let Json::Array(items) = j else {
         p.push(
             path,
