@@ -13,22 +13,29 @@ use super::parse::Fields;
 use super::tree::Json;
 
 /// The keys a joint object may carry (the generic ones and every kind's own).
-pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis", "ratio"];
 
 /// Every kind's `"type"` spelling, in the order the documentation lists them.
-pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld"];
+pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld", "gear"];
 
 /// The JSON schema of each kind-specific key (`(key, description, schema type)`), for
 /// [`super::schema::scene_schema`].
-pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[(
-    "axis",
-    "Sliding direction (prismatic) or hinge axis (spatial revolute), first body's frame.",
-    "vector",
-)];
+pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[
+    (
+        "axis",
+        "Sliding direction (prismatic) or hinge axis (spatial revolute), first body's frame.",
+        "vector",
+    ),
+    (
+        "ratio",
+        "Gear ratio r (gear): θ_b − θ_b(0) = −r (θ_a − θ_a(0)).",
+        "number",
+    ),
+];
 
 /// The kinds that may carry each kind-specific key other than `axis` (whose refusal has its
 /// own message); a key given to another kind is refused.
-const KEY_OWNERS: &[(&str, &[&str])] = &[];
+const KEY_OWNERS: &[(&str, &[&str])] = &[("ratio", &["gear"])];
 
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,6 +61,12 @@ pub enum JointKind {
     Spherical,
     /// `"weld"`: the two bodies are fixed together.
     Weld,
+    /// `"gear"` (planar): an external mesh between two gears on axles fixed to the ground,
+    /// `θ_b − θ_b(0) = −r (θ_a − θ_a(0))`; no `points`.
+    Gear {
+        /// The ratio `r` (non-zero, finite): body b turns `−r` times body a's rotation.
+        ratio: f64,
+    },
 }
 
 impl JointKind {
@@ -64,6 +77,7 @@ impl JointKind {
             JointKind::Prismatic { .. } => "prismatic",
             JointKind::Spherical => "spherical",
             JointKind::Weld => "weld",
+            JointKind::Gear { .. } => "gear",
         }
     }
 
@@ -71,6 +85,9 @@ impl JointKind {
     pub(super) fn write(&self, e: &mut Vec<(&'static str, Json)>) {
         if let JointKind::Prismatic { axis } | JointKind::Hinge { axis } = self {
             e.push(("axis", nums(axis)));
+        }
+        if let JointKind::Gear { ratio } = self {
+            e.push(("ratio", Json::Number(*ratio)));
         }
     }
 
@@ -83,7 +100,6 @@ impl JointKind {
         path: &str,
         bodies: &[String; 2],
     ) {
-        let _ = bodies;
         let tp = field(path, "type");
         match (self, dim) {
             (JointKind::Spherical, Dimension::Planar) => p.push(
@@ -100,6 +116,23 @@ impl JointKind {
             ),
             (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
                 direction(p, &field(path, "axis"), axis, dim.coords());
+            }
+            (JointKind::Gear { .. }, Dimension::Spatial) => p.push(
+                tp,
+                "a gear joint is planar (dimension 2): it meshes two rotations about Z",
+            ),
+            (JointKind::Gear { ratio }, Dimension::Planar) => {
+                if !ratio.is_finite() || *ratio == 0.0 {
+                    p.push(field(path, "ratio"), "must be a finite, non-zero number");
+                }
+                for (k, b) in bodies.iter().enumerate() {
+                    if b == super::model::GROUND {
+                        p.push(
+                            super::error::index(&field(path, "bodies"), k),
+                            "a gear meshes two moving gears (on axles fixed to the ground by their own revolute joints); the ground cannot be one of them",
+                        );
+                    }
+                }
             }
             _ => {}
         }
@@ -124,8 +157,7 @@ fn nums(v: &[f64]) -> Json {
 /// Whether the kind attaches at two points (`"points"` required); a kind without points
 /// gets both bodies' centres.
 pub fn has_points(type_name: &str) -> bool {
-    let _ = type_name;
-    true
+    type_name != "gear"
 }
 
 /// Reads the kind `type_name` and its own fields from a joint object (`f`), reporting
@@ -170,6 +202,9 @@ pub(super) fn parse(
             }
             match k {
                 "spherical" => Some(JointKind::Spherical),
+                "gear" => f
+                    .required_number(p, "ratio")
+                    .map(|ratio| JointKind::Gear { ratio }),
                 "weld" => Some(JointKind::Weld),
                 other => {
                     p.push(

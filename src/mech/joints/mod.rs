@@ -33,6 +33,7 @@
 //! Each joint's reaction (its force and moment on the second body) is read from the
 //! multipliers of its rows ([`JointReaction`]).
 
+mod gear;
 mod hinge;
 mod prismatic;
 mod revolute;
@@ -124,6 +125,7 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
         JointKind::Hinge { axis } => Box::new(hinge::Hinge { axis }),
         JointKind::Prismatic { axis } => Box::new(prismatic::Prismatic { axis }),
         JointKind::Weld => Box::new(weld::Weld),
+        JointKind::Gear { ratio } => Box::new(gear::Gear { ratio: *ratio }),
     }
 }
 
