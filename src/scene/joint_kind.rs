@@ -16,7 +16,7 @@ use super::tree::Json;
 pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis", "ratio"];
 
 /// Every kind's `"type"` spelling, in the order the documentation lists them.
-pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld", "gear"];
+pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld", "gear", "slot"];
 
 /// The JSON schema of each kind-specific key (`(key, description, schema type)`), for
 /// [`super::schema::scene_schema`].
@@ -61,6 +61,12 @@ pub enum JointKind {
     Spherical,
     /// `"weld"`: the two bodies are fixed together.
     Weld,
+    /// `"slot"` (planar pin-in-slot): the second body's point stays on the line through the
+    /// first body's point along `axis` (fixed in the first body); sliding and rotation free.
+    Slot {
+        /// The slot's direction in the first body's frame (global for ground; non-zero).
+        axis: Vec<f64>,
+    },
     /// `"gear"` (planar): an external mesh between two gears on axles fixed to the ground,
     /// `θ_b − θ_b(0) = −r (θ_a − θ_a(0))`; no `points`.
     Gear {
@@ -78,12 +84,16 @@ impl JointKind {
             JointKind::Spherical => "spherical",
             JointKind::Weld => "weld",
             JointKind::Gear { .. } => "gear",
+            JointKind::Slot { .. } => "slot",
         }
     }
 
     /// The kind's own fields, as written after `"points"`.
     pub(super) fn write(&self, e: &mut Vec<(&'static str, Json)>) {
-        if let JointKind::Prismatic { axis } | JointKind::Hinge { axis } = self {
+        if let JointKind::Prismatic { axis }
+        | JointKind::Hinge { axis }
+        | JointKind::Slot { axis } = self
+        {
             e.push(("axis", nums(axis)));
         }
         if let JointKind::Gear { ratio } = self {
@@ -116,6 +126,13 @@ impl JointKind {
             ),
             (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
                 direction(p, &field(path, "axis"), axis, dim.coords());
+            }
+            (JointKind::Slot { .. }, Dimension::Spatial) => p.push(
+                tp,
+                "a slot joint is planar (dimension 2); in space use a prismatic joint with a point mass",
+            ),
+            (JointKind::Slot { axis }, Dimension::Planar) => {
+                direction(p, &field(path, "axis"), axis, 2);
             }
             (JointKind::Gear { .. }, Dimension::Spatial) => p.push(
                 tp,
@@ -193,11 +210,20 @@ pub(super) fn parse(
             None if f.get("axis").is_some() => None,
             None => Some(JointKind::Revolute),
         },
+        "slot" => match axis {
+            Some(axis) => Some(JointKind::Slot { axis }),
+            None => {
+                if f.get("axis").is_none() {
+                    p.push(f.path("axis"), "a slot joint needs an axis (the slot's direction in the frame of the first body)");
+                }
+                None
+            }
+        },
         k => {
             if f.get("axis").is_some() {
                 p.push(
                     f.path("axis"),
-                    "only a prismatic joint or a spatial revolute (hinge) has an axis",
+                    "only a prismatic or slot joint or a spatial revolute (hinge) has an axis",
                 );
             }
             match k {

@@ -37,6 +37,7 @@ mod gear;
 mod hinge;
 mod prismatic;
 mod revolute;
+mod slot;
 mod spherical;
 mod weld;
 
@@ -126,6 +127,7 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
         JointKind::Prismatic { axis } => Box::new(prismatic::Prismatic { axis }),
         JointKind::Weld => Box::new(weld::Weld),
         JointKind::Gear { ratio } => Box::new(gear::Gear { ratio: *ratio }),
+        JointKind::Slot { axis } => Box::new(slot::Slot { axis }),
     }
 }
 
