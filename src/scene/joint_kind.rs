@@ -13,10 +13,20 @@ use super::parse::Fields;
 use super::tree::Json;
 
 /// The keys a joint object may carry (the generic ones and every kind's own).
-pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis", "ratio"];
+pub(crate) const JOINT_KEYS: &[&str] = &[
+    "name", "type", "bodies", "points", "axis", "ratio", "radius",
+];
 
 /// Every kind's `"type"` spelling, in the order the documentation lists them.
-pub const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "spherical", "weld", "gear", "slot"];
+pub const JOINT_TYPES: &[&str] = &[
+    "revolute",
+    "prismatic",
+    "spherical",
+    "weld",
+    "gear",
+    "slot",
+    "rack_pinion",
+];
 
 /// The JSON schema of each kind-specific key (`(key, description, schema type)`), for
 /// [`super::schema::scene_schema`].
@@ -35,7 +45,7 @@ pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[
 
 /// The kinds that may carry each kind-specific key other than `axis` (whose refusal has its
 /// own message); a key given to another kind is refused.
-const KEY_OWNERS: &[(&str, &[&str])] = &[("ratio", &["gear"])];
+const KEY_OWNERS: &[(&str, &[&str])] = &[("ratio", &["gear"]), ("radius", &["rack_pinion"])];
 
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -67,6 +77,14 @@ pub enum JointKind {
         /// The slot's direction in the first body's frame (global for ground; non-zero).
         axis: Vec<f64>,
     },
+    /// `"rack_pinion"` (planar): `bodies: [pinion, rack]`, `points: [C, P]` (the pinion's
+    /// centre, a point of the rack): `(P − C)·(R_rack û) − s(0) = ρ ((θ_p − θ_r) − (θ_p(0) − θ_r(0)))`.
+    RackPinion {
+        /// The pinion's pitch radius ρ (> 0).
+        radius: f64,
+        /// The rack's direction in the rack's frame (non-zero); the pinion lies on its left.
+        axis: Vec<f64>,
+    },
     /// `"gear"` (planar): an external mesh between two gears on axles fixed to the ground,
     /// `θ_b − θ_b(0) = −r (θ_a − θ_a(0))`; no `points`.
     Gear {
@@ -85,6 +103,7 @@ impl JointKind {
             JointKind::Weld => "weld",
             JointKind::Gear { .. } => "gear",
             JointKind::Slot { .. } => "slot",
+            JointKind::RackPinion { .. } => "rack_pinion",
         }
     }
 
@@ -94,6 +113,10 @@ impl JointKind {
         | JointKind::Hinge { axis }
         | JointKind::Slot { axis } = self
         {
+            e.push(("axis", nums(axis)));
+        }
+        if let JointKind::RackPinion { radius, axis } = self {
+            e.push(("radius", Json::Number(*radius)));
             e.push(("axis", nums(axis)));
         }
         if let JointKind::Gear { ratio } = self {
@@ -133,6 +156,22 @@ impl JointKind {
             ),
             (JointKind::Slot { axis }, Dimension::Planar) => {
                 direction(p, &field(path, "axis"), axis, 2);
+            }
+            (JointKind::RackPinion { .. }, Dimension::Spatial) => p.push(
+                tp,
+                "a rack_pinion joint is planar (dimension 2)",
+            ),
+            (JointKind::RackPinion { radius, axis }, Dimension::Planar) => {
+                direction(p, &field(path, "axis"), axis, 2);
+                if !radius.is_finite() || *radius <= 0.0 {
+                    p.push(field(path, "radius"), "must be a finite pitch radius > 0");
+                }
+                if bodies[0] == super::model::GROUND {
+                    p.push(
+                        super::error::index(&field(path, "bodies"), 0),
+                        "the pinion (first body) cannot be the ground: a fixed pinion locks the rack; the rack (second body) may be",
+                    );
+                }
             }
             (JointKind::Gear { .. }, Dimension::Spatial) => p.push(
                 tp,
@@ -210,6 +249,19 @@ pub(super) fn parse(
             None if f.get("axis").is_some() => None,
             None => Some(JointKind::Revolute),
         },
+        "rack_pinion" => {
+            let radius = f.required_number(p, "radius");
+            if f.get("axis").is_none() {
+                p.push(
+                    f.path("axis"),
+                    "a rack_pinion joint needs an axis (the rack's direction in the rack's frame)",
+                );
+            }
+            Some(JointKind::RackPinion {
+                radius: radius?,
+                axis: axis?,
+            })
+        }
         "slot" => match axis {
             Some(axis) => Some(JointKind::Slot { axis }),
             None => {
@@ -223,7 +275,7 @@ pub(super) fn parse(
             if f.get("axis").is_some() {
                 p.push(
                     f.path("axis"),
-                    "only a prismatic or slot joint or a spatial revolute (hinge) has an axis",
+                    "only a prismatic, slot or rack_pinion joint or a spatial revolute (hinge) has an axis",
                 );
             }
             match k {

@@ -36,6 +36,7 @@
 mod gear;
 mod hinge;
 mod prismatic;
+mod rack_pinion;
 mod revolute;
 mod slot;
 mod spherical;
@@ -128,6 +129,10 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
         JointKind::Weld => Box::new(weld::Weld),
         JointKind::Gear { ratio } => Box::new(gear::Gear { ratio: *ratio }),
         JointKind::Slot { axis } => Box::new(slot::Slot { axis }),
+        JointKind::RackPinion { radius, axis } => Box::new(rack_pinion::RackPinion {
+            radius: *radius,
+            axis,
+        }),
     }
 }
 
