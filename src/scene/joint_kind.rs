@@ -14,7 +14,7 @@ use super::tree::Json;
 
 /// The keys a joint object may carry (the generic ones and every kind's own).
 pub(crate) const JOINT_KEYS: &[&str] = &[
-    "name", "type", "bodies", "points", "axis", "ratio", "radius",
+    "name", "type", "bodies", "points", "axis", "ratio", "radius", "axes",
 ];
 
 /// Every kind's `"type"` spelling, in the order the documentation lists them.
@@ -41,11 +41,25 @@ pub(crate) const KIND_KEY_SCHEMAS: &[(&str, &str, &str)] = &[
         "Gear ratio r (gear): θ_b − θ_b(0) = −r (θ_a − θ_a(0)).",
         "number",
     ),
+    (
+        "radius",
+        "Pitch radius of the pinion (rack_pinion), > 0.",
+        "number",
+    ),
+    (
+        "axes",
+        "The two fork axes of a universal joint: [a1 in the first body's frame, a2 in the second's].",
+        "vectors",
+    ),
 ];
 
 /// The kinds that may carry each kind-specific key other than `axis` (whose refusal has its
 /// own message); a key given to another kind is refused.
-const KEY_OWNERS: &[(&str, &[&str])] = &[("ratio", &["gear"]), ("radius", &["rack_pinion"])];
+const KEY_OWNERS: &[(&str, &[&str])] = &[
+    ("ratio", &["gear"]),
+    ("radius", &["rack_pinion"]),
+    ("axes", &["universal"]),
+];
 
 /// The kind of a joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,6 +99,12 @@ pub enum JointKind {
         /// The rack's direction in the rack's frame (non-zero); the pinion lies on its left.
         axis: Vec<f64>,
     },
+    /// `"universal"` (spatial Hooke's joint): the points coincide and the fork axes stay
+    /// perpendicular, `(R_a a1)·(R_b a2) = 0` (four rows).
+    Universal {
+        /// `[a1, a2]`: a1 in the first body's frame, a2 in the second's (non-zero, 3D).
+        axes: [Vec<f64>; 2],
+    },
     /// `"gear"` (planar): an external mesh between two gears on axles fixed to the ground,
     /// `θ_b − θ_b(0) = −r (θ_a − θ_a(0))`; no `points`.
     Gear {
@@ -104,6 +124,7 @@ impl JointKind {
             JointKind::Gear { .. } => "gear",
             JointKind::Slot { .. } => "slot",
             JointKind::RackPinion { .. } => "rack_pinion",
+            JointKind::Universal { .. } => "universal",
         }
     }
 
@@ -118,6 +139,9 @@ impl JointKind {
         if let JointKind::RackPinion { radius, axis } = self {
             e.push(("radius", Json::Number(*radius)));
             e.push(("axis", nums(axis)));
+        }
+        if let JointKind::Universal { axes } = self {
+            e.push(("axes", Json::Array(axes.iter().map(|a| nums(a)).collect())));
         }
         if let JointKind::Gear { ratio } = self {
             e.push(("ratio", Json::Number(*ratio)));
@@ -171,6 +195,23 @@ impl JointKind {
                         super::error::index(&field(path, "bodies"), 0),
                         "the pinion (first body) cannot be the ground: a fixed pinion locks the rack; the rack (second body) may be",
                     );
+                }
+            }
+            (JointKind::Universal { .. }, Dimension::Planar) => p.push(
+                tp,
+                "a universal (Hooke's) joint needs a spatial scene (dimension 3)",
+            ),
+            (JointKind::Universal { axes }, Dimension::Spatial) => {
+                for (k, a) in axes.iter().enumerate() {
+                    direction(p, &super::error::index(&field(path, "axes"), k), a, 3);
+                }
+                for (k, b) in bodies.iter().enumerate() {
+                    if b == super::model::GROUND {
+                        p.push(
+                            super::error::index(&field(path, "bodies"), k),
+                            "a universal joint connects two moving shafts; hinge a shaft to the ground with a revolute joint instead",
+                        );
+                    }
                 }
             }
             (JointKind::Gear { .. }, Dimension::Spatial) => p.push(
@@ -261,6 +302,32 @@ pub(super) fn parse(
                 radius: radius?,
                 axis: axis?,
             })
+        }
+        "universal" => {
+            if f.get("axis").is_some() {
+                p.push(
+                    f.path("axis"),
+                    "a universal joint has two fork axes: use \"axes\": [a1, a2]",
+                );
+            }
+            let Some(j) = f.required(p, "axes") else {
+                return None;
+            };
+            let path = f.path("axes");
+            match j {
+                Json::Array(items) if items.len() == 2 => {
+                    let a1 = super::parse::vector(p, &super::error::index(&path, 0), &items[0]);
+                    let a2 = super::parse::vector(p, &super::error::index(&path, 1), &items[1]);
+                    Some(JointKind::Universal { axes: [a1?, a2?] })
+                }
+                _ => {
+                    p.push(
+                        path,
+                        "expected [a1, a2]: the fork axis in each body's frame",
+                    );
+                    None
+                }
+            }
         }
         "slot" => match axis {
             Some(axis) => Some(JointKind::Slot { axis }),

@@ -40,6 +40,7 @@ mod rack_pinion;
 mod revolute;
 mod slot;
 mod spherical;
+mod universal;
 mod weld;
 
 use super::body::{BodyKinematics, PointKinematics};
@@ -127,6 +128,7 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
         JointKind::Hinge { axis } => Box::new(hinge::Hinge { axis }),
         JointKind::Prismatic { axis } => Box::new(prismatic::Prismatic { axis }),
         JointKind::Weld => Box::new(weld::Weld),
+        JointKind::Universal { axes } => Box::new(universal::Universal { axes }),
         JointKind::Gear { ratio } => Box::new(gear::Gear { ratio: *ratio }),
         JointKind::Slot { axis } => Box::new(slot::Slot { axis }),
         JointKind::RackPinion { radius, axis } => Box::new(rack_pinion::RackPinion {
