@@ -310,9 +310,7 @@ pub(super) fn parse(
                     "a universal joint has two fork axes: use \"axes\": [a1, a2]",
                 );
             }
-            let Some(j) = f.required(p, "axes") else {
-                return None;
-            };
+            let j = f.required(p, "axes")?;
             let path = f.path("axes");
             match j {
                 Json::Array(items) if items.len() == 2 => {
