@@ -27,7 +27,14 @@ fn rack_and_pinion_under_gravity_matches_the_one_dof_lagrange_model() {
     let (m_p, j_c, e, rho, m_r) = (0.8, 0.004, 0.02, 0.05, 0.3);
     let j = j_c + m_p * e * e + m_r * rho * rho;
     let theta_ddot = |th: f64| (-m_p * G * e * th.cos() - m_r * G * rho) / j;
-    let scene = Scene::from_path(SCENE).unwrap();
+    // the bundled scene with the joints' reactions among its outputs
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
+    json["outputs"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!("reactions"));
+    let scene = Scene::from_json_str(&json.to_string()).unwrap();
     let model = Model::new(&scene).unwrap();
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),

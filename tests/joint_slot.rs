@@ -20,7 +20,14 @@ fn bead_in_a_slot_on_a_swinging_bar_matches_the_polar_lagrange_model() {
         bead_mass: 0.5,
         g: 9.81,
     };
-    let scene = Scene::from_path(SCENE).unwrap();
+    // the bundled scene with the joints' reactions among its outputs
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
+    json["outputs"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!("reactions"));
+    let scene = Scene::from_json_str(&json.to_string()).unwrap();
     let model = Model::new(&scene).unwrap();
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),

@@ -40,7 +40,14 @@ fn hooke_joint_shaft_angles_obey_tan_theta2_equals_tan_theta1_over_cos_beta() {
         -2.0 * cb * sb * sb * t.sin() * t.cos() / (den * den)
     };
     let accel = |t: f64, w: f64| -j2 * k(t) * dk(t) * w * w / (j1 + j2 * k(t) * k(t));
-    let scene = Scene::from_path(SCENE).unwrap();
+    // the bundled scene with the joints' reactions among its outputs
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
+    json["outputs"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!("reactions"));
+    let scene = Scene::from_json_str(&json.to_string()).unwrap();
     let model = Model::new(&scene).unwrap();
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),
