@@ -21,15 +21,13 @@
 use std::collections::HashMap;
 
 use crate::bond::fragments::{
-    change_frame, force, pin_to_ground, planar_body_fixed_frame, planar_body_translating,
-    prismatic, revolute, spring_damper, torque, weld, zero_flow, Axis, PlanarBody, PlanarBodySpec,
-    PointJunctions,
+    change_frame, force, planar_body_fixed_frame, planar_body_translating, spring_damper, torque,
+    Axis, PlanarBody, PlanarBodySpec, PointJunctions,
 };
 use crate::bond::model::{BondGraph, Parameter};
-use crate::scene::{
-    BodyFrame, Dimension, Inertia, JointKind, LoadKind, LoadValue, PointRef, Scene,
-};
+use crate::scene::{BodyFrame, Dimension, Inertia, LoadKind, LoadValue, PointRef, Scene};
 
+use super::joints::{common_frame, Drawing};
 use super::MechError;
 
 /// Which variant of the mechanism to draw.
@@ -216,92 +214,21 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
             continue;
         }
         let path = format!("joints[{ji}]");
-        let pa = point(&j.bodies[0], &joint_points[ji][0], &path)?;
-        let pb = point(&j.bodies[1], &joint_points[ji][1], &path)?;
-        // a pin or weld to ground is Sf = 0 in any frame; otherwise both points in one frame
-        let to_ground_pin = matches!(j.kind, JointKind::Revolute | JointKind::Weld);
-        let (pa, pb) = if to_ground_pin && (pa.is_none() || pb.is_none()) {
-            (pa, pb)
-        } else {
-            let global = matches!(j.kind, JointKind::Prismatic { .. });
-            common_frame(
-                &mut g,
-                scene,
-                &j.name,
-                [&j.bodies[0], &j.bodies[1]],
-                [pa, pb],
-                global,
-            )
+        let points = [
+            point(&j.bodies[0], &joint_points[ji][0], &path)?,
+            point(&j.bodies[1], &joint_points[ji][1], &path)?,
+        ];
+        let mut d = Drawing {
+            g: &mut g,
+            name: &j.name,
+            path: &path,
+            bodies: [&j.bodies[0], &j.bodies[1]],
+            points,
+            frames: [0, 1].map(|k| body_fixed_angle(scene, &j.bodies[k])),
+            omegas: [0, 1].map(|k| omega(&j.bodies[k])),
+            open,
         };
-        // ground first, or second
-        let (p1, p2, b1, b2) = match (&pa, &pb) {
-            (None, Some(p)) => (p, None, &j.bodies[1], None),
-            (Some(p), None) => (p, None, &j.bodies[0], None),
-            (Some(a), Some(b)) => (a, Some(b), &j.bodies[0], Some(&j.bodies[1])),
-            (None, None) => return Err(MechError::at(&path, "a joint between ground and ground")),
-        };
-        match &j.kind {
-            JointKind::Revolute => match p2 {
-                None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
-                Some(p2) => revolute(&mut g, &j.name, p1, p2),
-            },
-            JointKind::Weld if open => match p2 {
-                None => pin_to_ground(&mut g, &j.name, p1, pa.is_none()),
-                Some(p2) => revolute(&mut g, &j.name, p1, p2),
-            },
-            JointKind::Prismatic { .. } if open => {}
-            JointKind::Weld => {
-                let w1 = omega(b1).ok_or_else(|| {
-                    MechError::at(&path, format!("weld: body '{b1}' has no modelled rotation"))
-                })?;
-                match (p2, b2) {
-                    (Some(p2), Some(b2)) => {
-                        let w2 = omega(b2).ok_or_else(|| {
-                            MechError::at(
-                                &path,
-                                format!("weld: body '{b2}' has no modelled rotation"),
-                            )
-                        })?;
-                        weld(&mut g, &j.name, (p1, w1), (p2, w2));
-                    }
-                    _ => {
-                        // fixed to ground: Sf = 0 on both components and on ω
-                        pin_to_ground(&mut g, &j.name, p1, pa.is_none());
-                        zero_flow(&mut g, &format!("{}.w", j.name), w1);
-                    }
-                }
-            }
-            JointKind::Prismatic { axis } => {
-                let ax = if axis[0].abs() < 1e-12 {
-                    Axis::Y
-                } else if axis[1].abs() < 1e-12 {
-                    Axis::X
-                } else {
-                    return Err(MechError::at(
-                        &format!("{path}.axis"),
-                        "the bond graph drawing supports sliders along a global axis only",
-                    ));
-                };
-                let w1 = omega(b1);
-                let other = match (p2, b2) {
-                    (Some(p2), Some(b2)) => Some((p2, omega(b2))),
-                    _ => None,
-                };
-                prismatic(&mut g, &j.name, (p1, w1), other, ax);
-            }
-            JointKind::Hinge { .. } => {
-                return Err(MechError::at(
-                    &format!("{path}.axis"),
-                    "a revolute joint with an axis (hinge) exists only in 3D scenes",
-                ))
-            }
-            JointKind::Spherical => {
-                return Err(MechError::at(
-                    &format!("{path}.type"),
-                    "spherical joints exist only in 3D scenes",
-                ))
-            }
-        }
+        d.draw(&j.kind)?;
     }
     for (si, s) in scene.springs.iter().enumerate() {
         if open && planar_rest_length(scene, si) != 0.0 {
@@ -313,10 +240,10 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
         // springs act along the global axes
         let (pa, pb) = common_frame(
             &mut g,
-            scene,
             &s.name,
             [&s.bodies[0], &s.bodies[1]],
             [pa, pb],
+            [0, 1].map(|k| body_fixed_angle(scene, &s.bodies[k])),
             true,
         );
         let (p1, p2) = match (&pa, &pb) {
@@ -384,45 +311,6 @@ fn body_fixed_angle(scene: &Scene, body: &str) -> Option<String> {
         .iter()
         .find(|b| b.name == body && matches!(b.frame, BodyFrame::BodyFixed))
         .map(|b| crate::expr::quote_name(&format!("x_{}.omega", b.name)).into_owned())
-}
-
-/// Brings the two points of a joint or spring into one frame, so that its 1-junctions equate
-/// components along the same axes (seed 16.4–16.5, Fig. 9–10 and 15): between two
-/// body-fixed bars the point of the first is changed into the frame of the second through
-/// the MTF pair [`change_frame`] modulated by the relative angle `α_b − α_a`
-/// (`<name>.<body a>.<point>.in_<body b>`); otherwise (`global`, or one side non-rotating or
-/// ground) each body-fixed point is changed into the global frame with the angle `−α`
-/// (`<name>.<body>.<point>.in_global`). Points of non-rotating bodies are global already.
-fn common_frame(
-    g: &mut BondGraph,
-    scene: &Scene,
-    name: &str,
-    bodies: [&str; 2],
-    points: [Option<PointJunctions>; 2],
-    global: bool,
-) -> (Option<PointJunctions>, Option<PointJunctions>) {
-    let [fa, fb] = bodies.map(|b| body_fixed_angle(scene, b));
-    let [pa, pb] = points;
-    match (pa, pb, fa, fb) {
-        (Some(pa), Some(pb), Some(aa), Some(ab)) if !global => {
-            let n = format!("{name}.{}.in_{}", pa.name, bodies[1]);
-            let pa = change_frame(g, &n, &pa, &format!("{ab} - {aa}"));
-            (Some(pa), Some(pb))
-        }
-        (pa, pb, fa, fb) => {
-            let mut to_global = |p: Option<PointJunctions>, f: Option<String>| match (p, f) {
-                (Some(p), Some(a)) => Some(change_frame(
-                    g,
-                    &format!("{name}.{}.in_global", p.name),
-                    &p,
-                    &format!("-{a}"),
-                )),
-                (p, _) => p,
-            };
-            let pa = to_global(pa, fa);
-            (pa, to_global(pb, fb))
-        }
-    }
 }
 
 fn has_rotation(scene: &Scene, body: &str) -> bool {

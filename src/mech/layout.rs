@@ -10,9 +10,10 @@
 
 use super::body::{quaternion_from_cardan, AngleSlot, BodyKinematics};
 use super::geometry::{coord, planar_inertia, Geometry};
+use super::joints;
 use super::MechError;
 use crate::expr::Expr;
-use crate::scene::{BodyFrame, Inertia, JointKind, LoadKind, PointRef};
+use crate::scene::{BodyFrame, Inertia, LoadKind, PointRef};
 
 /// Planned slots of one body, before the coordinate count is known.
 pub(super) enum Plan {
@@ -97,20 +98,12 @@ impl Geometry<'_> {
         }
         for (ji, j) in s.joints.iter().enumerate() {
             let path = format!("joints[{ji}].bodies");
-            match j.kind {
-                JointKind::Prismatic { .. } => {
-                    if let Some(i) = self.body_index(&j.bodies[0], &path)? {
+            for (k, b) in j.bodies.iter().enumerate() {
+                if joints::needs_rotation(&j.kind, k, false) {
+                    if let Some(i) = self.body_index(b, &path)? {
                         need[i] = true;
                     }
                 }
-                JointKind::Weld => {
-                    for b in &j.bodies {
-                        if let Some(i) = self.body_index(b, &path)? {
-                            need[i] = true;
-                        }
-                    }
-                }
-                _ => {}
             }
         }
         Ok(s.bodies
@@ -162,14 +155,13 @@ impl Geometry<'_> {
                     &j.points[k],
                     &format!("joints[{ji}].points[{k}]"),
                 )?;
-                if is_particle(&j.bodies[k])
-                    && matches!(j.kind, JointKind::Hinge { .. } | JointKind::Weld)
-                {
+                if is_particle(&j.bodies[k]) && joints::needs_rotation(&j.kind, k, true) {
                     return Err(MechError::at(
                         &format!("joints[{ji}].bodies[{k}]"),
                         format!(
-                            "body '{}' is a point mass (inertia [0, 0, 0]) with no rotation; a hinge or weld cannot fix it (use spherical)",
-                            j.bodies[k]
+                            "body '{}' is a point mass (inertia [0, 0, 0]) with no rotation; a {} joint fixes its rotation (use spherical)",
+                            j.bodies[k],
+                            j.kind.type_name()
                         ),
                     ));
                 }

@@ -16,7 +16,7 @@ pub mod body;
 pub mod bondgraph;
 mod columns;
 pub mod geometry;
-mod joints;
+pub mod joints;
 mod layout;
 pub mod reactions;
 pub mod size;

@@ -18,22 +18,12 @@
 //! ground's joint point: `F_2 = −F_1`, `M_2 = −M_1 − (P_1 − P_2) × F_1`.
 //!
 //! This one mapping serves every joint kind (the rows say what the joint fixes); the kind only
-//! decides which columns are written ([`transmits_moment`]). It is the only place where
+//! decides which columns are written (whether it transmits a moment). It is the only place where
 //! multipliers become forces.
 
 use nalgebra::{DMatrix, DVector};
 
 use crate::expr::Expr;
-use crate::scene::JointKind;
-
-/// Whether a joint kind transmits moments (and so gets `M` columns): prismatic, weld and hinge
-/// fix a relative rotation; a planar revolute and a spherical joint leave it free.
-pub fn transmits_moment(kind: &JointKind) -> bool {
-    matches!(
-        kind,
-        JointKind::Prismatic { .. } | JointKind::Weld | JointKind::Hinge { .. }
-    )
-}
 
 /// How to read one joint's reaction from its constraint forces (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]

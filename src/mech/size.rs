@@ -26,9 +26,8 @@
 //! spatial hinge chains (`nv + nc = 11 N`, `n = 23 N`) it is 9 % less. Chains of a few hundred
 //! bodies (a 500-link pendulum needs about 0.2 GiB) are far from the limit either way.
 
-use crate::scene::{Dimension, JointKind, Scene};
-use crate::settings::FormulationKind;
-use crate::settings::LinearSolverKind;
+use crate::scene::{Dimension, Scene};
+use crate::settings::{FormulationKind, LinearSolverKind};
 
 /// Fraction of the available memory a model may plan to use.
 pub const MEMORY_FRACTION: f64 = 0.8;
@@ -185,13 +184,7 @@ pub fn estimate_memory_with(
     let nc: usize = scene
         .joints
         .iter()
-        .map(|j| match (&j.kind, spatial) {
-            (JointKind::Revolute, false) | (JointKind::Prismatic { .. }, false) => 2,
-            (JointKind::Weld, false) | (JointKind::Spherical, _) => 3,
-            (JointKind::Hinge { .. }, _) | (JointKind::Prismatic { .. }, true) => 5,
-            (JointKind::Weld, true) => 6,
-            (JointKind::Revolute, true) => 5,
-        })
+        .map(|j| super::joints::locks(&j.kind, spatial))
         .sum();
     if let Some(elements) = scene
         .bond_graph

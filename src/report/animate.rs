@@ -35,7 +35,8 @@
 
 use std::fmt::Write;
 
-use crate::scene::{Body, Dimension, Inertia, JointKind, PointRef, Scene, GROUND};
+use crate::mech::joints::{glyph, Glyph};
+use crate::scene::{Body, Dimension, Inertia, PointRef, Scene, GROUND};
 use crate::solve::Solution;
 use crate::{Error, Result};
 
@@ -927,7 +928,8 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
         let [b1, b2] = [&j.bodies[0], &j.bodies[1]];
         let p1 = point_coords(scene, b1, &j.points[0])?;
         let p2 = point_coords(scene, b2, &j.points[1])?;
-        if let JointKind::Prismatic { axis } = &j.kind {
+        let glyph = glyph(&j.kind);
+        if let Glyph::Slider { axis } = &glyph {
             let w1 = track(b1, &p1);
             let w2 = track(b2, &p2);
             let n = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
@@ -986,7 +988,7 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
             } else {
                 (index(b2), to3(&p2))
             };
-            let shape = if matches!(j.kind, JointKind::Weld) {
+            let shape = if matches!(glyph, Glyph::Weld) {
                 Shape::Square { at }
             } else {
                 Shape::Dot {
@@ -1001,7 +1003,7 @@ fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Resu
                 shapes: vec![shape],
             });
         }
-        let slider = matches!(j.kind, JointKind::Prismatic { .. });
+        let slider = matches!(glyph, Glyph::Slider { .. });
         for (i, b) in [b1, b2].into_iter().enumerate() {
             if b == GROUND && !(slider && i == 0) {
                 let at = if i == 0 { &p1 } else { &p2 };

@@ -19,7 +19,8 @@
 use std::fmt::Write;
 
 use super::animate::{body_colour, FramePose};
-use crate::scene::{Inertia, JointKind, PointRef, Scene, GROUND};
+use crate::mech::joints::{glyph, Glyph};
+use crate::scene::{Inertia, PointRef, Scene, GROUND};
 use crate::{Error, Result};
 
 /// A number for the page's JSON (finite, shortest round trip).
@@ -132,10 +133,10 @@ pub(crate) fn page(
     };
     for (k, j) in scene.joints.iter().enumerate() {
         let [b1, b2] = [&j.bodies[0], &j.bodies[1]];
-        let (kind, axis) = match &j.kind {
-            JointKind::Hinge { axis } => ("hinge", axis.clone()),
-            JointKind::Prismatic { axis } => ("slider", axis.clone()),
-            JointKind::Weld => ("weld", vec![0.0; 3]),
+        let (kind, axis) = match glyph(&j.kind) {
+            Glyph::Hinge { axis } => ("hinge", axis),
+            Glyph::Slider { axis } => ("slider", axis),
+            Glyph::Weld => ("weld", vec![0.0; 3]),
             _ => ("ball", vec![0.0; 3]),
         };
         let idx = |b: &str| {

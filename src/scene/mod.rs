@@ -41,6 +41,7 @@
 
 mod error;
 pub mod inputs;
+pub mod joint_kind;
 pub mod model;
 pub mod overrides;
 pub mod parse;
@@ -51,6 +52,7 @@ pub mod validate;
 mod write;
 
 pub use error::{Problem, SceneError};
+pub use joint_kind::{JointKind, JOINT_TYPES};
 pub use model::*;
 pub use overrides::{OverrideProblem, SolveOverrides};
 

@@ -6,6 +6,7 @@
 //! [`SolveSettings`]. The fixed body is the reserved name [`GROUND`]; it is
 //! never listed in [`Scene::bodies`].
 
+pub use super::joint_kind::JointKind;
 use crate::settings::{FormulationKind, Integrator, LinearSolverKind};
 
 /// The reserved name of the fixed body.
@@ -151,32 +152,6 @@ pub enum PointRef {
     Named(String),
     /// Coordinates in the body frame (global frame for ground).
     Coords(Vec<f64>),
-}
-
-/// The kind of a joint.
-#[derive(Debug, Clone, PartialEq)]
-pub enum JointKind {
-    /// `"revolute"` without `axis`: planar pin (the two points coincide).
-    Revolute,
-    /// `"prismatic"`: slider along `axis` (frame of the first body); relative rotation fixed
-    /// (planar: one normal row and the relative angle; spatial: two normal rows and three
-    /// rotation rows, the latter left out when the second body is a point mass).
-    Prismatic {
-        /// Sliding direction in the frame of the first body (non-zero; not normalised).
-        axis: Vec<f64>,
-    },
-    /// `"revolute"` with an `axis` in a spatial scene: a hinge. Five rows: the two points
-    /// coincide (3) and the hinge axis `a = R_1 axis` stays perpendicular to two body-2 vectors
-    /// `R_2 c_1`, `R_2 c_2` (2), where `c_1, c_2` span the plane perpendicular to the axis as seen
-    /// in body 2 at the initial configuration (`R_2(0)ᵀ R_1(0) axis`).
-    Hinge {
-        /// Hinge axis in the frame of the first body (global for ground; non-zero).
-        axis: Vec<f64>,
-    },
-    /// `"spherical"`: 3D ball joint.
-    Spherical,
-    /// `"weld"`: the two bodies are fixed together.
-    Weld,
 }
 
 /// A joint between two bodies (either may be ground).

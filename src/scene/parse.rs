@@ -18,7 +18,7 @@ use crate::settings::FormulationKind;
 const COMMENT: &str = "comment";
 
 /// The keys of one JSON object, checked for duplicates and unknown names.
-struct Fields<'a> {
+pub(super) struct Fields<'a> {
     path: String,
     entries: &'a [(String, Json)],
 }
@@ -48,15 +48,15 @@ impl<'a> Fields<'a> {
         })
     }
 
-    fn get(&self, key: &str) -> Option<&'a Json> {
+    pub(super) fn get(&self, key: &str) -> Option<&'a Json> {
         self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v)
     }
 
-    fn path(&self, key: &str) -> String {
+    pub(super) fn path(&self, key: &str) -> String {
         field(&self.path, key)
     }
 
-    fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
+    pub(super) fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
         let v = self.get(key);
         if v.is_none() {
             p.push(self.path(key), "required field is missing");
@@ -64,11 +64,11 @@ impl<'a> Fields<'a> {
         v
     }
 
-    fn number(&self, p: &mut Problems, key: &str) -> Option<f64> {
+    pub(super) fn number(&self, p: &mut Problems, key: &str) -> Option<f64> {
         self.get(key).and_then(|j| number(p, &self.path(key), j))
     }
 
-    fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
+    pub(super) fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
         self.required(p, key)
             .and_then(|j| number(p, &self.path(key), j))
     }
@@ -90,7 +90,7 @@ impl<'a> Fields<'a> {
         }
     }
 
-    fn vector(&self, p: &mut Problems, key: &str) -> Option<Vec<f64>> {
+    pub(super) fn vector(&self, p: &mut Problems, key: &str) -> Option<Vec<f64>> {
         self.get(key).and_then(|j| vector(p, &self.path(key), j))
     }
 
@@ -129,7 +129,7 @@ fn string(p: &mut Problems, path: &str, j: &Json) -> Option<String> {
     }
 }
 
-fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
+pub(super) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
     let Json::Array(items) = j else {
         p.push(
             path,
@@ -336,7 +336,7 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .array(p, "joints")
         .iter()
         .enumerate()
-        .filter_map(|(i, b)| joint(p, i, b))
+        .filter_map(|(i, b)| joint(p, i, b, dimension))
         .collect();
     let springs = f
         .array(p, "springs")
@@ -613,58 +613,35 @@ fn describe(j: &Json) -> String {
     }
 }
 
-pub(crate) const JOINT_KEYS: &[&str] = &["name", "type", "bodies", "points", "axis"];
+pub(crate) use super::joint_kind::JOINT_KEYS;
 
-fn joint(p: &mut Problems, i: usize, j: &Json) -> Option<Joint> {
+fn joint(p: &mut Problems, i: usize, j: &Json, dim: Dimension) -> Option<Joint> {
     let path = index("joints", i);
     let f = Fields::new(p, &path, j, JOINT_KEYS)?;
     let name = f.string(p, "name").unwrap_or_else(|| format!("joint{i}"));
     let kind_name = f
         .required(p, "type")
         .and_then(|j| string(p, &f.path("type"), j));
-    let axis = f.vector(p, "axis");
-    let kind = match kind_name.as_deref() {
-        None => None,
-        Some("prismatic") => match axis {
-            Some(axis) => Some(JointKind::Prismatic { axis }),
-            None => {
-                if f.get("axis").is_none() {
-                    p.push(f.path("axis"), "a prismatic joint needs an axis (the sliding direction in the frame of the first body)");
-                }
-                None
-            }
-        },
-        Some("revolute") => match axis {
-            Some(axis) => Some(JointKind::Hinge { axis }),
-            None if f.get("axis").is_some() => None,
-            None => Some(JointKind::Revolute),
-        },
-        Some(k) => {
-            if f.get("axis").is_some() {
-                p.push(
-                    f.path("axis"),
-                    "only a prismatic joint or a spatial revolute (hinge) has an axis",
-                );
-            }
-            match k {
-                "spherical" => Some(JointKind::Spherical),
-                "weld" => Some(JointKind::Weld),
-                other => {
-                    p.push(
-                        f.path("type"),
-                        format!("unknown joint type \"{other}\" (expected revolute, prismatic, spherical or weld)"),
-                    );
-                    None
-                }
-            }
-        }
-    };
+    let kind = kind_name
+        .as_deref()
+        .and_then(|k| super::joint_kind::parse(p, &f, k, dim));
     let bodies = f
         .required(p, "bodies")
         .and_then(|j| pair(p, &f.path("bodies"), j, string));
-    let points = f
-        .required(p, "points")
-        .and_then(|j| pair(p, &f.path("points"), j, point_ref));
+    let points = match kind_name.as_deref() {
+        Some(k) if !super::joint_kind::has_points(k) => {
+            if f.get("points").is_some() {
+                p.push(
+                    f.path("points"),
+                    format!("a {k} joint has no points (it acts at the bodies' centres)"),
+                );
+            }
+            Some([0, 1].map(|_| PointRef::Coords(vec![0.0; dim.coords()])))
+        }
+        _ => f
+            .required(p, "points")
+            .and_then(|j| pair(p, &f.path("points"), j, point_ref)),
+    };
     Some(Joint {
         name,
         kind: kind?,

@@ -5,6 +5,8 @@
 
 use schemars::JsonSchema;
 
+use super::joint_kind::{JOINT_TYPES, KIND_KEY_SCHEMAS};
+
 /// A number, or an `[x, y]` / `[x, y, z]` vector.
 #[derive(JsonSchema)]
 #[schemars(untagged)]
@@ -95,10 +97,8 @@ enum Frame {
 #[schemars(rename_all = "snake_case")]
 #[allow(dead_code)]
 enum JointType {
+    // the spellings are `crate::scene::JOINT_TYPES`, put in by `scene_schema`
     Revolute,
-    Prismatic,
-    Spherical,
-    Weld,
 }
 
 /// A joint between two bodies (either may be "ground").
@@ -114,10 +114,9 @@ struct Joint {
     kind: JointType,
     /// The two bodies.
     bodies: [String; 2],
-    /// The joint point on each body.
-    points: [PointRef; 2],
-    /// Sliding direction (prismatic) or hinge axis (spatial revolute), first body's frame.
-    axis: Option<Vec<f64>>,
+    /// The joint point on each body (required by every kind that attaches at points).
+    points: Option<[PointRef; 2]>,
+    // each kind's own keys are added by `scene_schema` from `crate::scene::joint_kind`
 }
 
 /// A point-to-point spring-damper.
@@ -254,7 +253,24 @@ struct Scene {
 
 /// The JSON Schema (draft 2020-12) of a scene.
 pub fn scene_schema() -> serde_json::Value {
-    serde_json::to_value(schemars::schema_for!(Scene)).expect("the schema serialises")
+    let mut s = serde_json::to_value(schemars::schema_for!(Scene)).expect("the schema serialises");
+    // the joint kinds and their own keys, from the one list of kinds
+    let types: Vec<serde_json::Value> = JOINT_TYPES.iter().map(|&t| t.into()).collect();
+    s["$defs"]["JointType"] =
+        serde_json::json!({ "description": "Joint type.", "type": "string", "enum": types });
+    let props = &mut s["$defs"]["Joint"]["properties"];
+    for &(key, description, kind) in KIND_KEY_SCHEMAS {
+        let schema = match kind {
+            "vector" => serde_json::json!({ "type": "array", "items": { "type": "number" } }),
+            "vectors" => {
+                serde_json::json!({ "type": "array", "items": { "type": "array", "items": { "type": "number" } }, "minItems": 2, "maxItems": 2 })
+            }
+            _ => serde_json::json!({ "type": "number" }),
+        };
+        props[key] = schema;
+        props[key]["description"] = description.into();
+    }
+    s
 }
 
 #[cfg(test)]

@@ -541,30 +541,7 @@ fn joint(p: &mut Problems, scene: &Indexed<'_>, path: &str, j: &Joint) {
         );
     }
     attachment(p, scene, path, &j.bodies, &j.points);
-    let tp = field(path, "type");
-    match (&j.kind, scene.dimension) {
-        (JointKind::Spherical, Dimension::Planar) => p.push(
-            tp,
-            "a spherical joint needs a spatial scene (dimension 3); use revolute in the plane",
-        ),
-        (JointKind::Revolute, Dimension::Spatial) => p.push(
-            field(path, "axis"),
-            "a revolute joint in a spatial scene is a hinge and needs an axis (the hinge axis in the frame of the first body, global for ground; body 2 keeps the relative orientation of the initial configuration about it); use spherical for a ball joint",
-        ),
-        (JointKind::Hinge { .. }, Dimension::Planar) => p.push(
-            field(path, "axis"),
-            "only a prismatic joint has an axis in a planar scene (a planar revolute pins about z)",
-        ),
-        (JointKind::Prismatic { axis } | JointKind::Hinge { axis }, dim) => {
-            let ap = field(path, "axis");
-            vec_len(p, &ap, axis, dim.coords());
-            let norm2: f64 = axis.iter().map(|x| x * x).sum();
-            if norm2.is_finite() && norm2 == 0.0 {
-                p.push(ap, "must be a non-zero direction");
-            }
-        }
-        _ => {}
-    }
+    j.kind.validate(p, scene.dimension, path, &j.bodies);
 }
 
 fn load(p: &mut Problems, scene: &Indexed<'_>, path: &str, l: &Load) {

@@ -76,24 +76,18 @@ fn body(b: &Body, dim: Dimension) -> Json {
 
 fn joint(j: &Joint) -> Json {
     let mut e = vec![("name", text(&j.name))];
-    let kind = match &j.kind {
-        JointKind::Revolute | JointKind::Hinge { .. } => "revolute",
-        JointKind::Prismatic { .. } => "prismatic",
-        JointKind::Spherical => "spherical",
-        JointKind::Weld => "weld",
-    };
-    e.push(("type", text(kind)));
+    e.push(("type", text(j.kind.type_name())));
     e.push((
         "bodies",
         Json::Array(j.bodies.iter().map(|b| text(b)).collect()),
     ));
-    e.push((
-        "points",
-        Json::Array(j.points.iter().map(point_ref).collect()),
-    ));
-    if let JointKind::Prismatic { axis } | JointKind::Hinge { axis } = &j.kind {
-        e.push(("axis", nums(axis)));
+    if super::joint_kind::has_points(j.kind.type_name()) {
+        e.push((
+            "points",
+            Json::Array(j.points.iter().map(point_ref).collect()),
+        ));
     }
+    j.kind.write(&mut e);
     obj(e)
 }
 

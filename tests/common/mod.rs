@@ -14,6 +14,7 @@
 //! their rates, named point positions, energy).
 #![allow(dead_code)]
 
+pub mod bead_in_slot;
 pub mod bricard;
 pub mod double_pendulum;
 pub mod elliptic;

@@ -1,20 +1,57 @@
 //! Spatial hinge: the points coincide (`P_a − P_b = 0`, three rows) and the bodies share the
-//! hinge axis (two rows).
+//! hinge axis (two rows). Twin: a spring on each of the five rows (three per axis on
+//! `P_a − P_b`, two torsional ones on the axis rows).
 
-use super::{perpendicular_pair, unit_axis, Ends, Rows};
+use super::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, Rows};
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::BodyKinematics;
 use crate::mech::geometry::Geometry;
 use crate::mech::MechError;
 
+/// A spatial hinge about `axis` (body a's frame).
+pub(super) struct Hinge<'a> {
+    pub(super) axis: &'a [f64],
+}
+
+impl Joint for Hinge<'_> {
+    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        geo.hinge(ends, self.axis, path)
+    }
+
+    fn locks(&self, _spatial: bool) -> usize {
+        5
+    }
+
+    fn transmits_moment(&self) -> bool {
+        true
+    }
+
+    fn needs_rotation(&self, _end: usize, spatial: bool) -> bool {
+        spatial
+    }
+
+    fn draw(&self, d: &mut Drawing<'_>) -> Result<(), MechError> {
+        d.ends(false, false)?;
+        Err(MechError::at(
+            &format!("{}.axis", d.path),
+            "a revolute joint with an axis (hinge) exists only in 3D scenes",
+        ))
+    }
+
+    fn twin(&self) -> &'static str {
+        "a spring per axis on P_a − P_b and a torsional spring on each of the two axis rows"
+    }
+
+    fn glyph(&self) -> Glyph {
+        Glyph::Hinge {
+            axis: self.axis.to_vec(),
+        }
+    }
+}
+
 impl Geometry<'_> {
     /// The five rows of a spatial hinge about `axis` (body a's frame).
-    pub(super) fn hinge(
-        &mut self,
-        ends: &Ends,
-        axis: &[f64],
-        path: &str,
-    ) -> Result<Rows, MechError> {
+    fn hinge(&mut self, ends: &Ends, axis: &[f64], path: &str) -> Result<Rows, MechError> {
         if !self.spatial {
             return Err(MechError::at(
                 &format!("{path}.axis"),

@@ -1,23 +1,84 @@
 //! Prismatic joint (a slider, seed Fig. 29): the second body's point stays on the line
 //! through the first body's point along `axis` (body a's frame), and the relative rotation is
 //! fixed. Planar: `n·(P_b − P_a) = 0` with `n = R(α_a) perp(axis)`, plus the relative angle;
-//! spatial: two normal rows and the three rotation rows of a weld.
+//! spatial: two normal rows and the three rotation rows of a weld. Bond graph: the seed's
+//! slider fragment along a global axis (Fig. 29). Twin: a spring on each row (across the
+//! rail, and torsional on the relative rotation).
 
-use super::{perpendicular_pair, unit_axis, Ends, Rows};
+use super::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, Rows};
+use crate::bond::fragments::{prismatic, Axis};
 use crate::expr::Expr;
 use crate::mech::body::BodyKinematics;
 use crate::mech::body::PointKinematics;
 use crate::mech::geometry::Geometry;
 use crate::mech::MechError;
 
+/// A slider along `axis` (body a's frame).
+pub(super) struct Prismatic<'a> {
+    pub(super) axis: &'a [f64],
+}
+
+impl Joint for Prismatic<'_> {
+    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        geo.prismatic(ends, self.axis, path)
+    }
+
+    fn locks(&self, spatial: bool) -> usize {
+        if spatial {
+            5
+        } else {
+            2
+        }
+    }
+
+    fn transmits_moment(&self) -> bool {
+        true
+    }
+
+    fn needs_rotation(&self, end: usize, spatial: bool) -> bool {
+        // the rail turns with the first body
+        !spatial && end == 0
+    }
+
+    fn draw(&self, d: &mut Drawing<'_>) -> Result<(), MechError> {
+        let e = d.ends(true, false)?;
+        if d.open {
+            return Ok(());
+        }
+        let axis = self.axis;
+        let ax = if axis[0].abs() < 1e-12 {
+            Axis::Y
+        } else if axis[1].abs() < 1e-12 {
+            Axis::X
+        } else {
+            return Err(MechError::at(
+                &format!("{}.axis", d.path),
+                "the bond graph drawing supports sliders along a global axis only",
+            ));
+        };
+        let w1 = d.omegas[e.b1];
+        let other = match (&e.p2, e.b2) {
+            (Some(p2), Some(b2)) => Some((p2, d.omegas[b2])),
+            _ => None,
+        };
+        prismatic(d.g, d.name, (&e.p1, w1), other, ax);
+        Ok(())
+    }
+
+    fn twin(&self) -> &'static str {
+        "a spring across the rail and a torsional spring on the relative rotation"
+    }
+
+    fn glyph(&self) -> Glyph {
+        Glyph::Slider {
+            axis: self.axis.to_vec(),
+        }
+    }
+}
+
 impl Geometry<'_> {
     /// The rows of a prismatic joint along `axis`.
-    pub(super) fn prismatic(
-        &mut self,
-        ends: &Ends,
-        axis: &[f64],
-        path: &str,
-    ) -> Result<Rows, MechError> {
+    fn prismatic(&mut self, ends: &Ends, axis: &[f64], path: &str) -> Result<Rows, MechError> {
         if self.spatial {
             return self.spatial_prismatic_rows(&ends.ka, &ends.kb, &ends.pa, &ends.pb, axis, path);
         }
