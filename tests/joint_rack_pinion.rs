@@ -14,8 +14,9 @@
 //! mesh pushes the rack along its axis only (`F_x = 0`).
 
 mod common;
+mod support;
 
-use bondmech::{FormulationKind, Model, Scene};
+use bondmech::{FormulationKind, Scene};
 use common::integrate::integrate;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/rack_pinion.json");
@@ -28,25 +29,14 @@ fn rack_and_pinion_under_gravity_matches_the_one_dof_lagrange_model() {
     let j = j_c + m_p * e * e + m_r * rho * rho;
     let theta_ddot = |th: f64| (-m_p * G * e * th.cos() - m_r * G * rho) / j;
     // the bundled scene with the joints' reactions among its outputs
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
-    json["outputs"]
-        .as_array_mut()
-        .unwrap()
-        .push(serde_json::json!("reactions"));
-    let scene = Scene::from_json_str(&json.to_string()).unwrap();
-    let model = Model::new(&scene).unwrap();
+    let model = support::solve::model_with_reactions(SCENE);
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),
         (FormulationKind::Ggl, 1e-7),
         // the twin's mesh and guide springs (k = 1e8) yield by ~ F / k
         (FormulationKind::Decoupled, 1e-5),
     ] {
-        let mut o = model.default_options();
-        o.formulation = f;
-        o.rtol = 1e-10;
-        o.atol = 1e-12;
-        let sol = model.solve(&o).unwrap();
+        let sol = support::solve::solve_tight(&model, f);
         let reference = integrate(
             |_t, y, dy| {
                 dy[0] = y[1];

@@ -5,8 +5,9 @@
 //! on the bead (normal to the bar, `m (r θ'' + 2 r' θ' + g cos θ)` along `e_θ`, none along it).
 
 mod common;
+mod support;
 
-use bondmech::{FormulationKind, Model, Scene};
+use bondmech::{FormulationKind, Scene};
 use common::bead_in_slot::BeadInSlot;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bead_in_slot.json");
@@ -21,25 +22,14 @@ fn bead_in_a_slot_on_a_swinging_bar_matches_the_polar_lagrange_model() {
         g: 9.81,
     };
     // the bundled scene with the joints' reactions among its outputs
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
-    json["outputs"]
-        .as_array_mut()
-        .unwrap()
-        .push(serde_json::json!("reactions"));
-    let scene = Scene::from_json_str(&json.to_string()).unwrap();
-    let model = Model::new(&scene).unwrap();
+    let model = support::solve::model_with_reactions(SCENE);
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),
         (FormulationKind::Ggl, 1e-7),
         // the twin's slot spring (k = 1e8 N/m) yields by ~ N / k
         (FormulationKind::Decoupled, 1e-5),
     ] {
-        let mut o = model.default_options();
-        o.formulation = f;
-        o.rtol = 1e-10;
-        o.atol = 1e-12;
-        let sol = model.solve(&o).unwrap();
+        let sol = support::solve::solve_tight(&model, f);
         let reference = model_ref.simulate([0.0, 0.0, 0.3, 0.0], &sol.times);
         let e = sol.column("energy").unwrap();
         let (mut worst, mut worst_force): (f64, f64) = (0.0, 0.0);

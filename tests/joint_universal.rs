@@ -23,8 +23,9 @@
 //! shaft 2 about its joint point (on the axis) has `M·d = J₂ θ₂'' = J₂ (k θ₁'' + k' θ₁'²)`.
 
 mod common;
+mod support;
 
-use bondmech::{FormulationKind, Model, Scene};
+use bondmech::{FormulationKind, Scene};
 use common::integrate::integrate;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/hooke_joint.json");
@@ -41,25 +42,14 @@ fn hooke_joint_shaft_angles_obey_tan_theta2_equals_tan_theta1_over_cos_beta() {
     };
     let accel = |t: f64, w: f64| -j2 * k(t) * dk(t) * w * w / (j1 + j2 * k(t) * k(t));
     // the bundled scene with the joints' reactions among its outputs
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(SCENE).unwrap()).unwrap();
-    json["outputs"]
-        .as_array_mut()
-        .unwrap()
-        .push(serde_json::json!("reactions"));
-    let scene = Scene::from_json_str(&json.to_string()).unwrap();
-    let model = Model::new(&scene).unwrap();
+    let model = support::solve::model_with_reactions(SCENE);
     for (f, tol) in [
         (FormulationKind::Dae, 1e-7),
         (FormulationKind::Ggl, 1e-7),
         // the twin's springs (k = 1e8) hardly load: the shafts transmit a small torque
         (FormulationKind::Decoupled, 1e-5),
     ] {
-        let mut o = model.default_options();
-        o.formulation = f;
-        o.rtol = 1e-10;
-        o.atol = 1e-12;
-        let sol = model.solve(&o).unwrap();
+        let sol = support::solve::solve_tight(&model, f);
         let reference = integrate(
             |_t, y, dy| {
                 dy[0] = y[1];

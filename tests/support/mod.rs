@@ -5,3 +5,4 @@
 
 pub mod bond;
 pub mod cli;
+pub mod solve;
