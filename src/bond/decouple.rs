@@ -117,9 +117,11 @@ pub fn decouple(
     }
     let mut g = graph.clone();
     let mut junctions = std::mem::take(&mut g.constraint_junctions);
-    if junctions.is_empty() {
-        // a graph without annotations (the seed's form): its joint rows are its Sf and its
-        // two-bond 1-junctions (as the causality reads them), without closures
+    if junctions.is_empty() && graph.displacements.is_empty() {
+        // a graph without annotations (the seed's form; a mechanism's graph names its
+        // coordinates and annotates every joint row, so one without joints has none): its
+        // joint rows are its Sf and its two-bond 1-junctions (as the causality reads them),
+        // without closures
         for e in super::causality::joint_row_elements(graph) {
             let el = graph.element(e);
             if el.kind == ElementKind::Sf && el.parameter != Some(Parameter::Const(0.0)) {
