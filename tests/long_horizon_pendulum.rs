@@ -118,7 +118,10 @@ fn default_over_2000_s() -> (f64, bondmech::Summary) {
 #[test]
 fn default_follows_the_a01_pendulum_over_2000_s_within_2e_2() {
     let (err, sm) = default_over_2000_s();
-    assert_eq!((sm.formulation.as_str(), sm.solver.as_str()), ("dae", "IDA"));
+    assert_eq!(
+        (sm.formulation.as_str(), sm.solver.as_str()),
+        ("dae", "IDA")
+    );
     assert!(sm.completed);
     assert!(sm.nonlinear_conv_failures < 100, "{sm:?}");
     assert!(err < 2e-2, "the bob is {err:e} m off the exact solution");
