@@ -20,7 +20,7 @@ use super::options::{FormulationKind, SolveOptions};
 use nalgebra::DMatrix;
 
 use super::integrators::{make_cvode, make_ida};
-use super::reactions::{EventEval, Multipliers, ReactionEval};
+use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
     joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DecoupledFormulation,
@@ -1026,7 +1026,7 @@ fn run_ggl(
     let mut total = SolverStats::default();
     let multipliers = Multipliers::Unknowns(nq + nv);
     let mut out = OutputEval::new(sys, tapes.clone(), &multipliers);
-    let events = event_eval(sys, &tapes, &multipliers);
+    let events = event_eval(sys, &tapes, &solved_multipliers(sys, &tapes));
     set_ida_events(&mut solver.ida, &events)?;
     let mut sol = Solution {
         columns: out.columns.clone(),
@@ -1316,7 +1316,7 @@ fn run_index1(
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + nc);
     let mut out = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
-    let events = event_eval(&sys, &tapes, &multipliers);
+    let events = event_eval(&sys, &tapes, &solved_multipliers(&sys, &tapes));
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -1807,6 +1807,16 @@ fn event_eval(
     EventEval::new(sys, || {
         ReactionEval::new(sys, &tapes.gv, multipliers.clone())
     })
+}
+
+/// The multipliers an IDA formulation's events read: solved from the interpolated `(t, q, v)`
+/// ([`Multipliers::FromState`]), not interpolated (IDA's error test leaves them out).
+fn solved_multipliers(sys: &MultibodySystem, tapes: &MechanicsTapes) -> Multipliers {
+    Multipliers::FromState(Box::new(StateMultipliers {
+        forces: tapes.forces.clone(),
+        gamma: tapes.gamma.clone(),
+        mass: sys.mass.clone(),
+    }))
 }
 
 /// Whether a solve computes reactions at all (as output columns or inside an event).
