@@ -450,3 +450,31 @@ pub(crate) unsafe fn install(v: sys::N_Vector) {
         ops.nvwrmsnormmaskvectorarray = Some(wrms_norm_mask_vector_array);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::context::Context;
+    use super::super::vector::NVector;
+    use sundials_sys as sys;
+
+    /// Through SUNDIALS' dispatch (the ops table [`super::install`] fills): the masked WRMS norm
+    /// is the RMS over the components with `id > 0` only, computed by hand here.
+    #[test]
+    fn masked_wrms_norm_averages_over_the_tested_components() {
+        let ctx = Context::new().unwrap();
+        let x = NVector::from_slice(&ctx, &[3.0, 100.0, -4.0, 7.0, 1e6]).unwrap();
+        let w = NVector::from_slice(&ctx, &[2.0, 5.0, 0.5, 1.0, 3.0]).unwrap();
+        let id = NVector::from_slice(&ctx, &[1.0, 0.0, 1.0, 1.0, 0.0]).unwrap();
+        // SAFETY: three live serial vectors of one length.
+        let masked = unsafe { sys::N_VWrmsNormMask(x.raw(), w.raw(), id.raw()) };
+        let by_hand = ((6.0f64.powi(2) + 2.0f64.powi(2) + 7.0f64.powi(2)) / 3.0).sqrt();
+        assert!(
+            (masked - by_hand).abs() < 1e-14 * by_hand,
+            "{masked} vs {by_hand}"
+        );
+        // SAFETY: as above.
+        let full = unsafe { sys::N_VWrmsNorm(x.raw(), w.raw()) };
+        let all = ((36.0 + 500.0f64.powi(2) + 4.0 + 49.0 + 3e6f64.powi(2)) / 5.0).sqrt();
+        assert!((full - all).abs() < 1e-14 * all, "{full} vs {all}");
+    }
+}
