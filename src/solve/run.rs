@@ -731,7 +731,8 @@ fn preferred_coordinates(sys: &MultibodySystem) -> Vec<bool> {
 }
 
 /// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
-/// non-rotating frame, 16.8), as the index-1 DAE needs.
+/// non-rotating frame, 16.8): then the index-1 DAE's dependent coordinates are its dependent
+/// velocities' own.
 fn q_rates_are_v(sys: &MultibodySystem) -> bool {
     if sys.nq() != sys.nv() {
         return false;
