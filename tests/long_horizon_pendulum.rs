@@ -106,14 +106,14 @@ fn default_over_2000_s() -> (f64, bondmech::Summary) {
     (err, sm)
 }
 
-/// What the default gives today: measured 1.38e-2 m (452 934 steps, no Newton convergence
+/// What the default gives today: measured 1.29e-2 m (453 952 steps, no Newton convergence
 /// failure); it was 2.1e-2 m with 23 640 Newton failures before IDA's masked error norm
 /// averaged over the tested unknowns and the Newton matrix followed `c_j`. The error grows like
-/// t²: BDF's local errors on this undamped oscillation go into its energy (+1.3e-4 J over the
+/// t²: BDF's local errors on this undamped oscillation go into its energy (+1.26e-4 J over the
 /// run, linear in t), the energy sets the period of the nonlinear pendulum, and a period that
 /// drifts linearly puts the bob off by a phase that grows quadratically (the period's
 /// sensitivity at the 90° release, d ln T / dE = 0.0233 /J, turns that drift into a time lag of
-/// ½ · 0.0233 · 1.3e-4 · 2000 = 3.1e-3 s at the end, 1.38e-2 m at the bob's 4.43 m/s: all of
+/// ½ · 0.0233 · 1.26e-4 · 2000 = 2.9e-3 s at the end, 1.30e-2 m at the bob's 4.43 m/s: all of
 /// the error).
 #[test]
 fn default_follows_the_a01_pendulum_over_2000_s_within_2e_2() {
@@ -128,11 +128,11 @@ fn default_follows_the_a01_pendulum_over_2000_s_within_2e_2() {
 }
 
 /// Issue 25's target for the default (IFToMM A01: 1e-3 m over 2000 s at rtol 1e-9). Not met
-/// (1.38e-2 m): see [`default_follows_the_a01_pendulum_over_2000_s_within_2e_2`]. CVODE's BDF on
+/// (1.29e-2 m): see [`default_follows_the_a01_pendulum_over_2000_s_within_2e_2`]. CVODE's BDF on
 /// the partitioned ODE misses it too (1.8e-3 m); the partitioned formulation's explicit
 /// Runge–Kutta meets it (4.2e-6 m, `cargo bench --bench long_horizon`).
 #[test]
-#[ignore = "issue 25 target not met: the default is 1.38e-2 m off over 2000 s (see the test's doc)"]
+#[ignore = "issue 25 target not met: the default is 1.29e-2 m off over 2000 s (see the test's doc)"]
 fn default_follows_the_a01_pendulum_over_2000_s_within_1e_3() {
     let (err, _) = default_over_2000_s();
     assert!(err < 1e-3, "the bob is {err:e} m off the exact solution");
