@@ -35,12 +35,13 @@ pub enum FormulationKind {
     /// inertias' flows and accelerations, the dependent displacements and the constraint
     /// efforts are algebraic (index 1 at acceleration level, the constraint rows kept at
     /// position and velocity level, [`crate::dae::Index1Formulation`]); the partition is the
-    /// causality's ([`crate::bond::causality`]), re-chosen when its block degrades. Needs
-    /// `q' = v` (planar bodies in the non-rotating frame); other mechanisms run [`Self::Ggl`]
-    /// and say so in the summary.
+    /// causality's ([`crate::bond::causality`]), re-chosen when its block degrades. Where
+    /// `q' = K(q) v` (3D bodies' quaternions, body-fixed planar frames) the dependent coordinates
+    /// are chosen apart from the dependent velocities; mechanisms with redundant joints run
+    /// [`Self::Ggl`] and say so in the summary.
     #[default]
     #[value(
-        help = "the chapter's DAE on IDA in the causality's partition (index 1; GGL at singular passages); the default"
+        help = "the chapter's DAE on IDA in the causality's partition (index 1; GGL at singular passages and for redundant joints); the default"
     )]
     Dae,
     /// Stabilized index-2 DAE (Gear–Gupta–Leimkuhler) on IDA; switches to the compliant form by

@@ -158,6 +158,11 @@ fn an_event_on_a_reaction_column_fires_where_the_pin_force_reaches_twice_the_wei
         // at the event the bar's angle below the horizontal has sin φ = −bar.angle's sine
         let k = sol.rows.len() - 1;
         let phi = -sol.value(k, "bar.angle").unwrap();
+        eprintln!(
+            "{f:?}: sin²φ off by {:.2e}, {} steps",
+            (phi.sin().powi(2) - s2).abs(),
+            sol.summary.steps
+        );
         let tol = if f == FormulationKind::Decoupled {
             1e-5
         } else {

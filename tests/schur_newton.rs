@@ -24,7 +24,7 @@ fn check_scene(path: &str) {
     let dependent = select_dependent(&gv, &preferred).expect("a dependent set");
     let f = Index1Formulation::build(&mut sys, &c, &dependent).expect("index-1");
     let n = f.len();
-    let (outer, blocks) = f.schur_split();
+    let (outer, blocks) = f.schur_split(nq);
     assert_eq!(
         outer.len(),
         2 * (nv - dependent.len()),

@@ -72,9 +72,14 @@ fn ggl_without_dependent_velocities_in_error_test_keeps_accuracy_with_fewer_step
 
 /// The bundled slider-crank (crank turning about 14 times in 1 s, constant drive torque and a
 /// gas force on the piston) at its rtol 1e-8: with every velocity in IDA's error test GGL takes
-/// over twice the steps, for an error against the minimal-coordinate model of the same size.
+/// 1.4 times the steps, for an error against the minimal-coordinate model of the same size.
+///
+/// It was 2.4 times (12 761 and 5 275 steps) while IDA's masked error norm divided by every
+/// unknown: leaving the dependent velocities out of the test then also loosened it on the
+/// others by `sqrt(n / n_tested)`; the norm now averages over the tested unknowns
+/// (`sundials::fast_ops`), and the Newton matrix follows `c_j` (`solve::integrators`).
 #[test]
-fn ggl_slider_crank_without_dependent_velocities_in_error_test_takes_under_half_the_steps() {
+fn ggl_slider_crank_without_dependent_velocities_in_error_test_takes_fewer_steps() {
     let m = Model::new(&Scene::from_path("scenes/slider_crank.json").unwrap()).unwrap();
     let p = SliderCrank::bundled();
     let mut runs = Vec::new();
@@ -101,10 +106,10 @@ fn ggl_slider_crank_without_dependent_velocities_in_error_test_takes_under_half_
         runs.push((s.summary.steps, err));
     }
     let (all_v, opt_in) = (runs[0], runs[1]);
-    // measured in the test profile: 12 761 and 5 275 steps (errors 1.1e-4 and 1.6e-4: the
+    // measured in the test profile: 10 013 and 7 075 steps (errors 2.1e-5 and 4.2e-5: the
     // scene's rtol 1e-8 is loose for 14 crank turns)
-    const STEPS_ALL_V: f64 = 12_761.0;
-    const STEPS_DEPENDENT_OUT: f64 = 5_275.0;
+    const STEPS_ALL_V: f64 = 10_013.0;
+    const STEPS_DEPENDENT_OUT: f64 = 7_075.0;
     for (steps, pinned) in [(all_v.0, STEPS_ALL_V), (opt_in.0, STEPS_DEPENDENT_OUT)] {
         assert!(
             (steps as f64 - pinned).abs() < 0.15 * pinned,
@@ -112,7 +117,7 @@ fn ggl_slider_crank_without_dependent_velocities_in_error_test_takes_under_half_
         );
     }
     assert!(
-        (opt_in.0 as f64) < 0.5 * all_v.0 as f64,
+        (opt_in.0 as f64) < 0.8 * all_v.0 as f64,
         "steps {} vs {}",
         opt_in.0,
         all_v.0

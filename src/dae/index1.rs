@@ -15,7 +15,10 @@
 //! ```
 //!
 //! Valid where `G_D` is well conditioned; the runner watches its condition number and re-selects
-//! `D` (restarting IDA) when it degrades. Needs `q' = v` (the seed's non-rotating planar frame).
+//! `D` (restarting IDA) when it degrades. Where the coordinates' rates are not the velocities
+//! (`q' = K(q) v`: a 3D body's quaternion, a body-fixed planar frame), the dependent coordinates
+//! `D_q` (`G_q[:, D_q]` nonsingular) are chosen apart from the dependent velocities and the
+//! independent ones keep `q_I' = K_I(q) v` ([`Index1Formulation::build_partitioned`]).
 
 use nalgebra::DMatrix;
 
@@ -31,6 +34,8 @@ pub struct Index1Formulation {
     pub dae: ImplicitDae,
     /// Dependent velocity indices (sorted).
     pub dependent: Vec<usize>,
+    /// Dependent coordinate indices (sorted; the velocity indices when `q' = v`).
+    pub coordinates: Vec<usize>,
     /// 1 for differential unknowns, 0 for algebraic.
     pub id: Vec<f64>,
 }
@@ -99,27 +104,34 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
 }
 
 impl Index1Formulation {
-    /// The split of `y = [q, v, a_D, λ]` for the Schur solver of the Newton matrix
+    /// The split of `y = [q, v, a_D, λ]` (`nq` coordinates) for the Schur solver of the Newton matrix
     /// ([`crate::sundials::schur`]): the independent coordinates and velocities `(q_I, v_I)`,
     /// and the dependent blocks in the order that makes them block lower triangular — `q_D`
     /// (rows `g = 0`, block `G_qD`), `v_D` (rows `G_v v = 0`, block `G_vD`), then `(a_D, λ)`
     /// (the dynamics of the dependent inertias and the acceleration constraints, the saddle
     /// `[M_D G_Dᵀ; G_D 0]`).
-    pub fn schur_split(&self) -> (Vec<usize>, Vec<Vec<usize>>) {
+    pub fn schur_split(&self, nq: usize) -> (Vec<usize>, Vec<Vec<usize>>) {
         let nc = self.dependent.len();
-        let nq = (self.dae.n - 2 * nc) / 2;
-        let outer = (0..2 * nq)
-            .filter(|&i| !self.dependent.contains(&(i % nq)))
+        let nv = self.dae.n - 2 * nc - nq;
+        let outer = (0..nq)
+            .filter(|i| !self.coordinates.contains(i))
+            .chain(
+                (0..nv)
+                    .filter(|j| !self.dependent.contains(j))
+                    .map(|j| nq + j),
+            )
             .collect();
         let blocks = vec![
-            self.dependent.clone(),
+            self.coordinates.clone(),
             self.dependent.iter().map(|&j| nq + j).collect(),
-            (2 * nq..self.dae.n).collect(),
+            (nq + nv..self.dae.n).collect(),
         ];
         (outer, blocks)
     }
 
-    /// Builds the residual for the dependent set `dependent` (velocity indices).
+    /// Builds the residual for the dependent set `dependent` (velocity indices), with the same
+    /// indices as the dependent coordinates: needs `q' = v` (planar bodies in the seed's
+    /// non-rotating frame, 16.8). [`Index1Formulation::build_partitioned`] takes both sets.
     ///
     /// Slots: `y = [q, v, a_D, λ]` at `1..=n`, `y'` at `n+1..=2n`.
     pub fn build(
@@ -127,7 +139,7 @@ impl Index1Formulation {
         c: &ConstraintExprs,
         dependent: &[usize],
     ) -> Result<Self, MechError> {
-        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let (nq, nv) = (sys.nq(), sys.nv());
         let identity = nq == nv
             && (0..nq).all(|i| {
                 let s = sys.v_slot(i);
@@ -137,15 +149,41 @@ impl Index1Formulation {
         if !identity {
             return Err(MechError::at(
                 "solve.formulation",
-                "the index-1 formulation needs q' = v (planar bodies in the default non-rotating frame); use ggl",
+                "the index-1 formulation with one dependent set needs q' = v (planar bodies in the default non-rotating frame); give the dependent coordinates too",
             ));
         }
-        if dependent.len() != nc {
+        Self::build_partitioned(sys, c, dependent, dependent)
+    }
+
+    /// Builds the residual for dependent velocities `dependent` and dependent coordinates
+    /// `coordinates` (each `nc` indices, `G_v[:, D]` and `G_q[:, D_q]` nonsingular) of a
+    /// mechanism whose coordinates move as `q' = K(q) v` (quaternions of 3D bodies, body-fixed
+    /// planar frames, or `K = I`):
+    ///
+    /// ```text
+    ///   q_I' = K_I(q) v                   (differential: the coordinates not in D_q)
+    ///   0 = g(q)                          (determines q_D)
+    ///   M_I v_I' = Q_I − G_Iᵀ λ           (differential)
+    ///   0 = G_v v                         (determines v_D)
+    ///   M_D a_D = Q_D − G_Dᵀ λ            (a_D = v_D')
+    ///   0 = G_I v_I' + G_D a_D + γ        (determines λ)
+    /// ```
+    ///
+    /// Slots: `y = [q, v, a_D, λ]` at `1..=n`, `y'` at `n+1..=2n`.
+    pub fn build_partitioned(
+        sys: &mut MultibodySystem,
+        c: &ConstraintExprs,
+        dependent: &[usize],
+        coordinates: &[usize],
+    ) -> Result<Self, MechError> {
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        if dependent.len() != nc || coordinates.len() != nc {
             return Err(MechError::at(
                 "solve.formulation",
                 format!(
-                    "index-1 needs {nc} dependent velocities, got {}",
-                    dependent.len()
+                    "index-1 needs {nc} dependent velocities and coordinates, got {} and {}",
+                    dependent.len(),
+                    coordinates.len()
                 ),
             ));
         }
@@ -155,11 +193,12 @@ impl Index1Formulation {
         let qp = |i: usize| (1 + n + i) as u32;
         let vp = |j: usize| (1 + n + nq + j) as u32;
         let dpos = |j: usize| dependent.iter().position(|&d| d == j);
+        let qpos = |i: usize| coordinates.iter().position(|&d| d == i);
         let g = &mut sys.graph;
         let mut res: Vec<Expr> = Vec::with_capacity(n);
         // q rows
         for i in 0..nq {
-            match dpos(i) {
+            match qpos(i) {
                 Some(k) => res.push(c.g[k]),
                 None => {
                     let a = g.var(qp(i));
@@ -208,7 +247,7 @@ impl Index1Formulation {
         }
         let mut id = Vec::with_capacity(n);
         for i in 0..nq {
-            id.push(if dpos(i).is_some() { 0.0 } else { 1.0 });
+            id.push(if qpos(i).is_some() { 0.0 } else { 1.0 });
         }
         for j in 0..nv {
             id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
@@ -217,6 +256,7 @@ impl Index1Formulation {
         Ok(Index1Formulation {
             dae: ImplicitDae::build(g, &res, n),
             dependent: dependent.to_vec(),
+            coordinates: coordinates.to_vec(),
             id,
         })
     }

@@ -69,7 +69,8 @@ pub struct SolveOptions {
     pub ggl_dependent_velocity_error_test: bool,
     /// IDA formulations (GGL, index 1): the relative change of `c_j = α/h` (IDA's Newton
     /// matrix `∂F/∂y + c_j ∂F/∂y'`) beyond which IDA evaluates and factors a new Jacobian
-    /// (`IDASetDeltaCjLSetup`); `None` keeps SUNDIALS' 0.25.
+    /// (`IDASetDeltaCjLSetup`); `None` takes bondmech's 0 (a new Jacobian at every change of
+    /// `c_j`, see `solve::integrators::IDA_DELTA_CJ`; SUNDIALS' own default is 0.25).
     pub ida_delta_cj: Option<f64>,
     /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
     pub linear_solver: LinearSolverKind,

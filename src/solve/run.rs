@@ -21,7 +21,7 @@ use nalgebra::DMatrix;
 
 use super::integrators::{make_cvode, make_ida, make_ida_schur};
 use super::partition::CausalPartition;
-use super::reactions::{EventEval, Multipliers, ReactionEval};
+use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::{
     consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
     joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
@@ -427,22 +427,17 @@ fn solve_from_first_output(
             summary.formulation = "index1".into();
             run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
         }
-        FormulationKind::Dae if init.redundant_joints.is_empty() && q_rates_are_v(&sys) => {
+        FormulationKind::Dae if init.redundant_joints.is_empty() => {
             summary.formulation = "dae".into();
             run_index1(sys.clone(), &c, tapes, &init, opts, &mut summary, observer)
         }
         FormulationKind::Dae | FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             if opts.formulation == FormulationKind::Dae {
                 // the index-1 DAE does not apply (the arm above): the GGL, said so
-                let why = if init.redundant_joints.is_empty() {
-                    "its coordinates' rates are not its velocities (3D bodies or body-fixed frames)"
-                } else {
-                    "its joints are redundant"
-                };
                 summary.formulation = "ggl".into();
-                summary.warnings.push(format!(
-                    "dae: the chapter's index-1 DAE does not apply to this mechanism ({why}); solved with ggl"
-                ));
+                summary.warnings.push(
+                    "dae: the chapter's index-1 DAE does not apply to this mechanism (its joints are redundant); solved with ggl".into()
+                );
             }
             let t = ThreadTime::now();
             let eps_default = default_compliance(&sys, opts);
@@ -656,16 +651,22 @@ pub struct SingularPassage {
 }
 
 /// Completes the dependent coordinates and velocities of an output row `y = [q, v, …]` of the
-/// index-1 DAE (`q' = v`, dependent indices `dependent` for both) from the independent ones:
-/// Newton on `g(q_I, q_D) = 0` for `q_D`, then `G_v[:, D] v_D = −G_v[:, I] v_I`.
+/// index-1 DAE (dependent coordinates `coordinates`, dependent velocities `dependent`) from the
+/// independent ones: Newton on `g(q_I, q_D) = 0` for `q_D` (with `G_q[:, D_q]`), then
+/// `G_v[:, D] v_D = −G_v[:, I] v_I`.
 ///
 /// IDA interpolates an output between its steps, and the algebraic unknowns, out of its error
 /// test, are interpolated by a polynomial that satisfies the joints only at the steps (measured:
 /// a pinned point moving at 1e-5 m/s at outputs of the double pendulum); the completed row lies
 /// on the joints to the Newton tolerance, as the steps do.
-fn complete_dependent(tapes: &MechanicsTapes, dependent: &[usize], t: f64, y: &mut [f64]) {
+fn complete_dependent(
+    tapes: &MechanicsTapes,
+    (dependent, coordinates): (&[usize], &[usize]),
+    t: f64,
+    y: &mut [f64],
+) {
     let (nq, nv, nc) = tapes.dims;
-    if nc == 0 || dependent.len() != nc || nq != nv {
+    if nc == 0 || dependent.len() != nc || coordinates.len() != nc {
         return;
     }
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
@@ -675,15 +676,15 @@ fn complete_dependent(tapes: &MechanicsTapes, dependent: &[usize], t: f64, y: &m
             break;
         }
         let gq = tapes.gq.matrix(t, &y[..nq + nv]);
-        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(r, dependent[k])]);
+        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(r, coordinates[k])]);
         let Some(dq) = block
             .lu()
             .solve(&nalgebra::DVector::from_iterator(nc, g.iter().map(|v| -v)))
         else {
             return;
         };
-        for (k, &j) in dependent.iter().enumerate() {
-            y[j] += dq[k];
+        for (k, &i) in coordinates.iter().enumerate() {
+            y[i] += dq[k];
         }
     }
     let gv = tapes.gv.matrix(t, &y[..nq + nv]);
@@ -701,8 +702,39 @@ fn complete_dependent(tapes: &MechanicsTapes, dependent: &[usize], t: f64, y: &m
     }
 }
 
+/// The dependent coordinates of the index-1 DAE for the dependent velocities `dependent`: the
+/// same indices where `q' = v`; otherwise `nc` columns of `G_q` chosen as
+/// [`select_dependent`] chooses velocities, the translations first (a 3D body's position, not
+/// its quaternion). `None` when `G_q` has lower rank than its rows.
+fn dependent_coordinates(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t: f64,
+    x: &[f64],
+    dependent: &[usize],
+) -> Option<Vec<usize>> {
+    if q_rates_are_v(sys) {
+        return Some(dependent.to_vec());
+    }
+    let gq = tapes.gq.matrix(t, x);
+    select_dependent(&gq, &preferred_coordinates(sys))
+}
+
+/// Coordinates preferred as dependent: the translations (`x`, `y`, `z` of a body's centre),
+/// whose velocities the joints put in differential causality (seed 16.5, 16.7).
+fn preferred_coordinates(sys: &MultibodySystem) -> Vec<bool> {
+    sys.coords
+        .iter()
+        .map(|c| {
+            let last = c.name.rsplit('.').next().unwrap_or("");
+            matches!(last, "x" | "y" | "z")
+        })
+        .collect()
+}
+
 /// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
-/// non-rotating frame, 16.8), as the index-1 DAE needs.
+/// non-rotating frame, 16.8): then the index-1 DAE's dependent coordinates are its dependent
+/// velocities' own.
 fn q_rates_are_v(sys: &MultibodySystem) -> bool {
     if sys.nq() != sys.nv() {
         return false;
@@ -964,7 +996,7 @@ fn run_ggl(
     let mut total = SolverStats::default();
     let multipliers = Multipliers::Unknowns(nq + nv);
     let mut out = OutputEval::new(sys, tapes.clone(), &multipliers);
-    let events = event_eval(sys, &tapes, &multipliers);
+    let events = event_eval(sys, &tapes, &solved_multipliers(sys, &tapes));
     set_ida_events(&mut solver.ida, &events)?;
     let mut sol = Solution {
         columns: out.columns.clone(),
@@ -1256,7 +1288,7 @@ fn run_index1(
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + nc);
     let mut out = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
-    let events = event_eval(&sys, &tapes, &multipliers);
+    let events = event_eval(&sys, &tapes, &solved_multipliers(&sys, &tapes));
     let mut sol = Solution {
         columns: out.columns.clone(),
         times: Vec::new(),
@@ -1337,51 +1369,38 @@ fn run_index1(
         if reselections == 0 {
             (summary.states, summary.dependent) = causal.names(&dependent);
         }
+        let Some(coordinates) = dependent_coordinates(&sys, &tapes, t_start, &x, &dependent) else {
+            if hands_over {
+                handover = Some((t_start, "no regular set of dependent coordinates".into()));
+                break 'restart;
+            }
+            return Err(Error::Init(crate::dae::InitError::Singular {
+                t: t_start,
+                what: "the joints' position rows lose rank: no set of dependent coordinates exists; use the ggl formulation".into(),
+            }));
+        };
         // the formulation's symbolic build is not integration time
         let tb = ThreadTime::now();
-        let f = Index1Formulation::build(&mut sys, c, &dependent)?;
+        let f = Index1Formulation::build_partitioned(&mut sys, c, &dependent, &coordinates)?;
         formulation_build += tb.elapsed().as_secs_f64();
         summary.unknowns = f.dae.n;
-        let split = f.schur_split();
+        let split = f.schur_split(nq);
         let mut y0 = state.q.clone();
         y0.extend(&state.v);
         y0.extend(dependent.iter().map(|&j| state.vdot[j]));
         y0.extend(&state.lambda);
-        let mut yp0 = state.v.clone();
+        // q' = K(q) v
+        let x_start: Vec<f64> = state.q.iter().chain(&state.v).copied().collect();
+        let mut yp0 = MechanicsTapes::eval(&tapes.kinematics, t_start, &x_start);
         yp0.extend(&state.vdot);
         yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
         let mut atol = vec![opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(opts.atol, nc));
         atol.extend(std::iter::repeat_n(multiplier_atol(opts), nc));
-        // IDA's error test is the WRMS norm of the masked error over all n unknowns: with only
-        // the differential ones unmasked, it is looser than the norm over those by
-        // sqrt(n / n_diff) (2.2× on the double pendulum, 3.9× on the slider-crank); tightening
-        // rtol and their atol by that factor makes rtol mean what it means for an ODE on the
-        // degrees of freedom
-        let n_diff = f.id.iter().filter(|&&d| d != 0.0).count().max(1);
-        let dilution = (n_diff as f64 / f.dae.n as f64).sqrt();
-        for (a, &d) in atol.iter_mut().zip(&f.id) {
-            if d != 0.0 {
-                *a *= dilution;
-            }
-        }
-        let ida_opts = SolveOptions {
-            rtol: opts.rtol * dilution,
-            ..opts.clone()
-        };
         let f: Arc<dyn DaeFormulation> = Arc::new(f);
         // `auto`: the Newton matrix by elimination of the dependent blocks (Schur complement)
         let schur = (opts.linear_solver == LinearSolverKind::Auto)
-            .then(|| {
-                make_ida_schur(
-                    f.clone(),
-                    split,
-                    atol.clone(),
-                    t_start,
-                    (&y0, &yp0),
-                    &ida_opts,
-                )
-            })
+            .then(|| make_ida_schur(f.clone(), split, atol.clone(), t_start, (&y0, &yp0), opts))
             .flatten();
         summary.linear_solver = match schur {
             Some(_) => "schur".into(),
@@ -1389,7 +1408,7 @@ fn run_index1(
         };
         let mut ida = match schur {
             Some(ida) => ida?,
-            None => make_ida(f, atol, t_start, &y0, &yp0, &ida_opts)?,
+            None => make_ida(f, atol, t_start, &y0, &yp0, opts)?,
         };
         set_ida_events(&mut ida, &events)?;
         // The wall-clock and step budgets cover the whole solve, earlier segments included.
@@ -1421,7 +1440,7 @@ fn run_index1(
                     continue;
                 };
                 let mut yr = ida.y().to_vec();
-                complete_dependent(&tapes, &dependent, step.t, &mut yr);
+                complete_dependent(&tapes, (&dependent, &coordinates), step.t, &mut yr);
                 let row = out.row(step.t, &yr);
                 if emit(&mut sol, observer, step.t, row, opts.keep_rows) || stop {
                     total.accumulate(&ida.stats());
@@ -1431,7 +1450,7 @@ fn run_index1(
             }
             k_next += 1;
             let mut yr = ida.y().to_vec();
-            complete_dependent(&tapes, &dependent, step.t, &mut yr);
+            complete_dependent(&tapes, (&dependent, &coordinates), step.t, &mut yr);
             x.copy_from_slice(&yr[..nq + nv]);
             t_last = step.t;
             let row = out.row(step.t, &yr);
@@ -1474,6 +1493,25 @@ fn run_index1(
                         ));
                         continue 'restart;
                     }
+                }
+            }
+            // the dependent coordinates, where they are chosen apart from the velocities
+            if coordinates != dependent && k_next < opts.output_times.len() {
+                let gq = tapes.gq.matrix(step.t, &x);
+                let cond_q = dependent_condition(&gq, &coordinates);
+                let better = (cond_q > INDEX1_CHECK_CONDITION)
+                    .then(|| select_dependent(&gq, &preferred_coordinates(&sys)))
+                    .flatten()
+                    .filter(|b| dependent_condition(&gq, b) * INDEX1_RESELECT_GAIN < cond_q);
+                if better.is_some() {
+                    total.accumulate(&ida.stats());
+                    reselections += 1;
+                    t_start = step.t;
+                    state = consistent_state_from(&sys, &tapes, t_start, &x)?;
+                    summary.warnings.push(format!(
+                        "index1: dependent coordinates re-selected at t = {t_start:.6} (condition {cond_q:.1e})"
+                    ));
+                    continue 'restart;
                 }
             }
         }
@@ -1743,6 +1781,16 @@ fn event_eval(
     EventEval::new(sys, || {
         ReactionEval::new(sys, &tapes.gv, multipliers.clone())
     })
+}
+
+/// The multipliers an IDA formulation's events read: solved from the interpolated `(t, q, v)`
+/// ([`Multipliers::FromState`]), not interpolated (IDA's error test leaves them out).
+fn solved_multipliers(sys: &MultibodySystem, tapes: &MechanicsTapes) -> Multipliers {
+    Multipliers::FromState(Box::new(StateMultipliers {
+        forces: tapes.forces.clone(),
+        gamma: tapes.gamma.clone(),
+        mass: sys.mass.clone(),
+    }))
 }
 
 /// Whether a solve computes reactions at all (as output columns or inside an event).

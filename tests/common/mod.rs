@@ -20,6 +20,7 @@ pub mod double_pendulum;
 pub mod elliptic;
 pub mod examples;
 pub mod four_bar_chain;
+pub mod heavy_top;
 pub mod integrate;
 pub mod n_link;
 pub mod rigid_body;

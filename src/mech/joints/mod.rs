@@ -1,20 +1,5 @@
-//! Joints: each kind owns its position-level closure rows `g_k(q) = 0` (seed 16.5, 16.7).
-//!
-//! The closure of a row is what its constraint junction in the bond graph integrates: the
-//! junction's flow constraint is `d/dt g_k = G_k v`, which [`crate::bond::mechanics`] checks
-//! at build time. The rows of a joint, by kind:
-//!
-//! * [`revolute`]: a revolute (planar pin) or spherical joint, the points coincide,
-//!   `P_a − P_b = 0` per axis (Fig. 16's 1-junctions `V_A1 = V_A2`);
-//! * [`hinge`]: a spatial hinge, the points coincide and the axis is shared;
-//! * [`prismatic`]: the second point stays on the first body's line, the relative rotation fixed;
-//! * [`weld`]: the points coincide and the relative rotation is fixed.
-//!
-//! Each joint's reaction (its force and moment on the second body) is read from the
-//! multipliers of its rows ([`JointReaction`]).
-
-//! Joints as types: each kind is one file holding a type that implements [`Joint`], and
-//! [`joint_type`] is the one dispatch from the scene's [`JointKind`] to it.
+//! Joints as types: each kind is one file holding a type that implements `Joint`, and
+//! `joint_type` is the one dispatch from the scene's [`JointKind`] to it.
 //!
 //! A kind owns, in its file: its closure rows `g_k(q) = 0` over the bodies' coordinates (seed
 //! 16.5, 16.7), its planar bond-graph fragment (the chapter's, when it draws one; otherwise
