@@ -218,14 +218,31 @@ fn regression_t_end_flag_refused_output_times_after_it() {
 
 #[test]
 fn regression_formulation_decoupled_was_silently_ignored() {
+    // a raw bond graph's twin is now solved (its joint rows opened, issue 24): the summary
+    // names what ran
+    let summary = std::env::temp_dir().join(format!("bondmech-dec-{}.json", std::process::id()));
     let out = bondmech(&[
         "run",
         &scene("bg_mass_spring_damper.json"),
         "--formulation",
         "decoupled",
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    assert_eq!(s["formulation"], "decoupled");
+    // where it cannot apply it is refused by name, never silently replaced
+    let out = bondmech(&[
+        "run",
+        &scene("bg_mass_spring_damper.json"),
+        "--formulation",
+        "decoupled",
+        "--joint-stiffness=-1",
     ]);
     assert!(!out.status.success());
-    assert!(stderr(&out).contains("decoupled"), "{}", stderr(&out));
+    assert!(stderr(&out).contains("stiffness"), "{}", stderr(&out));
     let out = bondmech(&[
         "compare",
         &scene("double_pendulum.json"),
@@ -240,12 +257,19 @@ fn regression_formulation_decoupled_was_silently_ignored() {
         "{}",
         stderr(&out)
     );
-    // a raw bond graph scene asking for it in its own solve section is refused too
+    // a raw bond graph scene asking for it in its own solve section gets it too
     let mut v = bundled("bg_mass_spring_damper.json");
     v["solve"]["formulation"] = json!("decoupled");
-    let out = bondmech(&["run", &write_scene("bg_dec.json", &v)]);
-    assert!(!out.status.success());
-    assert!(stderr(&out).contains("decoupled"), "{}", stderr(&out));
+    let out = bondmech(&[
+        "run",
+        &write_scene("bg_dec.json", &v),
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    assert_eq!(s["formulation"], "decoupled");
     // the values are listed in --help
     let help = bondmech(&["run", "--help"]);
     let text = String::from_utf8_lossy(&help.stdout);

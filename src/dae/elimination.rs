@@ -34,7 +34,7 @@
 use std::sync::Arc;
 
 use super::block_lu::BlockLu;
-use super::partitioned::{left_branch, tangent_step, NewtonLimits, Partition, PartitionError};
+use super::partition::{left_branch, tangent_step, NewtonLimits, Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically

@@ -22,6 +22,7 @@ pub mod gram;
 pub mod index1;
 pub mod init;
 pub mod mechanics;
+pub mod partition;
 pub mod partitioned;
 pub mod raw_graph;
 pub mod singular;

@@ -33,84 +33,10 @@ use super::block_lu::BlockLu;
 use super::elimination::{Elimination, EliminationInputs};
 use super::index1::{dependent_condition, select_dependent};
 use super::mechanics::{slots, ConstraintExprs, MatrixTape};
+use super::partition::{left_branch, tangent_step, NewtonLimits};
+pub use super::partition::{Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 use crate::mech::MultibodySystem;
-
-/// Why a right-hand side of the partitioned ODE could not be evaluated.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum PartitionError {
-    /// Newton on `g(q) = 0` for the dependent coordinates did not converge (the integrator
-    /// retries with a smaller step).
-    #[error("Newton on the joints did not converge at t = {t} (last correction {correction:e})")]
-    Newton {
-        /// Time of the evaluation.
-        t: f64,
-        /// Size of the last correction.
-        correction: f64,
-    },
-    /// Newton converged far from the tangent prediction (a correction of at least
-    /// [`BRANCH_FRACTION`] of the prediction): the trial step probably crossed to another branch
-    /// of the joints' solutions near a bifurcation (the integrator retries with a smaller step).
-    #[error("Newton on the joints left the tangent prediction at t = {t} (correction {correction:e}, prediction {predicted:e})")]
-    Branch {
-        /// Time of the evaluation.
-        t: f64,
-        /// Size of Newton's correction of the prediction.
-        correction: f64,
-        /// Size of the prediction.
-        predicted: f64,
-    },
-    /// The dependent block of `G_q` or `G_v` is singular at this state.
-    #[error("the dependent block of the joints' Jacobian is singular at t = {t}")]
-    SingularBlock {
-        /// Time of the evaluation.
-        t: f64,
-    },
-    /// The reduced mass matrix `Rᵀ M R` is singular (a degree of freedom without inertia).
-    #[error("the reduced mass matrix is singular at t = {t}")]
-    SingularMass {
-        /// Time of the evaluation.
-        t: f64,
-    },
-    /// The dependent block's condition estimate passed the re-choice threshold: the runner
-    /// chooses a new partition at the last accepted step.
-    #[error("the dependent block's condition estimate {condition:.1e} asks for a new partition at t = {t}")]
-    Repartition {
-        /// Time of the evaluation.
-        t: f64,
-        /// Condition estimate.
-        condition: f64,
-    },
-}
-
-/// A choice of dependent and independent coordinates and velocities (sorted index lists).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Partition {
-    /// Dependent coordinates `q_D` (one per constraint row).
-    pub dep_q: Vec<usize>,
-    /// Independent coordinates `q_I` (ODE states).
-    pub ind_q: Vec<usize>,
-    /// Dependent velocities `v_D`.
-    pub dep_v: Vec<usize>,
-    /// Independent velocities `v_I` (ODE states).
-    pub ind_v: Vec<usize>,
-}
-
-impl Partition {
-    /// Number of ODE states `|q_I| + |v_I|`.
-    pub fn n_states(&self) -> usize {
-        self.ind_q.len() + self.ind_v.len()
-    }
-
-    /// The ODE state `[q_I, v_I]` of a full state `x = [q, v]` (`nq` coordinates).
-    pub fn states_of(&self, nq: usize, x: &[f64]) -> Vec<f64> {
-        self.ind_q
-            .iter()
-            .map(|&i| x[i])
-            .chain(self.ind_v.iter().map(|&j| x[nq + j]))
-            .collect()
-    }
-}
 
 /// The compiled pieces of a multibody system that every partition shares.
 #[derive(Clone, Debug)]
@@ -287,67 +213,6 @@ impl PartitionedSystem {
         let (gq, gv) = self.jacobians(t, x);
         dependent_condition(&gq, &p.dep_q).max(dependent_condition(&gv, &p.dep_v))
     }
-}
-
-/// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
-/// that a right-hand side accepts (see [`PartitionError::Branch`]).
-pub const BRANCH_FRACTION: f64 = 0.5;
-
-/// Whether Newton's correction `corr` of the tangent prediction (of size `predicted`, for a
-/// move `moved` of the independent coordinates) means it converged on another branch of the
-/// joints' solutions: more than [`BRANCH_FRACTION`] of the prediction plus the predictor's own
-/// truncation error (bounded by `moved²`: it is exact to first order, and to second with its
-/// curvature term) and the Newton tolerance. The truncation term matters where the dependent
-/// coordinates are stationary (a slider-crank's rod angle at a dead centre: the prediction is
-/// tiny, its third-order error is not), as at an output row completed far from the last
-/// evaluation.
-pub(crate) fn left_branch(corr: f64, predicted: f64, moved: f64, newton_tol: f64) -> bool {
-    corr > BRANCH_FRACTION * (predicted + moved * moved) + 1e3 * newton_tol
-}
-
-/// The tangent predictor's step `Δq_D = B Δq_I + ½ δ² c` into `out` (the caller subtracts it):
-/// `B = G_D⁻¹ G_I` (row-major `|D| × |q_I|`) of the last call, and, when `c = G_D⁻¹ γ` of the
-/// last right-hand side is given, the curvature term `½ G_D⁻¹ H(Δq, Δq)`: along the last
-/// velocity `v`, `Δq ≈ δ v` and `H(Δq, Δq) ≈ δ² H(v, v) = δ² γ`, with `δ` the step along `v`
-/// that moves `q_I` by `Δq_I = q_I − q_I,prev` (least squares; `v_I` given by `v`).
-pub(crate) fn tangent_step(
-    b: &[f64],
-    c: Option<&[f64]>,
-    qi: &[f64],
-    qi_prev: &[f64],
-    v: impl Iterator<Item = f64>,
-    out: &mut [f64],
-) {
-    let ni = qi.len();
-    for (k, o) in out.iter_mut().enumerate() {
-        *o = b[k * ni..(k + 1) * ni]
-            .iter()
-            .zip(qi.iter().zip(qi_prev))
-            .map(|(b, (y, p))| b * (y - p))
-            .sum();
-    }
-    let Some(c) = c else { return };
-    let (num, den) = v
-        .zip(qi.iter().zip(qi_prev))
-        .fold((0.0, 0.0), |(n, d), (v, (y, p))| {
-            (n + (y - p) * v, d + v * v)
-        });
-    if den > 0.0 {
-        let half = 0.5 * (num / den) * (num / den);
-        for (o, c) in out.iter_mut().zip(c) {
-            *o += half * c;
-        }
-    }
-}
-
-/// What a Newton solve for the dependent coordinates may take: its tolerance, its iterations,
-/// and the condition estimate above which the partition is to be re-chosen (the fields of a
-/// [`PartitionedRhs`] of the same names, handed to the elimination's Newton).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct NewtonLimits {
-    pub(crate) tolerance: f64,
-    pub(crate) max_iterations: usize,
-    pub(crate) repartition_above: f64,
 }
 
 /// Largest Newton iterations per right-hand side.

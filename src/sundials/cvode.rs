@@ -262,7 +262,7 @@ impl Cvode {
             }
             None => {
                 let m = DenseMatrix::square(&ctx, n)?;
-                let ls = LinearSolver::dense(&ctx, &y, &m)?;
+                let ls = super::dense_lu::new(&ctx)?;
                 (Some(m), None, ls)
             }
         };

@@ -106,7 +106,7 @@ pub fn solve(a: &[f64], n: usize, pivots: &[usize], b: &mut [f64]) {
 }
 
 unsafe extern "C" fn initialize(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: content is the Box<DenseLu> installed by `LinearSolver::dense`.
+    // SAFETY: content is the Box<DenseLu> installed by `new`.
     unsafe {
         let lu = &mut *((*s).content as *mut DenseLu);
         lu.factored = false;

@@ -358,7 +358,7 @@ impl Ida {
                 let mat = DenseMatrix::square(&ctx, n)?;
                 let ls = match schur {
                     Some(p) => super::schur::new(&ctx, p)?,
-                    None => LinearSolver::dense(&ctx, &y, &mat)?,
+                    None => super::dense_lu::new(&ctx)?,
                 };
                 (Some(mat), ls)
             }

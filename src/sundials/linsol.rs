@@ -1,10 +1,8 @@
-//! RAII owner of a `SUNLinearSolver` (dense LU, [`super::dense_lu`], or a custom one from
+//! RAII owner of a `SUNLinearSolver` (the dense LU of `super::dense_lu`, or a custom one from
 //! [`super::custom_ls`]).
 
 use super::context::Context;
 use super::error::SolverError;
-use super::matrix::DenseMatrix;
-use super::vector::NVector;
 use std::os::raw::{c_int, c_void};
 use sundials_sys as sys;
 
@@ -14,17 +12,6 @@ pub(crate) struct LinearSolver {
 }
 
 impl LinearSolver {
-    /// Dense direct solver (LU with partial pivoting, [`super::dense_lu`]) for the dense
-    /// matrix the integrator attaches with it (the template vector and matrix are kept in the
-    /// signature of `SUNLinSol_Dense`, which it replaces).
-    pub(crate) fn dense(
-        ctx: &Context,
-        _y: &NVector,
-        _a: &DenseMatrix,
-    ) -> Result<LinearSolver, SolverError> {
-        super::dense_lu::new(ctx)
-    }
-
     /// Take ownership of an already-built solver.
     ///
     /// # Safety

@@ -495,7 +495,7 @@ pub fn solve_direct(
                     view.add(r, j, v);
                 }
             }
-            let ls = LinearSolver::dense(&ctx, &rhs, &a)?;
+            let ls = super::dense_lu::new(&ctx)?;
             (Box::new(a), ls)
         }
         DirectSolver::Sparse(s) => {
