@@ -24,7 +24,7 @@ class SceneError(Error, ValueError):
 
 
 class OptionsError(Error, ValueError):
-    """An option that cannot apply (an unknown formulation, ``decoupled`` on a raw bond graph,
+    """An option that cannot apply (an unknown formulation, ``ggl`` on a raw bond graph without closures,
     a sweep that is refused, ...)."""
 
 
