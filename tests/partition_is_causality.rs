@@ -27,25 +27,18 @@ fn names(v: &Value) -> BTreeSet<String> {
         .unwrap_or_default()
 }
 
-/// `graph --causality`'s states and differential inertias; `None` for the known open bug of a
-/// massless body whose rotation nothing turns (its ω junction is drawn without bonds and the
-/// drawn graph fails validation: "junction 'bead.omega' has no bonds"), which the solvers do
-/// not meet because they read the annotated graph. Any other failure fails the test.
-fn causality(scene: &Path) -> Option<(BTreeSet<String>, BTreeSet<String>)> {
+fn causality(scene: &Path) -> (BTreeSet<String>, BTreeSet<String>) {
     let out = Command::new(BIN)
         .arg("graph")
         .arg(scene)
         .arg("--causality")
         .output()
         .unwrap();
-    if !out.status.success() {
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            err.contains(".omega' has no bonds"),
-            "{scene:?}: graph --causality failed: {err}"
-        );
-        return None;
-    }
+    assert!(
+        out.status.success(),
+        "{scene:?}: graph --causality failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let r: Value = serde_json::from_slice(&out.stdout).unwrap();
     let differential = r["differential"]
         .as_array()
@@ -53,7 +46,7 @@ fn causality(scene: &Path) -> Option<(BTreeSet<String>, BTreeSet<String>)> {
         .iter()
         .map(|d| d["element"].as_str().unwrap().to_string())
         .collect();
-    Some((names(&r["states"]), differential))
+    (names(&r["states"]), differential)
 }
 
 /// The run's summary, or `None` when the formulation refuses the scene.
@@ -82,13 +75,9 @@ fn summary_partition_at_the_start_is_the_causality_of_graph() {
     let dir = std::env::temp_dir().join(format!("bondmech-partition-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut checked = 0;
-    let mut skipped = Vec::new();
     for scene in common::bundled_scene_paths() {
         let name = scene.file_name().unwrap().to_string_lossy().to_string();
-        let Some((states, differential)) = causality(&scene) else {
-            skipped.push(name);
-            continue;
-        };
+        let (states, differential) = causality(&scene);
         for f in [None, Some("index1"), Some("partitioned")] {
             let Some(s) = summary(&scene, f, &dir) else {
                 // index 1 refuses spatial bodies (q' ≠ v) and redundant joints, by name
@@ -122,6 +111,19 @@ fn summary_partition_at_the_start_is_the_causality_of_graph() {
     // every planar mechanism under three formulations, the spatial ones under `partitioned`,
     // the raw graphs under their own
     assert!(checked >= 35, "only {checked} runs compared");
-    // the open bug concerns one bundled scene; fixing it must remove it from here
-    assert_eq!(skipped, ["bead_in_slot.json"]);
+}
+
+/// Regression: a massless body that nothing turns (the bead of `bead_in_slot`, the peers'
+/// massless piston) kept a bondless ω junction, and `graph --causality` refused the graph
+/// ("junction 'bead.omega' has no bonds"); the default then fell back to a numeric partition.
+#[test]
+fn regression_massless_body_omega_junction_failed_graph_causality() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for scene in [
+        "scenes/bead_in_slot.json",
+        "benches/scenes/peers_slider_crank.json",
+    ] {
+        let (states, differential) = causality(&root.join(scene));
+        assert!(!states.is_empty() && !differential.is_empty(), "{scene}");
+    }
 }

@@ -425,7 +425,10 @@ fn check_ports(graph: &BondGraph, skip: &HashSet<ElementId>, errors: &mut Vec<Bo
                     outward,
                 });
             }
-        } else if e.kind.is_junction() && found == 0 {
+        } else if e.kind.is_junction() && found == 0 && graph.displacements.is_empty() {
+            // in a mechanism's graph (it names its coordinates) a junction without bonds is the
+            // ω junction of a massless body that nothing turns (a bead, a piston with its point
+            // at its centre): it carries no variable and is no mistake
             errors.push(BondError::IsolatedJunction {
                 path,
                 element: e.name.clone(),
