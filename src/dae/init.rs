@@ -209,23 +209,14 @@ pub fn consistent_state_from(
     // 3. accelerations and multipliers
     let (q, gamma) = forces_and_gamma(sys, tapes, t0, &x)?;
     let n = nv + nc;
-    let mut a = DMatrix::zeros(n, n);
-    for j in 0..nv {
-        a[(j, j)] = sys.mass[j];
-    }
-    for i in 0..nc {
-        for j in 0..nv {
-            a[(nv + i, j)] = gv[(i, j)];
-            a[(j, nv + i)] = gv[(i, j)];
-        }
-    }
-    let mut b = DVector::zeros(n);
-    for j in 0..nv {
-        b[j] = q[j];
-    }
-    for i in 0..nc {
-        b[nv + i] = -gamma[i];
-    }
+    let (mut a, mut b) = (DMatrix::zeros(n, n), DVector::zeros(n));
+    dynamics_system(
+        &sys.mass,
+        |i, j| gv[(i, j)],
+        (&q, &gamma),
+        a.as_mut_slice(),
+        b.as_mut_slice(),
+    );
     let (sol, rank_a) = pinv_apply(&a, &b);
     if rank_a < nv + rank {
         let massless: Vec<&str> = sys
@@ -255,6 +246,41 @@ pub fn consistent_state_from(
         rank,
         redundant_joints,
     })
+}
+
+/// The accelerations' and multipliers' system of a state (`M` diagonal, `G_v` given entry by
+/// entry, `nc = γ.len()` rows):
+///
+/// ```text
+///   [ M    G_vᵀ ] [ v' ]   [  Q ]
+///   [ G_v  0    ] [ λ  ] = [ −γ ]
+/// ```
+///
+/// written into the column-major `(nv + nc)²` slice `a` (every entry set) and `b`. The start
+/// ([`consistent_state_from`]) and the multipliers of an interpolated state
+/// (`solve::reactions`) solve it.
+pub(crate) fn dynamics_system(
+    mass: &[f64],
+    gv: impl Fn(usize, usize) -> f64,
+    (q, gamma): (&[f64], &[f64]),
+    a: &mut [f64],
+    b: &mut [f64],
+) {
+    let (nv, nc) = (mass.len(), gamma.len());
+    let n = nv + nc;
+    a.fill(0.0);
+    for j in 0..nv {
+        a[j * n + j] = mass[j];
+        b[j] = q[j];
+    }
+    for i in 0..nc {
+        b[nv + i] = -gamma[i];
+        for j in 0..nv {
+            let g = gv(i, j);
+            a[j * n + nv + i] = g;
+            a[(nv + i) * n + j] = g;
+        }
+    }
 }
 
 /// Size `nv + nc` from which the velocity and acceleration steps use sparse Cholesky

@@ -32,11 +32,77 @@ pub(crate) enum Multipliers {
 #[derive(Clone, Debug)]
 pub(crate) struct StateMultipliers {
     /// `Q(t, q, v)`.
-    pub forces: Tape,
+    forces: Tape,
     /// `γ(t, q, v)`.
-    pub gamma: Tape,
+    gamma: Tape,
     /// The diagonal of `M`.
-    pub mass: Vec<f64>,
+    mass: Vec<f64>,
+    /// Scratch (no allocation per evaluation: events read it at every step): the tapes'
+    /// workspaces and values, the system `[M G_vᵀ; G_v 0]` and its right-hand side, the pivots.
+    scratch: SaddleScratch,
+}
+
+#[derive(Clone, Debug, Default)]
+struct SaddleScratch {
+    forces_work: Vec<f64>,
+    forces: Vec<f64>,
+    gamma_work: Vec<f64>,
+    gamma: Vec<f64>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    pivots: Vec<usize>,
+}
+
+impl StateMultipliers {
+    /// The multipliers' source from the tapes of `Q` and `γ` and the diagonal of `M`.
+    pub(crate) fn new(forces: Tape, gamma: Tape, mass: Vec<f64>) -> Self {
+        let n = mass.len() + gamma.n_outputs();
+        let scratch = SaddleScratch {
+            forces_work: forces.workspace(),
+            forces: vec![0.0; forces.n_outputs()],
+            gamma_work: gamma.workspace(),
+            gamma: vec![0.0; gamma.n_outputs()],
+            a: vec![0.0; n * n],
+            b: vec![0.0; n],
+            pivots: vec![0; n],
+        };
+        StateMultipliers {
+            forces,
+            gamma,
+            mass,
+            scratch,
+        }
+    }
+
+    /// Solves λ at `vars = [t, q, v]` from `M v' + G_vᵀ λ = Q`, `G_v v' = −γ`
+    /// ([`crate::dae::init::dynamics_system`]) into `lambda`; `gv` is `G_v` row-major. Where the
+    /// system is singular (redundant joints) the least-squares λ is taken.
+    fn solve(&mut self, vars: &[f64], gv: &[f64], lambda: &mut [f64]) {
+        let s = &mut self.scratch;
+        let (nv, nc) = (self.mass.len(), lambda.len());
+        let n = nv + nc;
+        self.forces.eval(vars, &mut s.forces_work, &mut s.forces);
+        self.gamma.eval(vars, &mut s.gamma_work, &mut s.gamma);
+        let gv_at = |i: usize, j: usize| gv[i * nv + j];
+        let (a, b) = (&mut s.a, &mut s.b);
+        crate::dae::init::dynamics_system(&self.mass, gv_at, (&s.forces, &s.gamma), a, b);
+        if crate::sundials::dense_lu::factor(a, n, &mut s.pivots) == 0 {
+            crate::sundials::dense_lu::solve(a, n, &s.pivots, b);
+            lambda.copy_from_slice(&b[nv..]);
+            return;
+        }
+        // singular (redundant joints): the least-squares multipliers, rebuilt (factor
+        // overwrote `a`); rare, so it may allocate
+        crate::dae::init::dynamics_system(&self.mass, gv_at, (&s.forces, &s.gamma), a, b);
+        let am = nalgebra::DMatrix::from_column_slice(n, n, a);
+        let tol = 1e-12 * am.norm();
+        if let Ok(x) = am
+            .svd(true, true)
+            .solve(&nalgebra::DVector::from_column_slice(b), tol)
+        {
+            lambda.copy_from_slice(&x.as_slice()[nv..]);
+        }
+    }
 }
 
 /// Evaluates every joint's reaction columns from a solver state.
@@ -98,43 +164,12 @@ impl ReactionEval {
         self.tape.eval(&self.vars, &mut self.work, &mut self.vals);
         self.gv
             .eval_into(&self.vars, &mut self.gv_work, &mut self.gv_vals);
-        match &self.source {
+        match &mut self.source {
             Multipliers::Unknowns(off) => self.lambda.copy_from_slice(&y[*off..*off + nc]),
             Multipliers::Springs(tape) => {
                 tape.eval(&self.vars, &mut self.lambda_work, &mut self.lambda)
             }
-            Multipliers::FromState(m) => {
-                let eval = |tape: &Tape, vars: &[f64]| {
-                    let mut out = vec![0.0; tape.n_outputs()];
-                    tape.eval(vars, &mut tape.workspace(), &mut out);
-                    out
-                };
-                let (q, gamma) = (eval(&m.forces, &self.vars), eval(&m.gamma, &self.vars));
-                let n = nv + nc;
-                let mut a = nalgebra::DMatrix::zeros(n, n);
-                let mut b = nalgebra::DVector::zeros(n);
-                for j in 0..nv {
-                    a[(j, j)] = m.mass[j];
-                    b[j] = q[j];
-                }
-                for i in 0..nc {
-                    b[nv + i] = -gamma[i];
-                    for j in 0..nv {
-                        let g = self.gv_vals[i * nv + j];
-                        a[(nv + i, j)] = g;
-                        a[(j, nv + i)] = g;
-                    }
-                }
-                let x = a.clone().lu().solve(&b).or_else(|| {
-                    let tol = 1e-12 * a.norm();
-                    a.svd(true, true).solve(&b, tol).ok()
-                });
-                if let Some(x) = x {
-                    for i in 0..nc {
-                        self.lambda[i] = x[nv + i];
-                    }
-                }
-            }
+            Multipliers::FromState(m) => m.solve(&self.vars, &self.gv_vals, &mut self.lambda),
         }
         let (mut at, mut col) = (0, 0);
         for j in &self.joints {

@@ -1786,11 +1786,11 @@ fn event_eval(
 /// The multipliers an IDA formulation's events read: solved from the interpolated `(t, q, v)`
 /// ([`Multipliers::FromState`]), not interpolated (IDA's error test leaves them out).
 fn solved_multipliers(sys: &MultibodySystem, tapes: &MechanicsTapes) -> Multipliers {
-    Multipliers::FromState(Box::new(StateMultipliers {
-        forces: tapes.forces.clone(),
-        gamma: tapes.gamma.clone(),
-        mass: sys.mass.clone(),
-    }))
+    Multipliers::FromState(Box::new(StateMultipliers::new(
+        tapes.forces.clone(),
+        tapes.gamma.clone(),
+        sys.mass.clone(),
+    )))
 }
 
 /// Whether a solve computes reactions at all (as output columns or inside an event).

@@ -119,15 +119,10 @@ unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int 
     // attached, rebuilt by the integrator before every setup and not accessed elsewhere until
     // the next one (SUNDIALS' own dense solver factors it in place too).
     unsafe {
-        if a.is_null() || sys::SUNMatGetID(a) != sys::SUNMatrix_ID_SUNMATRIX_DENSE {
+        let Some((n, data)) = super::matrix::square_dense(a) else {
             return -1;
-        }
+        };
         let lu = &mut *((*s).content as *mut DenseLu);
-        let n = sys::SUNDenseMatrix_Columns(a) as usize;
-        if sys::SUNDenseMatrix_Rows(a) as usize != n {
-            return -1;
-        }
-        let data = sys::SUNDenseMatrix_Data(a);
         let m = std::slice::from_raw_parts_mut(data, n * n);
         lu.n = n;
         lu.pivots.resize(n, 0);

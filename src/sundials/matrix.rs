@@ -4,6 +4,22 @@ use super::context::Context;
 use super::error::SolverError;
 use sundials_sys as sys;
 
+/// The order and data of `a` when it is a square dense `SUNMatrix` (what a dense linear
+/// solver's setup receives), `None` otherwise.
+///
+/// # Safety
+/// `a` must be null or a live `SUNMatrix`.
+pub(crate) unsafe fn square_dense(a: sys::SUNMatrix) -> Option<(usize, *mut f64)> {
+    // SAFETY: the caller's contract; the type is checked before the dense accessors.
+    unsafe {
+        if a.is_null() || sys::SUNMatGetID(a) != sys::SUNMatrix_ID_SUNMATRIX_DENSE {
+            return None;
+        }
+        let n = sys::SUNDenseMatrix_Columns(a) as usize;
+        (sys::SUNDenseMatrix_Rows(a) as usize == n).then(|| (n, sys::SUNDenseMatrix_Data(a)))
+    }
+}
+
 /// Owned dense `SUNMatrix`, destroyed on drop.
 pub(crate) struct DenseMatrix {
     raw: sys::SUNMatrix,

@@ -439,15 +439,11 @@ unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int 
     // SAFETY: content is our Box<SchurLu>; `a` is the live square dense matrix the integrator
     // attached and filled with the Newton matrix; it is only read here.
     unsafe {
-        if a.is_null() || sys::SUNMatGetID(a) != sys::SUNMatrix_ID_SUNMATRIX_DENSE {
-            return -1;
-        }
         let lu = &mut *((*s).content as *mut SchurLu);
-        let n = sys::SUNDenseMatrix_Columns(a) as usize;
-        if n != lu.p.n || sys::SUNDenseMatrix_Rows(a) as usize != n {
+        let Some((n, data)) = super::matrix::square_dense(a).filter(|&(n, _)| n == lu.p.n) else {
             return -1;
-        }
-        let m = std::slice::from_raw_parts(sys::SUNDenseMatrix_Data(a), n * n);
+        };
+        let m = std::slice::from_raw_parts(data, n * n);
         // no panic may unwind into SUNDIALS
         match catch_unwind(AssertUnwindSafe(|| lu.factor(m))) {
             Ok(Ok(())) => 0,
