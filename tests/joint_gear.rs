@@ -93,10 +93,7 @@ fn gear_bad_input_is_refused_with_the_json_path() {
         for (k, x) in patch.as_object().unwrap() {
             v["joints"][2][k] = x.clone();
         }
-        let err = Scene::from_json_str(&v.to_string())
-            .expect_err(what)
-            .to_string();
-        assert!(err.contains(path), "{what}: {err}");
+        support::solve::assert_refused_at(&v, what, path);
     }
     // a gear in a spatial scene: refused at its type
     let spatial = r#"{"dimension": 3,

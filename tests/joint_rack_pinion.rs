@@ -121,19 +121,11 @@ fn rack_pinion_bad_input_is_refused_with_the_json_path() {
         ),
         ("no axis", "axis", serde_json::Value::Null, "joints[2].axis"),
     ] {
-        let mut v = base.clone();
-        if value.is_null() {
-            v["joints"][2].as_object_mut().unwrap().remove(key);
-        } else {
-            v["joints"][2][key] = value;
-        }
+        let mut v = support::solve::with_joint_field(&base, 2, key, value);
         if what == "ground pinion" {
             v["joints"][2]["points"] = serde_json::json!([[0.0, 0.0], "P"]);
         }
-        let err = Scene::from_json_str(&v.to_string())
-            .expect_err(what)
-            .to_string();
-        assert!(err.contains(path), "{what}: {err}");
+        support::solve::assert_refused_at(&v, what, path);
     }
     let mut v = base;
     v["joints"][0]["radius"] = serde_json::json!(1.0);

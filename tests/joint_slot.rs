@@ -7,7 +7,7 @@
 mod common;
 mod support;
 
-use bondmech::{FormulationKind, Scene};
+use bondmech::FormulationKind;
 use common::bead_in_slot::BeadInSlot;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bead_in_slot.json");
@@ -81,15 +81,7 @@ fn slot_bad_input_is_refused_with_the_json_path() {
         ),
         ("no axis", serde_json::Value::Null, "joints[1].axis"),
     ] {
-        let mut v = base.clone();
-        if axis.is_null() {
-            v["joints"][1].as_object_mut().unwrap().remove("axis");
-        } else {
-            v["joints"][1]["axis"] = axis;
-        }
-        let err = Scene::from_json_str(&v.to_string())
-            .expect_err(what)
-            .to_string();
-        assert!(err.contains(path), "{what}: {err}");
+        let v = support::solve::with_joint_field(&base, 1, "axis", axis);
+        support::solve::assert_refused_at(&v, what, path);
     }
 }

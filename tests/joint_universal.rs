@@ -137,19 +137,11 @@ fn universal_bad_input_is_refused_with_the_json_path() {
         ),
         ("no axes", "axes", serde_json::Value::Null, "joints[3].axes"),
     ] {
-        let mut v = base.clone();
-        if value.is_null() {
-            v["joints"][3].as_object_mut().unwrap().remove(key);
-        } else {
-            v["joints"][3][key] = value;
-        }
+        let mut v = support::solve::with_joint_field(&base, 3, key, value);
         if what == "ground shaft" {
             v["joints"][3]["points"] = serde_json::json!([[0.0, 0.0, 0.0], "U"]);
         }
-        let err = Scene::from_json_str(&v.to_string())
-            .expect_err(what)
-            .to_string();
-        assert!(err.contains(path), "{what}: {err}");
+        support::solve::assert_refused_at(&v, what, path);
     }
     // a universal joint in a planar scene: refused at its type
     let planar = r#"{"dimension": 2,

@@ -24,3 +24,27 @@ pub fn solve_tight(model: &Model, formulation: FormulationKind) -> Solution {
         .solve(&o)
         .unwrap_or_else(|e| panic!("{formulation:?}: {e}"))
 }
+
+/// `base` with joint `joint`'s field `key` set to `value`, or removed when `value` is null.
+pub fn with_joint_field(
+    base: &serde_json::Value,
+    joint: usize,
+    key: &str,
+    value: serde_json::Value,
+) -> serde_json::Value {
+    let mut v = base.clone();
+    if value.is_null() {
+        v["joints"][joint].as_object_mut().unwrap().remove(key);
+    } else {
+        v["joints"][joint][key] = value;
+    }
+    v
+}
+
+/// The scene `v` is refused (`what` names the case) with an error that names `path`.
+pub fn assert_refused_at(v: &serde_json::Value, what: &str, path: &str) {
+    let err = Scene::from_json_str(&v.to_string())
+        .expect_err(what)
+        .to_string();
+    assert!(err.contains(path), "{what}: {err}");
+}
