@@ -58,10 +58,6 @@ impl Joint for Gear {
         true
     }
 
-    fn twin(&self) -> &'static str {
-        "a torsional spring on the mesh row θ_b − θ_b(0) + r (θ_a − θ_a(0))"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Pin
     }

@@ -38,10 +38,6 @@ impl Joint for Hinge<'_> {
         ))
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring per axis on P_a − P_b and a torsional spring on each of the two axis rows"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Hinge {
             axis: self.axis.to_vec(),

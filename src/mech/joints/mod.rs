@@ -5,8 +5,8 @@
 //! 16.5, 16.7), its planar bond-graph fragment (the chapter's, when it draws one; otherwise
 //! [`crate::mech::annotate`] draws the closure's rate as a modulated sum `Σ_j (∂ġ_k/∂v_j) f_j`
 //! of the inertias' junction flows into an `Sf = 0`), how many rows it locks, which of its
-//! bodies need a modelled rotation, whether its reaction carries a moment, what spring its
-//! decoupled twin puts in, and the glyph it is drawn with. The scene side of a kind (its
+//! bodies need a modelled rotation, whether its reaction carries a moment, and the glyph it is
+//! drawn with. The scene side of a kind (its
 //! `"type"` and own fields) is [`crate::scene::joint_kind`].
 //!
 //! The closure of a row is what its constraint junction in the bond graph integrates: the
@@ -98,9 +98,6 @@ pub(super) trait Joint {
         Ok(())
     }
 
-    /// The spring its decoupled twin puts in, in words (the twin itself is the graph's).
-    fn twin(&self) -> &'static str;
-
     /// How the joint is drawn.
     fn glyph(&self) -> Glyph;
 }
@@ -126,11 +123,6 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
 /// How a joint of kind `kind` is drawn.
 pub fn glyph(kind: &JointKind) -> Glyph {
     joint_type(kind).glyph()
-}
-
-/// The spring the decoupled twin puts in for a joint of kind `kind`, in words.
-pub fn twin_spring(kind: &JointKind) -> &'static str {
-    joint_type(kind).twin()
 }
 
 /// Rows a joint of kind `kind` locks (at most), planar or `spatial`.

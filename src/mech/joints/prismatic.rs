@@ -65,10 +65,6 @@ impl Joint for Prismatic<'_> {
         Ok(())
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring across the rail and a torsional spring on the relative rotation"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Slider {
             axis: self.axis.to_vec(),

@@ -72,10 +72,6 @@ impl Joint for RackPinion<'_> {
         end == 0
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring along the rack on the mesh row"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Pin
     }

@@ -40,10 +40,6 @@ impl Joint for Revolute {
         Ok(())
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring per axis on P_a − P_b"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Pin
     }

@@ -61,10 +61,6 @@ impl Joint for Slot<'_> {
         end == 0
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring across the slot on n · (P_b − P_a)"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Slider {
             axis: self.axis.to_vec(),

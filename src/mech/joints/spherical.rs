@@ -31,10 +31,6 @@ impl Joint for Spherical {
         ))
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring per axis on P_a − P_b"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Ball
     }

@@ -54,10 +54,6 @@ impl Joint for Universal<'_> {
         true
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring per axis on P_a − P_b and a torsional spring on the cross row (R_a a1)·(R_b a2)"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Ball
     }

@@ -68,10 +68,6 @@ impl Joint for Weld {
         Ok(())
     }
 
-    fn twin(&self) -> &'static str {
-        "a spring per axis on P_a − P_b and a torsional spring on the relative rotation"
-    }
-
     fn glyph(&self) -> Glyph {
         Glyph::Weld
     }
