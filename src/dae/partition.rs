@@ -140,3 +140,13 @@ pub(crate) struct NewtonLimits {
     pub(crate) max_iterations: usize,
     pub(crate) repartition_above: f64,
 }
+
+/// Coordinates preferred as dependent where `q' ≠ v` (3D bodies' quaternions, body-fixed
+/// frames): the translations (`x`, `y`, `z` of a body's centre), whose velocities the joints
+/// put in differential causality (seed 16.5, 16.7).
+pub fn preferred_coordinates(sys: &crate::mech::MultibodySystem) -> Vec<bool> {
+    sys.coords
+        .iter()
+        .map(|c| matches!(c.name.rsplit('.').next(), Some("x" | "y" | "z")))
+        .collect()
+}

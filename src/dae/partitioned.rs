@@ -101,7 +101,6 @@ impl PartitionedSystem {
         all.extend(&frozen.exprs);
         all.extend(&c.gamma);
         all.extend(&sys.kinematics);
-        let last = |n: &str| n.rsplit('.').next().unwrap_or("").to_string();
         PartitionedSystem {
             dims: (nq, nv, nc),
             pos: sys.graph.compile(&pos),
@@ -115,11 +114,7 @@ impl PartitionedSystem {
             mass: sys.mass.clone(),
             identity_kinematics,
             gv_is_gq,
-            preferred_q: sys
-                .coords
-                .iter()
-                .map(|c| matches!(last(&c.name).as_str(), "x" | "y" | "z"))
-                .collect(),
+            preferred_q: super::partition::preferred_coordinates(sys),
         }
     }
 

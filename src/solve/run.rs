@@ -717,19 +717,7 @@ fn dependent_coordinates(
         return Some(dependent.to_vec());
     }
     let gq = tapes.gq.matrix(t, x);
-    select_dependent(&gq, &preferred_coordinates(sys))
-}
-
-/// Coordinates preferred as dependent: the translations (`x`, `y`, `z` of a body's centre),
-/// whose velocities the joints put in differential causality (seed 16.5, 16.7).
-fn preferred_coordinates(sys: &MultibodySystem) -> Vec<bool> {
-    sys.coords
-        .iter()
-        .map(|c| {
-            let last = c.name.rsplit('.').next().unwrap_or("");
-            matches!(last, "x" | "y" | "z")
-        })
-        .collect()
+    select_dependent(&gq, &crate::dae::partition::preferred_coordinates(sys))
 }
 
 /// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
@@ -1500,7 +1488,9 @@ fn run_index1(
                 let gq = tapes.gq.matrix(step.t, &x);
                 let cond_q = dependent_condition(&gq, &coordinates);
                 let better = (cond_q > INDEX1_CHECK_CONDITION)
-                    .then(|| select_dependent(&gq, &preferred_coordinates(&sys)))
+                    .then(|| {
+                        select_dependent(&gq, &crate::dae::partition::preferred_coordinates(&sys))
+                    })
                     .flatten()
                     .filter(|b| dependent_condition(&gq, b) * INDEX1_RESELECT_GAIN < cond_q);
                 if better.is_some() {
