@@ -4,9 +4,10 @@
 //! What is pinned, per scene × formulation: the formulation and solver that ran (or the
 //! refusal's message), the internal steps, the residual or right-hand-side evaluations, the
 //! Jacobian evaluations, the Newton convergence failures and the error-test failures. The
-//! snapshot lives in `tests/snapshots/solver_stats.json` and is checked in: a change that
-//! doubles the steps of a scene shows here, and a change that alters them on purpose
-//! re-writes the file with
+//! snapshot lives in `tests/snapshots/solver_stats/<scene>.json`, one file per bundled scene
+//! (a new scene adds its own file and edits none), and is checked in: a change that doubles
+//! the steps of a scene shows here, and a change that alters them on purpose re-writes the
+//! files with
 //!
 //! ```sh
 //! BONDMECH_UPDATE_SNAPSHOTS=1 cargo test --test solver_stats_snapshot
@@ -50,8 +51,39 @@ const PINNED: [&str; 7] = [
     "error_test_failures",
 ];
 
-fn snapshot_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots/solver_stats.json")
+/// The snapshot folder: one `<scene>.json` per bundled scene, its formulations as keys.
+fn snapshot_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots/solver_stats")
+}
+
+/// Every pinned `"<scene> / <formulation>"` entry of the snapshot folder.
+fn pinned_entries() -> BTreeMap<String, Value> {
+    let mut pinned = BTreeMap::new();
+    let files = std::fs::read_dir(snapshot_dir()).expect("tests/snapshots/solver_stats/");
+    for file in files {
+        let path = file.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("json") {
+            continue;
+        }
+        let scene = path.file_stem().unwrap().to_string_lossy().to_string();
+        let by_formulation: BTreeMap<String, Value> =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        for (f, value) in by_formulation {
+            pinned.insert(format!("{scene} / {f}"), value);
+        }
+    }
+    pinned
+}
+
+/// Re-writes the snapshot folder from this run, one file per scene.
+fn write_snapshot(now: &BTreeMap<String, BTreeMap<String, Value>>) {
+    let dir = snapshot_dir();
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    for (scene, by_formulation) in now {
+        let text = serde_json::to_string_pretty(by_formulation).unwrap() + "\n";
+        std::fs::write(dir.join(format!("{scene}.json")), text).unwrap();
+    }
 }
 
 /// The scene's own `solve.t_end` (the scene format's default, 5 s, when absent).
@@ -98,24 +130,30 @@ fn run(scene: &std::path::Path, formulation: &str, dir: &std::path::Path) -> Val
 fn solver_statistics_of_every_bundled_scene_and_formulation_match_the_snapshot() {
     let dir = std::env::temp_dir().join(format!("bondmech-stats-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut now: BTreeMap<String, Value> = BTreeMap::new();
+    let mut by_scene: BTreeMap<String, BTreeMap<String, Value>> = BTreeMap::new();
     for scene in common::bundled_scene_paths() {
         let name = scene.file_stem().unwrap().to_string_lossy().to_string();
         for f in FORMULATIONS {
-            now.insert(format!("{name} / {f}"), run(&scene, f, &dir));
+            let value = run(&scene, f, &dir);
+            by_scene
+                .entry(name.clone())
+                .or_default()
+                .insert(f.to_string(), value);
         }
     }
     std::fs::remove_dir_all(&dir).ok();
-    let text = serde_json::to_string_pretty(&now).unwrap() + "\n";
     if std::env::var_os("BONDMECH_UPDATE_SNAPSHOTS").is_some() {
-        std::fs::create_dir_all(snapshot_path().parent().unwrap()).unwrap();
-        std::fs::write(snapshot_path(), text).unwrap();
+        write_snapshot(&by_scene);
         return;
     }
-    let pinned: BTreeMap<String, Value> = serde_json::from_str(
-        &std::fs::read_to_string(snapshot_path()).expect("tests/snapshots/solver_stats.json"),
-    )
-    .unwrap();
+    let now: BTreeMap<String, Value> = by_scene
+        .iter()
+        .flat_map(|(scene, fs)| {
+            fs.iter()
+                .map(move |(f, v)| (format!("{scene} / {f}"), v.clone()))
+        })
+        .collect();
+    let pinned = pinned_entries();
     let mut changed = Vec::new();
     for (key, value) in &now {
         match pinned.get(key) {
