@@ -4,12 +4,10 @@
 //! variable identifiers so that validation can check them against the graph:
 //! `t`, `p_<I>` (momentum), `x_<I>` (displacement = ∫ flow of the inertia), `x_<1-junction>`
 //! (∫ of the junction's common flow, e.g. a body angle `x_bar1.omega`), `q_<C>` and the
-//! graph's declared signals. Function names ([`FUNCTIONS`]) and `pi` are not variables.
+//! graph's declared signals. Function names ([`crate::expr::FUNCTIONS`]) and `pi` are not
+//! variables.
 
-/// Function names accepted in expressions.
-pub const FUNCTIONS: &[&str] = &[
-    "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "log", "atan2", "min", "max", "pow",
-];
+use crate::expr::is_function;
 
 /// A problem found while scanning an expression.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -93,10 +91,10 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
             }
             let is_call = j < chars.len() && chars[j] == '(';
             if is_call {
-                if !FUNCTIONS.contains(&name.as_str()) {
+                if !is_function(&name) {
                     return Err(ScanError::UnknownFunction(name));
                 }
-            } else if name != "pi" && !FUNCTIONS.contains(&name.as_str()) && !vars.contains(&name) {
+            } else if name != "pi" && !is_function(&name) && !vars.contains(&name) {
                 vars.push(name);
             }
         } else {

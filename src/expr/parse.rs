@@ -93,6 +93,29 @@ struct Parser<'a, 'r> {
 /// Nesting limit, so hostile input cannot overflow the stack.
 const MAX_DEPTH: usize = 256;
 
+/// The functions an expression may call, with their number of arguments: `sin`, `cos`,
+/// `tan`, `sqrt`, `abs`, `exp`, `ln`, `log` take one; `atan2(y, x)`, `min`, `max`, `pow` two.
+/// The parser reads exactly these; the bond graph's identifier scan skips them.
+pub const FUNCTIONS: &[(&str, usize)] = &[
+    ("sin", 1),
+    ("cos", 1),
+    ("tan", 1),
+    ("sqrt", 1),
+    ("abs", 1),
+    ("exp", 1),
+    ("ln", 1),
+    ("log", 1),
+    ("atan2", 2),
+    ("min", 2),
+    ("max", 2),
+    ("pow", 2),
+];
+
+/// Whether `name` is one of the [`FUNCTIONS`].
+pub fn is_function(name: &str) -> bool {
+    FUNCTIONS.iter().any(|(f, _)| *f == name)
+}
+
 /// `name` as an expression reads it: as is when it is a plain name (a letter or `_`, then
 /// letters, digits, `_` and `.`; not a function or `pi`), else in backquotes
 /// (`` `x_left-arm.omega` ``). A name holding a backquote cannot be written (scene validation
@@ -102,7 +125,7 @@ pub fn quote_name(name: &str) -> std::borrow::Cow<'_, str> {
     let plain = b.first().is_some_and(|&c| is_name_start(c))
         && b.iter().all(|&c| is_name_char(c))
         && name != "pi"
-        && !crate::bond::identifiers::FUNCTIONS.contains(&name);
+        && !is_function(name);
     if plain {
         std::borrow::Cow::Borrowed(name)
     } else {
@@ -330,15 +353,11 @@ impl Parser<'_, '_> {
     }
 
     fn call(&mut self, name: &'_ str, pos: usize) -> Result<Expr, ParseError> {
-        let arity = match name {
-            "sin" | "cos" | "tan" | "sqrt" | "abs" | "exp" | "ln" | "log" => 1,
-            "atan2" | "min" | "max" | "pow" => 2,
-            _ => {
-                return Err(ParseError::UnknownFunction {
-                    pos,
-                    name: name.to_string(),
-                })
-            }
+        let Some(&(_, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name) else {
+            return Err(ParseError::UnknownFunction {
+                pos,
+                name: name.to_string(),
+            });
         };
         let mut args = Vec::with_capacity(2);
         if self.peek() != Some(b')') {

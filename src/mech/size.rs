@@ -361,7 +361,7 @@ pub fn check_memory_against(
 
 /// [`check_memory_against`] of the scene's [`estimate_memory`] with `formulation` (and the
 /// scene's `solve.linear_solver`) against this process's [`memory_limit`].
-/// [`Model::new`](crate::Model::new) calls it with the scene's own `solve.formulation`; a
+/// `Model::new` calls it with the scene's own `solve.formulation`; a
 /// caller that solves with another (`--formulation decoupled`) calls it again with that one.
 pub fn check_scene_memory(scene: &Scene, formulation: FormulationKind) -> Result<(), SizeError> {
     check_memory_against(&estimate_memory(scene, formulation), memory_limit())

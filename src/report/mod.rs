@@ -6,6 +6,7 @@
 pub mod animate;
 pub mod compare;
 pub mod generate;
+pub mod palette;
 pub mod plot;
 pub mod reference;
 pub mod sweep;

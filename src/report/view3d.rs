@@ -18,7 +18,7 @@
 
 use std::fmt::Write;
 
-use super::animate::{body_colour, FramePose};
+use super::palette::body_colour;
 use crate::mech::joints::{glyph, Glyph};
 use crate::scene::{Inertia, PointRef, Scene, GROUND};
 use crate::{Error, Result};
@@ -43,6 +43,13 @@ fn v3(p: &[f64]) -> String {
 
 fn json_str(s: &str) -> String {
     serde_json::Value::from(s).to_string()
+}
+
+/// One frame of the 3D view: its time and each body's centre and attitude quaternion
+/// `[w, x, y, z]`.
+pub(crate) struct FramePose {
+    pub(crate) t: f64,
+    pub(crate) poses: Vec<([f64; 3], [f64; 4])>,
 }
 
 /// The page for `scene`: `frames` (times and each body's pose per frame), `traces` (requested

@@ -346,7 +346,7 @@ pub struct SolveSettings {
     /// Integrator of the partitioned formulation (default `auto`).
     pub integrator: Integrator,
     /// The partitioned formulation stops at the zeros of the loads' non-smooth operations
-    /// (default true; see [`crate::solve::SolveOptions::switching_functions`]).
+    /// (default true; the solve options' `switching_functions`).
     pub switching_functions: bool,
 }
 
