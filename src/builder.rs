@@ -35,12 +35,12 @@
 //! assert_eq!(err.to_string(), "body 'bob' (bodies[0]).mass: must be > 0 and finite (got -1)");
 //! ```
 
+use crate::error::{Error, Result};
 use crate::scene::{
     Body, BodyFrame, Dimension, Inertia, Joint, JointKind, Load, LoadKind, LoadValue, PointRef,
     Problem, Scene, SceneError, SolveSettings, Spring, GROUND,
 };
 use crate::settings::FormulationKind;
-use crate::{Error, Result};
 
 /// A planar rigid body (seed 16.3, 16.8): mass, moment of inertia about the centre of mass,
 /// named points in body coordinates, and its initial state.

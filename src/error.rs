@@ -24,6 +24,7 @@
 
 use crate::dae::InitError;
 use crate::mech::MechError;
+use crate::report::ReportError;
 use crate::scene::SceneError;
 use crate::sundials::SolverError;
 
@@ -65,10 +66,10 @@ pub enum Error {
     /// writable).
     #[error("{0}")]
     Output(#[from] crate::output::OutputError),
-    /// A parameter sweep, one of its shards or their merge was refused (what and where in the
-    /// message).
+    /// A report (an animation, a plot, a reference table, a parameter sweep, one of its shards
+    /// or their merge) was refused (what and where in the message).
     #[error("{0}")]
-    Sweep(Box<crate::report::vary::VaryError>),
+    Report(Box<ReportError>),
     /// A raw bond graph is invalid or cannot be turned into equations.
     #[error("bond graph: {0}")]
     BondGraph(String),
@@ -81,7 +82,7 @@ pub enum Error {
         /// Why the solve stopped.
         cause: Box<Error>,
         /// The rows computed up to the time reached, and the statistics so far.
-        partial: Box<crate::Solution>,
+        partial: Box<crate::solve::Solution>,
     },
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
@@ -94,7 +95,7 @@ pub enum Error {
 }
 
 /// "stopped at t = …: the rows up to t = … are kept".
-fn kept(partial: &crate::Solution) -> String {
+fn kept(partial: &crate::solve::Solution) -> String {
     let s = &partial.summary;
     let hint = match s.stopped_by.as_deref() {
         Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
@@ -118,7 +119,7 @@ fn kept(partial: &crate::Solution) -> String {
 
 impl Error {
     /// The rows computed before the solve stopped, when it stopped part-way.
-    pub fn partial_solution(&self) -> Option<&crate::Solution> {
+    pub fn partial_solution(&self) -> Option<&crate::solve::Solution> {
         match self {
             Error::Incomplete { partial, .. } => Some(partial),
             _ => None,
@@ -126,11 +127,28 @@ impl Error {
     }
 
     /// Applies `f` to the partial solution of an [`Error::Incomplete`]; other errors pass.
-    pub fn map_partial(mut self, f: impl FnOnce(&mut crate::Solution)) -> Self {
+    pub fn map_partial(mut self, f: impl FnOnce(&mut crate::solve::Solution)) -> Self {
         if let Error::Incomplete { partial, .. } = &mut self {
             f(partial);
         }
         self
+    }
+}
+
+impl From<ReportError> for Error {
+    /// A report's file error stays an [`Error::Io`] (the caller's I/O class); the rest is
+    /// [`Error::Report`].
+    fn from(e: ReportError) -> Error {
+        match e {
+            ReportError::Io { path, source } => Error::Io { path, source },
+            other => Error::Report(Box::new(other)),
+        }
+    }
+}
+
+impl From<crate::report::vary::VaryError> for Error {
+    fn from(e: crate::report::vary::VaryError) -> Error {
+        Error::Report(Box::new(e.into()))
     }
 }
 

@@ -250,6 +250,12 @@ impl From<Error> for CliError {
     }
 }
 
+impl From<bondmech::report::ReportError> for CliError {
+    fn from(e: bondmech::report::ReportError) -> Self {
+        Error::from(e).into()
+    }
+}
+
 impl From<bondmech::scene::SceneError> for CliError {
     fn from(e: bondmech::scene::SceneError) -> Self {
         Error::from(e).into()

@@ -85,7 +85,7 @@ fn to_py_err(py: Python<'_>, e: Error) -> PyErr {
         Error::Mechanism(me) => scene_error(py, message, vec![(me.path, me.message)]),
         Error::BondGraph(m) => scene_error(py, message, vec![("bond_graph".into(), m)]),
         Error::TooLarge(_) => scene_error(py, message.clone(), vec![(String::new(), message)]),
-        Error::Options(_) | Error::Sweep(_) => py_error(py, "OptionsError", (message,)),
+        Error::Options(_) | Error::Report(_) => py_error(py, "OptionsError", (message,)),
         Error::Io { path, source } => {
             pyo3::exceptions::PyOSError::new_err(format!("{path}: {source}"))
         }
@@ -132,6 +132,12 @@ trait IntoPyResult<T> {
 impl<T> IntoPyResult<T> for Result<T, Error> {
     fn py(self, py: Python<'_>) -> PyResult<T> {
         self.map_err(|e| to_py_err(py, e))
+    }
+}
+
+impl<T> IntoPyResult<T> for Result<T, bondmech::report::ReportError> {
+    fn py(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| to_py_err(py, Error::from(e)))
     }
 }
 

@@ -37,10 +37,10 @@ pub use super::palette::body_colour;
 use super::view3d::FramePose;
 use std::fmt::Write;
 
+use super::error::{ReportError, Result};
 use crate::mech::joints::{glyph, Glyph};
 use crate::scene::{Body, Dimension, Inertia, PointRef, Scene, GROUND};
 use crate::solve::Solution;
-use crate::{Error, Result};
 
 /// The orthographic view of the animation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -198,11 +198,11 @@ fn is_point_mass(b: &Body) -> bool {
 
 fn pose_columns(scene: &Scene, sol: &Solution, source: &str) -> Result<Vec<PoseColumns>> {
     let col = |name: String| sol.columns.iter().position(|c| *c == name);
-    let need = |b: &str, c: &str| {
-        col(format!("{b}.{c}")).ok_or_else(|| {
-            Error::Options(format!(
-                "{source}: no column `{b}.{c}` for body `{b}` (a CSV written by `bondmech run` for this scene has it)"
-            ))
+    let need = |b: &str, c: &'static str| {
+        col(format!("{b}.{c}")).ok_or_else(|| ReportError::MissingColumn {
+            origin: source.to_string(),
+            body: b.to_string(),
+            column: c,
         })
     };
     let spatial = scene.dimension == Dimension::Spatial;
@@ -238,9 +238,10 @@ fn pose_columns(scene: &Scene, sol: &Solution, source: &str) -> Result<Vec<PoseC
             } else if is_point_mass(b) {
                 Attitude::Fixed
             } else {
-                return Err(Error::Options(format!(
-                    "{source}: no attitude columns for body `{n}` (`{n}.qw,{n}.qx,{n}.qy,{n}.qz` or `{n}.psi,{n}.theta,{n}.phi`)"
-                )));
+                return Err(ReportError::MissingAttitude {
+                    origin: source.to_string(),
+                    body: n.clone(),
+                });
             };
             Ok(PoseColumns { position, attitude })
         })
@@ -377,7 +378,10 @@ fn point_coords(scene: &Scene, body: &str, p: &PointRef) -> Result<Vec<f64>> {
             .find(|b| b.name == body)
             .and_then(|b| b.point(n))
             .map(<[f64]>::to_vec)
-            .ok_or_else(|| Error::Options(format!("body `{body}` has no point `{n}`"))),
+            .ok_or_else(|| ReportError::MissingPoint {
+                body: body.to_string(),
+                point: n.to_string(),
+            }),
     }
 }
 
@@ -532,10 +536,10 @@ fn plan_frames(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result
     let times: Vec<f64> = rows.iter().map(|&k| sol.times[k]).collect();
     let n = times.len();
     if n == 0 {
-        return Err(Error::Options(format!(
-            "{}: no rows at finite times to animate",
-            opts.source
-        )));
+        return Err(ReportError::NoRows {
+            origin: opts.source.clone(),
+            purpose: "at finite times to animate",
+        });
     }
     let (t0, t1) = (times[0], times[n - 1]);
     let span = t1 - t0;
@@ -575,10 +579,13 @@ fn plan_frames(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result
     }
     let grid = (span * opts.fps / speed).round().max(1.0);
     if grid >= MAX_FRAMES as f64 {
-        return Err(Error::Options(format!(
-            "--fps {} at --speed {speed} gives {grid} frames for {span} s of motion (at most {MAX_FRAMES}): lower --fps or raise --speed",
-            opts.fps
-        )));
+        return Err(ReportError::TooManyFrames {
+            fps: opts.fps,
+            speed,
+            frames: grid,
+            span,
+            max: MAX_FRAMES,
+        });
     }
     // the rows nearest to the playback grid
     let mut chosen: Vec<usize> = Vec::with_capacity(grid as usize + 1);
@@ -636,11 +643,12 @@ fn plan_frames(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result
         }
     }
     if out_t.len() > MAX_FRAMES {
-        return Err(Error::Options(format!(
-            "{}: the motion needs {} frames (at most {MAX_FRAMES}) so that no body turns more than {MAX_TURN_DEGREES}° between frames: animate a shorter time (--t-end)",
-            opts.source,
-            out_t.len()
-        )));
+        return Err(ReportError::TooFastToAnimate {
+            origin: opts.source.clone(),
+            frames: out_t.len(),
+            max: MAX_FRAMES,
+            max_turn_degrees: MAX_TURN_DEGREES,
+        });
     }
     Ok(FramePlan {
         times: out_t,
@@ -745,9 +753,7 @@ pub struct Frame {
 pub fn frames_json(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<String> {
     check_options(opts)?;
     if scene.bodies.is_empty() {
-        return Err(Error::Options(
-            "animate needs a scene with bodies (a raw bond graph has no geometry to draw)".into(),
-        ));
+        return Err(ReportError::NoGeometry);
     }
     let plan = plan_frames(scene, sol, opts)?;
     let dims = match scene.dimension {
@@ -801,15 +807,13 @@ impl Drawing {
 
 fn build_drawing(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<Drawing> {
     if scene.bodies.is_empty() {
-        return Err(Error::Options(
-            "animate needs a scene with bodies (a raw bond graph has no geometry to draw)".into(),
-        ));
+        return Err(ReportError::NoGeometry);
     }
     if sol.times.is_empty() {
-        return Err(Error::Options(format!(
-            "{}: no rows to animate",
-            opts.source
-        )));
+        return Err(ReportError::NoRows {
+            origin: opts.source.clone(),
+            purpose: "to animate",
+        });
     }
     let cols = pose_columns(scene, sol, &opts.source)?;
     let plan = plan_frames(scene, sol, opts)?;
@@ -1712,16 +1716,17 @@ const HTML_SCRIPT: &str = r#"(function () {
 /// Refuses a frame rate or speed that is not a positive number.
 fn check_options(opts: &AnimationOptions) -> Result<()> {
     if !(opts.fps > 0.0 && opts.fps.is_finite()) {
-        return Err(Error::Options(format!(
-            "--fps: must be > 0 (got {})",
-            opts.fps
-        )));
+        return Err(ReportError::NotPositive {
+            option: "--fps",
+            value: opts.fps,
+        });
     }
     if let Some(speed) = opts.speed {
         if !(speed > 0.0 && speed.is_finite()) {
-            return Err(Error::Options(format!(
-                "--speed: must be > 0 (got {speed})"
-            )));
+            return Err(ReportError::NotPositive {
+                option: "--speed",
+                value: speed,
+            });
         }
     }
     Ok(())
@@ -1741,16 +1746,13 @@ pub fn animation(
         Dimension::Spatial => View::Iso,
     });
     if scene.dimension == Dimension::Planar && view != View::Xy {
-        return Err(Error::Options(format!(
-            "--view {}: a planar scene has only the xy view",
-            view.as_str()
-        )));
+        return Err(ReportError::PlanarView {
+            view: view.as_str(),
+        });
     }
     if format == AnimationFormat::Html && scene.dimension == Dimension::Spatial {
         if scene.bodies.is_empty() || sol.times.is_empty() {
-            return Err(Error::Options(
-                "animate needs a scene with bodies and rows to draw".into(),
-            ));
+            return Err(ReportError::NothingToDraw);
         }
         return page_3d(scene, sol, opts);
     }

@@ -5,14 +5,17 @@
 
 pub mod animate;
 pub mod compare;
+pub mod error;
 pub mod generate;
 pub mod palette;
 pub mod plot;
 pub mod reference;
+pub mod shard;
 pub mod sweep;
 pub mod timeplot;
 pub mod vary;
 pub mod view3d;
 
 pub use compare::{column_kind, ColumnKind, Comparison, LargestDifference, Verdict};
+pub use error::{ReferenceProblem, ReportError};
 pub use sweep::{ExternalReference, SweepConfig, SweepReport};

@@ -7,8 +7,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use super::error::{ReportError, Result};
 use super::sweep::{SweepReport, WorkPoint};
-use crate::{Error, Result};
 
 /// The plots' colour cycle (matplotlib's "tab10").
 pub(crate) const COLOURS: [RGBColor; 10] = [
@@ -25,8 +25,8 @@ pub(crate) const COLOURS: [RGBColor; 10] = [
 ];
 
 /// A plotting failure as an I/O error on the file being drawn.
-pub(crate) fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io {
+pub(crate) fn plot_error(path: &Path, e: impl std::fmt::Display) -> ReportError {
+    ReportError::Io {
         path: path.display().to_string(),
         source: std::io::Error::other(e.to_string()),
     }

@@ -20,8 +20,8 @@
 
 use std::path::Path;
 
+use super::error::{io_error, ReferenceProblem, ReportError, Result};
 use crate::solve::{Solution, Summary};
-use crate::{Error, Result};
 
 /// Parses a reference table (`t` first, then named columns) from CSV text; `origin` names the
 /// source in error messages (`ref.csv line 3, column 2: …`).
@@ -31,17 +31,22 @@ use crate::{Error, Result};
 /// and a first column named `time` (any case) instead of `t`. Times must be finite and strictly
 /// increasing; every row has as many numbers as the header has names; at least one row.
 pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
-    let bad = |line: u64, what: String| Error::Options(format!("{origin} line {line}: {what}"));
+    let bad = |line: u64, problem: ReferenceProblem| ReportError::Reference {
+        origin: origin.to_string(),
+        line,
+        problem,
+    };
+    let csv_error = |cause| ReportError::Csv {
+        origin: origin.to_string(),
+        cause,
+    };
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(true)
         .flexible(true)
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
         .from_reader(text.as_bytes());
-    let header = reader
-        .headers()
-        .map_err(|e| Error::Options(format!("{origin}: {e}")))?
-        .clone();
+    let header = reader.headers().map_err(csv_error)?.clone();
     // the file's own line numbers (the csv crate's skip comment lines)
     let line_at = |pos: Option<&csv::Position>| {
         pos.map_or(0, |p| {
@@ -63,32 +68,36 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
     let header_line = line_at(header.position());
     let names: Vec<String> = header.iter().map(|s| unquote(s).to_string()).collect();
     if names.iter().all(|n| n.is_empty()) {
-        return Err(Error::Options(format!("{origin}: empty reference file")));
+        return Err(ReportError::EmptyReference {
+            origin: origin.to_string(),
+        });
     }
     let first = names.first().map_or("", String::as_str);
     if first != "t" && !first.eq_ignore_ascii_case("time") {
         return Err(bad(
             header_line,
-            format!("the header must start with `t` or `time` (got `{first}`)"),
+            ReferenceProblem::HeaderStart {
+                got: first.to_string(),
+            },
         ));
     }
     if names.len() < 2 {
-        return Err(bad(
-            header_line,
-            "the header names no column after `t`".into(),
-        ));
+        return Err(bad(header_line, ReferenceProblem::NoColumns));
     }
     if let Some((_, dup)) = names
         .iter()
         .enumerate()
         .find(|(i, n)| names[..*i].contains(n))
     {
-        return Err(bad(header_line, format!("column `{dup}` appears twice")));
+        return Err(bad(
+            header_line,
+            ReferenceProblem::DuplicateColumn { name: dup.clone() },
+        ));
     }
     let mut times = Vec::new();
     let mut rows = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| Error::Options(format!("{origin}: {e}")))?;
+        let record = record.map_err(csv_error)?;
         let line_no = line_at(record.position());
         if record.iter().all(str::is_empty) {
             continue;
@@ -96,7 +105,10 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
         if record.len() != names.len() {
             return Err(bad(
                 line_no,
-                format!("{} values for {} columns", record.len(), names.len()),
+                ReferenceProblem::RowLength {
+                    values: record.len(),
+                    columns: names.len(),
+                },
             ));
         }
         let mut values = Vec::with_capacity(record.len());
@@ -104,17 +116,21 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
             let v: f64 = cell.parse().map_err(|_| {
                 bad(
                     line_no,
-                    format!(
-                        "column {} (`{}`): `{cell}` is not a number",
-                        c + 1,
-                        names[c]
-                    ),
+                    ReferenceProblem::NotANumber {
+                        column: c + 1,
+                        name: names[c].clone(),
+                        cell: cell.to_string(),
+                    },
                 )
             })?;
             if !v.is_finite() {
                 return Err(bad(
                     line_no,
-                    format!("column {} (`{}`): {v} is not finite", c + 1, names[c]),
+                    ReferenceProblem::NotFinite {
+                        column: c + 1,
+                        name: names[c].clone(),
+                        value: v,
+                    },
                 ));
             }
             values.push(v);
@@ -124,7 +140,7 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
             if t <= prev {
                 return Err(bad(
                     line_no,
-                    format!("times must increase (t = {t} after {prev})"),
+                    ReferenceProblem::TimesNotIncreasing { t, prev },
                 ));
             }
         }
@@ -132,9 +148,9 @@ pub fn reference_from_csv_str(text: &str, origin: &str) -> Result<Solution> {
         rows.push(values);
     }
     if times.is_empty() {
-        return Err(Error::Options(format!(
-            "{origin}: the reference has no rows"
-        )));
+        return Err(ReportError::NoReferenceRows {
+            origin: origin.to_string(),
+        });
     }
     Ok(Solution {
         columns: names[1..].to_vec(),
@@ -157,8 +173,7 @@ fn unquote(cell: &str) -> &str {
 
 /// Reads a reference table from a CSV file (see [`reference_from_csv_str`]).
 pub fn reference_from_csv(path: &Path) -> Result<Solution> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Options(format!("{}: {e}", path.display())))?;
+    let text = std::fs::read_to_string(path).map_err(|e| io_error(path, e))?;
     reference_from_csv_str(&text, &path.display().to_string())
 }
 

@@ -19,9 +19,9 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+use super::error::{io_error, ReportError, Result};
 use super::plot::{plot_error, COLOURS};
 use crate::solve::Solution;
-use crate::{Error, Result};
 
 /// A group of columns plotted in one file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,11 +142,14 @@ pub fn pick_columns(columns: &[String], patterns: &[String]) -> Result<Vec<usize
     for p in patterns {
         if !columns.iter().any(|c| matches(p, c)) {
             let shown: Vec<&str> = columns.iter().take(12).map(String::as_str).collect();
-            return Err(Error::Options(format!(
-                "--columns: no column `{p}` (the columns are {}{})",
-                shown.join(", "),
-                if columns.len() > 12 { ", …" } else { "" }
-            )));
+            return Err(ReportError::UnknownColumn {
+                pattern: p.clone(),
+                shown: format!(
+                    "{}{}",
+                    shown.join(", "),
+                    if columns.len() > 12 { ", …" } else { "" }
+                ),
+            });
         }
     }
     Ok((0..columns.len())
@@ -162,7 +165,10 @@ pub fn plot_solution_with(
     opts: &PlotOptions,
 ) -> Result<Vec<PathBuf>> {
     if sol.times.is_empty() {
-        return Err(Error::Options(format!("{source}: no rows to plot")));
+        return Err(ReportError::NoRows {
+            origin: source.to_string(),
+            purpose: "to plot",
+        });
     }
     let picked = match &opts.columns {
         Some(p) => pick_columns(&sol.columns, p)?,
@@ -175,10 +181,7 @@ pub fn plot_solution_with(
     } else {
         opts.title.clone()
     };
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: dir.display().to_string(),
-        source: e,
-    })?;
+    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
     let mut written = Vec::new();
     for group in GROUPS {
         let cols: Vec<usize> = picked
@@ -191,10 +194,9 @@ pub fn plot_solution_with(
         }
         let path = dir.join(format!("{}.svg", group.file));
         if Path::new(source) == path {
-            return Err(Error::Options(format!(
-                "{}: would overwrite the input; choose another --out directory",
-                path.display()
-            )));
+            return Err(ReportError::WouldOverwrite {
+                path: path.display().to_string(),
+            });
         }
         plot_group_svg(sol, &title, &group, &cols, &path)?;
         written.push(path);

@@ -31,10 +31,12 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use super::error::VaryError;
+use super::error::{ReportError, Result};
+pub use super::shard::Shard;
 use crate::scene::path::parse_variation;
 use crate::scene::SceneError;
 use crate::solve::Solution;
-use crate::{Error, Result};
 
 /// File name of a sweep's (or a shard's) JSON result in its output directory.
 pub const JSON_FILE: &str = "vary.json";
@@ -46,157 +48,6 @@ pub const SVG_FILE: &str = "vary.svg";
 pub const MAX_POINTS: usize = 10_000_000;
 /// Format tag stored in every result, checked by [`merge`].
 pub const FORMAT: &str = "bondmech-vary-1";
-
-/// Why a parameter sweep, a shard or a merge was refused.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum VaryError {
-    /// `--shard` is not `i/n` with `1 <= i <= n`.
-    #[error("--shard '{text}': {why} (expected i/n with 1 <= i <= n, e.g. 3/8)")]
-    BadShard {
-        /// The flag's value.
-        text: String,
-        /// What is wrong.
-        why: String,
-    },
-    /// A point's values make an invalid scene.
-    #[error("sweep point {index} ({values}): {message}")]
-    BadPoint {
-        /// Point number (from 0).
-        index: usize,
-        /// Its values, `PATH=VALUE, …`.
-        values: String,
-        /// The scene's problems, with their paths.
-        message: String,
-    },
-    /// `--columns` names a column the runs do not write.
-    #[error("--columns: no column '{column}' (the runs write: {available})")]
-    UnknownColumn {
-        /// The column asked for.
-        column: String,
-        /// The columns there are, comma-separated.
-        available: String,
-    },
-    /// The reference cannot be used for this scene.
-    #[error("sweep: the reference {source_name} {message}")]
-    Reference {
-        /// Where the reference came from.
-        source_name: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A directory given to `sweep-merge` holds no readable result.
-    #[error("{dir}: {message}")]
-    NotAResult {
-        /// The directory (or file).
-        dir: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A directory given to `sweep-merge` holds a whole sweep.
-    #[error("sweep-merge: {dir} holds a whole sweep, not a shard (written without --shard)")]
-    WholeSweep {
-        /// The directory.
-        dir: String,
-    },
-    /// Two shards come from different sweeps.
-    #[error("sweep-merge: {first} (fingerprint {first_fingerprint}) and {other} (fingerprint {other_fingerprint}) are shards of different sweeps: {difference}")]
-    DifferentSweeps {
-        /// The first directory.
-        first: String,
-        /// Its fingerprint.
-        first_fingerprint: String,
-        /// The other directory.
-        other: String,
-        /// Its fingerprint.
-        other_fingerprint: String,
-        /// What differs.
-        difference: String,
-    },
-    /// A shard's fingerprint does not match its spec.
-    #[error("sweep-merge: {dir}: the fingerprint does not match its spec (edited by hand?)")]
-    FingerprintMismatch {
-        /// The directory.
-        dir: String,
-    },
-    /// Shards of different splits (`1/3` and `2/4`).
-    #[error("sweep-merge: {dir} is shard {shard} but {first} is a shard of {count}: every shard must come from the same --shard i/n split")]
-    ShardCountMismatch {
-        /// The directory.
-        dir: String,
-        /// Its shard.
-        shard: Shard,
-        /// The first directory.
-        first: String,
-        /// The first directory's shard count.
-        count: usize,
-    },
-    /// The same shard twice.
-    #[error("sweep-merge: shard {shard} given twice: {first} and {second}")]
-    DuplicateShard {
-        /// The shard.
-        shard: Shard,
-        /// One directory holding it.
-        first: String,
-        /// The other.
-        second: String,
-    },
-    /// A shard whose points are not its slice of the sweep.
-    #[error("sweep-merge: {dir}: its points are not those of shard {shard} of a {total}-point sweep (incomplete or edited result)")]
-    WrongPoints {
-        /// The directory.
-        dir: String,
-        /// Its shard.
-        shard: Shard,
-        /// Points in the whole sweep.
-        total: usize,
-    },
-    /// Shards missing.
-    #[error("sweep-merge: missing shard{} {} (given {given} of {count})", if missing.len() == 1 { "" } else { "s" }, missing.join(", "))]
-    MissingShards {
-        /// The missing shards, `i/n`.
-        missing: Vec<String>,
-        /// How many were given.
-        given: usize,
-        /// How many there should be.
-        count: usize,
-    },
-    /// The cartesian product is larger than [`MAX_POINTS`].
-    #[error(
-        "--vary: {sizes} values make more than {MAX_POINTS} points; split the sweep into several"
-    )]
-    TooManyPoints {
-        /// The number of values of each `--vary`.
-        sizes: String,
-    },
-    /// Two `--vary` of the same field.
-    #[error("--vary {first} and --vary {second} both vary {field}")]
-    DuplicateVary {
-        /// The first path as written.
-        first: String,
-        /// The second.
-        second: String,
-        /// The field (indices resolved).
-        field: String,
-    },
-    /// `sweep-merge` without directories.
-    #[error("sweep-merge: give the shards' directories")]
-    NoShards,
-    /// The output directory cannot be used.
-    #[error("--out {dir}: {message}")]
-    OutDir {
-        /// The directory.
-        dir: String,
-        /// Why.
-        message: String,
-    },
-}
-
-impl From<VaryError> for Error {
-    fn from(e: VaryError) -> Error {
-        Error::Sweep(Box::new(e))
-    }
-}
 
 /// One `--vary`: a scene path and its values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -216,15 +67,6 @@ impl Variation {
             values,
         })
     }
-}
-
-/// `--shard i/n`: the `i`-th (from 1) of `n` slices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    /// Which slice, 1 ..= count.
-    pub index: usize,
-    /// How many slices.
-    pub count: usize,
 }
 
 impl Shard {
@@ -250,17 +92,6 @@ impl Shard {
             return Err(bad(&format!("i must be between 1 and {n}")));
         }
         Ok(Shard { index: i, count: n })
-    }
-
-    /// Whether point `k` (from 0) belongs to this shard.
-    pub fn owns(&self, k: usize) -> bool {
-        k % self.count == self.index - 1
-    }
-}
-
-impl std::fmt::Display for Shard {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}/{}", self.index, self.count)
     }
 }
 
@@ -576,7 +407,7 @@ impl VaryReport {
     /// Writes `vary.json` and `vary.csv` into `dir`, and `vary.svg` for a whole sweep over one
     /// numeric parameter. The directory should have been checked with [`check_out_dir`].
     pub fn write_all(&self, dir: &Path) -> Result<()> {
-        let io = |p: &Path, source| Error::Io {
+        let io = |p: &Path, source| ReportError::Io {
             path: p.display().to_string(),
             source,
         };
@@ -754,7 +585,7 @@ pub fn merge(parts: &[(PathBuf, VaryReport)]) -> Result<VaryReport> {
 /// Checks, before anything is computed, that `dir` can be created and written, and that none of
 /// the files a sweep writes there is one of `inputs` (the scene, the reference, the shards).
 pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
-    let io = |p: &Path, source| Error::Io {
+    let io = |p: &Path, source| ReportError::Io {
         path: p.display().to_string(),
         source,
     };
@@ -852,7 +683,7 @@ fn log_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
 /// positive and they span more than a decade. Nothing is drawn otherwise (and no file written).
 pub fn vary_svg(report: &VaryReport, path: &Path) -> Result<()> {
     use plotters::prelude::*;
-    let err = |e: &dyn std::fmt::Display| Error::Io {
+    let err = |e: &dyn std::fmt::Display| ReportError::Io {
         path: path.display().to_string(),
         source: std::io::Error::other(e.to_string()),
     };

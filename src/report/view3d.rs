@@ -18,10 +18,10 @@
 
 use std::fmt::Write;
 
+use super::error::{ReportError, Result};
 use super::palette::body_colour;
 use crate::mech::joints::{glyph, Glyph};
 use crate::scene::{Inertia, PointRef, Scene, GROUND};
-use crate::{Error, Result};
 
 /// A number for the page's JSON (finite, shortest round trip).
 fn n(v: f64) -> String {
@@ -64,7 +64,7 @@ pub(crate) fn page(
     digits: usize,
 ) -> Result<String> {
     if frames.is_empty() {
-        return Err(Error::Options("no frames to draw".into()));
+        return Err(ReportError::NoFrames);
     }
     // scene extent, for sizes
     let mut extent = 0.0f64;

@@ -333,7 +333,7 @@ pub fn library_problem(e: &Error, budget: Budget) -> Problem {
     }
     let (kind, title) = match e {
         Error::Init(_) => ("initialisation-failed", "No consistent initial state"),
-        Error::Options(_) => ("invalid-options", "Invalid solve options"),
+        Error::Options(_) | Error::Report(_) => ("invalid-options", "Invalid solve options"),
         Error::BondGraph(_) => ("invalid-bond-graph", "Invalid bond graph"),
         _ => ("solve-failed", "The solve failed"),
     };

@@ -59,7 +59,7 @@ impl VarySweep {
         let variations: Vec<Variation> = vary
             .iter()
             .map(|v| Variation::parse(v))
-            .collect::<Result<_>>()?;
+            .collect::<std::result::Result<_, _>>()?;
         let total = variations
             .iter()
             .try_fold(1usize, |n, v| n.checked_mul(v.values.len()))
@@ -70,6 +70,7 @@ impl VarySweep {
                 .map(|v| v.values.len().to_string())
                 .collect();
             return Err(VaryError::TooManyPoints {
+                max: MAX_POINTS,
                 sizes: sizes.join(" × "),
             }
             .into());
