@@ -2,8 +2,8 @@
 //!
 //! Every fallible call of the library returns [`Result<T>`](Result), that is
 //! `Result<T, bondmech::Error>`, except a few lower-level entry points that keep their own,
-//! more detailed error type: [`Scene::from_json_str`](crate::Scene::from_json_str),
-//! [`Scene::from_path`](crate::Scene::from_path) and `Scene::validate` return
+//! more detailed error type: [`Scene::from_json_str`](crate::scene::Scene::from_json_str),
+//! [`Scene::from_path`](crate::scene::Scene::from_path) and `Scene::validate` return
 //! [`SceneError`] (every problem with its JSON path), the [`sundials`](crate::sundials)
 //! wrappers return [`SolverError`]. Each of these converts into [`Error`] through `From`,
 //! so `?` works in a function returning `bondmech::Result`:

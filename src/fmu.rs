@@ -34,9 +34,9 @@ use std::io::Write as _;
 
 use serde::{Deserialize, Serialize};
 
+use crate::model::Model;
 use crate::scene::path::{scene_from_json_with, PathError, ScenePath, Segment};
 use crate::scene::{Dimension, Scene, SceneError};
-use crate::Model;
 
 /// The `modelIdentifier` of every bondmech FMU: the shared library is
 /// `binaries/<platform>/bondmech_fmu.so`.
@@ -60,7 +60,7 @@ pub enum FmuError {
     Path(#[from] PathError),
     /// The model cannot be built (or its columns found).
     #[error(transparent)]
-    Model(#[from] crate::Error),
+    Model(#[from] crate::error::Error),
     /// A `--parameter`, `--input` or `--output` names something the scene does not have.
     #[error("{flag} {name}: {message}")]
     Unknown {
@@ -281,7 +281,7 @@ pub fn default_outputs(scene: &Scene, columns: &[String]) -> Vec<String> {
 }
 
 /// The columns of a model's rows (a raw bond graph's from a solve at its start time).
-fn model_columns(model: &Model) -> Result<Vec<String>, crate::Error> {
+fn model_columns(model: &Model) -> Result<Vec<String>, crate::error::Error> {
     if let Some(columns) = model.columns() {
         return Ok(columns);
     }

@@ -9,9 +9,9 @@ use crate::bond::causality::{assign_causality, assign_causality_at, Causality, C
 use crate::bond::dot::to_dot;
 use crate::bond::json::RawBondGraph;
 use crate::bond::model::BondGraph;
+use crate::error::{Error, Result};
 use crate::mech::{scene_bond_graph, Variant};
 use crate::scene::Scene;
-use crate::{Error, Result};
 use std::collections::HashMap;
 
 /// A scene's bond graph with its causal assignment.

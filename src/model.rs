@@ -13,6 +13,7 @@ use cpu_time::ThreadTime;
 
 use crate::bond::causality::CausalityReport;
 use crate::bond::model::BondGraph;
+use crate::error::{Error, Result};
 use crate::expr::ExprGraph;
 use crate::graph::SceneGraph;
 use crate::mech::{MultibodySystem, Variant};
@@ -22,7 +23,6 @@ use crate::solve::bond_run::{
     raw_bond_graph_options, scene_bond_graph, solve_bond_graph_streaming,
 };
 use crate::solve::{solve_system, FormulationKind, Row, Solution, SolveOptions};
-use crate::{Error, Result};
 
 /// What a model solves: a multibody system, or a raw bond graph.
 #[derive(Clone, Debug)]

@@ -14,8 +14,9 @@
 use std::fmt;
 
 use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use crate::error::{Error, Result};
 use crate::mech::ConstraintRow;
-use crate::{Error, Model, Result};
+use crate::model::Model;
 
 /// The equations of a model as text, variables named after the scene (`bar1.x`, `bar1.omega`).
 #[derive(Clone, Debug, PartialEq)]

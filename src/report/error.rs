@@ -1,6 +1,6 @@
 //! What a report refuses, typed: the animation's and the plots' inputs, a reference table's
 //! lines, the sweep shards ([`VaryError`]) and the files written. The crate's top-level
-//! [`Error`](crate::Error) wraps it; reports import nothing above themselves.
+//! [`Error`](crate::error::Error) wraps it; reports import nothing above themselves.
 //!
 //! ```
 //! use bondmech::report::{ReferenceProblem, ReportError};

@@ -235,7 +235,7 @@ pub struct VaryPoint {
     /// Largest |g(q)| at the output times.
     #[serde(with = "nan_null")]
     pub max_constraint_error: f64,
-    /// Relative energy drift (see [`crate::Summary::energy_drift`]); `NaN`/`null` when the
+    /// Relative energy drift (see [`crate::solve::Summary::energy_drift`]); `NaN`/`null` when the
     /// scene does not conserve energy.
     #[serde(with = "nan_null")]
     pub energy_drift: f64,

@@ -194,7 +194,7 @@ fn longest_string(v: &Value, path: String, max: usize) -> Option<(String, usize)
 }
 
 /// The number of rows a run of `scene` writes, up to `t_end` when given (the rule of
-/// [`crate::Model::output_times_until`]), computed without building the list of times.
+/// [`crate::model::Model::output_times_until`]), computed without building the list of times.
 pub fn row_count(scene: &Scene, t_end: Option<f64>) -> f64 {
     let s = &scene.solve;
     let t0 = s.t_start;
@@ -247,7 +247,7 @@ mod tests {
             (r#"{"t_end": 3, "output_times": [0.5, 1, 2, 3]}"#, Some(1.5)),
         ] {
             let s = scene(solve);
-            let model = crate::Model::new(&s).unwrap();
+            let model = crate::model::Model::new(&s).unwrap();
             let times = match t_end {
                 Some(t) => model.output_times_until(t).unwrap(),
                 None => model.default_options().output_times,

@@ -1,5 +1,5 @@
 //! `bondmech serve`: the library as an HTTP/JSON service (axum on tokio), a face over
-//! [`crate::Model`] like the command line.
+//! [`crate::model::Model`] like the command line.
 //!
 //! | route | answer |
 //! |---|---|

@@ -1,5 +1,5 @@
 //! The handlers: each checks the request (query, body, limits) on the async side, takes a solve
-//! slot, and does the work on a blocking thread through the library's [`crate::Model`] API.
+//! slot, and does the work on a blocking thread through the library's [`crate::model::Model`] API.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -21,9 +21,9 @@ use super::solve::{
     SolveParams, TimedRow, SOLVE_PARAMS,
 };
 use super::App;
+use crate::model::Model;
 use crate::report::SweepConfig;
 use crate::scene::Scene;
-use crate::Model;
 
 /// The routes, for metrics labels and the 404 answer.
 pub const ROUTES: [&str; 8] = [

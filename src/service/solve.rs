@@ -16,10 +16,13 @@ use super::limits::Limits;
 use super::metrics::Metrics;
 use super::pool::StopFlags;
 use super::problem::Problem;
+use crate::error::Error;
+use crate::model::Model;
 use crate::scene::{Scene, SolveOverrides};
 use crate::settings::FormulationKind;
+use crate::settings::LinearSolverKind;
+use crate::solve::{Solution, SolveOptions};
 use crate::sundials::SolverError;
-use crate::{Error, LinearSolverKind, Model, Solution, SolveOptions};
 
 /// Query parameters, each at most once, from a fixed list per route.
 pub struct Params(BTreeMap<String, String>);
@@ -518,7 +521,7 @@ pub fn solution_json(sol: &Solution) -> Vec<u8> {
     struct Body<'a> {
         columns: Vec<&'a str>,
         rows: Vec<TimedRow<'a>>,
-        summary: &'a crate::Summary,
+        summary: &'a crate::solve::Summary,
     }
     let body = Body {
         columns: std::iter::once("t")

@@ -1,6 +1,6 @@
 //! Studies: many solves of one scene — the speed-against-error and stiffness sweeps, and
 //! parameter sweeps over any scene field, sharded across machines. They build and run
-//! [`crate::Model`]s; what they produce (data, CSV, JSON, SVG) is [`crate::report`]'s.
+//! [`crate::model::Model`]s; what they produce (data, CSV, JSON, SVG) is [`crate::report`]'s.
 
 pub mod sweep;
 pub mod vary;

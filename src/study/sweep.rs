@@ -9,10 +9,11 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use crate::dae::{consistent_state, ConstraintExprs, DecoupledFormulation, MechanicsTapes};
+use crate::error::{Error, Result};
+use crate::model::Model;
 use crate::report::compare::{column_kind, ColumnKind};
 use crate::report::sweep::*;
 use crate::solve::{FormulationKind, Solution, SolveOptions};
-use crate::{Error, Model, Result};
 
 /// The largest eigenvalue magnitude of the decoupled twin's Jacobian `∂f/∂y` at the start.
 pub fn largest_eigenvalue(model: &Model, opts: &SolveOptions) -> Result<f64> {

@@ -6,6 +6,8 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
+use crate::error::{Error, Result};
+use crate::model::Model;
 use crate::report::compare::{column_kind, ColumnKind};
 use crate::report::sweep::{solution_error, ExternalReference};
 use crate::report::vary::*;
@@ -14,7 +16,6 @@ use crate::scene::path::{
 };
 use crate::scene::{parse, tree::Json, Scene, SceneError};
 use crate::solve::Solution;
-use crate::{Error, Model, Result};
 
 /// A parameter sweep ready to run: the base scene tree, the assignments and the spec.
 pub struct VarySweep {
