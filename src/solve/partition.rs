@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use crate::bond::causality::{assign_causality_at, reassign_causality_at, CausalityReport};
+use crate::bond::causality::{assign_causality_at, reassign_differential_at, CausalityReport};
 use crate::bond::model::BondGraph;
 use crate::mech::MultibodySystem;
 
@@ -61,27 +61,14 @@ impl CausalPartition {
             velocities: sys.velocities.iter().map(|v| v.name.clone()).collect(),
             nc: sys.nc(),
         };
-        cp.start = cp.report(t0, None);
+        cp.start = cp.report(t0);
         cp
     }
 
-    /// The assignment at `(t, q)` (the graph's initial values where `q` is `None`: the start,
-    /// which validates the graph; the re-choices at a state skip that).
-    fn report(&self, t: f64, q: Option<&[f64]>) -> Option<CausalityReport> {
+    /// The assignment at the start time (the graph's initial values; validates the graph).
+    fn report(&self, t: f64) -> Option<CausalityReport> {
         let graph = self.graph.as_deref()?;
-        let causality = match q {
-            None => assign_causality_at(graph, t, &|_| None).ok()?,
-            Some(q) => {
-                self.start.as_ref()?;
-                let values = |name: &str| {
-                    self.displacement_vars
-                        .iter()
-                        .find(|(n, _)| n == name)
-                        .map(|&(_, i)| q[i])
-                };
-                reassign_causality_at(graph, t, &values)
-            }
-        };
+        let causality = assign_causality_at(graph, t, &|_| None).ok()?;
         Some(causality.report(graph))
     }
 
@@ -110,11 +97,19 @@ impl CausalPartition {
     /// when no assignment exists.
     pub fn preferred_at(&self, t: f64, q: &[f64]) -> Vec<bool> {
         let mut mask = vec![false; self.velocities.len()];
-        if let Some(r) = self.report(t, Some(q)) {
-            for d in &r.differential {
-                if let Some(j) = self.inertias.iter().position(|n| *n == d.element) {
-                    mask[j] = true;
-                }
+        let (Some(graph), Some(_)) = (self.graph.as_deref(), self.start.as_ref()) else {
+            return mask;
+        };
+        let values = |name: &str| {
+            self.displacement_vars
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|&(_, i)| q[i])
+        };
+        for e in reassign_differential_at(graph, t, &values) {
+            let name = &graph.element(e).name;
+            if let Some(j) = self.inertias.iter().position(|n| n == name) {
+                mask[j] = true;
             }
         }
         mask
