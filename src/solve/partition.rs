@@ -30,6 +30,12 @@ pub(crate) struct CausalPartition {
     velocities: Vec<String>,
     /// Constraint rows.
     nc: usize,
+    /// The start time, each displacement variable's value there (the graph's initial value
+    /// that [`Self::start`] was assigned with, by `displacement_vars`), and the preference that
+    /// assignment gives: [`Self::preferred_at`] at the start state is the same assignment.
+    start_t: f64,
+    start_values: Vec<f64>,
+    start_mask: Vec<bool>,
 }
 
 impl CausalPartition {
@@ -60,8 +66,32 @@ impl CausalPartition {
             },
             velocities: sys.velocities.iter().map(|v| v.name.clone()).collect(),
             nc: sys.nc(),
+            start_t: t0,
+            start_values: Vec::new(),
+            start_mask: Vec::new(),
         };
         cp.start = cp.report(t0);
+        if let (Some(g), Some(r)) = (cp.graph.as_deref(), cp.start.as_ref()) {
+            // the value the start's assignment read for each displacement variable (the first
+            // annotated displacement of that element, as the assignment looks it up)
+            cp.start_values = cp
+                .displacement_vars
+                .iter()
+                .map(|(name, _)| {
+                    g.displacements
+                        .iter()
+                        .find(|d| name.strip_prefix("x_") == Some(&g.element(d.element).name))
+                        .map_or(0.0, |d| d.initial)
+                })
+                .collect();
+            let mut mask = vec![false; cp.velocities.len()];
+            for d in &r.differential {
+                if let Some(j) = cp.inertias.iter().position(|n| *n == d.element) {
+                    mask[j] = true;
+                }
+            }
+            cp.start_mask = mask;
+        }
         cp
     }
 
@@ -100,6 +130,16 @@ impl CausalPartition {
         let (Some(graph), Some(_)) = (self.graph.as_deref(), self.start.as_ref()) else {
             return mask;
         };
+        // at the start state the assignment is the start's (same graph, time and values)
+        if t == self.start_t
+            && self
+                .displacement_vars
+                .iter()
+                .zip(&self.start_values)
+                .all(|(&(_, i), &v)| q[i] == v)
+        {
+            return self.start_mask.clone();
+        }
         let values = |name: &str| {
             self.displacement_vars
                 .iter()
