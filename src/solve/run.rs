@@ -23,9 +23,10 @@ use super::integrators::{make_cvode, make_ida, make_ida_schur};
 use super::partition::CausalPartition;
 use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::{
-    consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
-    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
-    DecoupledFormulation, GglDae, GglFormulation, Index1Formulation, MechanicsTapes,
+    block_condition_bound, consistent_state, consistent_state_from, dependent_condition,
+    joint_condition_number, joint_conditioning, select_dependent, ConsistentState, ConstraintExprs,
+    DaeFormulation, DecoupledFormulation, GglDae, GglFormulation, Index1Formulation,
+    MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
@@ -1479,8 +1480,17 @@ fn run_index1(
             }
             if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
                 let gv = gv_at(&tapes, step.t, &x);
-                let p = preferred.get_or_insert_with(|| causal.preferred_at(step.t, &x[..nq]));
-                let better = select_dependent(&gv, p);
+                // no block is INDEX1_RESELECT_GAIN times better conditioned than the bound allows:
+                // then no fresh choice (a causality assignment) can replace this one
+                let possible =
+                    cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * block_condition_bound(&gv);
+                let better = possible
+                    .then(|| {
+                        let p =
+                            preferred.get_or_insert_with(|| causal.preferred_at(step.t, &x[..nq]));
+                        select_dependent(&gv, p)
+                    })
+                    .flatten();
                 if let Some(b) = better {
                     if b != dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
                     {
