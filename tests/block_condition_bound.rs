@@ -59,7 +59,10 @@ fn bound_is_below_every_block_condition() {
         }
     }
     // the bound is not vacuous: some block comes within a factor 2 of it
-    assert!(tight > 0.5, "the bound is never within 2x of a block: {tight}");
+    assert!(
+        tight > 0.5,
+        "the bound is never within 2x of a block: {tight}"
+    );
 }
 
 #[test]
