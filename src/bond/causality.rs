@@ -304,16 +304,23 @@ pub fn assign_causality_at(
     assign(graph, t, &state, true)
 }
 
-/// [`assign_causality_at`] on a graph already known to be valid (a mechanism's graph that
-/// was assigned once): the validation, whose messages cost more than the assignment itself,
-/// is skipped. What a formulation's re-choice at run time calls.
-pub fn reassign_causality_at(graph: &BondGraph, t: f64, values: Valuation) -> Causality {
+/// The storages that [`assign_causality_at`] puts in differential causality (its report's
+/// `differential`, as element ids), on a graph already known to be valid (a mechanism's graph
+/// that was assigned once): the validation (whose messages cost more than the assignment
+/// itself), the generic rank (only reported) and the report's names are skipped. What a
+/// formulation's re-choice at run time calls.
+pub fn reassign_differential_at(graph: &BondGraph, t: f64, values: Valuation) -> Vec<ElementId> {
     let state = |n: &str| {
         values(n)
             .or_else(|| initial_value(graph, n))
             .or_else(|| Some(generic_value(n)))
     };
-    assign_valid(graph, t, &state, true)
+    assign_ranked(graph, t, &state, true, false)
+        .storage
+        .iter()
+        .filter(|(_, c)| *c == StorageCausality::Differential)
+        .map(|&(e, _)| e)
+        .collect()
 }
 
 fn assign(
@@ -327,10 +334,26 @@ fn assign(
 }
 
 fn assign_valid(graph: &BondGraph, t: f64, values: Valuation, at_state: bool) -> Causality {
+    assign_ranked(graph, t, values, at_state, true)
+}
+
+/// [`assign_valid`]; without `generic_rank` (at the state only), the generic rank is not
+/// computed and `constraints.generic_rank` holds the numeric rank.
+fn assign_ranked(
+    graph: &BondGraph,
+    t: f64,
+    values: Valuation,
+    at_state: bool,
+    generic_rank: bool,
+) -> Causality {
     let deferred = joint_rows(graph);
     let at = constraint_rank(graph, t, values, &[], &deferred);
     let generic_values = |n: &str| Some(generic_value(n));
-    let mut generic = constraint_rank(graph, t, &generic_values, &[], &deferred);
+    let mut generic = if generic_rank || !at_state {
+        constraint_rank(graph, t, &generic_values, &[], &deferred)
+    } else {
+        at.clone()
+    };
     if !at_state && generic.rank > at.rank {
         // singular at the state: keep its well-conditioned pivots, complete them generically
         let first: Vec<ElementId> = at.pivots.iter().map(|p| p.1).collect();

@@ -103,6 +103,26 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
     }
 }
 
+/// A lower bound on the condition number (2-norm) of every square block of `nc` columns of the
+/// `nc × nv` matrix `gv`: `κ(G_D) ≥ c_(nc) / σ_min(G_v)`, with `c_(nc)` the `nc`-th smallest
+/// column norm of `G_v`. (Deleting columns does not raise a singular value, `G_v G_vᵀ ⪰
+/// G_D G_Dᵀ`, so `σ_min(G_D) ≤ σ_min(G_v)`; `σ_max(G_D)` is at least the largest norm of its
+/// `nc` distinct columns, at least `c_(nc)`.) 0 when `gv` has no rows or more rows than
+/// columns.
+pub fn block_condition_bound(gv: &DMatrix<f64>) -> f64 {
+    let (m, n) = gv.shape();
+    if m == 0 || m > n {
+        return 0.0;
+    }
+    let mut norms: Vec<f64> = gv.column_iter().map(|c| c.norm()).collect();
+    norms.sort_unstable_by(f64::total_cmp);
+    let smin = gv.singular_values().min();
+    if smin <= 0.0 {
+        return f64::INFINITY;
+    }
+    norms[m - 1] / smin
+}
+
 impl Index1Formulation {
     /// The split of `y = [q, v, a_D, λ]` (`nq` coordinates) for the Schur solver of the Newton matrix
     /// ([`crate::sundials::schur`]): the independent coordinates and velocities `(q_I, v_I)`,

@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use crate::bond::causality::{assign_causality_at, reassign_causality_at, CausalityReport};
+use crate::bond::causality::{assign_causality_at, reassign_differential_at, CausalityReport};
 use crate::bond::model::BondGraph;
 use crate::mech::MultibodySystem;
 
@@ -30,6 +30,12 @@ pub(crate) struct CausalPartition {
     velocities: Vec<String>,
     /// Constraint rows.
     nc: usize,
+    /// The start time, each displacement variable's value there (the graph's initial value
+    /// that [`Self::start`] was assigned with, by `displacement_vars`), and the preference that
+    /// assignment gives: [`Self::preferred_at`] at the start state is the same assignment.
+    start_t: f64,
+    start_values: Vec<f64>,
+    start_mask: Vec<bool>,
 }
 
 impl CausalPartition {
@@ -60,28 +66,39 @@ impl CausalPartition {
             },
             velocities: sys.velocities.iter().map(|v| v.name.clone()).collect(),
             nc: sys.nc(),
+            start_t: t0,
+            start_values: Vec::new(),
+            start_mask: Vec::new(),
         };
-        cp.start = cp.report(t0, None);
+        cp.start = cp.report(t0);
+        if let (Some(g), Some(r)) = (cp.graph.as_deref(), cp.start.as_ref()) {
+            // the value the start's assignment read for each displacement variable (the first
+            // annotated displacement of that element, as the assignment looks it up)
+            cp.start_values = cp
+                .displacement_vars
+                .iter()
+                .map(|(name, _)| {
+                    g.displacements
+                        .iter()
+                        .find(|d| name.strip_prefix("x_") == Some(&g.element(d.element).name))
+                        .map_or(0.0, |d| d.initial)
+                })
+                .collect();
+            let mut mask = vec![false; cp.velocities.len()];
+            for d in &r.differential {
+                if let Some(j) = cp.inertias.iter().position(|n| *n == d.element) {
+                    mask[j] = true;
+                }
+            }
+            cp.start_mask = mask;
+        }
         cp
     }
 
-    /// The assignment at `(t, q)` (the graph's initial values where `q` is `None`: the start,
-    /// which validates the graph; the re-choices at a state skip that).
-    fn report(&self, t: f64, q: Option<&[f64]>) -> Option<CausalityReport> {
+    /// The assignment at the start time (the graph's initial values; validates the graph).
+    fn report(&self, t: f64) -> Option<CausalityReport> {
         let graph = self.graph.as_deref()?;
-        let causality = match q {
-            None => assign_causality_at(graph, t, &|_| None).ok()?,
-            Some(q) => {
-                self.start.as_ref()?;
-                let values = |name: &str| {
-                    self.displacement_vars
-                        .iter()
-                        .find(|(n, _)| n == name)
-                        .map(|&(_, i)| q[i])
-                };
-                reassign_causality_at(graph, t, &values)
-            }
-        };
+        let causality = assign_causality_at(graph, t, &|_| None).ok()?;
         Some(causality.report(graph))
     }
 
@@ -110,11 +127,29 @@ impl CausalPartition {
     /// when no assignment exists.
     pub fn preferred_at(&self, t: f64, q: &[f64]) -> Vec<bool> {
         let mut mask = vec![false; self.velocities.len()];
-        if let Some(r) = self.report(t, Some(q)) {
-            for d in &r.differential {
-                if let Some(j) = self.inertias.iter().position(|n| *n == d.element) {
-                    mask[j] = true;
-                }
+        let (Some(graph), Some(_)) = (self.graph.as_deref(), self.start.as_ref()) else {
+            return mask;
+        };
+        // at the start state the assignment is the start's (same graph, time and values)
+        if t == self.start_t
+            && self
+                .displacement_vars
+                .iter()
+                .zip(&self.start_values)
+                .all(|(&(_, i), &v)| q[i] == v)
+        {
+            return self.start_mask.clone();
+        }
+        let values = |name: &str| {
+            self.displacement_vars
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|&(_, i)| q[i])
+        };
+        for e in reassign_differential_at(graph, t, &values) {
+            let name = &graph.element(e).name;
+            if let Some(j) = self.inertias.iter().position(|n| n == name) {
+                mask[j] = true;
             }
         }
         mask

@@ -23,9 +23,10 @@ use super::integrators::{make_cvode, make_ida, make_ida_schur};
 use super::partition::CausalPartition;
 use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::{
-    consistent_state, consistent_state_from, dependent_condition, joint_condition_number,
-    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
-    DecoupledFormulation, GglDae, GglFormulation, Index1Formulation, MechanicsTapes,
+    block_condition_bound, consistent_state, consistent_state_from, dependent_condition,
+    joint_condition_number, joint_conditioning, select_dependent, ConsistentState, ConstraintExprs,
+    DaeFormulation, DecoupledFormulation, GglDae, GglFormulation, Index1Formulation,
+    MechanicsTapes,
 };
 use crate::mech::{EventFunction, MultibodySystem};
 use crate::scene::EventAction;
@@ -1314,10 +1315,12 @@ fn run_index1(
     // what the hand-over compares with: the joints' and the partition's conditioning at the start
     let watch = {
         let gv = gv_at(&tapes, t0, &x);
-        let block = from_causality
-            .as_ref()
-            .or(select_dependent(&gv, &causal.preferred_at(t0, &x[..nq])).as_ref())
-            .map_or(f64::INFINITY, |d| dependent_condition(&gv, d));
+        // (the causality's preference, a graph assignment, only where the causality's block fails)
+        let block = match &from_causality {
+            Some(d) => dependent_condition(&gv, d),
+            None => select_dependent(&gv, &causal.preferred_at(t0, &x[..nq]))
+                .map_or(f64::INFINITY, |d| dependent_condition(&gv, &d)),
+        };
         HandoverWatch {
             joints: if hands_over {
                 crate::dae::joint_condition_number(&gv, &sys.mass)
@@ -1447,13 +1450,22 @@ fn run_index1(
                 break 'restart;
             }
             let cond = dependent_condition(&gv_at(&tapes, step.t, &x), &dependent);
+            // the causality's preference at this output, assigned at most once
+            let mut preferred: Option<Vec<bool>> = None;
             if hands_over && cond > 2.0 * watch.block && k_next < opts.output_times.len() {
                 // the partition degrades: are the joints approaching a singular configuration?
                 let gv = gv_at(&tapes, step.t, &x);
                 let kappa = crate::dae::joint_condition_number(&gv, &sys.mass);
-                let best = select_dependent(&gv, &causal.preferred_at(step.t, &x[..nq]))
-                    .map_or(f64::INFINITY, |b| dependent_condition(&gv, &b))
-                    .min(cond);
+                // best ≤ cond: a fresh choice (a causality assignment) only matters above the
+                // hand-over's threshold
+                let best = if cond > DAE_HANDOVER_CONDITION {
+                    let p = preferred.get_or_insert_with(|| causal.preferred_at(step.t, &x[..nq]));
+                    select_dependent(&gv, p)
+                        .map_or(f64::INFINITY, |b| dependent_condition(&gv, &b))
+                        .min(cond)
+                } else {
+                    cond
+                };
                 if kappa > DAE_HANDOVER_RISE * watch.joints || best > DAE_HANDOVER_CONDITION {
                     total.accumulate(&ida.stats());
                     handover = Some((
@@ -1468,7 +1480,17 @@ fn run_index1(
             }
             if cond > INDEX1_CHECK_CONDITION && k_next < opts.output_times.len() {
                 let gv = gv_at(&tapes, step.t, &x);
-                let better = select_dependent(&gv, &causal.preferred_at(step.t, &x[..nq]));
+                // no block is INDEX1_RESELECT_GAIN times better conditioned than the bound allows:
+                // then no fresh choice (a causality assignment) can replace this one
+                let possible =
+                    cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * block_condition_bound(&gv);
+                let better = possible
+                    .then(|| {
+                        let p =
+                            preferred.get_or_insert_with(|| causal.preferred_at(step.t, &x[..nq]));
+                        select_dependent(&gv, p)
+                    })
+                    .flatten();
                 if let Some(b) = better {
                     if b != dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
                     {

@@ -12,7 +12,7 @@
 //! ```
 //!
 //! `D⁻¹` by forward substitution over the blocks (`z_k = D_kk⁻¹ (b_k − Σ_{l<k} D_kl z_l)`),
-//! each diagonal block `D_kk` and `S` by LU with partial pivoting ([`super::dense_lu`]). This
+//! each diagonal block `D_kk` and `S` inverted by Gauss–Jordan elimination with partial pivoting. This
 //! is exact (the same solution as an LU of `J`, up to rounding) whenever `J` and every `D_kk`
 //! are regular; a singular `D_kk` or `S` is reported as a recoverable failure, as a zero pivot
 //! of the dense LU is, so the integrator cuts its step (and its caller may change formulation).
@@ -32,7 +32,6 @@ use std::os::raw::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::context::Context;
-use super::dense_lu;
 use super::error::SolverError;
 use super::linsol::{self, LinearSolver};
 use super::vector::{slice_of, slice_of_mut};
@@ -392,24 +391,66 @@ fn forward(
     }
 }
 
-/// Replaces the column-major `m × m` matrix `a` by its inverse, from its LU factors with
-/// partial pivoting (`A⁻¹ e_j` for each column `j`); `false` on a zero or non-finite pivot.
-/// The blocks are small and factored once per Newton matrix, while each of IDA's Newton
-/// iterations applies them: a product with the inverse is one short loop per column, where
-/// the triangular solves of the factors cost their loop set-up per row (measured with
-/// callgrind: 600 instructions per 4 × 4 solve).
+/// Replaces the column-major `m × m` matrix `a` by its inverse, by Gauss–Jordan elimination
+/// with partial (row) pivoting in place: at pivot `k`, row `k` is divided by `a_kk` and
+/// subtracted from every other row so column `k` becomes `e_k`, the elimination's multipliers
+/// take its place (`a_ik ← −a_ik / a_kk`, `a_kk ← 1 / a_kk`); the row exchanges are undone as
+/// column exchanges at the end, in reverse order (`A⁻¹ = (P A)⁻¹ P`). `m³` multiply-adds, where
+/// an LU and `m` triangular solves of `e_j` cost `4m³/3` and their loop set-up per column.
+/// `false` on a zero or non-finite pivot. The blocks are small and inverted once per Newton
+/// matrix, while each of IDA's Newton iterations applies them: a product with the inverse is
+/// one short loop per column, where the triangular solves of the factors cost their loop
+/// set-up per row (measured with callgrind: 600 instructions per 4 × 4 solve).
 fn invert(a: &mut [f64], m: usize, piv: &mut [usize], work: &mut [f64]) -> bool {
-    if dense_lu::factor(a, m, piv) != 0 {
-        return false;
+    let a = &mut a[..m * m];
+    let col = &mut work[..m];
+    for k in 0..m {
+        let mut p = k;
+        let mut big = a[k * m + k].abs();
+        for i in k + 1..m {
+            let v = a[k * m + i].abs();
+            if v > big {
+                big = v;
+                p = i;
+            }
+        }
+        piv[k] = p;
+        if p != k {
+            for j in 0..m {
+                a.swap(j * m + k, j * m + p);
+            }
+        }
+        let pivot = a[k * m + k];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return false;
+        }
+        let inv = 1.0 / pivot;
+        col.copy_from_slice(&a[k * m..(k + 1) * m]);
+        for j in (0..m).filter(|&j| j != k) {
+            let akj = a[j * m + k] * inv;
+            a[j * m + k] = akj;
+            if akj != 0.0 {
+                let cj = &mut a[j * m..(j + 1) * m];
+                for (x, &c) in cj[..k].iter_mut().zip(&col[..k]) {
+                    *x -= c * akj;
+                }
+                for (x, &c) in cj[k + 1..].iter_mut().zip(&col[k + 1..]) {
+                    *x -= c * akj;
+                }
+            }
+        }
+        for (i, x) in a[k * m..(k + 1) * m].iter_mut().enumerate() {
+            *x = if i == k { inv } else { -col[i] * inv };
+        }
     }
-    let (inv, _) = work.split_at_mut(m * m);
-    for j in 0..m {
-        let e = &mut inv[j * m..(j + 1) * m];
-        e.fill(0.0);
-        e[j] = 1.0;
-        dense_lu::solve(a, m, piv, e);
+    for k in (0..m).rev() {
+        let p = piv[k];
+        if p != k {
+            for i in 0..m {
+                a.swap(k * m + i, p * m + i);
+            }
+        }
     }
-    a.copy_from_slice(inv);
     a.iter().all(|v| v.is_finite())
 }
 
