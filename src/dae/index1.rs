@@ -87,15 +87,33 @@ pub fn select_dependent(gv: &DMatrix<f64>, preferred: &[bool]) -> Option<Vec<usi
     Some(chosen)
 }
 
-/// Condition number (2-norm) of `G_v[:, D]`.
+/// How well the dependent block `G_v[:, D]` holds the dependent velocities, relative to the
+/// whole velocity Jacobian: `μ(D) = σ_max(G_v) / σ_min(G_v[:, D])` (2-norm), ∞ for a singular
+/// block.
+///
+/// It bounds the block's own condition number, `μ(D) ≥ κ(G_v[:, D])` (a block's columns are
+/// some of `G_v`'s, so `σ_max(G_D) ≤ σ_max(G_v)`), and, unlike `κ(G_D)`, it also sees a block
+/// that loses its grip uniformly: a point mass on a massless link, `G_v = [x  y]` with `D =
+/// {x}`, has `κ(G_D) = 1` at every position but `μ = |(x, y)| / |x|`, which grows without bound
+/// as the bob passes under the pivot — where `v_x = −(y/x) v_y` can no longer be solved for.
+/// `v_D = −G_D⁻¹ G_I v_I` amplifies the independent velocities by at most `μ(D)`.
+///
+/// ```
+/// use bondmech::dae::dependent_condition;
+/// use nalgebra::DMatrix;
+/// // the bob 0.01 rad from under the pivot: x = sin 0.01, y = −cos 0.01
+/// let gv = DMatrix::from_row_slice(1, 2, &[0.01f64.sin(), -0.01f64.cos()]);
+/// assert!((dependent_condition(&gv, &[0]) - 1.0 / 0.01f64.sin()).abs() < 1e-9);
+/// assert!((dependent_condition(&gv, &[1]) - 1.0 / 0.01f64.cos()).abs() < 1e-9);
+/// ```
 pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
     let m = gv.nrows();
     if m == 0 {
         return 1.0;
     }
     let sub = DMatrix::from_fn(m, dependent.len(), |i, k| gv[(i, dependent[k])]);
-    let s = sub.singular_values();
-    let (mx, mn) = (s.max(), s.min());
+    let mn = sub.singular_values().min();
+    let mx = gv.singular_values().max();
     if mn <= 0.0 {
         f64::INFINITY
     } else {
@@ -103,24 +121,21 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
     }
 }
 
-/// A lower bound on the condition number (2-norm) of every square block of `nc` columns of the
-/// `nc × nv` matrix `gv`: `κ(G_D) ≥ c_(nc) / σ_min(G_v)`, with `c_(nc)` the `nc`-th smallest
-/// column norm of `G_v`. (Deleting columns does not raise a singular value, `G_v G_vᵀ ⪰
-/// G_D G_Dᵀ`, so `σ_min(G_D) ≤ σ_min(G_v)`; `σ_max(G_D)` is at least the largest norm of its
-/// `nc` distinct columns, at least `c_(nc)`.) 0 when `gv` has no rows or more rows than
-/// columns.
+/// A lower bound on [`dependent_condition`] over every square block of `nc` columns of the
+/// `nc × nv` matrix `gv`: `μ(D) ≥ κ(G_v) = σ_max(G_v) / σ_min(G_v)`. (Deleting columns does not
+/// raise a singular value, `G_v G_vᵀ ⪰ G_D G_Dᵀ`, so `σ_min(G_D) ≤ σ_min(G_v)`.) 0 when `gv` has
+/// no rows or more rows than columns.
 pub fn block_condition_bound(gv: &DMatrix<f64>) -> f64 {
     let (m, n) = gv.shape();
     if m == 0 || m > n {
         return 0.0;
     }
-    let mut norms: Vec<f64> = gv.column_iter().map(|c| c.norm()).collect();
-    norms.sort_unstable_by(f64::total_cmp);
-    let smin = gv.singular_values().min();
+    let s = gv.singular_values();
+    let smin = s.min();
     if smin <= 0.0 {
         return f64::INFINITY;
     }
-    norms[m - 1] / smin
+    s.max() / smin
 }
 
 impl Index1Formulation {

@@ -740,7 +740,7 @@ fn q_rates_are_v(sys: &MultibodySystem) -> bool {
 /// measures the constraint's differentiation rather than the dynamics, so the error test
 /// weights them with 0 (IDA's `id` mask with suppressed algebraic error test). `D` is chosen as
 /// the index-1 formulation chooses it ([`select_dependent`]), and re-chosen at output times
-/// when `κ(G_v[:, D])` ([`dependent_condition`]) exceeds [`INDEX1_CHECK_CONDITION`] and a fresh
+/// when `μ(D)` ([`dependent_condition`]) exceeds [`INDEX1_CHECK_CONDITION`] and a fresh
 /// choice is [`INDEX1_RESELECT_GAIN`] times better conditioned. Where no set is well
 /// conditioned (`κ(G_v[:, D]) >` [`GGL_ERROR_TEST_SINGULAR`], or no set exists), and while the
 /// compliant GGL runs (there `G_v v = ε λ`: the velocities are no longer fixed by the joints
