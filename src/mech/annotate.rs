@@ -23,7 +23,7 @@ use std::collections::HashMap;
 use super::body::BodyKinematics;
 use super::bondgraph::{planar_rest_length, scene_bond_graph_with};
 use super::columns::Columns;
-use super::geometry::Geometry;
+use super::coordinates::Geometry;
 use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
 use super::MechError;
 use crate::bond::fragments::modulated_sum;

@@ -9,7 +9,7 @@
 //! outputs only).
 
 use super::body::{quaternion_from_cardan, AngleSlot, BodyKinematics};
-use super::geometry::{coord, planar_inertia, Geometry};
+use super::coordinates::{coord, planar_inertia, Geometry};
 use super::joints;
 use super::MechError;
 use crate::expr::Expr;

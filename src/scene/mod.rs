@@ -40,6 +40,7 @@
 //! `rest_length` = initial distance. `name` defaults to the file stem.
 
 mod error;
+mod fields;
 pub mod inputs;
 pub mod joint_kind;
 pub mod model;

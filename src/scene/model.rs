@@ -159,7 +159,7 @@ pub enum PointRef {
 pub struct Joint {
     /// Unique name (default `"joint<i>"`).
     pub name: String,
-    /// Revolute (planar pin or spatial hinge), prismatic, spherical or weld.
+    /// The kind, with its own fields (`docs/scene-format.md` §5).
     pub kind: JointKind,
     /// The two bodies, by name.
     pub bodies: [String; 2],
