@@ -10,6 +10,7 @@
 //! dispatches on [`JointKind`] once. A new kind adds its file here and its line in
 //! `joint_kinds!`'s list below, and its file and dispatch line there.
 
+mod distance;
 mod gear;
 pub(crate) mod own_fields;
 mod prismatic;
@@ -20,6 +21,7 @@ mod spherical;
 mod universal;
 mod weld;
 
+pub use distance::Distance;
 pub use gear::Gear;
 pub use prismatic::Prismatic;
 pub use rack_pinion::RackPinion;
@@ -89,6 +91,8 @@ joint_kinds! {
     RackPinion(RackPinion),
     /// `"universal"` (spatial): a Hooke's joint with fork axes `axes`.
     Universal(Universal),
+    /// `"distance"`: a massless rigid link of `length` between the two points.
+    Distance(Distance),
 }
 
 /// How one kind is read: its spelling, its own keys, whether it has points, its refusal of an

@@ -19,6 +19,7 @@
 //! Each joint's reaction (its force and moment on the second body) is read from the
 //! multipliers of its rows ([`crate::mech::JointReaction`]).
 
+mod distance;
 mod gear;
 mod hinge;
 pub(crate) mod joint;
@@ -48,6 +49,7 @@ pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {
         JointKind::Universal(k) => Box::new(universal::Universal { axes: &k.axes }),
         JointKind::Gear(k) => Box::new(gear::Gear { ratio: k.ratio }),
         JointKind::Slot(k) => Box::new(slot::Slot { axis: &k.axis }),
+        JointKind::Distance(k) => Box::new(distance::Distance { length: k.length }),
         JointKind::RackPinion(k) => Box::new(rack_pinion::RackPinion {
             radius: k.radius,
             axis: &k.axis,
