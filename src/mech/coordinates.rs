@@ -7,8 +7,8 @@
 use std::collections::HashMap;
 
 use super::body::{BodyKinematics, PointKinematics};
+use super::error::MechError;
 use super::system::{Coordinate, LoadTerm};
-use super::MechError;
 use crate::expr::ExprGraph;
 use crate::scene::{Dimension, Inertia, PointRef, Scene};
 

@@ -9,11 +9,11 @@ use std::collections::HashMap;
 use super::body::BodyKinematics;
 use super::columns::Columns;
 use super::coordinates::Geometry;
+use super::error::MechError;
 use super::joints::{joint_type, Ends, RowWriter};
 use super::layout::Plan;
 use super::reactions::JointReaction;
 use super::system::{ConstraintRow, EquationSource, LoadTerm, MultibodySystem};
-use super::MechError;
 use crate::expr::Expr;
 use crate::scene::{LoadValue, Scene};
 

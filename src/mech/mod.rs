@@ -18,6 +18,7 @@ pub mod body;
 pub mod bondgraph;
 mod columns;
 mod coordinates;
+mod error;
 pub mod geometry;
 pub mod joints;
 mod layout;
@@ -25,30 +26,10 @@ pub mod reactions;
 pub mod size;
 pub mod system;
 
-pub use annotate::build;
-pub use bondgraph::{scene_bond_graph, Variant};
+pub use annotate::{build, scene_bond_graph, Variant};
+pub use error::MechError;
 pub use reactions::JointReaction;
 pub use system::{
     ConstraintRow, Coordinate, EquationSource, EventFunction, JointViolation, LoadTerm,
     MultibodySystem, NonFiniteValue, OutputColumn,
 };
-
-/// A mechanism that cannot be built, with the JSON path of the culprit.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{path}: {message}")]
-pub struct MechError {
-    /// JSON path of the offending field, e.g. `joints[1].points[0]`.
-    pub path: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl MechError {
-    /// An error at `path`.
-    pub fn at(path: &str, message: impl Into<String>) -> Self {
-        MechError {
-            path: path.to_string(),
-            message: message.into(),
-        }
-    }
-}

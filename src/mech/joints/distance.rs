@@ -11,7 +11,7 @@
 
 use super::joint::{Ends, Glyph, Joint, RowWriter, Rows};
 use crate::expr::Expr;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A rigid link of length `length` (`None`: the initial distance).
 pub(super) struct Distance {

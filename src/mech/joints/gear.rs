@@ -10,7 +10,7 @@
 
 use super::joint::{Ends, Glyph, Joint, RowWriter, Rows};
 use crate::mech::body::BodyKinematics;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A gear pair of ratio `r`: body b turns `−r` times body a's rotation.
 pub(super) struct Gear {

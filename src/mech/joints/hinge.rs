@@ -5,7 +5,7 @@
 use super::joint::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::BodyKinematics;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A spatial hinge about `axis` (body a's frame).
 pub(super) struct Hinge<'a> {

@@ -11,7 +11,7 @@ use crate::bond::fragments::{change_frame, pin_to_ground, revolute, PointJunctio
 use crate::bond::model::{BondGraph, ElementId};
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::{AngleSlot, BodyKinematics, PointKinematics};
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// The rows of one joint: `(direction, g_k(q))`.
 pub(crate) type Rows = Vec<(&'static str, Expr)>;

@@ -31,7 +31,7 @@ mod spherical;
 mod universal;
 mod weld;
 
-use super::MechError;
+use crate::mech::error::MechError;
 use crate::scene::JointKind;
 pub use joint::Glyph;
 pub(crate) use joint::{common_frame, Drawing, Ends, Joint, RowWriter};

@@ -10,7 +10,7 @@ use crate::bond::fragments::{prismatic, Axis};
 use crate::expr::Expr;
 use crate::mech::body::BodyKinematics;
 use crate::mech::body::PointKinematics;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A slider along `axis` (body a's frame).
 pub(super) struct Prismatic<'a> {

@@ -16,7 +16,7 @@
 //! (and its moment about P).
 
 use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A pinion of pitch radius `radius` on a rack along `axis` (the rack's frame).
 pub(super) struct RackPinion<'a> {

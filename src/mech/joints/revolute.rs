@@ -5,7 +5,7 @@
 //! [`super::hinge`]).
 
 use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A planar pin.
 pub(super) struct Revolute;

@@ -10,7 +10,7 @@
 
 use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::mech::body::BodyKinematics;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A pin sliding in a slot along `axis` (the first body's frame).
 pub(super) struct Slot<'a> {

@@ -3,7 +3,7 @@
 //! per axis on `P_a − P_b`.
 
 use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A ball joint.
 pub(super) struct Spherical;

@@ -10,7 +10,7 @@
 
 use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::expr::Expr;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A Hooke's joint with fork axes `axes = [a1, a2]` (each in its own body's frame).
 pub(super) struct Universal<'a> {

@@ -6,7 +6,7 @@
 
 use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::bond::fragments::{pin_to_ground, weld, zero_flow};
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// Two bodies fixed together.
 pub(super) struct Weld;
