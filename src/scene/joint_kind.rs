@@ -37,7 +37,7 @@ use own_fields::{KeyShape, OwnFields, OwnKey, ReadOwnFields, AXIS_REFUSAL};
 
 use super::error::Problems;
 use super::fields::Fields;
-use super::model::Dimension;
+use super::space::Dimension;
 use super::tree::Json;
 
 /// Declares [`JointKind`] (one variant per kind, carrying the kind's own fields), the one

@@ -48,6 +48,7 @@ pub mod overrides;
 pub mod parse;
 pub mod path;
 pub mod schema;
+mod space;
 pub(crate) mod tree;
 pub mod validate;
 mod write;

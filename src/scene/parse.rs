@@ -57,15 +57,18 @@ fn point_ref(p: &mut Problems, path: &str, j: &Json) -> Option<PointRef> {
 
 /// Parses scene text into a [`Scene`], collecting every shape problem.
 /// `default_name` is used when the scene has no `"name"`.
-pub(crate) fn parse_scene(text: &str, default_name: &str) -> Result<Scene, Vec<super::Problem>> {
+pub(crate) fn parse_scene(
+    text: &str,
+    default_name: &str,
+) -> Result<Scene, Vec<super::error::Problem>> {
     let tree = parse_tree(text)?;
     scene_from_tree(&tree, default_name)
 }
 
 /// Reads scene text into the order-preserving tree (JSON syntax problems only).
-pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
+pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::error::Problem>> {
     if let Err(e) = super::validate::check_text_length(text.len()) {
-        return Err(vec![super::Problem::new(e.path(), e.to_string())]);
+        return Err(vec![super::error::Problem::new(e.path(), e.to_string())]);
     }
     serde_json::from_str(text).map_err(|e| vec![syntax_problem(&e)])
 }
@@ -74,7 +77,7 @@ pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
 pub(crate) fn scene_from_tree(
     tree: &Json,
     default_name: &str,
-) -> Result<Scene, Vec<super::Problem>> {
+) -> Result<Scene, Vec<super::error::Problem>> {
     let mut p = Problems::default();
     let scene = scene(&mut p, tree, default_name);
     match scene {
@@ -83,11 +86,11 @@ pub(crate) fn scene_from_tree(
     }
 }
 
-fn syntax_problem(e: &serde_json::Error) -> super::Problem {
+fn syntax_problem(e: &serde_json::Error) -> super::error::Problem {
     let full = e.to_string();
     let suffix = format!(" at line {} column {}", e.line(), e.column());
     let msg = full.strip_suffix(&suffix).unwrap_or(&full);
-    super::Problem::new(
+    super::error::Problem::new(
         "",
         format!(
             "malformed JSON at line {}, column {}: {}",

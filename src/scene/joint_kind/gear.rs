@@ -4,7 +4,7 @@
 use super::own_fields::{refuse_ground, KeyShape, OwnFields, OwnKey, ReadOwnFields};
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// An external mesh, `θ_b − θ_b(0) = −r (θ_a − θ_a(0))`.

@@ -8,7 +8,7 @@
 
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// The refusal of an `axis` on a kind that takes none (unless the kind says otherwise).
@@ -85,7 +85,7 @@ pub(crate) fn refuse_ground(
     message: &str,
 ) {
     for &k in ends {
-        if bodies[k] == crate::scene::model::GROUND {
+        if bodies[k] == crate::scene::space::GROUND {
             p.push(
                 crate::scene::error::index(&field(path, "bodies"), k),
                 message,

@@ -4,7 +4,7 @@
 use super::own_fields::{direction, nums, KeyShape, OwnFields, OwnKey, ReadOwnFields};
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// A slider along `axis` (frame of the first body); relative rotation fixed (planar: one

@@ -7,7 +7,7 @@ use super::own_fields::{
 };
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// A rack and pinion: `(P − C)·(R_rack û) − s(0) = ρ ((θ_p − θ_r) − (θ_p(0) − θ_r(0)))`.

@@ -4,7 +4,7 @@
 use super::own_fields::{OwnFields, OwnKey, ReadOwnFields};
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// A 3D ball joint.

@@ -6,7 +6,7 @@ use super::own_fields::{
 };
 use crate::scene::error::{field, index, Problems};
 use crate::scene::fields::{vector, Fields};
-use crate::scene::model::Dimension;
+use crate::scene::space::Dimension;
 use crate::scene::tree::Json;
 
 /// A Hooke's joint: the points coincide and the fork axes stay perpendicular,
