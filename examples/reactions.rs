@@ -12,7 +12,8 @@
 use std::ops::ControlFlow;
 use std::process::ExitCode;
 
-use bondmech::scene::{Inertia, JointKind, PointRef};
+use bondmech::scene::joint_kind::Revolute;
+use bondmech::scene::{Inertia, PointRef};
 use bondmech::{Model, Scene};
 
 fn main() -> ExitCode {
@@ -33,7 +34,7 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     let mut scene = Scene::from_path(&path)?;
     // one body on one ground pin: the case whose force Newton–Euler gives in closed form
     let (body, pin) = match (scene.bodies.as_slice(), scene.joints.as_slice()) {
-        ([b], [j]) if j.kind == JointKind::Revolute && j.bodies[0] == "ground" => {
+        ([b], [j]) if j.kind == Revolute::pin().into() && j.bodies[0] == "ground" => {
             (b.clone(), j.clone())
         }
         _ => {

@@ -36,6 +36,7 @@
 //! ```
 
 use crate::error::{Error, Result};
+use crate::scene::joint_kind::{Prismatic, Revolute, Spherical, Weld};
 use crate::scene::{
     Body, BodyFrame, Dimension, Inertia, Joint, JointKind, Load, LoadKind, LoadValue, PointRef,
     Problem, Scene, SceneError, SolveSettings, Spring, GROUND,
@@ -427,7 +428,7 @@ impl Mechanism {
 
     /// A revolute joint (planar pin): the points `a` and `b` coincide.
     pub fn revolute(self, name: &str, a: impl Into<Endpoint>, b: impl Into<Endpoint>) -> Self {
-        self.joint(name, JointKind::Revolute, a.into(), b.into())
+        self.joint(name, Revolute::pin().into(), a.into(), b.into())
     }
 
     /// A prismatic joint (slider): `b` moves along `axis` (frame of `a`'s body) through `a`,
@@ -439,15 +440,16 @@ impl Mechanism {
         b: impl Into<Endpoint>,
         axis: [f64; N],
     ) -> Self {
-        let kind = JointKind::Prismatic {
+        let kind = Prismatic {
             axis: axis.to_vec(),
-        };
+        }
+        .into();
         self.joint(name, kind, a.into(), b.into())
     }
 
     /// A spherical (ball) joint in space: the points `a` and `b` coincide.
     pub fn spherical(self, name: &str, a: impl Into<Endpoint>, b: impl Into<Endpoint>) -> Self {
-        self.joint(name, JointKind::Spherical, a.into(), b.into())
+        self.joint(name, Spherical.into(), a.into(), b.into())
     }
 
     /// A hinge (spatial revolute joint, `"type": "revolute"` with an `"axis"` in a 3D scene):
@@ -481,15 +483,13 @@ impl Mechanism {
         b: impl Into<Endpoint>,
         axis: [f64; 3],
     ) -> Self {
-        let kind = JointKind::Hinge {
-            axis: axis.to_vec(),
-        };
+        let kind = Revolute::hinge(axis.to_vec()).into();
         self.joint(name, kind, a.into(), b.into())
     }
 
     /// A weld: the two bodies are fixed together at their current relative pose.
     pub fn weld(self, name: &str, a: impl Into<Endpoint>, b: impl Into<Endpoint>) -> Self {
-        self.joint(name, JointKind::Weld, a.into(), b.into())
+        self.joint(name, Weld.into(), a.into(), b.into())
     }
 
     /// Adds a point-to-point spring-damper.

@@ -1,6 +1,6 @@
 //! The mechanism's bond graph completed into the model the solver solves (seed 16.3–16.8).
 //!
-//! [`scene_bond_graph`](super::scene_bond_graph) draws the chapter's fragments. Here the pinned
+//! [`super::bondgraph`] draws the chapter's fragments. Here the pinned
 //! graph of a planar mechanism gets what makes it simulatable:
 //!
 //! * **displacement states** `x_<junction>` with initial values: the body's `x`, `y` (∫ of the
@@ -23,9 +23,9 @@ use std::collections::HashMap;
 use super::body::BodyKinematics;
 use super::bondgraph::{planar_rest_length, scene_bond_graph_with};
 use super::columns::Columns;
-use super::geometry::Geometry;
+use super::coordinates::Geometry;
+use super::error::MechError;
 use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
-use super::MechError;
 use crate::bond::fragments::modulated_sum;
 use crate::bond::mechanics::{read_mechanics, read_mechanics_in, MechanicsError};
 use crate::bond::model::{
@@ -825,4 +825,43 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
 /// `left-arm`, see [`crate::expr::quote_name`]).
 fn quoted(name: &str) -> String {
     crate::expr::quote_name(name).into_owned()
+}
+
+/// Which variant of the mechanism to draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// Joints kept: some inertias get differential causality (a DAE).
+    Pinned,
+    /// Joints replaced by stiff springs of this scene's `joint_stiffness` (an ODE).
+    Decoupled,
+}
+
+/// Builds the bond graph of a scene: for [`Variant::Pinned`] its drawing (joints, springs and
+/// loads in the seed's fragments; [`crate::mech::annotate`] completes it into the graph the
+/// solver reads), for [`Variant::Decoupled`] the complete graph with its joints opened
+/// ([`crate::bond::decouple`], the stiffness and damping of `scene.solve`).
+pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
+    match variant {
+        // a spatial mechanism's graph is built whole by the completion (16.1–16.2: V and ω
+        // junctions, the Euler junction structure, the quaternion's MTFs)
+        Variant::Pinned if matches!(scene.dimension, Dimension::Spatial) => build(scene)?
+            .bond_graph
+            .as_deref()
+            .cloned()
+            .ok_or_else(|| MechError::at("bodies", "the mechanism has no bond graph")),
+        Variant::Pinned => scene_bond_graph_with(scene, false),
+        Variant::Decoupled => {
+            let sys = build(scene)?;
+            let pinned = sys.bond_graph.ok_or_else(|| {
+                MechError::at("bodies", "the mechanism has no bond graph to decouple")
+            })?;
+            crate::bond::decouple::decouple(
+                &pinned,
+                scene.solve.joint_stiffness,
+                scene.solve.joint_damping,
+            )
+            .map(|d| d.graph)
+            .map_err(|e| MechError::at("solve.joint_stiffness", e.to_string()))
+        }
+    }
 }

@@ -25,51 +25,12 @@ use crate::bond::fragments::{
     Axis, PlanarBody, PlanarBodySpec, PointJunctions,
 };
 use crate::bond::model::{BondGraph, Parameter};
-use crate::scene::{BodyFrame, Dimension, Inertia, LoadKind, LoadValue, PointRef, Scene};
+use crate::scene::{BodyFrame, Inertia, LoadKind, LoadValue, PointRef, Scene};
 
+use super::error::MechError;
 use super::joints::{common_frame, Drawing};
-use super::MechError;
 
-/// Which variant of the mechanism to draw.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Variant {
-    /// Joints kept: some inertias get differential causality (a DAE).
-    Pinned,
-    /// Joints replaced by stiff springs of this scene's `joint_stiffness` (an ODE).
-    Decoupled,
-}
-
-/// Builds the bond graph of a scene: for [`Variant::Pinned`] its drawing (joints, springs and
-/// loads in the seed's fragments; [`crate::mech::annotate`] completes it into the graph the
-/// solver reads), for [`Variant::Decoupled`] the complete graph with its joints opened
-/// ([`crate::bond::decouple`], the stiffness and damping of `scene.solve`).
-pub fn scene_bond_graph(scene: &Scene, variant: Variant) -> Result<BondGraph, MechError> {
-    match variant {
-        // a spatial mechanism's graph is built whole by the completion (16.1–16.2: V and ω
-        // junctions, the Euler junction structure, the quaternion's MTFs)
-        Variant::Pinned if matches!(scene.dimension, Dimension::Spatial) => super::build(scene)?
-            .bond_graph
-            .as_deref()
-            .cloned()
-            .ok_or_else(|| MechError::at("bodies", "the mechanism has no bond graph")),
-        Variant::Pinned => scene_bond_graph_with(scene, false),
-        Variant::Decoupled => {
-            let sys = super::build(scene)?;
-            let pinned = sys.bond_graph.ok_or_else(|| {
-                MechError::at("bodies", "the mechanism has no bond graph to decouple")
-            })?;
-            crate::bond::decouple::decouple(
-                &pinned,
-                scene.solve.joint_stiffness,
-                scene.solve.joint_damping,
-            )
-            .map(|d| d.graph)
-            .map_err(|e| MechError::at("solve.joint_stiffness", e.to_string()))
-        }
-    }
-}
-
-/// [`scene_bond_graph`]; with `open` the planar pinned graph leaves out what
+/// [`super::scene_bond_graph`]'s drawing; with `open` the planar pinned graph leaves out what
 /// [`crate::mech::annotate`] adds from the joints' closures: prismatic joints, a weld's
 /// angle row and springs of non-zero rest length.
 pub(crate) fn scene_bond_graph_with(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {

@@ -6,9 +6,9 @@
 use std::collections::HashMap;
 
 use super::body::BodyKinematics;
+use super::error::MechError;
 use super::reactions::JointReaction;
 use super::system::{EventFunction, OutputColumn};
-use super::MechError;
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{Dimension, Scene};
 

@@ -6,13 +6,16 @@
 
 use std::collections::HashMap;
 
-use super::body::{BodyKinematics, PointKinematics};
+use super::body::BodyKinematics;
 use super::columns::Columns;
+use super::coordinates::Geometry;
+use super::error::MechError;
+use super::joints::{joint_type, Ends, RowWriter};
 use super::layout::Plan;
-use super::system::{Coordinate, EquationSource, LoadTerm, MultibodySystem};
-use super::MechError;
-use crate::expr::{Expr, ExprGraph};
-use crate::scene::{Dimension, Inertia, LoadValue, PointRef, Scene};
+use super::reactions::JointReaction;
+use super::system::{ConstraintRow, EquationSource, LoadTerm, MultibodySystem};
+use crate::expr::Expr;
+use crate::scene::{LoadValue, Scene};
 
 /// Initial joint violations above this norm are reported as warnings.
 pub const INITIAL_VIOLATION_WARNING: f64 = 1e-9;
@@ -43,142 +46,10 @@ pub fn geometry(scene: &Scene) -> Result<MultibodySystem, MechError> {
     Geometry::new(scene).system().map(|(sys, _)| sys)
 }
 
-/// Builds a mechanism's geometry (bodies, joints, names) over one expression arena.
-pub(super) struct Geometry<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) spatial: bool,
-    pub(super) g: ExprGraph,
-    pub(super) coords: Vec<Coordinate>,
-    pub(super) vels: Vec<Coordinate>,
-    pub(super) mass: Vec<f64>,
-    /// per scene body
-    pub(super) kin: Vec<BodyKinematics>,
-    pub(super) warnings: Vec<String>,
-    /// Loads given as expressions, one term per component.
-    pub(super) load_terms: Vec<LoadTerm>,
-    /// Index in `scene.bodies` of each body name (the first body of that name), so that
-    /// looking a joint's bodies up is not a scan of all bodies (quadratic in a chain's size).
-    body_by_name: HashMap<&'a str, usize>,
-    /// Each body's named points by name (built for bodies with many points only), so that
-    /// looking 40 000 points up is not quadratic.
-    points_by_name: Vec<Option<HashMap<&'a str, usize>>>,
-}
-
 /// The system of a scene's geometry, its forces still zero, and the names expressions may use.
 pub(super) type GeometrySystem = (MultibodySystem, HashMap<String, Expr>);
 
-impl<'a> Geometry<'a> {
-    pub(super) fn new(scene: &'a Scene) -> Self {
-        let mut body_by_name = HashMap::new();
-        for (i, b) in scene.bodies.iter().enumerate() {
-            body_by_name.entry(b.name.as_str()).or_insert(i);
-        }
-        let points_by_name = scene
-            .bodies
-            .iter()
-            .map(|b| {
-                (b.points.len() > 16).then(|| {
-                    let mut m = HashMap::with_capacity(b.points.len());
-                    for (k, (n, _)) in b.points.iter().enumerate() {
-                        m.entry(n.as_str()).or_insert(k);
-                    }
-                    m
-                })
-            })
-            .collect();
-        Geometry {
-            points_by_name,
-            scene,
-            spatial: matches!(scene.dimension, Dimension::Spatial),
-            g: ExprGraph::new(),
-            coords: Vec::new(),
-            vels: Vec::new(),
-            mass: Vec::new(),
-            kin: Vec::new(),
-            warnings: Vec::new(),
-            load_terms: Vec::new(),
-            body_by_name,
-        }
-    }
-
-    pub(super) fn dim(&self) -> usize {
-        if self.spatial {
-            3
-        } else {
-            2
-        }
-    }
-
-    /// Point coordinates of a reference on body `body` ("ground" or a scene body).
-    pub(super) fn point_coords(
-        &self,
-        body: &str,
-        p: &PointRef,
-        path: &str,
-    ) -> Result<Vec<f64>, MechError> {
-        match p {
-            PointRef::Coords(c) => Ok(c.clone()),
-            PointRef::Named(n) => {
-                let bi = *self
-                    .body_by_name
-                    .get(body)
-                    .ok_or_else(|| MechError::at(path, format!("unknown body '{body}'")))?;
-                let b = &self.scene.bodies[bi];
-                match &self.points_by_name[bi] {
-                    Some(m) => m.get(n.as_str()).map(|&k| b.points[k].1.clone()),
-                    None => b
-                        .points
-                        .iter()
-                        .find(|(pn, _)| pn == n)
-                        .map(|(_, c)| c.clone()),
-                }
-                .ok_or_else(|| MechError::at(path, format!("body '{body}' has no point '{n}'")))
-            }
-        }
-    }
-
-    pub(super) fn body_index(&self, name: &str, path: &str) -> Result<Option<usize>, MechError> {
-        if name == "ground" {
-            return Ok(None);
-        }
-        self.body_by_name
-            .get(name)
-            .copied()
-            .map(Some)
-            .ok_or_else(|| MechError::at(path, format!("unknown body '{name}'")))
-    }
-
-    pub(super) fn kin_of(&self, body: &str, path: &str) -> Result<BodyKinematics, MechError> {
-        Ok(match self.body_index(body, path)? {
-            None => BodyKinematics::Ground,
-            Some(i) => self.kin[i].clone(),
-        })
-    }
-
-    pub(super) fn point(
-        &mut self,
-        body: &str,
-        p: &PointRef,
-        path: &str,
-    ) -> Result<PointKinematics, MechError> {
-        let c = self.point_coords(body, p, path)?;
-        if c.len() != self.dim() {
-            return Err(MechError::at(
-                path,
-                format!("point needs {} coordinates, got {}", self.dim(), c.len()),
-            ));
-        }
-        let k = self.kin_of(body, path)?;
-        Ok(k.point(&mut self.g, &c))
-    }
-
-    pub(super) fn initial_slots(&self) -> Vec<f64> {
-        let mut x = vec![0.0];
-        x.extend(self.coords.iter().map(|c| c.initial));
-        x.extend(self.vels.iter().map(|c| c.initial));
-        x
-    }
-
+impl Geometry<'_> {
     /// The geometry of the scene as a [`MultibodySystem`] whose inertias, forces, energy,
     /// outputs and events are still to be filled in (from the bond graph, then
     /// [`Columns`]), with the names expressions may use.
@@ -367,19 +238,94 @@ impl<'a> Geometry<'a> {
             }
         }
     }
-}
 
-pub(super) fn coord(body: &str, what: &str, initial: f64) -> Coordinate {
-    Coordinate {
-        name: format!("{body}.{what}"),
-        initial,
+    /// Every joint's closure rows, their names, and how its reaction is read.
+    #[allow(clippy::type_complexity)]
+    fn joints(&mut self) -> Result<(Vec<Expr>, Vec<ConstraintRow>, Vec<JointReaction>), MechError> {
+        let mut g_rows = Vec::new();
+        let mut meta = Vec::new();
+        let mut reactions = Vec::new();
+        let x0 = self.initial_slots();
+        for (ji, j) in self.scene.joints.iter().enumerate() {
+            let first_row = g_rows.len();
+            let path = format!("joints[{ji}]");
+            let ends = Ends {
+                pa: self.point(&j.bodies[0], &j.points[0], &format!("{path}.points[0]"))?,
+                pb: self.point(&j.bodies[1], &j.points[1], &format!("{path}.points[1]"))?,
+                ka: self.kin_of(&j.bodies[0], &path)?,
+                kb: self.kin_of(&j.bodies[1], &path)?,
+            };
+            let joint = joint_type(&j.kind);
+            let mut w = RowWriter {
+                g: &mut self.g,
+                spatial: self.spatial,
+                x0: &x0,
+            };
+            let rows = joint.rows(&mut w, &ends, &path)?;
+            for (dir, e) in rows {
+                g_rows.push(e);
+                meta.push(ConstraintRow {
+                    joint: j.name.clone(),
+                    direction: dir.to_string(),
+                });
+            }
+            let rows = first_row..g_rows.len();
+            reactions.push(self.joint_reaction(&j.name, joint.transmits_moment(), &ends, rows));
+        }
+        Ok((g_rows, meta, reactions))
     }
-}
 
-pub(super) fn planar_inertia(i: &Inertia) -> f64 {
-    match i {
-        Inertia::Planar(j) => *j,
-        Inertia::Principal(j) => j[2],
+    /// How joint `j`'s reaction is read: the carrier body (second, or first when the second
+    /// is ground), its velocities, `B = ∂(V_P, ω)/∂v_b` and the lever `P_1 − P_2`.
+    fn joint_reaction(
+        &mut self,
+        name: &str,
+        moment: bool,
+        ends: &Ends,
+        rows: std::ops::Range<usize>,
+    ) -> JointReaction {
+        let (ka, kb, pa, pb) = (&ends.ka, &ends.kb, &ends.pa, &ends.pb);
+        let flip = matches!(kb, BodyKinematics::Ground);
+        let (k, p) = if flip { (ka, pa) } else { (kb, pb) };
+        let nq = self.coords.len() as u32;
+        let g = &mut self.g;
+        let (slots, omega): (Vec<u32>, Vec<Expr>) = match k {
+            BodyKinematics::Ground => (vec![], vec![]),
+            BodyKinematics::PlanarInertial { vx, vy, omega, .. } => match omega {
+                Some(w) => (vec![*vx, *vy, *w], vec![g.var(*w)]),
+                None => (vec![*vx, *vy], vec![]),
+            },
+            BodyKinematics::PlanarBodyFixed { u, w, omega, .. } => {
+                (vec![*u, *w, *omega], vec![g.var(*omega)])
+            }
+            BodyKinematics::Particle { v, .. } => (v.to_vec(), vec![]),
+            BodyKinematics::Spatial { v, w, .. } => {
+                let rot = k.rotation3(g);
+                let we: Vec<Expr> = w.iter().map(|&s| g.var(s)).collect();
+                let om = (0..3).map(|i| g.dot(&rot[i], &we)).collect();
+                (v.iter().chain(w).copied().collect(), om)
+            }
+        };
+        let mut basis = Vec::new();
+        for &e in p.velocity.iter().chain(&omega) {
+            for &s in &slots {
+                basis.push(g.diff(e, s));
+            }
+        }
+        let lever = (0..pa.position.len())
+            .map(|i| g.sub(pa.position[i], pb.position[i]))
+            .collect();
+        JointReaction {
+            joint: name.to_string(),
+            rows: rows.collect(),
+            velocities: slots.iter().map(|&s| (s - 1 - nq) as usize).collect(),
+            dim: pa.position.len(),
+            rotations: omega.len(),
+            flip,
+            moment,
+            basis,
+            lever,
+        }
     }
 }
 

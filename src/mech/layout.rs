@@ -9,9 +9,9 @@
 //! outputs only).
 
 use super::body::{quaternion_from_cardan, AngleSlot, BodyKinematics};
-use super::geometry::{coord, planar_inertia, Geometry};
+use super::coordinates::{coord, planar_inertia, Geometry};
+use super::error::MechError;
 use super::joints;
-use super::MechError;
 use crate::expr::Expr;
 use crate::scene::{BodyFrame, Inertia, LoadKind, PointRef};
 

@@ -4,9 +4,11 @@
 //! * [`body`]: the kinematics of planar (16.3, 16.8) and spatial (16.1–16.2) bodies.
 //! * [`annotate`]: the pinned bond graph completed (displacements, closures, slider and
 //!   spring fragments) and read as the [`MultibodySystem`] the solver solves.
-//! * [`geometry`]: the slot layout, the names expressions may use, the load terms; with
+//! * [`geometry`]: the slot layout, the names expressions may use, the load terms, each
+//!   joint's rows and how its reaction is read; written on
+//!   * `coordinates`: the mechanism being built, as data (the slots, the look-ups by name),
 //!   * `layout`: the bodies' coordinates, velocities and inertias (what the scene needs),
-//!   * `joints`: each joint kind's closure rows `g_k(q)` and how its reaction is read,
+//!   * [`joints`]: each joint kind's closure rows `g_k(q)`, one file per kind,
 //!   * `columns`: the output columns, the energy and the events.
 //! * [`system`]: the system `q' = K(q) v`, `M v' = Q − G_vᵀ λ`, `g(q) = 0`.
 //! * [`reactions`]: joint forces and moments from the constraint forces.
@@ -15,6 +17,8 @@ pub mod annotate;
 pub mod body;
 pub mod bondgraph;
 mod columns;
+mod coordinates;
+mod error;
 pub mod geometry;
 pub mod joints;
 mod layout;
@@ -22,30 +26,10 @@ pub mod reactions;
 pub mod size;
 pub mod system;
 
-pub use annotate::build;
-pub use bondgraph::{scene_bond_graph, Variant};
+pub use annotate::{build, scene_bond_graph, Variant};
+pub use error::MechError;
 pub use reactions::JointReaction;
 pub use system::{
     ConstraintRow, Coordinate, EquationSource, EventFunction, JointViolation, LoadTerm,
     MultibodySystem, NonFiniteValue, OutputColumn,
 };
-
-/// A mechanism that cannot be built, with the JSON path of the culprit.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{path}: {message}")]
-pub struct MechError {
-    /// JSON path of the offending field, e.g. `joints[1].points[0]`.
-    pub path: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl MechError {
-    /// An error at `path`.
-    pub fn at(path: &str, message: impl Into<String>) -> Self {
-        MechError {
-            path: path.to_string(),
-            message: message.into(),
-        }
-    }
-}

@@ -40,6 +40,7 @@
 //! `rest_length` = initial distance. `name` defaults to the file stem.
 
 mod error;
+mod fields;
 pub mod inputs;
 pub mod joint_kind;
 pub mod model;
@@ -47,6 +48,7 @@ pub mod overrides;
 pub mod parse;
 pub mod path;
 pub mod schema;
+mod space;
 pub(crate) mod tree;
 pub mod validate;
 mod write;

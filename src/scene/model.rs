@@ -7,10 +7,8 @@
 //! never listed in [`Scene::bodies`].
 
 pub use super::joint_kind::JointKind;
+pub use super::space::{Dimension, GROUND};
 use crate::settings::{FormulationKind, Integrator, LinearSolverKind};
-
-/// The reserved name of the fixed body.
-pub const GROUND: &str = "ground";
 
 /// Outputs that are not tied to a body (`"energy"`, `"constraint_error"`, ...).
 pub const SCALAR_OUTPUTS: &[&str] = &[
@@ -57,33 +55,6 @@ pub struct Scene {
     pub bond_graph: Option<serde_json::Value>,
     /// Free text, e.g. the seed figure the scene follows.
     pub description: Option<String>,
-}
-
-/// Planar (2D) or spatial (3D) mechanism.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Dimension {
-    /// `"dimension": 2`.
-    Planar,
-    /// `"dimension": 3`.
-    Spatial,
-}
-
-impl Dimension {
-    /// Number of coordinates of a point or vector: 2 or 3.
-    pub fn coords(self) -> usize {
-        match self {
-            Dimension::Planar => 2,
-            Dimension::Spatial => 3,
-        }
-    }
-
-    /// Number of angular velocity components: 1 in the plane, 3 in space.
-    pub fn rotations(self) -> usize {
-        match self {
-            Dimension::Planar => 1,
-            Dimension::Spatial => 3,
-        }
-    }
 }
 
 /// Rotational inertia about the centre of mass.
@@ -159,7 +130,7 @@ pub enum PointRef {
 pub struct Joint {
     /// Unique name (default `"joint<i>"`).
     pub name: String,
-    /// Revolute (planar pin or spatial hinge), prismatic, spherical or weld.
+    /// The kind, with its own fields (`docs/scene-format.md` §5).
     pub kind: JointKind,
     /// The two bodies, by name.
     pub bodies: [String; 2],

@@ -10,143 +10,10 @@
 //! [`super::validate`].
 
 use super::error::{field, index, Problems};
+use super::fields::{number, string, vector, Fields};
 use super::model::*;
 use super::tree::Json;
 use crate::settings::FormulationKind;
-
-/// Keys allowed in every object.
-const COMMENT: &str = "comment";
-
-/// The keys of one JSON object, checked for duplicates and unknown names.
-pub(super) struct Fields<'a> {
-    path: String,
-    entries: &'a [(String, Json)],
-}
-
-impl<'a> Fields<'a> {
-    /// Reads `j` as an object whose keys must be among `allowed` (plus `"comment"`).
-    fn new(p: &mut Problems, path: &str, j: &'a Json, allowed: &[&str]) -> Option<Fields<'a>> {
-        let Json::Object(entries) = j else {
-            p.push(path, format!("expected an object, got {}", j.kind()));
-            return None;
-        };
-        let mut seen = std::collections::HashSet::with_capacity(entries.len());
-        for (k, _) in entries.iter() {
-            let kp = field(path, k);
-            if !seen.insert(k.as_str()) {
-                p.push(kp, "duplicate key");
-            } else if k != COMMENT && !allowed.contains(&k.as_str()) {
-                p.push(
-                    kp,
-                    format!("unknown field (expected one of: {})", allowed.join(", ")),
-                );
-            }
-        }
-        Some(Fields {
-            path: path.to_string(),
-            entries,
-        })
-    }
-
-    pub(super) fn get(&self, key: &str) -> Option<&'a Json> {
-        self.entries.iter().find(|(k, _)| k == key).map(|(_, v)| v)
-    }
-
-    pub(super) fn path(&self, key: &str) -> String {
-        field(&self.path, key)
-    }
-
-    pub(super) fn required(&self, p: &mut Problems, key: &str) -> Option<&'a Json> {
-        let v = self.get(key);
-        if v.is_none() {
-            p.push(self.path(key), "required field is missing");
-        }
-        v
-    }
-
-    pub(super) fn number(&self, p: &mut Problems, key: &str) -> Option<f64> {
-        self.get(key).and_then(|j| number(p, &self.path(key), j))
-    }
-
-    pub(super) fn required_number(&self, p: &mut Problems, key: &str) -> Option<f64> {
-        self.required(p, key)
-            .and_then(|j| number(p, &self.path(key), j))
-    }
-
-    fn string(&self, p: &mut Problems, key: &str) -> Option<String> {
-        self.get(key).and_then(|j| string(p, &self.path(key), j))
-    }
-
-    fn boolean(&self, p: &mut Problems, key: &str) -> Option<bool> {
-        match self.get(key)? {
-            Json::Bool(b) => Some(*b),
-            j => {
-                p.push(
-                    self.path(key),
-                    format!("expected a boolean, got {}", j.kind()),
-                );
-                None
-            }
-        }
-    }
-
-    pub(super) fn vector(&self, p: &mut Problems, key: &str) -> Option<Vec<f64>> {
-        self.get(key).and_then(|j| vector(p, &self.path(key), j))
-    }
-
-    fn array(&self, p: &mut Problems, key: &str) -> &'a [Json] {
-        match self.get(key) {
-            None => &[],
-            Some(Json::Array(a)) => a,
-            Some(j) => {
-                p.push(
-                    self.path(key),
-                    format!("expected an array, got {}", j.kind()),
-                );
-                &[]
-            }
-        }
-    }
-}
-
-fn number(p: &mut Problems, path: &str, j: &Json) -> Option<f64> {
-    match j {
-        Json::Number(x) => Some(*x),
-        _ => {
-            p.push(path, format!("expected a number, got {}", j.kind()));
-            None
-        }
-    }
-}
-
-fn string(p: &mut Problems, path: &str, j: &Json) -> Option<String> {
-    match j {
-        Json::String(s) => Some(s.clone()),
-        _ => {
-            p.push(path, format!("expected a string, got {}", j.kind()));
-            None
-        }
-    }
-}
-
-pub(super) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
-    let Json::Array(items) = j else {
-        p.push(
-            path,
-            format!("expected an array of numbers, got {}", j.kind()),
-        );
-        return None;
-    };
-    let mut out = Vec::with_capacity(items.len());
-    let mut ok = true;
-    for (i, item) in items.iter().enumerate() {
-        match number(p, &index(path, i), item) {
-            Some(x) => out.push(x),
-            None => ok = false,
-        }
-    }
-    ok.then_some(out)
-}
 
 fn pair<T>(
     p: &mut Problems,
@@ -190,15 +57,18 @@ fn point_ref(p: &mut Problems, path: &str, j: &Json) -> Option<PointRef> {
 
 /// Parses scene text into a [`Scene`], collecting every shape problem.
 /// `default_name` is used when the scene has no `"name"`.
-pub(crate) fn parse_scene(text: &str, default_name: &str) -> Result<Scene, Vec<super::Problem>> {
+pub(crate) fn parse_scene(
+    text: &str,
+    default_name: &str,
+) -> Result<Scene, Vec<super::error::Problem>> {
     let tree = parse_tree(text)?;
     scene_from_tree(&tree, default_name)
 }
 
 /// Reads scene text into the order-preserving tree (JSON syntax problems only).
-pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
+pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::error::Problem>> {
     if let Err(e) = super::validate::check_text_length(text.len()) {
-        return Err(vec![super::Problem::new(e.path(), e.to_string())]);
+        return Err(vec![super::error::Problem::new(e.path(), e.to_string())]);
     }
     serde_json::from_str(text).map_err(|e| vec![syntax_problem(&e)])
 }
@@ -207,7 +77,7 @@ pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::Problem>> {
 pub(crate) fn scene_from_tree(
     tree: &Json,
     default_name: &str,
-) -> Result<Scene, Vec<super::Problem>> {
+) -> Result<Scene, Vec<super::error::Problem>> {
     let mut p = Problems::default();
     let scene = scene(&mut p, tree, default_name);
     match scene {
@@ -216,11 +86,11 @@ pub(crate) fn scene_from_tree(
     }
 }
 
-fn syntax_problem(e: &serde_json::Error) -> super::Problem {
+fn syntax_problem(e: &serde_json::Error) -> super::error::Problem {
     let full = e.to_string();
     let suffix = format!(" at line {} column {}", e.line(), e.column());
     let msg = full.strip_suffix(&suffix).unwrap_or(&full);
-    super::Problem::new(
+    super::error::Problem::new(
         "",
         format!(
             "malformed JSON at line {}, column {}: {}",
@@ -617,14 +487,14 @@ pub(crate) use super::joint_kind::JOINT_KEYS;
 
 fn joint(p: &mut Problems, i: usize, j: &Json, dim: Dimension) -> Option<Joint> {
     let path = index("joints", i);
-    let f = Fields::new(p, &path, j, JOINT_KEYS)?;
+    let f = Fields::new(p, &path, j, &JOINT_KEYS)?;
     let name = f.string(p, "name").unwrap_or_else(|| format!("joint{i}"));
     let kind_name = f
         .required(p, "type")
         .and_then(|j| string(p, &f.path("type"), j));
     let kind = kind_name
         .as_deref()
-        .and_then(|k| super::joint_kind::parse(p, &f, k, dim));
+        .and_then(|k| super::joint_kind::parse(p, &f, k));
     let bodies = f
         .required(p, "bodies")
         .and_then(|j| pair(p, &f.path("bodies"), j, string));

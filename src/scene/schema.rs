@@ -5,7 +5,8 @@
 
 use schemars::JsonSchema;
 
-use super::joint_kind::{JOINT_TYPES, KIND_KEY_SCHEMAS};
+use super::joint_kind::own_fields::KeyShape;
+use super::joint_kind::{kind_key_schemas, JOINT_TYPES};
 
 /// A number, or an `[x, y]` / `[x, y, z]` vector.
 #[derive(JsonSchema)]
@@ -259,13 +260,15 @@ pub fn scene_schema() -> serde_json::Value {
     s["$defs"]["JointType"] =
         serde_json::json!({ "description": "Joint type.", "type": "string", "enum": types });
     let props = &mut s["$defs"]["Joint"]["properties"];
-    for &(key, description, kind) in KIND_KEY_SCHEMAS {
-        let schema = match kind {
-            "vector" => serde_json::json!({ "type": "array", "items": { "type": "number" } }),
-            "vectors" => {
+    for (key, description, shape) in kind_key_schemas() {
+        let schema = match shape {
+            KeyShape::Vector => {
+                serde_json::json!({ "type": "array", "items": { "type": "number" } })
+            }
+            KeyShape::Vectors => {
                 serde_json::json!({ "type": "array", "items": { "type": "array", "items": { "type": "number" } }, "minItems": 2, "maxItems": 2 })
             }
-            _ => serde_json::json!({ "type": "number" }),
+            KeyShape::Number => serde_json::json!({ "type": "number" }),
         };
         props[key] = schema;
         props[key]["description"] = description.into();
@@ -302,7 +305,7 @@ mod tests {
         for (def, accepted) in [
             (None, SCENE_KEYS),
             (Some("Body"), BODY_KEYS),
-            (Some("Joint"), JOINT_KEYS),
+            (Some("Joint"), JOINT_KEYS.as_slice()),
             (Some("Spring"), SPRING_KEYS),
             (Some("Load"), LOAD_KEYS),
             (Some("Event"), EVENT_KEYS),

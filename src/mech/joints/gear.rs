@@ -8,10 +8,9 @@
 //! mesh's moment on body b (no force: the tooth force is carried by the axles' own joints).
 //! The axles are not part of the gear: each gear is pinned to the ground by its own revolute.
 
-use super::{Ends, Glyph, Joint, Rows};
+use super::joint::{Ends, Glyph, Joint, RowWriter, Rows};
 use crate::mech::body::BodyKinematics;
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A gear pair of ratio `r`: body b turns `−r` times body a's rotation.
 pub(super) struct Gear {
@@ -19,7 +18,7 @@ pub(super) struct Gear {
 }
 
 impl Joint for Gear {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
         for (k, kin) in [&ends.ka, &ends.kb].into_iter().enumerate() {
             if matches!(kin, BodyKinematics::Ground) {
                 return Err(MechError::at(
@@ -28,20 +27,20 @@ impl Joint for Gear {
                 ));
             }
         }
-        if geo.spatial {
+        if w.spatial {
             return Err(MechError::at(
                 &format!("{path}.type"),
                 "a gear joint is planar (dimension 2)",
             ));
         }
-        let x0 = geo.initial_slots();
-        let g = &mut geo.g;
+        let x0 = w.x0;
+        let g = &mut *w.g;
         let ta = ends.ka.planar_angle(g);
         let tb = ends.kb.planar_angle(g);
         // (θ_b + r θ_a) − (θ_b(0) + r θ_a(0))
         let rta = g.scale(self.ratio, ta);
         let sum = g.add(tb, rta);
-        let c = g.eval(sum, &x0);
+        let c = g.eval(sum, x0);
         let c = g.constant(c);
         Ok(vec![("mesh", g.sub(sum, c))])
     }

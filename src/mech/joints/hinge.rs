@@ -2,11 +2,10 @@
 //! hinge axis (two rows). Twin: a spring on each of the five rows (three per axis on
 //! `P_a − P_b`, two torsional ones on the axis rows).
 
-use super::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, Rows};
+use super::joint::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::BodyKinematics;
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A spatial hinge about `axis` (body a's frame).
 pub(super) struct Hinge<'a> {
@@ -14,8 +13,8 @@ pub(super) struct Hinge<'a> {
 }
 
 impl Joint for Hinge<'_> {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        geo.hinge(ends, self.axis, path)
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        w.hinge(ends, self.axis, path)
     }
 
     fn locks(&self, _spatial: bool) -> usize {
@@ -45,7 +44,7 @@ impl Joint for Hinge<'_> {
     }
 }
 
-impl Geometry<'_> {
+impl RowWriter<'_> {
     /// The five rows of a spatial hinge about `axis` (body a's frame).
     fn hinge(&mut self, ends: &Ends, axis: &[f64], path: &str) -> Result<Rows, MechError> {
         if !self.spatial {
@@ -71,19 +70,19 @@ impl Geometry<'_> {
         path: &str,
     ) -> Result<Vec<(&'static str, Expr)>, MechError> {
         let u = unit_axis(axis, path)?;
-        let ra = ka.rotation3(&mut self.g);
-        let rb = kb.rotation3(&mut self.g);
-        let x0 = self.initial_slots();
+        let ra = ka.rotation3(self.g);
+        let rb = kb.rotation3(self.g);
+        let x0 = self.x0;
         let ev = |g: &ExprGraph, r: &[[Expr; 3]; 3]| -> [[f64; 3]; 3] {
             let mut m = [[0.0; 3]; 3];
             for i in 0..3 {
                 for k in 0..3 {
-                    m[i][k] = g.eval(r[i][k], &x0);
+                    m[i][k] = g.eval(r[i][k], x0);
                 }
             }
             m
         };
-        let (ra0, rb0) = (ev(&self.g, &ra), ev(&self.g, &rb));
+        let (ra0, rb0) = (ev(self.g, &ra), ev(self.g, &rb));
         // global axis at t = 0, then seen from body b
         let ag: Vec<f64> = (0..3)
             .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())

@@ -5,13 +5,12 @@
 //! slider fragment along a global axis (Fig. 29). Twin: a spring on each row (across the
 //! rail, and torsional on the relative rotation).
 
-use super::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, Rows};
+use super::joint::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::bond::fragments::{prismatic, Axis};
 use crate::expr::Expr;
 use crate::mech::body::BodyKinematics;
 use crate::mech::body::PointKinematics;
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A slider along `axis` (body a's frame).
 pub(super) struct Prismatic<'a> {
@@ -19,8 +18,8 @@ pub(super) struct Prismatic<'a> {
 }
 
 impl Joint for Prismatic<'_> {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        geo.prismatic(ends, self.axis, path)
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        w.prismatic(ends, self.axis, path)
     }
 
     fn locks(&self, spatial: bool) -> usize {
@@ -72,7 +71,7 @@ impl Joint for Prismatic<'_> {
     }
 }
 
-impl Geometry<'_> {
+impl RowWriter<'_> {
     /// The rows of a prismatic joint along `axis`.
     fn prismatic(&mut self, ends: &Ends, axis: &[f64], path: &str) -> Result<Rows, MechError> {
         if self.spatial {
@@ -83,9 +82,9 @@ impl Geometry<'_> {
         // n = R(α_a)·perp(u); n·(P_b − P_a) = 0
         let norm = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
         let perp = [-axis[1] / norm, axis[0] / norm];
-        let n = ka.point(&mut self.g, &perp);
-        let origin = ka.point(&mut self.g, &[0.0, 0.0]);
-        let g = &mut self.g;
+        let n = ka.point(self.g, &perp);
+        let origin = ka.point(self.g, &[0.0, 0.0]);
+        let g = &mut *self.g;
         let nx = if matches!(ka, BodyKinematics::Ground) {
             [g.constant(perp[0]), g.constant(perp[1])]
         } else {
@@ -126,7 +125,7 @@ impl Geometry<'_> {
             ));
         }
         let (c1, c2) = perpendicular_pair(axis);
-        let ra = ka.rotation3(&mut self.g);
+        let ra = ka.rotation3(self.g);
         let d: Vec<Expr> = (0..3)
             .map(|k| self.g.sub(pb.position[k], pa.position[k]))
             .collect();

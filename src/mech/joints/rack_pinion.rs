@@ -15,9 +15,8 @@
 //! the closure). Twin: a spring `k g` along the rack. Reaction: the tooth force on the rack
 //! (and its moment about P).
 
-use super::{unit_axis, Ends, Glyph, Joint, Rows};
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
+use crate::mech::error::MechError;
 
 /// A pinion of pitch radius `radius` on a rack along `axis` (the rack's frame).
 pub(super) struct RackPinion<'a> {
@@ -26,16 +25,16 @@ pub(super) struct RackPinion<'a> {
 }
 
 impl Joint for RackPinion<'_> {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        if geo.spatial || self.axis.len() != 2 {
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        if w.spatial || self.axis.len() != 2 {
             return Err(MechError::at(
                 &format!("{path}.axis"),
                 "a rack_pinion joint is planar and needs a 2D direction",
             ));
         }
         let u = unit_axis(&[self.axis[0], self.axis[1], 0.0], path)?;
-        let x0 = geo.initial_slots();
-        let g = &mut geo.g;
+        let x0 = w.x0;
+        let g = &mut *w.g;
         // R(θ_r) û: the rack's point at û minus its origin
         let tip = ends.kb.point(g, &[u[0], u[1]]);
         let origin = ends.kb.point(g, &[0.0, 0.0]);
@@ -54,7 +53,7 @@ impl Joint for RackPinion<'_> {
         let turn = g.scale(self.radius, rel);
         // s − ρ (θ_p − θ_r) − [its initial value]
         let e = g.sub(s, turn);
-        let e0 = g.eval(e, &x0);
+        let e0 = g.eval(e, x0);
         let c = g.constant(e0);
         Ok(vec![("mesh", g.sub(e, c))])
     }

@@ -4,22 +4,21 @@
 //! axis on `P_a − P_b` (Fig. 17, 21). In a spatial scene a revolute needs an axis (a
 //! [`super::hinge`]).
 
-use super::{Drawing, Ends, Glyph, Joint, Rows};
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
+use crate::mech::error::MechError;
 
 /// A planar pin.
 pub(super) struct Revolute;
 
 impl Joint for Revolute {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        if geo.spatial {
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        if w.spatial {
             return Err(MechError::at(
                 &format!("{path}.axis"),
                 "a revolute joint in 3D is a hinge and needs an axis; use spherical for a ball joint",
             ));
         }
-        Ok(geo.coincident(ends))
+        Ok(w.coincident(ends))
     }
 
     fn locks(&self, spatial: bool) -> usize {

@@ -8,10 +8,9 @@
 //! closure). Twin: a spring `k g` across the slot. Reaction: the normal force on the second
 //! body (no moment: the pin turns freely).
 
-use super::{unit_axis, Ends, Glyph, Joint, Rows};
+use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::mech::body::BodyKinematics;
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A pin sliding in a slot along `axis` (the first body's frame).
 pub(super) struct Slot<'a> {
@@ -19,8 +18,8 @@ pub(super) struct Slot<'a> {
 }
 
 impl Joint for Slot<'_> {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        if geo.spatial || self.axis.len() != 2 {
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        if w.spatial || self.axis.len() != 2 {
             return Err(MechError::at(
                 &format!("{path}.axis"),
                 "a slot joint is planar and needs a 2D direction",
@@ -28,7 +27,7 @@ impl Joint for Slot<'_> {
         }
         let u = unit_axis(&[self.axis[0], self.axis[1], 0.0], path)?;
         let perp = [-u[1], u[0]];
-        let g = &mut geo.g;
+        let g = &mut *w.g;
         // n = R(α_a) perp(û): the first body's point at `perp` minus its origin
         let n = match &ends.ka {
             BodyKinematics::Ground => [g.constant(perp[0]), g.constant(perp[1])],

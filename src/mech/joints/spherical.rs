@@ -2,16 +2,15 @@
 //! (three rows; the 3D form of the pin's 1-junctions `V_A1 = V_A2`, 16.5). Twin: a spring
 //! per axis on `P_a − P_b`.
 
-use super::{Drawing, Ends, Glyph, Joint, Rows};
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
+use crate::mech::error::MechError;
 
 /// A ball joint.
 pub(super) struct Spherical;
 
 impl Joint for Spherical {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, _path: &str) -> Result<Rows, MechError> {
-        Ok(geo.coincident(ends))
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, _path: &str) -> Result<Rows, MechError> {
+        Ok(w.coincident(ends))
     }
 
     fn locks(&self, _spatial: bool) -> usize {

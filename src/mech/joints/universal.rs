@@ -8,10 +8,9 @@
 //! `P_a − P_b` and a torsional one on the cross row. Reaction: the force at the cross and the
 //! moment about the axis `R_a â_1 × R_b â_2`, on the second body.
 
-use super::{unit_axis, Ends, Glyph, Joint, Rows};
+use super::joint::{unit_axis, Ends, Glyph, Joint, RowWriter, Rows};
 use crate::expr::Expr;
-use crate::mech::geometry::Geometry;
-use crate::mech::MechError;
+use crate::mech::error::MechError;
 
 /// A Hooke's joint with fork axes `axes = [a1, a2]` (each in its own body's frame).
 pub(super) struct Universal<'a> {
@@ -19,8 +18,8 @@ pub(super) struct Universal<'a> {
 }
 
 impl Joint for Universal<'_> {
-    fn rows(&self, geo: &mut Geometry<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
-        if !geo.spatial {
+    fn rows(&self, w: &mut RowWriter<'_>, ends: &Ends, path: &str) -> Result<Rows, MechError> {
+        if !w.spatial {
             return Err(MechError::at(
                 &format!("{path}.type"),
                 "a universal joint needs a spatial scene",
@@ -28,8 +27,8 @@ impl Joint for Universal<'_> {
         }
         let u1 = unit_axis(&self.axes[0], &format!("{path}.axes[0]"))?;
         let u2 = unit_axis(&self.axes[1], &format!("{path}.axes[1]"))?;
-        let mut rows = geo.coincident(ends);
-        let g = &mut geo.g;
+        let mut rows = w.coincident(ends);
+        let g = &mut *w.g;
         let ra = ends.ka.rotation3(g);
         let rb = ends.kb.rotation3(g);
         let mut world = |r: &[[Expr; 3]; 3], u: [f64; 3]| -> Vec<Expr> {
