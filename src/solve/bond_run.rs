@@ -19,15 +19,15 @@ use crate::bond::json::RawBondGraph;
 use crate::bond::model::BondGraph;
 use crate::dae::ImplicitDae;
 use crate::scene::Scene;
-use crate::Error;
+use crate::solve::SolveError;
 
-fn bond_error(e: impl std::fmt::Display) -> Error {
-    Error::BondGraph(e.to_string().replace('\n', "; "))
+fn bond_error(e: impl std::fmt::Display) -> SolveError {
+    SolveError::BondGraph(e.to_string().replace('\n', "; "))
 }
 
 /// Every error of an invalid raw bond graph, `; `-separated, each starting with its JSON path.
-fn validation_error(e: crate::bond::ValidationErrors) -> Error {
-    Error::BondGraph(
+fn validation_error(e: crate::bond::ValidationErrors) -> SolveError {
+    SolveError::BondGraph(
         e.0.iter()
             .map(|b| b.to_string())
             .collect::<Vec<_>>()
@@ -36,11 +36,11 @@ fn validation_error(e: crate::bond::ValidationErrors) -> Error {
 }
 
 /// The raw bond graph of a scene (`"bond_graph"`), validated.
-pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, Error> {
+pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, SolveError> {
     let raw = scene
         .bond_graph
         .as_ref()
-        .ok_or_else(|| Error::BondGraph("the scene has no bond_graph".into()))?;
+        .ok_or_else(|| SolveError::BondGraph("the scene has no bond_graph".into()))?;
     let raw = RawBondGraph::from_value(raw).map_err(validation_error)?;
     let g = raw.to_graph().map_err(validation_error)?;
     let errors = crate::bond::validate::check_expression_values(&g, scene.solve.t_start);
@@ -71,13 +71,13 @@ pub fn raw_bond_graph_options(scene: &Scene) -> SolveOptions {
 }
 
 /// Solves the raw `"bond_graph"` of a scene with `opts`.
-pub fn solve_raw_bond_graph(scene: &Scene, opts: &SolveOptions) -> Result<Solution, Error> {
+pub fn solve_raw_bond_graph(scene: &Scene, opts: &SolveOptions) -> Result<Solution, SolveError> {
     solve_bond_graph(&scene_bond_graph(scene)?, opts)
 }
 
 /// The output columns of a raw bond graph's solutions (see the module documentation), known
 /// before solving.
-pub fn bond_graph_columns(g: &BondGraph, opts: &SolveOptions) -> Result<Vec<String>, Error> {
+pub fn bond_graph_columns(g: &BondGraph, opts: &SolveOptions) -> Result<Vec<String>, SolveError> {
     let g = &graph_solved(g, opts)?;
     let causality = assign_causality(g).map_err(bond_error)?;
     let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
@@ -89,12 +89,12 @@ pub fn bond_graph_columns(g: &BondGraph, opts: &SolveOptions) -> Result<Vec<Stri
 fn graph_solved<'a>(
     g: &'a BondGraph,
     opts: &SolveOptions,
-) -> Result<std::borrow::Cow<'a, BondGraph>, Error> {
+) -> Result<std::borrow::Cow<'a, BondGraph>, SolveError> {
     if opts.formulation != FormulationKind::Decoupled {
         return Ok(std::borrow::Cow::Borrowed(g));
     }
     let twin = crate::bond::decouple::decouple(g, opts.joint_stiffness, opts.joint_damping)
-        .map_err(|e| Error::Options(format!("formulation 'decoupled': {e}")))?;
+        .map_err(|e| SolveError::Options(format!("formulation 'decoupled': {e}")))?;
     Ok(std::borrow::Cow::Owned(twin.graph))
 }
 
@@ -102,7 +102,7 @@ fn graph_solved<'a>(
 ///
 /// Errors: invalid graph, causal conflicts (redundant constraints), declared signals (a raw
 /// scene has nothing to supply them), no consistent start, solver failure.
-pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, Error> {
+pub fn solve_bond_graph(g: &BondGraph, opts: &SolveOptions) -> Result<Solution, SolveError> {
     solve_bond_graph_streaming(g, opts, &mut |_| ControlFlow::Continue(()))
 }
 
@@ -113,7 +113,7 @@ pub fn solve_bond_graph_streaming(
     g: &BondGraph,
     opts: &SolveOptions,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
+) -> Result<Solution, SolveError> {
     from_t_start(opts, observer, |opts, observer| {
         solve_from_first_output(g, opts, observer)
     })
@@ -122,10 +122,10 @@ pub fn solve_bond_graph_streaming(
 /// A raw bond graph's joint rows constrain its flows only (no position-level closures): the
 /// formulations that need `g(q)` (`ggl`, `compliant_ggl`, `partitioned`) are refused by name,
 /// never run as another; `dae` and `index1` run the graph's own DAE and `decoupled` its twin.
-fn refuse_without_closures(g: &BondGraph, f: FormulationKind) -> Result<(), Error> {
+fn refuse_without_closures(g: &BondGraph, f: FormulationKind) -> Result<(), SolveError> {
     match f {
         FormulationKind::Dae | FormulationKind::Index1 => Ok(()),
-        FormulationKind::Decoupled => Err(Error::Options(
+        FormulationKind::Decoupled => Err(SolveError::Options(
             "formulation 'decoupled': the twin still has constraint rows (a joint row that is not an Sf = 0 or a two-bond 1-junction)".into(),
         )),
         FormulationKind::Ggl | FormulationKind::CompliantGgl | FormulationKind::Partitioned => {
@@ -133,7 +133,7 @@ fn refuse_without_closures(g: &BondGraph, f: FormulationKind) -> Result<(), Erro
                 .into_iter()
                 .map(|e| format!("'{}'", g.element(e).name))
                 .collect();
-            Err(Error::Options(format!(
+            Err(SolveError::Options(format!(
                 "formulation '{}' needs the joints' position-level closures g(q), and this raw bond graph's constraint junctions ({}) carry none; use dae, index1 or decoupled, or give the junctions closures (a mechanism scene's `graph --as-scene` export has them)",
                 f.name(),
                 rows.join(", ")
@@ -147,14 +147,14 @@ fn solve_from_first_output(
     g: &BondGraph,
     opts: &SolveOptions,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
+) -> Result<Solution, SolveError> {
     let clock = ThreadTime::now();
     let t0 = *opts
         .output_times
         .first()
-        .ok_or_else(|| Error::Options("no output times".into()))?;
+        .ok_or_else(|| SolveError::Options("no output times".into()))?;
     if let Some(s) = g.signals.first() {
-        return Err(Error::BondGraph(format!(
+        return Err(SolveError::BondGraph(format!(
             "signal '{s}' has no source in a raw bond graph scene (signals are supplied by the mechanism layer)"
         )));
     }

@@ -19,10 +19,10 @@ use super::solution::{EventRecord, Row, Solution, Summary};
 use crate::mech::EventFunction;
 use crate::scene::EventAction;
 use crate::settings::Integrator;
+use crate::solve::SolveError;
 use crate::sundials::{
     Cvode, CvodeOptions, Erk, ErkOptions, Ida, Multistep, SolverError, SolverStats, Step,
 };
-use crate::Error;
 
 /// The output rows of a run: columns, one row per output time from the row state
 /// `x = [q, v, …]`, and the figures the summary reports from them.
@@ -136,7 +136,7 @@ impl Solver {
     }
 
     /// Re-initialises IDA at `(t, y, y')` (its counters restart; the executor keeps them).
-    pub(crate) fn reinit_ida(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), Error> {
+    pub(crate) fn reinit_ida(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), SolveError> {
         self.bank();
         if let Integ::Ida(i) = &mut self.integ {
             i.reinit(t, y, yp)?;
@@ -147,7 +147,7 @@ impl Solver {
     /// Re-initialises an ODE integrator at `(t, y)`; an explicit method starts with step `h`
     /// (a restart at a switching function's zero changes the right-hand side's derivatives,
     /// not the time scale of the motion).
-    pub(crate) fn reinit_ode(&mut self, t: f64, y: &[f64], h: f64) -> Result<(), Error> {
+    pub(crate) fn reinit_ode(&mut self, t: f64, y: &[f64], h: f64) -> Result<(), SolveError> {
         self.bank();
         match &mut self.integ {
             Integ::Ida(_) => {}
@@ -162,7 +162,7 @@ impl Solver {
 
     /// Steps until `t` is reached (a re-integration to a known point, roots muted by the
     /// formulation).
-    pub(crate) fn advance_to(&mut self, t: f64) -> Result<(), Error> {
+    pub(crate) fn advance_to(&mut self, t: f64) -> Result<(), SolveError> {
         loop {
             match self.solve_to(t) {
                 Ok(s) if s.t >= t => return Ok(()),
@@ -186,7 +186,7 @@ impl Solver {
         events: Option<&Events>,
         (earlier, wall): (SolverStats, std::time::Duration),
         summary: &mut Summary,
-    ) -> Result<Solver, Error> {
+    ) -> Result<Solver, SolveError> {
         let mut integ = match problem {
             Problem::Implicit(p) => {
                 let wants_schur = p.schur.is_some();
@@ -255,7 +255,7 @@ fn reduced_integrator(
     p: super::formulation::ReducedProblem,
     t: f64,
     opts: &SolveOptions,
-) -> Result<Integ, Error> {
+) -> Result<Integ, SolveError> {
     let stop_time = opts.output_times.last().copied();
     if p.integrator == Integrator::Erk {
         let eo = ErkOptions {
@@ -329,7 +329,7 @@ pub(crate) fn execute<'a>(
     opts: &SolveOptions,
     summary: &mut Summary,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
+) -> Result<Solution, SolveError> {
     let Job {
         mut formulation,
         rows,
@@ -489,7 +489,7 @@ impl Run<'_> {
         self.sol
     }
 
-    /// The [`Error::Incomplete`] of a run stopped by `e`, with the row at the time reached
+    /// The [`SolveError::Incomplete`] of a run stopped by `e`, with the row at the time reached
     /// after a budget stop.
     fn stop(
         mut self,
@@ -497,7 +497,7 @@ impl Run<'_> {
         f: &mut dyn Formulation<'_>,
         solver: &mut Solver,
         summary: &mut Summary,
-    ) -> Error {
+    ) -> SolveError {
         let last = e.time().filter(|_| is_budget(&e)).and_then(|tr| {
             let mut y = vec![0.0; solver.y().len()];
             solver.dky(tr, &mut y).ok()?;
@@ -520,7 +520,7 @@ impl Run<'_> {
         k_next: usize,
         summary: &mut Summary,
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-    ) -> Result<Solution, Error> {
+    ) -> Result<Solution, SolveError> {
         self.figures(f, solver, summary, Ending::HandedOver);
         let before = summary.clone();
         summary.warnings.push(h.warning);
@@ -589,14 +589,14 @@ pub(crate) fn is_budget(e: &SolverError) -> bool {
     stop_reason(e) != "solver_error"
 }
 
-/// The [`Error::Incomplete`] of a solve stopped by `e`: the rows so far, plus `last_row` (the
+/// The [`SolveError::Incomplete`] of a solve stopped by `e`: the rows so far, plus `last_row` (the
 /// state at the time reached, after a budget stop) when it lies beyond them.
 pub(crate) fn stopped(
     e: SolverError,
     mut sol: Solution,
     mut summary: Summary,
     last_row: Option<(f64, Vec<f64>)>,
-) -> Error {
+) -> SolveError {
     let t_last = sol.times.last().copied().unwrap_or(f64::NEG_INFINITY);
     summary.completed = false;
     summary.t_reached = e.time().unwrap_or(t_last).max(t_last);
@@ -609,8 +609,8 @@ pub(crate) fn stopped(
         }
     }
     sol.summary = summary;
-    Error::Incomplete {
-        cause: Box::new(Error::Solver(e)),
+    SolveError::Incomplete {
+        cause: Box::new(SolveError::Solver(e)),
         partial: Box::new(sol),
     }
 }
@@ -648,8 +648,8 @@ pub(crate) fn from_t_start(
     solve: impl FnOnce(
         &SolveOptions,
         &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-    ) -> Result<Solution, Error>,
-) -> Result<Solution, Error> {
+    ) -> Result<Solution, SolveError>,
+) -> Result<Solution, SolveError> {
     let (times, listed) = opts.integration_times()?;
     let inner = SolveOptions {
         output_times: times,

@@ -32,8 +32,8 @@ use super::executor::{Job, Solver};
 use super::solution::Summary;
 use crate::dae::{DaeFormulation, ExplicitOde};
 use crate::settings::Integrator;
+use crate::solve::SolveError;
 use crate::sundials::{CvodeRootFn, RhsFn, SolverError};
-use crate::Error;
 
 /// What one segment integrates (see the module documentation).
 pub(crate) enum Problem {
@@ -141,10 +141,10 @@ pub(crate) trait Formulation<'a> {
     /// [`Next::Restart`] named), or a hand-over. Sets the summary's `solver`, `unknowns` and
     /// `linear_solver` (the executor writes `schur` or the resolved linear solver where the
     /// problem asks for a Schur complement).
-    fn segment(&mut self, t: f64, summary: &mut Summary) -> Result<Start<'a>, Error>;
+    fn segment(&mut self, t: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError>;
 
     /// The row state of the integrator's `y` at `t` into `x` (default: `y` itself).
-    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), Error> {
+    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), SolveError> {
         let _ = t;
         x.clear();
         x.extend_from_slice(y);
@@ -160,7 +160,7 @@ pub(crate) trait Formulation<'a> {
         solver: &mut Solver,
         more: bool,
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let _ = (t, x, solver, more, summary);
         Ok(Next::Continue)
     }
@@ -173,20 +173,21 @@ pub(crate) trait Formulation<'a> {
         solver: &mut Solver,
         last: (f64, &[f64]),
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let _ = (e, solver, last, summary);
         Ok(Next::Fail)
     }
 
-    /// At a root return at `t` whose roots `info` lie beyond the scene's events (switching
-    /// functions): returns whether the integrator was restarted (default: nothing to do).
+    /// At a root return at `t` whose roots `info` lie beyond the scene's events (the switching
+    /// functions of a reduced problem): the formulation may integrate again to `t` and restart
+    /// the integrator in place (default: nothing to do).
     fn at_switch(
         &mut self,
         t: f64,
         info: &[i32],
         solver: &mut Solver,
         summary: &mut Summary,
-    ) -> Result<(), Error> {
+    ) -> Result<(), SolveError> {
         let _ = (t, info, solver, summary);
         Ok(())
     }

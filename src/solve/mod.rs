@@ -3,6 +3,7 @@
 //! (output times, events, budgets, partial rows, statistics, energy drift, streaming).
 
 pub mod bond_run;
+pub mod error;
 pub(crate) mod executor;
 pub(crate) mod formulation;
 pub(crate) mod formulations;
@@ -15,5 +16,6 @@ mod rows;
 pub mod run;
 mod solution;
 
+pub use error::SolveError;
 pub use options::{FormulationKind, Integrator, LinearSolverKind, SolveOptions};
 pub use run::{solve_system, EventRecord, Row, SingularPassage, Solution, Summary};

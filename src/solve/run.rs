@@ -14,7 +14,7 @@ use crate::dae::{
     consistent_state, ConstraintExprs, DecoupledFormulation, GglFormulation, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
-use crate::Error;
+use crate::solve::SolveError;
 
 pub use super::formulations::ggl::{
     GGL_ERROR_TEST_SINGULAR, PASSAGE_CONDITION, REGULAR_CONDITION, RESUME_PLAIN_GGL,
@@ -36,7 +36,7 @@ pub fn solve_system(
     opts: &SolveOptions,
     build_cpu_seconds: f64,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
+) -> Result<Solution, SolveError> {
     from_t_start(opts, observer, |opts, observer| {
         solve_from_first_output(sys, opts, build_cpu_seconds, observer)
     })
@@ -48,11 +48,11 @@ fn solve_from_first_output(
     opts: &SolveOptions,
     build_cpu_seconds: f64,
     observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
-) -> Result<Solution, Error> {
+) -> Result<Solution, SolveError> {
     let t0 = *opts
         .output_times
         .first()
-        .ok_or_else(|| Error::Options("no output times".into()))?;
+        .ok_or_else(|| SolveError::Options("no output times".into()))?;
     let clock = ThreadTime::now();
     let c = ConstraintExprs::derive(&mut sys);
     let tapes = MechanicsTapes::new(&mut sys, &c, None);

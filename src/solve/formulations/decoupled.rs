@@ -13,7 +13,7 @@ use crate::solve::options::SolveOptions;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::Summary;
-use crate::Error;
+use crate::solve::SolveError;
 
 /// The twin's ODE and its prestressed start.
 struct Decoupled {
@@ -29,7 +29,7 @@ impl<'a> Formulation<'a> for Decoupled {
         self.y0.clone()
     }
 
-    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         summary.solver = "CVODE".into();
         summary.unknowns = self.ode.n;
         summary.linear_solver = self.linear_solver.into();

@@ -28,8 +28,8 @@ use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
+use crate::solve::SolveError;
 use crate::sundials::SolverError;
-use crate::Error;
 
 /// `κ(G_v M⁺ G_vᵀ)` above which a failed plain-GGL step is taken as a singular passage. Measured
 /// on the four-bar chains (N = 1, 3, 10) at the last accepted step before the failure:
@@ -206,7 +206,7 @@ pub(crate) fn restart_state(
     eps: f64,
     t: f64,
     x: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>), Error> {
+) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
     let (nq, nv, nc) = tapes.dims;
     let st = consistent_state_from(sys, tapes, t, x)?;
     let mut y = st.q.clone();
@@ -315,7 +315,7 @@ impl Ggl {
 }
 
 /// IDA's id vector after a change of the dependent velocities out of the error test.
-fn set_id(solver: &mut Solver, id: &[f64]) -> Result<(), Error> {
+fn set_id(solver: &mut Solver, id: &[f64]) -> Result<(), SolveError> {
     if let Some(ida) = solver.ida() {
         ida.set_id(id)?;
     }
@@ -327,7 +327,7 @@ impl<'a> Formulation<'a> for Ggl {
         self.y0.clone()
     }
 
-    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let n = self.dae.formulation.dae.n;
         summary.solver = "IDA".into();
         summary.unknowns = n;
@@ -347,7 +347,7 @@ impl<'a> Formulation<'a> for Ggl {
         solver: &mut Solver,
         (tr, xr): (f64, &[f64]),
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let (nq, nv, _) = self.tapes.dims;
         let eps_switch = self.eps_switch;
         // a singular passage: plain GGL failed to converge near a rank-deficient G_v
@@ -400,7 +400,7 @@ impl<'a> Formulation<'a> for Ggl {
         solver: &mut Solver,
         more: bool,
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let eps = self.dae.compliance();
         if self.error_test.active && self.error_test.check(&self.gv_at(t, y), eps) {
             set_id(solver, &self.error_test.id())?;

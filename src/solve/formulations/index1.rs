@@ -35,8 +35,8 @@ use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::Summary;
+use crate::solve::SolveError;
 use crate::sundials::SolverError;
-use crate::Error;
 
 /// Completes the dependent coordinates and velocities of an output row `y = [q, v, …]` of the
 /// index-1 DAE (dependent coordinates `coordinates`, dependent velocities `dependent`) from the
@@ -191,7 +191,7 @@ impl<'a> Index1<'a> {
 
     /// The rest of the run from the last output `(t_h, x)` on the GGL (plain, compliant at
     /// singular passages).
-    fn hand_over(&mut self, t_h: f64, why: &str) -> Result<HandOver<'a>, Error> {
+    fn hand_over(&mut self, t_h: f64, why: &str) -> Result<HandOver<'a>, SolveError> {
         let init = consistent_state_from(&self.sys, &self.tapes, t_h, &self.x)?;
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
@@ -223,7 +223,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         self.y_first.clone()
     }
 
-    fn segment(&mut self, t_start: f64, summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn segment(&mut self, t_start: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
         let gv = self.gv_at(t_start, &self.x);
         let chosen = self
@@ -236,7 +236,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         }
         let dependent = chosen.ok_or_else(|| {
             let c = joint_conditioning(&gv, &self.sys.mass, &self.sys.rows);
-            Error::Init(crate::dae::InitError::Singular {
+            SolveError::Init(crate::dae::InitError::Singular {
                 t: t_start,
                 what: format!(
                     "joints [{}] lose rank (κ = {:.1e}): no set of dependent velocities exists; use the ggl formulation",
@@ -255,7 +255,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
                 let h = self.hand_over(t_start, "no regular set of dependent coordinates")?;
                 return Ok(Start::HandOver(h));
             }
-            return Err(Error::Init(crate::dae::InitError::Singular {
+            return Err(SolveError::Init(crate::dae::InitError::Singular {
                 t: t_start,
                 what: "the joints' position rows lose rank: no set of dependent coordinates exists; use the ggl formulation".into(),
             }));
@@ -294,7 +294,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         })))
     }
 
-    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), Error> {
+    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), SolveError> {
         x.clear();
         x.extend_from_slice(y);
         complete_dependent(&self.tapes, (&self.dependent, &self.coordinates), t, x);
@@ -307,7 +307,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         solver: &mut Solver,
         _last: (f64, &[f64]),
         _summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         if self.hands_over && super::ggl::is_convergence_failure(e).is_some() {
             let t_fail = solver.ida().map_or(f64::NAN, |i| i.t());
             let h = self.hand_over(self.t_last, &format!("IDA failed at t = {t_fail:.6}: {e}"))?;
@@ -323,7 +323,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         _solver: &mut Solver,
         more: bool,
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let nq = self.nq();
         let n = self.x.len();
         self.x.copy_from_slice(&full[..n]);

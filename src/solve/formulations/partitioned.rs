@@ -26,8 +26,8 @@ use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
+use crate::solve::SolveError;
 use crate::sundials::{CallbackError, CvodeRootFn, SolverError};
-use crate::Error;
 
 /// Condition estimate of the dependent block `G_v[:, D]` (largest over smallest pivot of its
 /// LU) above which the right-hand side asks for a new partition (or [`REPARTITION_GROWTH`] times the
@@ -280,7 +280,7 @@ impl<'a> Partitioned<'a> {
     }
 
     /// A singular passage from `t_start`: the compliant GGL carries it.
-    fn passage(&mut self, summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn passage(&mut self, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
         let t_start = self.t_start;
         let eps = super::default_compliance(&self.sys, &self.opts);
@@ -331,7 +331,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         self.first.clone()
     }
 
-    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn segment(&mut self, _t: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let nq = self.tapes.dims.0;
         let t_start = self.t_start;
         let choice = self
@@ -366,7 +366,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
             PartitionedRhs::new(self.psys.clone(), part.clone(), &self.x, self.newton_tol);
         let y0 = part.states_of(nq, &self.x);
         core.complete(t_start, &y0).map_err(|e| {
-            Error::Init(crate::dae::InitError::Singular {
+            SolveError::Init(crate::dae::InitError::Singular {
                 t: t_start,
                 what: e.to_string(),
             })
@@ -462,7 +462,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         })))
     }
 
-    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), Error> {
+    fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), SolveError> {
         let Mode::Partition { rhs, .. } = &self.mode else {
             x.clear();
             x.extend_from_slice(y);
@@ -482,7 +482,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
                 x.extend_from_slice(s);
                 Ok(())
             }
-            Err(e) => Err(Error::Solver(SolverError::InvalidInput(format!(
+            Err(e) => Err(SolveError::Solver(SolverError::InvalidInput(format!(
                 "partitioned: completing the output row: {e}"
             )))),
         }
@@ -494,7 +494,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         solver: &mut Solver,
         _last: (f64, &[f64]),
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let Mode::Partition { degraded, .. } = &self.mode else {
             return Ok(Next::Fail);
         };
@@ -521,7 +521,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         sw: &[i32],
         solver: &mut Solver,
         summary: &mut Summary,
-    ) -> Result<(), Error> {
+    ) -> Result<(), SolveError> {
         let Mode::Partition {
             rhs,
             mute,
@@ -558,7 +558,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         solver: &mut Solver,
         more: bool,
         summary: &mut Summary,
-    ) -> Result<Next<'a>, Error> {
+    ) -> Result<Next<'a>, SolveError> {
         let (nq, nv, _) = self.tapes.dims;
         match &mut self.mode {
             Mode::Partition {

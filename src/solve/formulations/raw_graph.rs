@@ -19,7 +19,7 @@ use crate::expr::Tape;
 use crate::solve::executor::{Job, RowEval};
 use crate::solve::formulation::{ExplicitProblem, Formulation, ImplicitProblem, Problem, Start};
 use crate::solve::solution::Summary;
-use crate::Error;
+use crate::solve::SolveError;
 
 /// The indices into `y` of the leading columns, and all column names.
 pub(crate) fn columns_of(eq: &BondEquations) -> (Vec<usize>, Vec<String>) {
@@ -144,12 +144,11 @@ impl<'a> Formulation<'a> for RawGraph {
         self.y0.clone()
     }
 
-    fn segment(&mut self, _t: f64, _summary: &mut Summary) -> Result<Start<'a>, Error> {
+    fn segment(&mut self, _t: f64, _summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         // one segment: no recovery restarts it
-        self.problem
-            .take()
-            .map(Start::Run)
-            .ok_or_else(|| Error::BondGraph("the raw bond graph's equations were used up".into()))
+        self.problem.take().map(Start::Run).ok_or_else(|| {
+            SolveError::BondGraph("the raw bond graph's equations were used up".into())
+        })
     }
 }
 
