@@ -516,11 +516,12 @@ impl Run<'_> {
         self,
         f: &mut dyn Formulation<'_>,
         solver: Option<&Solver>,
-        h: HandOver<'_>,
+        h: Box<HandOver<'_>>,
         k_next: usize,
         summary: &mut Summary,
         observer: &mut dyn FnMut(Row<'_>) -> ControlFlow<()>,
     ) -> Result<Solution, SolveError> {
+        let h = *h;
         self.figures(f, solver, summary, Ending::HandedOver);
         let before = summary.clone();
         summary.warnings.push(h.warning);

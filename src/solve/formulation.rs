@@ -93,7 +93,7 @@ pub(crate) enum Start<'a> {
     /// Integrate this problem.
     Run(Problem),
     /// Hand the rest of the run to another formulation.
-    HandOver(HandOver<'a>),
+    HandOver(Box<HandOver<'a>>),
 }
 
 /// The rest of a run handed to another formulation, from the last output row at `t`.
@@ -115,7 +115,7 @@ pub(crate) enum Next<'a> {
     /// Start a fresh segment ([`Formulation::segment`]) at the time given.
     Restart(f64),
     /// Hand the rest of the run to another formulation.
-    HandOver(HandOver<'a>),
+    HandOver(Box<HandOver<'a>>),
     /// Stop with this error (a failure the formulation does not handle stops the solve with
     /// the rows so far).
     Fail,

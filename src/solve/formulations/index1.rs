@@ -191,7 +191,7 @@ impl<'a> Index1<'a> {
 
     /// The rest of the run from the last output `(t_h, x)` on the GGL (plain, compliant at
     /// singular passages).
-    fn hand_over(&mut self, t_h: f64, why: &str) -> Result<HandOver<'a>, SolveError> {
+    fn hand_over(&mut self, t_h: f64, why: &str) -> Result<Box<HandOver<'a>>, SolveError> {
         let init = consistent_state_from(&self.sys, &self.tapes, t_h, &self.x)?;
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
@@ -207,14 +207,14 @@ impl<'a> Index1<'a> {
             t_h,
             &self.opts,
         );
-        Ok(HandOver {
+        Ok(Box::new(HandOver {
             job,
             t: t_h,
             warning: format!(
                 "dae: the rest of the run from t = {t_h:.6} is solved by the GGL ({why})"
             ),
             build_seconds,
-        })
+        }))
     }
 }
 
