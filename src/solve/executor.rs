@@ -222,15 +222,9 @@ impl Solver {
             }
             Problem::Explicit(p) => {
                 let cv_opts = CvodeOptions {
-                    rtol: opts.rtol,
-                    atol: vec![opts.atol],
-                    max_steps: Some(u64::MAX),
-                    max_total_steps: opts.max_steps,
-                    max_wall_clock: opts.max_wall_clock,
-                    stop_time: opts.output_times.last().copied(),
                     max_order: p.max_order,
                     stab_lim_det: p.stab_lim_det,
-                    ..CvodeOptions::default()
+                    ..cvode_options(opts)
                 };
                 let mut cv = make_cvode(Arc::clone(&p.ode), t, &p.y0, &cv_opts, opts)?;
                 if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
@@ -246,6 +240,20 @@ impl Solver {
             i.charge_steps(earlier.steps);
         });
         Ok(Solver { integ, earlier })
+    }
+}
+
+/// CVODE's options from the solve's: tolerances, the budgets (no per-output step limit; the
+/// total steps and wall clock of the whole run) and the stop time at the last output.
+fn cvode_options(opts: &SolveOptions) -> CvodeOptions {
+    CvodeOptions {
+        rtol: opts.rtol,
+        atol: vec![opts.atol],
+        max_steps: Some(u64::MAX),
+        max_total_steps: opts.max_steps,
+        max_wall_clock: opts.max_wall_clock,
+        stop_time: opts.output_times.last().copied(),
+        ..CvodeOptions::default()
     }
 }
 
@@ -286,16 +294,7 @@ fn reduced_integrator(
     } else {
         Multistep::Adams
     };
-    let co = CvodeOptions {
-        rtol: opts.rtol,
-        atol: vec![opts.atol],
-        max_steps: Some(u64::MAX),
-        max_total_steps: opts.max_steps,
-        max_wall_clock: opts.max_wall_clock,
-        stop_time,
-        ..CvodeOptions::default()
-    };
-    let mut c = Cvode::new(method, t, &p.y0, p.rhs, None, &co)?;
+    let mut c = Cvode::new(method, t, &p.y0, p.rhs, None, &cvode_options(opts))?;
     if let Some((n, f, _)) = p.roots {
         c.set_roots(n, f)?;
     }
