@@ -747,3 +747,190 @@ fn events_fired(
     }
     stop
 }
+
+#[cfg(test)]
+mod tests {
+    //! The executor on a formulation that is only a trait implementation: the harmonic
+    //! oscillator `x' = v, v' = −x` (`x = cos t`, `v = −sin t` from `(1, 0)`, energy
+    //! `(x² + v²)/2` conserved) as a reduced problem, with a recovery hook.
+
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::sundials::CallbackError;
+
+    /// Rows `[x, v]` and the energy `(x² + v²)/2`.
+    struct Identity {
+        e0: Option<f64>,
+        dev: f64,
+    }
+
+    impl RowEval for Identity {
+        fn columns(&self) -> Vec<String> {
+            vec!["x".into(), "v".into()]
+        }
+        fn row(&mut self, _t: f64, x: &[f64]) -> Vec<f64> {
+            let e = 0.5 * (x[0] * x[0] + x[1] * x[1]);
+            let e0 = *self.e0.get_or_insert(e);
+            self.dev = self.dev.max((e - e0).abs());
+            x.to_vec()
+        }
+        fn max_constraint_error(&self) -> f64 {
+            0.0
+        }
+        fn energy_drift(&self) -> f64 {
+            self.dev / self.e0.unwrap_or(1.0)
+        }
+        fn energy_exchange(&self) -> Option<String> {
+            None
+        }
+    }
+
+    /// The oscillator; its right-hand side fails once past `fail_after` (a fatal callback
+    /// error), which the recovery hook answers with a restart from the last row.
+    struct Oscillator {
+        integrator: Integrator,
+        start: (f64, Vec<f64>),
+        fail_after: f64,
+        failed: Arc<AtomicBool>,
+        recoveries: Arc<AtomicUsize>,
+    }
+
+    impl<'a> Formulation<'a> for Oscillator {
+        fn first_row_state(&self) -> Vec<f64> {
+            self.start.1.clone()
+        }
+        fn segment(&mut self, _t: f64, _s: &mut Summary) -> Result<Start<'a>, SolveError> {
+            let (fail_after, failed) = (self.fail_after, self.failed.clone());
+            let rhs: crate::sundials::RhsFn = Box::new(move |t, y, yd| {
+                if t > fail_after && !failed.swap(true, Ordering::Relaxed) {
+                    return Err(CallbackError::Fatal("a partition degraded".into()));
+                }
+                yd[0] = y[1];
+                yd[1] = -y[0];
+                Ok(())
+            });
+            Ok(Start::Run(Problem::Reduced(
+                super::super::formulation::ReducedProblem {
+                    integrator: self.integrator,
+                    rhs,
+                    y0: self.start.1.clone(),
+                    roots: None,
+                    init_step: None,
+                },
+            )))
+        }
+        fn at_output(
+            &mut self,
+            t: f64,
+            x: &[f64],
+            _solver: &mut Solver,
+            _more: bool,
+            _s: &mut Summary,
+        ) -> Result<Next<'a>, SolveError> {
+            self.start = (t, x.to_vec());
+            Ok(Next::Continue)
+        }
+        fn recover(
+            &mut self,
+            _e: &SolverError,
+            _solver: &mut Solver,
+            (t, x): (f64, &[f64]),
+            _s: &mut Summary,
+        ) -> Result<Next<'a>, SolveError> {
+            self.recoveries.fetch_add(1, Ordering::Relaxed);
+            assert_eq!(self.start, (t, x.to_vec()), "the hook gets the last row");
+            Ok(Next::Restart(t))
+        }
+    }
+
+    fn run(
+        integrator: Integrator,
+        fail_after: f64,
+        max_steps: Option<u64>,
+    ) -> (Result<Solution, SolveError>, usize) {
+        let recoveries = Arc::new(AtomicUsize::new(0));
+        let job = Job {
+            formulation: Box::new(Oscillator {
+                integrator,
+                start: (0.0, vec![1.0, 0.0]),
+                fail_after,
+                failed: Arc::new(AtomicBool::new(false)),
+                recoveries: recoveries.clone(),
+            }),
+            rows: Box::new(Identity { e0: None, dev: 0.0 }),
+            events: None,
+        };
+        let opts = SolveOptions {
+            rtol: 1e-10,
+            atol: 1e-12,
+            output_times: (0..=40).map(|k| 0.1 * k as f64).collect(),
+            max_steps,
+            ..SolveOptions::default()
+        };
+        let mut summary = Summary::default();
+        let r = execute(job, &opts, &mut summary, &mut |_| ControlFlow::Continue(()));
+        (r, recoveries.load(Ordering::Relaxed))
+    }
+
+    fn assert_on_cosine(sol: &Solution) {
+        for (t, r) in sol.times.iter().zip(&sol.rows) {
+            assert!((r[0] - t.cos()).abs() < 1e-7, "x({t}) = {}", r[0]);
+            assert!((r[1] + t.sin()).abs() < 1e-7, "v({t}) = {}", r[1]);
+        }
+    }
+
+    #[test]
+    fn any_integrator_runs_a_formulation_and_the_executor_fills_the_summary() {
+        for integrator in [Integrator::Erk, Integrator::Adams, Integrator::Bdf] {
+            let (r, recoveries) = run(integrator, f64::INFINITY, None);
+            let sol = r.unwrap();
+            assert_eq!((sol.times.len(), recoveries), (41, 0), "{integrator:?}");
+            assert_on_cosine(&sol);
+            let s = &sol.summary;
+            assert!(
+                s.completed && s.steps > 0 && s.residual_evals > s.steps,
+                "{s:?}"
+            );
+            assert_eq!((s.t_reached, s.energy_check.as_str()), (4.0, "conserved"));
+            assert!(s.energy_drift.unwrap() < 1e-7, "{s:?}");
+        }
+    }
+
+    #[test]
+    fn a_failure_goes_to_the_recovery_hook_and_the_run_restarts_from_the_last_row() {
+        let (r, recoveries) = run(Integrator::Adams, 1.05, None);
+        let sol = r.unwrap();
+        assert_eq!((sol.times.len(), recoveries), (41, 1));
+        assert_on_cosine(&sol);
+    }
+
+    #[test]
+    fn a_step_budget_stops_with_the_rows_so_far_and_the_row_at_the_time_reached() {
+        let (r, _) = run(Integrator::Erk, f64::INFINITY, Some(30));
+        let Err(SolveError::Incomplete { cause, partial }) = r else {
+            panic!("a budget stop keeps its rows")
+        };
+        assert!(matches!(
+            *cause,
+            SolveError::Solver(SolverError::StepBudget { .. })
+        ));
+        let s = &partial.summary;
+        assert_eq!(
+            (s.completed, s.stopped_by.as_deref()),
+            (false, Some("max_steps"))
+        );
+        assert_eq!(s.steps, 30);
+        // the rows at the outputs reached, then the row at the time reached
+        let n = partial.times.len();
+        assert!(
+            n >= 2 && partial.times[n - 1] == s.t_reached,
+            "{:?}",
+            partial.times
+        );
+        assert!(partial.times[n - 1] > partial.times[n - 2]);
+        assert!(s.t_reached > 0.0 && s.t_reached < 4.0);
+        assert_on_cosine(&partial);
+    }
+}
