@@ -1,6 +1,9 @@
-//! Running a mechanism or a raw bond graph: a [`formulation::Formulation`] per formulation
-//! (one module each in [`formulations`]), run by the one [`executor`] on IDA, CVODE or ARKODE
-//! (output times, events, budgets, partial rows, statistics, energy drift, streaming).
+//! Running a mechanism or a raw bond graph: each formulation implements the one `Formulation`
+//! trait (`formulation.rs`: residual or right-hand side with Jacobian and sparsity, id vector,
+//! consistent start, row state, recovery hook), in a module of its own (`formulations/`: GGL
+//! plain and compliant, index 1 and `dae`, partitioned, decoupled twin, raw bond graph), and
+//! the one executor (`executor.rs`) runs any of them on IDA, CVODE or ARKODE: output times,
+//! events, budgets, partial rows, statistics, energy drift, streaming. Errors: [`SolveError`].
 
 pub mod bond_run;
 pub mod error;

@@ -1,6 +1,6 @@
 //! Solving a mechanism: the consistent start, then the formulation chosen in
-//! [`SolveOptions::formulation`] (one module each, [`super::formulations`]) run by the one
-//! executor ([`super::executor`]). The public names of the solve (its [`Solution`] and
+//! [`SolveOptions::formulation`] (one module each, `solve/formulations/`) run by the one
+//! executor (`solve/executor.rs`). The public names of the solve (its [`Solution`] and
 //! [`Summary`], the thresholds of the recoveries) are re-exported here.
 
 use std::ops::ControlFlow;

@@ -73,7 +73,7 @@ pub struct Summary {
     pub compliant_time: f64,
     /// Singular passages met by the GGL: plain GGL failed near a rank-deficient `G_v` and the
     /// compliant GGL carried the motion through (the switch), and every later passage, found
-    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`PASSAGE_CONDITION`] at the output times.
+    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`crate::solve::run::PASSAGE_CONDITION`] at the output times.
     pub singular_passages: Vec<SingularPassage>,
     /// Times the index-1 formulation re-selected its dependent velocities.
     pub index1_reselections: u64,
