@@ -26,6 +26,7 @@ use crate::dae::InitError;
 use crate::mech::MechError;
 use crate::report::ReportError;
 use crate::scene::SceneError;
+use crate::solve::error::kept;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
 
@@ -94,8 +95,6 @@ pub enum Error {
         source: std::io::Error,
     },
 }
-
-use crate::solve::error::kept;
 
 /// A solve's error at the top: each variant of [`SolveError`] as the same variant here (same
 /// message), the cause of a solve stopped part-way converted likewise.
