@@ -26,6 +26,8 @@ use crate::dae::InitError;
 use crate::mech::MechError;
 use crate::report::ReportError;
 use crate::scene::SceneError;
+use crate::solve::error::kept;
+use crate::solve::SolveError;
 use crate::sundials::SolverError;
 
 /// Everything that can go wrong in bondmech, each variant saying what and where.
@@ -94,26 +96,30 @@ pub enum Error {
     },
 }
 
-/// "stopped at t = …: the rows up to t = … are kept".
-fn kept(partial: &crate::solve::Solution) -> String {
-    let s = &partial.summary;
-    let hint = match s.stopped_by.as_deref() {
-        Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
-        Some("max_wall_seconds") => {
-            " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
+/// A solve's error at the top: each variant of [`SolveError`] as the same variant here (same
+/// message), the cause of a solve stopped part-way converted likewise.
+impl From<SolveError> for Error {
+    fn from(e: SolveError) -> Self {
+        match e {
+            SolveError::Init(e) => Error::Init(e),
+            SolveError::Mechanism(e) => Error::Mechanism(e),
+            SolveError::Solver(e) => Error::Solver(e),
+            SolveError::NonFinite {
+                culprit,
+                stuck,
+                solver,
+            } => Error::NonFinite {
+                culprit,
+                stuck,
+                solver,
+            },
+            SolveError::Options(m) => Error::Options(m),
+            SolveError::BondGraph(m) => Error::BondGraph(m),
+            SolveError::Incomplete { cause, partial } => Error::Incomplete {
+                cause: Box::new(Error::from(*cause)),
+                partial,
+            },
         }
-        _ => "",
-    };
-    match partial.times.last() {
-        Some(t) => format!(
-            "stopped at t = {}{hint}; the {} rows up to t = {t} are kept",
-            s.t_reached,
-            partial.times.len()
-        ),
-        None => format!(
-            "stopped at t = {}{hint}; no rows were computed",
-            s.t_reached
-        ),
     }
 }
 

@@ -59,7 +59,7 @@
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
 //! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
 //! | [`dae`] | the formulations (GGL, index 1, partitioned, decoupled twin), consistent initialisation |
-//! | [`solve`] | running a formulation: outputs, statistics |
+//! | [`solve`] | one `Formulation` trait, one module per formulation (GGL, index 1, partitioned, twin, raw graph), one executor on IDA, CVODE or ARKODE: outputs, events, budgets, statistics; its own `SolveError` |
 //! | [`report`] | DAE vs decoupled comparisons, the data, CSV, JSON and SVG of tolerance, stiffness and parameter sweeps ([`report::vary`]), plots, animations |
 //! | [`study`] | running sweeps: many solves of one scene, in parallel and in shards |
 //! | [`service`] | `bondmech serve`: the HTTP/JSON service over [`Model`] |

@@ -292,7 +292,7 @@ impl Model {
     pub fn row_columns(&self, opts: &SolveOptions) -> Result<Vec<String>> {
         match &self.kind {
             Kind::Mechanism(sys) => Ok(crate::solve::run::output_columns(sys)),
-            Kind::BondGraph(g, _) => crate::solve::bond_run::bond_graph_columns(g, opts),
+            Kind::BondGraph(g, _) => Ok(crate::solve::bond_run::bond_graph_columns(g, opts)?),
         }
     }
 
@@ -325,7 +325,7 @@ impl Model {
         match &self.kind {
             Kind::Mechanism(sys) => {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
-                    .map_err(|e| crate::solve::non_finite::name_in_mechanism(sys, e))
+                    .map_err(|e| Error::from(crate::solve::non_finite::name_in_mechanism(sys, e)))
             }
             Kind::BondGraph(g, _) => {
                 let mut sol = solve_bond_graph_streaming(g, opts, observer).map_err(|e| {

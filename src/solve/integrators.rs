@@ -8,12 +8,12 @@
 use std::sync::Arc;
 
 use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::solve::SolveError;
 use crate::solve::SolveOptions;
 use crate::sundials::schur::SchurPartition;
 use crate::sundials::{
     CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SparseMatrixMut,
 };
-use crate::Error;
 
 /// IDA on formulation `f` from `(t0, y0, y0')`, with per-unknown absolute tolerances `atol`.
 pub(crate) fn make_ida(
@@ -23,7 +23,7 @@ pub(crate) fn make_ida(
     y0: &[f64],
     yp0: &[f64],
     opts: &SolveOptions,
-) -> Result<Ida, Error> {
+) -> Result<Ida, SolveError> {
     let ida_opts = ida_options(atol, f.id().to_vec(), opts);
     let (f1, f2) = (f.clone(), f.clone());
     let mut ws1 = f1.workspace();
@@ -65,7 +65,7 @@ pub(crate) fn make_ida_schur(
     t0: f64,
     (y0, yp0): (&[f64], &[f64]),
     opts: &SolveOptions,
-) -> Option<Result<Ida, Error>> {
+) -> Option<Result<Ida, SolveError>> {
     let partition = SchurPartition::new(f.len(), outer, &blocks, f.structure()).ok()?;
     let ida_opts = ida_options(atol, f.id().to_vec(), opts);
     let (f1, f2) = (f.clone(), f.clone());
@@ -82,7 +82,10 @@ pub(crate) fn make_ida_schur(
             Ok(())
         },
     );
-    Some(Ida::new_schur(t0, y0, yp0, residual, jacobian, partition, &ida_opts).map_err(Error::from))
+    Some(
+        Ida::new_schur(t0, y0, yp0, residual, jacobian, partition, &ida_opts)
+            .map_err(SolveError::from),
+    )
 }
 
 /// IDA's default `IDASetDeltaCjLSetup` for bondmech's formulations: a fresh Jacobian and
@@ -135,7 +138,7 @@ pub(crate) fn make_cvode(
     y0: &[f64],
     cv_opts: &CvodeOptions,
     opts: &SolveOptions,
-) -> Result<Cvode, Error> {
+) -> Result<Cvode, SolveError> {
     let (o1, o2) = (ode.clone(), ode.clone());
     let mut ws1 = o1.workspace();
     let mut ws2 = o2.workspace();

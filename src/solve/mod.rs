@@ -1,13 +1,24 @@
-//! Running a mechanism: the formulation chosen in [`SolveOptions`] on IDA (GGL DAE) or CVODE
-//! (decoupled twin), with consistent initial values, output rows, energy and constraint error.
+//! Running a mechanism or a raw bond graph: each formulation implements the one `Formulation`
+//! trait (`formulation.rs`: residual or right-hand side with Jacobian and sparsity, id vector,
+//! consistent start, row state, recovery hook), in a module of its own (`formulations/`: GGL
+//! plain and compliant, index 1 and `dae`, partitioned, decoupled twin, raw bond graph), and
+//! the one executor (`executor.rs`) runs any of them on IDA, CVODE or ARKODE: output times,
+//! events, budgets, partial rows, statistics, energy drift, streaming. Errors: [`SolveError`].
 
 pub mod bond_run;
+pub mod error;
+pub(crate) mod executor;
+pub(crate) mod formulation;
+pub(crate) mod formulations;
 mod integrators;
 pub(crate) mod non_finite;
 pub mod options;
 mod partition;
 mod reactions;
+mod rows;
 pub mod run;
+mod solution;
 
+pub use error::SolveError;
 pub use options::{FormulationKind, Integrator, LinearSolverKind, SolveOptions};
 pub use run::{solve_system, EventRecord, Row, SingularPassage, Solution, Summary};

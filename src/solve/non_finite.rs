@@ -8,22 +8,25 @@
 use crate::bond::equations::BondEquations;
 use crate::bond::model::BondGraph;
 use crate::mech::{MultibodySystem, NonFiniteValue};
+use crate::solve::SolveError;
 use crate::sundials::SolverError;
-use crate::Error;
 
 /// `e`, with a non-finite residual of a mechanism's formulation traced to the load (JSON path,
 /// name, expression) or generalized force that produced it. The state of every formulation
 /// starts with `[q, v]`.
-pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: Error) -> Error {
+pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: SolveError) -> SolveError {
     map_solver_cause(e, |solver| name_solver_error(sys, solver))
 }
 
 /// `e` with `f` applied to the solver error it comes from: `e` itself, or the cause of an
-/// [`Error::Incomplete`] (a solve that stopped and kept its rows). Other errors are unchanged.
-pub(crate) fn map_solver_cause(e: Error, f: impl FnOnce(SolverError) -> Error) -> Error {
+/// [`SolveError::Incomplete`] (a solve that stopped and kept its rows). Other errors are unchanged.
+pub(crate) fn map_solver_cause(
+    e: SolveError,
+    f: impl FnOnce(SolverError) -> SolveError,
+) -> SolveError {
     match e {
-        Error::Solver(s) => f(s),
-        Error::Incomplete { cause, partial } => Error::Incomplete {
+        SolveError::Solver(s) => f(s),
+        SolveError::Incomplete { cause, partial } => SolveError::Incomplete {
             cause: Box::new(map_solver_cause(*cause, f)),
             partial,
         },
@@ -31,9 +34,9 @@ pub(crate) fn map_solver_cause(e: Error, f: impl FnOnce(SolverError) -> Error) -
     }
 }
 
-fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> Error {
+fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> SolveError {
     if !matches!(solver, SolverError::NonFinite { .. }) {
-        return Error::Solver(solver);
+        return SolveError::Solver(solver);
     }
     let SolverError::NonFinite { t, y, stuck, .. } = &solver else {
         unreachable!("matched above")
@@ -43,24 +46,24 @@ fn name_solver_error(sys: &MultibodySystem, solver: SolverError) -> Error {
         .then(|| sys.non_finite_source(*t, &y[..n]))
         .flatten()
     {
-        Some(culprit) => Error::NonFinite {
+        Some(culprit) => SolveError::NonFinite {
             culprit: Box::new(culprit),
             stuck: *stuck,
             solver: Box::new(solver),
         },
-        None => Error::Solver(solver),
+        None => SolveError::Solver(solver),
     }
 }
 
 /// `e` (from solving the equations `eq` of the raw bond graph `g`), with a non-finite residual
 /// or right-hand side traced to the element (index, name, field) whose parameter or law is not
 /// finite there, or else to the storage element whose equation is.
-pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverError) -> Error {
+pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverError) -> SolveError {
     let SolverError::NonFinite {
         t, y, stuck, index, ..
     } = &e
     else {
-        return Error::Solver(e);
+        return SolveError::Solver(e);
     };
     // slots [t, y, y'] (y' unknown here: zero; parameters and laws do not use it)
     let mut vars = vec![0.0; 1 + 2 * eq.n + eq.signals.len()];
@@ -94,7 +97,7 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
                 ),
                 None => format!("{} '{}', {}", el.kind.as_str(), el.name, term.field),
             };
-            return Error::NonFinite {
+            return SolveError::NonFinite {
                 culprit: Box::new(element(term.element.0, what, value)),
                 stuck: *stuck,
                 solver: Box::new(e),
@@ -103,7 +106,7 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
     }
     // no single parameter: name the element whose equation it is
     let Some(name) = eq.names.get(*index) else {
-        return Error::Solver(e);
+        return SolveError::Solver(e);
     };
     let stem = ["p_", "q_", "x_", "lambda_"]
         .iter()
@@ -117,7 +120,7 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
             } else {
                 f64::NAN
             };
-            Error::NonFinite {
+            SolveError::NonFinite {
                 culprit: Box::new(element(
                     i,
                     format!("{} '{}', the equation of {name}", el.kind.as_str(), el.name),
@@ -127,6 +130,6 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
                 solver: Box::new(e),
             }
         }
-        None => Error::Solver(e),
+        None => SolveError::Solver(e),
     }
 }

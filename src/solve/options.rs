@@ -1,5 +1,6 @@
 //! What a solve is asked to do.
 
+use super::error::SolveError;
 use std::time::Duration;
 
 pub use crate::settings::{FormulationKind, Integrator, LinearSolverKind};
@@ -25,7 +26,7 @@ pub struct SolveOptions {
     pub output_times: Vec<f64>,
     /// Step budget of the whole run (all output intervals, restarts and re-selections
     /// together); `None` (the default): no cap, the run is bounded by `max_wall_clock` if
-    /// given. When it runs out the solve fails with [`crate::Error::Incomplete`], which keeps
+    /// given. When it runs out the solve fails with [`SolveError::Incomplete`], which keeps
     /// the rows computed so far.
     pub max_steps: Option<u64>,
     /// Wall-clock budget of the whole solve (all output intervals, IDA restarts and index-1
@@ -122,9 +123,9 @@ impl SolveOptions {
     /// let o = SolveOptions { output_times: vec![0.5, 1.0], ..SolveOptions::default() };
     /// assert_eq!(o.integration_times().unwrap(), (vec![0.0, 0.5, 1.0], false));
     /// ```
-    pub fn integration_times(&self) -> Result<(Vec<f64>, bool), crate::Error> {
+    pub fn integration_times(&self) -> Result<(Vec<f64>, bool), SolveError> {
         let t0 = self.t_start;
-        let bad = |m: String| Err(crate::Error::Options(m));
+        let bad = |m: String| Err(SolveError::Options(m));
         if !t0.is_finite() {
             return bad(format!("t_start must be finite (got {t0})"));
         }

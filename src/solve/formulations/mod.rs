@@ -1,0 +1,59 @@
+//! One module per formulation, each implementing [`super::formulation::Formulation`] (no run
+//! loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
+//! and the chapter's `dae`), the partitioned ODE, the decoupled twin, and a raw bond graph's
+//! own equations. What the mechanism formulations share (their events, compliance and
+//! tolerances) is here.
+
+pub(crate) mod decoupled;
+pub(crate) mod ggl;
+pub(crate) mod index1;
+pub(crate) mod partitioned;
+pub(crate) mod raw_graph;
+
+use super::executor::Events;
+use super::options::SolveOptions;
+use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
+use crate::dae::MechanicsTapes;
+use crate::mech::MultibodySystem;
+
+/// The scene's events with the reactions read from `multipliers` (`None`: the scene has none).
+pub(crate) fn events(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    multipliers: &Multipliers,
+) -> Option<Events> {
+    let eval = EventEval::new(sys, || {
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone())
+    });
+    (eval.len() > 0).then(|| Events {
+        eval,
+        defs: sys.events.clone(),
+    })
+}
+
+/// The multipliers an IDA formulation's events read: solved from the interpolated `(t, q, v)`
+/// ([`Multipliers::FromState`]), not interpolated (IDA's error test leaves them out).
+pub(crate) fn solved_multipliers(sys: &MultibodySystem, tapes: &MechanicsTapes) -> Multipliers {
+    Multipliers::FromState(Box::new(StateMultipliers::new(
+        tapes.forces.clone(),
+        tapes.gamma.clone(),
+        sys.mass.clone(),
+    )))
+}
+
+/// Whether a solve computes reactions at all (as output columns or inside an event).
+pub(crate) fn needs_reactions(sys: &MultibodySystem) -> bool {
+    sys.reaction_outputs || sys.events.iter().any(|e| e.uses_reactions)
+}
+
+/// The compliant GGL's `ε`: `solve.compliance`, or `1e-10 / M_max` (a joint force of 1 N moves
+/// the joint by 1e-10 m on the heaviest inertia's scale).
+pub(crate) fn default_compliance(sys: &MultibodySystem, opts: &SolveOptions) -> f64 {
+    let mref = sys.mass.iter().fold(0.0f64, |a, &b| a.max(b)).max(1e-300);
+    opts.compliance.unwrap_or(1e-10 / mref)
+}
+
+/// The absolute tolerance of the multipliers in IDA's Newton convergence test.
+pub(crate) fn multiplier_atol(opts: &SolveOptions) -> f64 {
+    opts.multiplier_atol.unwrap_or(1e-2)
+}
