@@ -141,15 +141,14 @@ fn a_spatial_distance_joint_swings_the_same_pendulum() {
     }
 }
 
-/// The default DAE and index 1 keep one dependent velocity for the link's one row: `vx` at the
-/// start (the link horizontal), which must become `vy` before the bob passes under the pivot,
-/// where `∂g/∂x = x / L` vanishes. Their re-choice watches the condition number of the
-/// dependent block, which for a 1×1 block is 1 whatever its size, so it never fires and the
-/// step collapses at the bottom (t ≈ T/4 = 0.59 s at rtol 1e-10). Un-ignore once the re-choice
-/// measures the block against the row (e.g. `σ_min(G_D) / ‖G_v‖`).
+/// Regression (the default stalled at t ≈ T/4 = 0.59 s): the DAE and index 1 keep one
+/// dependent velocity for the link's one row, `vx` at the start (the link horizontal), which
+/// must become `vy` before the bob passes under the pivot, where `∂g/∂x = x / L` vanishes. Their
+/// re-choice watched the condition number of the dependent block, 1 for any 1×1 block, so it
+/// never fired; it now watches the block's grip against the whole row, `σ_max(G_v) /
+/// σ_min(G_v[:, D])`. Checked against the exact elliptic solution and the tension from energy.
 #[test]
-#[ignore = "solver: the DAE's and index 1's partition is not re-chosen for a one-row dependent block (src/solve/run.rs, dependent_condition)"]
-fn the_default_dae_and_index1_swing_the_distance_pendulum_past_the_bottom() {
+fn regression_the_default_dae_and_index1_stalled_under_the_pivot_of_the_distance_pendulum() {
     let model = support::solve::model_with_reactions(SCENE);
     for f in [FormulationKind::Dae, FormulationKind::Index1] {
         let rtol = 1e-10;
