@@ -11,236 +11,78 @@ use std::time::Instant;
 
 use cpu_time::ThreadTime;
 
-use super::formulation::{Ending, Formulation, HandOver, Next, Problem, Start};
+use super::formulation::{
+    Ending, Events, Formulation, HandOver, Job, Next, Problem, RowEval, Start,
+};
 use super::integrators::{make_cvode, make_ida, make_ida_schur};
 use super::options::SolveOptions;
-use super::reactions::EventEval;
 use super::solution::{EventRecord, Row, Solution, Summary};
+use super::solver::{Integ, Solver};
 use crate::mech::EventFunction;
 use crate::scene::EventAction;
 use crate::settings::Integrator;
 use crate::solve::SolveError;
-use crate::sundials::{
-    Cvode, CvodeOptions, Erk, ErkOptions, Ida, Multistep, SolverError, SolverStats, Step,
-};
+use crate::sundials::{Cvode, CvodeOptions, Erk, ErkOptions, Multistep, SolverError, SolverStats};
 
-/// The output rows of a run: columns, one row per output time from the row state
-/// `x = [q, v, …]`, and the figures the summary reports from them.
-pub(crate) trait RowEval {
-    /// Column names (without `t`).
-    fn columns(&self) -> Vec<String>;
-    /// The row at `(t, x)`.
-    fn row(&mut self, t: f64, x: &[f64]) -> Vec<f64>;
-    /// Largest constraint error over the rows so far.
-    fn max_constraint_error(&self) -> f64;
-    /// `max |E(t) − E(0)|` relative to the energy's scale over the rows so far.
-    fn energy_drift(&self) -> f64;
-    /// Why energy is not conserved, if it is not.
-    fn energy_exchange(&self) -> Option<String>;
-}
-
-/// The scene's events: their functions over the row state and what each does.
-#[derive(Clone)]
-pub(crate) struct Events {
-    /// The event functions (root functions over `[t, q, v, …]`).
-    pub eval: EventEval,
-    /// Direction and action of each.
-    pub defs: Vec<EventFunction>,
-}
-
-/// What the executor runs: a formulation, its rows and its events.
-pub(crate) struct Job<'a> {
-    /// The formulation.
-    pub formulation: Box<dyn Formulation<'a> + 'a>,
-    /// Its output rows.
-    pub rows: Box<dyn RowEval + 'a>,
-    /// The scene's events (none: `None`), registered as root functions on the implicit and
-    /// explicit problems; a reduced problem brings its own root functions, the events first.
-    pub events: Option<Events>,
-}
-
-/// One integrator.
-enum Integ {
-    Ida(Ida),
-    Cvode(Cvode),
-    Erk(Erk),
-}
-
-/// The integrator of the current segment, with the counters of the earlier segments and of
-/// the integrator's life before its last re-initialisation.
-pub(crate) struct Solver {
-    integ: Integ,
-    earlier: SolverStats,
-}
-
-macro_rules! each {
-    ($s:expr, $i:ident => $e:expr) => {
-        match $s {
-            Integ::Ida($i) => $e,
-            Integ::Cvode($i) => $e,
-            Integ::Erk($i) => $e,
+/// Builds the integrator of `problem` from `t`, carrying `earlier` counters and charging
+/// the budgets with the steps and wall-clock time already spent.
+fn build_solver(
+    problem: Problem,
+    t: f64,
+    opts: &SolveOptions,
+    events: Option<&Events>,
+    (earlier, wall): (SolverStats, std::time::Duration),
+    summary: &mut Summary,
+) -> Result<Solver, SolveError> {
+    let integ = match problem {
+        Problem::Implicit(p) => {
+            let wants_schur = p.schur.is_some();
+            let schur = p.schur.and_then(|split| {
+                make_ida_schur(
+                    p.dae.clone(),
+                    split,
+                    p.atol.clone(),
+                    t,
+                    (&p.y0, &p.yp0),
+                    opts,
+                )
+            });
+            let mut ida = match schur {
+                Some(ida) => {
+                    summary.linear_solver = "schur".into();
+                    ida?
+                }
+                None => {
+                    let n = p.dae.len();
+                    let ida = make_ida(p.dae, p.atol, t, &p.y0, &p.yp0, opts)?;
+                    if wants_schur {
+                        summary.linear_solver = opts.linear_solver.resolved_name(n).into();
+                    }
+                    ida
+                }
+            };
+            if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
+                let mut ev = ev.eval.clone();
+                ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;
+            }
+            Integ::Ida(ida)
         }
+        Problem::Explicit(p) => {
+            let cv_opts = CvodeOptions {
+                max_order: p.max_order,
+                stab_lim_det: p.stab_lim_det,
+                ..cvode_options(opts)
+            };
+            let mut cv = make_cvode(Arc::clone(&p.ode), t, &p.y0, &cv_opts, opts)?;
+            if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
+                let mut ev = ev.eval.clone();
+                cv.set_roots(ev.len(), Box::new(move |t, y, g| ev.roots(t, y, g)))?;
+            }
+            Integ::Cvode(cv)
+        }
+        Problem::Reduced(p) => reduced_integrator(p, t, opts)?,
     };
-}
-
-impl Solver {
-    fn solve_to(&mut self, t: f64) -> Result<Step, SolverError> {
-        each!(&mut self.integ, i => i.solve_to(t))
-    }
-
-    /// The state at the last return.
-    pub(crate) fn y(&self) -> &[f64] {
-        each!(&self.integ, i => i.y())
-    }
-
-    /// The interpolated state at `t` (within the last step) into `out`.
-    pub(crate) fn dky(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolverError> {
-        each!(&mut self.integ, i => i.dky(t, 0, out))
-    }
-
-    /// The counters of the whole run so far.
-    pub(crate) fn stats(&self) -> SolverStats {
-        let mut s = self.earlier.clone();
-        s.accumulate(&each!(&self.integ, i => i.stats()));
-        s
-    }
-
-    /// Last internal step size.
-    pub(crate) fn last_step(&self) -> f64 {
-        each!(&self.integ, i => i.stats()).last_step
-    }
-
-    /// Time of the last internal step (CVODE, ARKODE; IDA: its current time).
-    pub(crate) fn last_step_time(&self) -> f64 {
-        match &self.integ {
-            Integ::Ida(i) => i.t(),
-            Integ::Cvode(c) => c.last_step_time(),
-            Integ::Erk(e) => e.last_step_time(),
-        }
-    }
-
-    /// IDA's steps accepted after recovered failures (empty for the other integrators).
-    pub(crate) fn recovered_failures(&self) -> Vec<crate::sundials::RecoveredFailure> {
-        match &self.integ {
-            Integ::Ida(i) => i.recovered_failures().to_vec(),
-            _ => Vec::new(),
-        }
-    }
-
-    /// IDA, when it is the integrator.
-    pub(crate) fn ida(&mut self) -> Option<&mut Ida> {
-        match &mut self.integ {
-            Integ::Ida(i) => Some(i),
-            _ => None,
-        }
-    }
-
-    /// Re-initialises IDA at `(t, y, y')` (its counters restart; the executor keeps them).
-    pub(crate) fn reinit_ida(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), SolveError> {
-        self.bank();
-        if let Integ::Ida(i) = &mut self.integ {
-            i.reinit(t, y, yp)?;
-        }
-        Ok(())
-    }
-
-    /// Re-initialises an ODE integrator at `(t, y)`; an explicit method starts with step `h`
-    /// (a restart at a switching function's zero changes the right-hand side's derivatives,
-    /// not the time scale of the motion).
-    pub(crate) fn reinit_ode(&mut self, t: f64, y: &[f64], h: f64) -> Result<(), SolveError> {
-        self.bank();
-        match &mut self.integ {
-            Integ::Ida(_) => {}
-            Integ::Cvode(c) => c.reinit(t, y)?,
-            Integ::Erk(e) => {
-                e.reinit(t, y)?;
-                e.set_init_step(if h.is_finite() { h.abs() } else { 0.0 })?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Steps until `t` is reached (a re-integration to a known point, roots muted by the
-    /// formulation).
-    pub(crate) fn advance_to(&mut self, t: f64) -> Result<(), SolveError> {
-        loop {
-            match self.solve_to(t) {
-                Ok(s) if s.t >= t => return Ok(()),
-                Ok(_) => continue,
-                Err(e) => return Err(e.into()),
-            }
-        }
-    }
-
-    /// Moves the current integrator's counters to the earlier ones (before a re-init).
-    fn bank(&mut self) {
-        self.earlier = self.stats();
-    }
-
-    /// Builds the integrator of `problem` from `t`, carrying `earlier` counters and charging
-    /// the budgets with the steps and wall-clock time already spent.
-    fn build(
-        problem: Problem,
-        t: f64,
-        opts: &SolveOptions,
-        events: Option<&Events>,
-        (earlier, wall): (SolverStats, std::time::Duration),
-        summary: &mut Summary,
-    ) -> Result<Solver, SolveError> {
-        let mut integ = match problem {
-            Problem::Implicit(p) => {
-                let wants_schur = p.schur.is_some();
-                let schur = p.schur.and_then(|split| {
-                    make_ida_schur(
-                        p.dae.clone(),
-                        split,
-                        p.atol.clone(),
-                        t,
-                        (&p.y0, &p.yp0),
-                        opts,
-                    )
-                });
-                let mut ida = match schur {
-                    Some(ida) => {
-                        summary.linear_solver = "schur".into();
-                        ida?
-                    }
-                    None => {
-                        let n = p.dae.len();
-                        let ida = make_ida(p.dae, p.atol, t, &p.y0, &p.yp0, opts)?;
-                        if wants_schur {
-                            summary.linear_solver = opts.linear_solver.resolved_name(n).into();
-                        }
-                        ida
-                    }
-                };
-                if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
-                    let mut ev = ev.eval.clone();
-                    ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;
-                }
-                Integ::Ida(ida)
-            }
-            Problem::Explicit(p) => {
-                let cv_opts = CvodeOptions {
-                    max_order: p.max_order,
-                    stab_lim_det: p.stab_lim_det,
-                    ..cvode_options(opts)
-                };
-                let mut cv = make_cvode(Arc::clone(&p.ode), t, &p.y0, &cv_opts, opts)?;
-                if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
-                    let mut ev = ev.eval.clone();
-                    cv.set_roots(ev.len(), Box::new(move |t, y, g| ev.roots(t, y, g)))?;
-                }
-                Integ::Cvode(cv)
-            }
-            Problem::Reduced(p) => reduced_integrator(p, t, opts)?,
-        };
-        each!(&mut integ, i => {
-            i.charge_wall_clock(wall);
-            i.charge_steps(earlier.steps);
-        });
-        Ok(Solver { integ, earlier })
-    }
+    Ok(Solver::new(integ, (earlier, wall)))
 }
 
 /// CVODE's options from the solve's: tolerances, the budgets (no per-output step limit; the
@@ -375,7 +217,7 @@ pub(crate) fn execute<'a>(
         };
         let earlier = solver.take().map(|s| s.stats()).unwrap_or_default();
         let wall = run.wall_start.elapsed();
-        let s = solver.insert(Solver::build(
+        let s = solver.insert(build_solver(
             problem,
             t_start,
             opts,

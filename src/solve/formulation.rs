@@ -28,9 +28,11 @@
 
 use std::sync::Arc;
 
-use super::executor::{Job, Solver};
+use super::reactions::EventEval;
 use super::solution::Summary;
+use super::solver::Solver;
 use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::mech::EventFunction;
 use crate::settings::Integrator;
 use crate::solve::SolveError;
 use crate::sundials::{CvodeRootFn, RhsFn, SolverError};
@@ -203,4 +205,39 @@ pub(crate) trait Formulation<'a> {
     ) {
         let _ = (summary, solver, t_last, ending);
     }
+}
+
+/// The output rows of a run: columns, one row per output time from the row state
+/// `x = [q, v, …]`, and the figures the summary reports from them.
+pub(crate) trait RowEval {
+    /// Column names (without `t`).
+    fn columns(&self) -> Vec<String>;
+    /// The row at `(t, x)`.
+    fn row(&mut self, t: f64, x: &[f64]) -> Vec<f64>;
+    /// Largest constraint error over the rows so far.
+    fn max_constraint_error(&self) -> f64;
+    /// `max |E(t) − E(0)|` relative to the energy's scale over the rows so far.
+    fn energy_drift(&self) -> f64;
+    /// Why energy is not conserved, if it is not.
+    fn energy_exchange(&self) -> Option<String>;
+}
+
+/// The scene's events: their functions over the row state and what each does.
+#[derive(Clone)]
+pub(crate) struct Events {
+    /// The event functions (root functions over `[t, q, v, …]`).
+    pub eval: EventEval,
+    /// Direction and action of each.
+    pub defs: Vec<EventFunction>,
+}
+
+/// What the executor runs: a formulation, its rows and its events.
+pub(crate) struct Job<'a> {
+    /// The formulation.
+    pub formulation: Box<dyn Formulation<'a> + 'a>,
+    /// Its output rows.
+    pub rows: Box<dyn RowEval + 'a>,
+    /// The scene's events (none: `None`), registered as root functions on the implicit and
+    /// explicit problems; a reduced problem brings its own root functions, the events first.
+    pub events: Option<Events>,
 }

@@ -2,7 +2,7 @@
 //! trait (`formulation.rs`: residual or right-hand side with Jacobian and sparsity, id vector,
 //! consistent start, row state, recovery hook), in a module of its own (`formulations/`: GGL
 //! plain and compliant, index 1 and `dae`, partitioned, decoupled twin, raw bond graph), and
-//! the one executor (`executor.rs`) runs any of them on IDA, CVODE or ARKODE: output times,
+//! the one executor (`executor.rs`) runs any of them on IDA, CVODE or ARKODE (`solver.rs`): output times,
 //! events, budgets, partial rows, statistics, energy drift, streaming. Errors: [`SolveError`].
 
 pub mod bond_run;
@@ -13,11 +13,12 @@ pub(crate) mod formulations;
 mod integrators;
 pub(crate) mod non_finite;
 pub mod options;
-mod partition;
+pub(crate) mod partition;
 mod reactions;
 mod rows;
 pub mod run;
 mod solution;
+pub(crate) mod solver;
 
 pub use error::SolveError;
 pub use options::{FormulationKind, Integrator, LinearSolverKind, SolveOptions};

@@ -181,3 +181,15 @@ impl CausalPartition {
         (states, dependent.iter().map(|&j| name(j)).collect())
     }
 }
+
+/// The dependent block's `μ(D)` ([`crate::dae::dependent_condition`]) above which a fresh selection of dependent velocities is
+/// considered (checked at the output times).
+pub(crate) const INDEX1_CHECK_CONDITION: f64 = 10.0;
+
+/// The fresh selection replaces the current one when its condition is this many times smaller.
+/// The check happens at output times only, so it must fire well before the block is singular:
+/// the condition grows like `1/|cos θ|` as a dependent coordinate loses its grip (measured on a
+/// bead sliding along a pendulum bar: the dependent bead translation must change near the
+/// vertical, and a threshold of 1e4 on the current set alone let IDA run into the singular
+/// block between outputs).
+pub(crate) const INDEX1_RESELECT_GAIN: f64 = 10.0;

@@ -2,7 +2,7 @@
 //! reactions, the constraint error, with the energy and constraint-error figures of the
 //! summary gathered on the way.
 
-use super::executor::RowEval;
+use super::formulation::RowEval;
 use super::reactions::{Multipliers, ReactionEval};
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use crate::dae::{ConsistentState, DecoupledFormulation, ExplicitOde, MechanicsTapes};
 use crate::mech::MultibodySystem;
-use crate::solve::executor::Job;
+use crate::solve::formulation::Job;
 use crate::solve::formulation::{ExplicitProblem, Formulation, Problem, Start};
 use crate::solve::options::SolveOptions;
 use crate::solve::reactions::Multipliers;

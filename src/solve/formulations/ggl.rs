@@ -15,19 +15,20 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use super::index1::{INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN};
 use crate::dae::{
     consistent_state_from, dependent_condition, joint_condition_number, joint_conditioning,
     select_dependent, ConsistentState, GglDae, GglFormulation, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
-use crate::solve::executor::{Job, Solver};
+use crate::solve::formulation::Job;
 use crate::solve::formulation::{Ending, Formulation, ImplicitProblem, Next, Problem, Start};
 use crate::solve::options::SolveOptions;
 use crate::solve::partition::CausalPartition;
+use crate::solve::partition::{INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN};
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
+use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
 

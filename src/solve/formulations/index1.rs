@@ -26,15 +26,17 @@ use crate::dae::{
 };
 use crate::mech::MultibodySystem;
 use crate::settings::LinearSolverKind;
-use crate::solve::executor::{Job, Solver};
+use crate::solve::formulation::Job;
 use crate::solve::formulation::{
     Ending, Formulation, HandOver, ImplicitProblem, Next, Problem, Start,
 };
 use crate::solve::options::SolveOptions;
 use crate::solve::partition::CausalPartition;
+use crate::solve::partition::{INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN};
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::Summary;
+use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
 
@@ -118,18 +120,6 @@ fn q_rates_are_v(sys: &MultibodySystem) -> bool {
     let mut g = sys.graph.clone();
     (0..sys.nq()).all(|i| sys.kinematics[i] == g.var(sys.v_slot(i)))
 }
-
-/// Condition number of `G_v[:, D]` above which a fresh selection of dependent velocities is
-/// considered (checked at the output times).
-pub(crate) const INDEX1_CHECK_CONDITION: f64 = 10.0;
-
-/// The fresh selection replaces the current one when its condition is this many times smaller.
-/// The check happens at output times only, so it must fire well before the block is singular:
-/// the condition grows like `1/|cos θ|` as a dependent coordinate loses its grip (measured on a
-/// bead sliding along a pendulum bar: the dependent bead translation must change near the
-/// vertical, and a threshold of 1e4 on the current set alone let IDA run into the singular
-/// block between outputs).
-pub(crate) const INDEX1_RESELECT_GAIN: f64 = 10.0;
 
 /// The joints' and the partition's conditioning at the start of a `dae` run.
 struct HandoverWatch {

@@ -10,7 +10,7 @@ pub(crate) mod index1;
 pub(crate) mod partitioned;
 pub(crate) mod raw_graph;
 
-use super::executor::Events;
+use super::formulation::Events;
 use super::options::SolveOptions;
 use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::MechanicsTapes;

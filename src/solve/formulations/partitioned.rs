@@ -17,15 +17,16 @@ use crate::dae::{
 };
 use crate::mech::MultibodySystem;
 use crate::settings::Integrator;
-use crate::solve::executor::{Events, Job, Solver};
 use crate::solve::formulation::{
     Ending, Formulation, ImplicitProblem, Next, Problem, ReducedProblem, Start,
 };
+use crate::solve::formulation::{Events, Job};
 use crate::solve::options::SolveOptions;
 use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
+use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::{CallbackError, CvodeRootFn, SolverError};
 

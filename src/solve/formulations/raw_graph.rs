@@ -16,8 +16,8 @@ use crate::bond::equations::{BondEquations, VariableKind};
 use crate::bond::model::{BondGraph, ElementKind, Parameter};
 use crate::dae::{ExplicitOde, IdDae};
 use crate::expr::Tape;
-use crate::solve::executor::{Job, RowEval};
 use crate::solve::formulation::{ExplicitProblem, Formulation, ImplicitProblem, Problem, Start};
+use crate::solve::formulation::{Job, RowEval};
 use crate::solve::solution::Summary;
 use crate::solve::SolveError;
 
