@@ -322,10 +322,16 @@ mod tests {
     }
 
     #[test]
-    fn condition_of_the_dependent_block_is_its_singular_value_ratio() {
-        // block [[1, 0], [0, 1e-3]] → condition 1e3
+    fn grip_of_the_dependent_block_is_the_rows_largest_over_the_blocks_smallest_singular_value() {
+        // G_v = [[1, 0, 5], [0, 1e-3, 7]], block D = {0, 1} = diag(1, 1e-3): σ_min = 1e-3;
+        // σ_max(G_v)² is the larger eigenvalue of G_v G_vᵀ = [[26, 35], [35, 49 + 1e-6]]
         let g = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 5.0, 0.0, 1e-3, 7.0]);
+        let (a, b, d) = (26.0f64, 35.0f64, 49.0 + 1e-6);
+        let lmax = 0.5 * (a + d + ((a - d).powi(2) + 4.0 * b * b).sqrt());
+        let expected = lmax.sqrt() / 1e-3;
         let c = dependent_condition(&g, &[0, 1]);
-        assert!((c - 1e3).abs() < 1e-9, "{c}");
+        assert!((c / expected - 1.0).abs() < 1e-12, "{c} vs {expected}");
+        // at least the block's own condition number, 1e3
+        assert!(c >= 1e3);
     }
 }
