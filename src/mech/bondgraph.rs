@@ -13,7 +13,7 @@
 //! A spatial scene's graph is not drawn here: [`crate::mech::annotate`] builds it whole (the
 //! global `V` and body `ω` junctions of 16.1 with the Euler junction structure, the attitude
 //! quaternion carried by MTFs, one modulated sum per constraint row), and
-//! [`scene_bond_graph`] returns that complete graph.
+//! [`crate::mech::scene_bond_graph`] returns that complete graph.
 //!
 //! The inertias that causality assignment forces into differential causality here are the ones whose flows
 //! the joints impose: one per independent constraint row of the multibody system.

@@ -3,8 +3,8 @@
 //!
 //! Each kind's scene side — its own fields beyond the generic `name`, `bodies` and `points`,
 //! how they are read, checked (with their JSON paths) and written back, and their schema
-//! entries — is one file under `scene/joint_kind/` implementing [`own_fields::OwnFields`] and
-//! [`own_fields::ReadOwnFields`] (`docs/scene-format.md` §5). What a kind *does* — its
+//! entries — is one file under `scene/joint_kind/` implementing `OwnFields` and
+//! `ReadOwnFields` (`own_fields.rs`) (`docs/scene-format.md` §5). What a kind *does* — its
 //! bond-graph fragment, its closure rows `g_k(q)`, what it locks, its twin's springs, its
 //! reaction and its glyph — lives in one file per kind under `crate::mech::joints`, which
 //! dispatches on [`JointKind`] once. A new kind adds its file here and its line in

@@ -1,5 +1,5 @@
-//! Joints as types: each kind is one file holding a type that implements [`Joint`] (the trait
-//! and what the kinds share are in [`joint`], below them), and [`joint_type`] is the one
+//! Joints as types: each kind is one file holding a type that implements `Joint` (the trait
+//! and what the kinds share are in `joint.rs`, below them), and `joint_type` is the one
 //! dispatch from the scene's [`JointKind`] to it.
 //!
 //! A kind owns, in its file: its closure rows `g_k(q) = 0` over the bodies' coordinates (seed
