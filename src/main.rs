@@ -542,13 +542,7 @@ fn run_command(
             // the rows went to their sink as they came and the partial solution holds the
             // last ones only: the count is the sink's
             let s = &partial.summary;
-            let hint = match s.stopped_by.as_deref() {
-                Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
-                Some("max_wall_seconds") => {
-                    " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
-                }
-                _ => "",
-            };
+            let hint = bondmech::solve::error::budget_hint(s.stopped_by.as_deref());
             let mut note = format!(
                 "stopped at t = {}{hint}; the {written} rows up to t = {last_t} are kept",
                 s.t_reached

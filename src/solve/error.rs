@@ -71,16 +71,22 @@ impl SolveError {
     }
 }
 
-/// "stopped at t = …: the rows up to t = … are kept".
-pub(crate) fn kept(partial: &Solution) -> String {
-    let s = &partial.summary;
-    let hint = match s.stopped_by.as_deref() {
+/// What raises the budget that stopped a solve (`summary.stopped_by`), as a parenthesis for
+/// the message; empty when no budget stopped it.
+pub fn budget_hint(stopped_by: Option<&str>) -> &'static str {
+    match stopped_by {
         Some("max_steps") => " (raise solve.max_steps or --max-steps to go further)",
         Some("max_wall_seconds") => {
             " (raise solve.max_wall_seconds or --max-wall-seconds to go further)"
         }
         _ => "",
-    };
+    }
+}
+
+/// "stopped at t = …: the rows up to t = … are kept".
+pub(crate) fn kept(partial: &Solution) -> String {
+    let s = &partial.summary;
+    let hint = budget_hint(s.stopped_by.as_deref());
     match partial.times.last() {
         Some(t) => format!(
             "stopped at t = {}{hint}; the {} rows up to t = {t} are kept",
