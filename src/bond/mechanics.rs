@@ -214,9 +214,6 @@ struct Reader<'a> {
     flows: Vec<Option<Expr>>,
     bonds_of: Vec<Vec<BondId>>,
     opened: Vec<bool>,
-    /// Closures given as expressions in the arena, by constraint-junction element (not read
-    /// from the junction's text).
-    given: HashMap<ElementId, Expr>,
 }
 
 /// Reads the multibody equations of a bond graph (see the module documentation).
@@ -230,19 +227,6 @@ pub fn read_mechanics(graph: &BondGraph) -> Result<MechanicalEquations, Mechanic
 pub fn read_mechanics_in(
     graph: &BondGraph,
     arena: ExprGraph,
-) -> Result<MechanicalEquations, MechanicsError> {
-    read_mechanics_with(graph, arena, &[])
-}
-
-/// [`read_mechanics_in`] with some constraint junctions' closures `g_k` given as expressions
-/// of the arena (over its `[t, x, v]` slots) rather than read from their text: a mechanism's
-/// joints hand their closures to the graph they are drawn in this way, so no closure is
-/// printed and parsed back on the way to the solver. A given closure is checked like a
-/// written one: `d/dt g_k` must equal the junction's flow sum.
-pub fn read_mechanics_with(
-    graph: &BondGraph,
-    arena: ExprGraph,
-    closures: &[(ElementId, Expr)],
 ) -> Result<MechanicalEquations, MechanicsError> {
     let n_el = graph.elements.len();
     let mut bonds_of = vec![Vec::new(); n_el];
@@ -266,7 +250,6 @@ pub fn read_mechanics_with(
         flows: vec![None; graph.bonds.len()],
         bonds_of,
         opened,
-        given: closures.iter().copied().collect(),
     };
     r.read()
 }
@@ -563,10 +546,9 @@ impl Reader<'_> {
                 continue;
             }
             let flow = self.row(e)?;
-            let closure = match (self.given.get(&e), closure) {
-                (Some(&given), _) => Some(given),
-                (None, Some(src)) => Some(self.parse(&format!("{joint}.{direction}"), &src)?),
-                (None, None) => None,
+            let closure = match closure {
+                Some(src) => Some(self.parse(&format!("{joint}.{direction}"), &src)?),
+                None => None,
             };
             rows.push(MechanicalRow {
                 junction: e,

@@ -27,7 +27,7 @@ use super::coordinates::Geometry;
 use super::error::MechError;
 use super::system::{ConstraintRow, Coordinate, EquationSource, MultibodySystem, OutputColumn};
 use crate::bond::fragments::modulated_sum;
-use crate::bond::mechanics::{read_mechanics, read_mechanics_with, MechanicsError};
+use crate::bond::mechanics::{read_mechanics, read_mechanics_in, MechanicsError};
 use crate::bond::model::{
     BondGraph, ConstraintJunction, Displacement, ElementId, ElementKind, FlowState, GraphOutput,
     Parameter, SignalDefinition,
@@ -70,16 +70,6 @@ pub enum AnnotateError {
 /// The complete pinned bond graph of `scene`, annotated from the mechanism's geometry `sys`
 /// (coordinates, joint closures, point positions).
 pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph, AnnotateError> {
-    Ok(graph_and_closures(scene, sys)?.0)
-}
-
-/// [`mechanism_graph`] and each constraint junction's closure `g_k` as the expression the
-/// joint wrote (in `sys.graph`, over its `[t, x, v]` slots), by junction element: the graph
-/// shows the closures as text, the solver path takes the expressions.
-fn graph_and_closures(
-    scene: &Scene,
-    sys: &MultibodySystem,
-) -> Result<(BondGraph, Vec<(ElementId, Expr)>), AnnotateError> {
     let spatial = matches!(scene.dimension, Dimension::Spatial);
     let (mut g, slot_names, velocity_junctions) = if spatial {
         spatial_bodies(scene, sys)?
@@ -99,12 +89,10 @@ fn graph_and_closures(
         .enumerate()
         .map(|(i, c)| ((c.joint.clone(), c.direction.clone()), i))
         .collect();
-    let mut closures = Vec::with_capacity(sys.rows.len());
     for (k, row) in sys.rows.iter().enumerate() {
         let closure = text(&eg, sys.constraints[k]);
         if let Some(&i) = drawn.get(&(row.joint.clone(), row.direction.clone())) {
             g.constraint_junctions[i].closure = Some(closure);
-            closures.push((g.constraint_junctions[i].element, sys.constraints[k]));
             continue;
         }
         let name = format!("{}.{}", row.joint, row.direction);
@@ -122,7 +110,6 @@ fn graph_and_closures(
         g.add_bond(sum, v);
         let sf = g.add_element(name, ElementKind::Sf, Some(Parameter::Const(0.0)));
         g.add_bond(v, sf);
-        closures.push((sf, sys.constraints[k]));
         g.constraint_junctions.push(ConstraintJunction {
             element: sf,
             joint: row.joint.clone(),
@@ -233,7 +220,7 @@ fn graph_and_closures(
             });
         }
     }
-    Ok((g, closures))
+    Ok(g)
 }
 
 /// The seed's planar graph (16.8) with its bodies' displacement states and named flows; the
@@ -614,8 +601,8 @@ fn point(
 /// Replaces the assembled inertias, forces and constraint rows of `sys` by the ones read off
 /// the scene's bond graph; returns the graph it read.
 pub fn read_into(scene: &Scene, sys: &mut MultibodySystem) -> Result<Expr, AnnotateError> {
-    let (g, closures) = graph_and_closures(scene, sys)?;
-    let eqs = read_mechanics_with(&g, sys.graph.clone(), &closures)?;
+    let g = mechanism_graph(scene, sys)?;
+    let eqs = read_mechanics_in(&g, sys.graph.clone())?;
     for (what, ours, theirs) in [
         ("coordinate", &eqs.coords, &sys.coords),
         ("velocity", &eqs.velocities, &sys.velocities),
