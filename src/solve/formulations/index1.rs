@@ -318,12 +318,13 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let n = self.x.len();
         self.x.copy_from_slice(&full[..n]);
         self.t_last = t;
-        let cond = dependent_condition(&self.gv_at(t, &self.x), &self.dependent);
+        // G_v at this output, evaluated once for every check below
+        let gv = self.gv_at(t, &self.x);
+        let cond = dependent_condition(&gv, &self.dependent);
         // the causality's preference at this output (a graph assignment), assigned at most once
         let mut preferred: Option<Vec<bool>> = None;
         if self.hands_over && cond > 2.0 * self.watch.block && more {
             // the partition degrades: are the joints approaching a singular configuration?
-            let gv = self.gv_at(t, &self.x);
             let kappa = joint_condition_number(&gv, &self.sys.mass);
             // best ≤ cond: a fresh choice only matters above the hand-over's threshold
             let best = if cond > DAE_HANDOVER_CONDITION {
@@ -343,7 +344,6 @@ impl<'a> Formulation<'a> for Index1<'a> {
             }
         }
         if cond > INDEX1_CHECK_CONDITION && more {
-            let gv = self.gv_at(t, &self.x);
             // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
             // allows, no fresh choice (a causality assignment) can replace this one
             let possible = cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * block_condition_bound(&gv);
