@@ -10,7 +10,7 @@
 mod support;
 
 use serde_json::Value;
-use support::cli::{bondmech, scene, tmp};
+use support::cli::{bondmech, read_csv, scene, tmp};
 
 fn run_ok(args: &[&str]) -> String {
     let out = bondmech(args);
@@ -54,21 +54,6 @@ fn dist(a: &[f64], b: &[f64]) -> f64 {
         .map(|(x, y)| (x - y).powi(2))
         .sum::<f64>()
         .sqrt()
-}
-
-/// The CSV as (header, rows).
-fn read_csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
 }
 
 fn check_scene(file: &str) {

@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 
 use bondmech::{FormulationKind, Model, Scene, Solution};
 use common::heavy_top::{HeavyTop, TopState};
-use common::rigid_body::rot_y;
+use common::rigid_body::{quaternion_matrix, rot_y};
 use nalgebra::{Matrix3, Vector3};
 
 const T_END: f64 = 5.0;
@@ -56,22 +56,6 @@ fn model() -> Model {
     Model::new(&Scene::from_json_str(&json).expect("scene is valid")).expect("model builds")
 }
 
-/// `R(q)` of a unit quaternion `(w, x, y, z)`.
-fn rotation(q: [f64; 4]) -> Matrix3<f64> {
-    let [w, x, y, z] = q;
-    Matrix3::new(
-        1.0 - 2.0 * (y * y + z * z),
-        2.0 * (x * y - w * z),
-        2.0 * (x * z + w * y),
-        2.0 * (x * y + w * z),
-        1.0 - 2.0 * (x * x + z * z),
-        2.0 * (y * z - w * x),
-        2.0 * (x * z - w * y),
-        2.0 * (y * z + w * x),
-        1.0 - 2.0 * (x * x + y * y),
-    )
-}
-
 /// Largest attitude error (largest entry of `R − R_ref`) and centre-of-mass error over the
 /// top's length `l` at the outputs.
 fn error(sol: &Solution) -> f64 {
@@ -82,7 +66,7 @@ fn error(sol: &Solution) -> f64 {
     for (k, r) in reference.iter().enumerate() {
         assert!((sol.times[k] - r.t).abs() < 1e-12);
         let v = |c: &str| sol.value(k, &format!("top.{c}")).expect("column");
-        let attitude = rotation([v("qw"), v("qx"), v("qy"), v("qz")]);
+        let attitude = quaternion_matrix([v("qw"), v("qx"), v("qy"), v("qz")]);
         let da = (attitude - r.rotation).abs().max();
         let centre = Vector3::new(v("x"), v("y"), v("z"));
         let dc = (centre - top.centre(r)).norm() / top.l;

@@ -12,7 +12,7 @@ use std::process::{Command, Stdio};
 use bondmech::{Error, FormulationKind, Model, Scene, SolveOptions};
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
 use serde_json::{json, Value};
-use support::cli::{bondmech, scene, tmp};
+use support::cli::{bondmech, read_csv, scene, tmp};
 
 fn bundled(name: &str) -> Value {
     serde_json::from_str(&std::fs::read_to_string(scene(name)).unwrap()).unwrap()
@@ -22,21 +22,6 @@ fn write_scene(name: &str, v: &Value) -> String {
     let p = tmp(name);
     std::fs::write(&p, v.to_string()).unwrap();
     p.display().to_string()
-}
-
-/// `(header, rows)` of a CSV file written by `run`.
-fn read_csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
 }
 
 fn stderr(out: &std::process::Output) -> String {

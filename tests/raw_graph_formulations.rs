@@ -13,12 +13,14 @@
 //! `summary.formulation` names what ran, always.
 
 mod common;
+mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use common::double_pendulum::{simulate_double_pendulum, DoublePendulum};
 use serde_json::{json, Value};
+use support::cli::read_csv;
 
 const BIN: &str = env!("CARGO_BIN_EXE_bondmech");
 const G: f64 = 9.81;
@@ -109,17 +111,7 @@ fn run(scene: &Path, f: &str, extra: &[&str]) -> Result<Run, String> {
         return Err(String::from_utf8_lossy(&out.stderr).to_string());
     }
     let s: Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    let columns = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let (columns, rows) = read_csv(&std::fs::read_to_string(&csv).unwrap());
     Ok((s, columns, rows))
 }
 

@@ -74,6 +74,23 @@ pub fn cardan_angles(r: &Matrix3<f64>) -> [f64; 3] {
     [psi, theta, phi]
 }
 
+/// The rotation matrix of a unit quaternion `q = (w, x, y, z)`:
+/// `R = (w² − |v|²) I + 2 v vᵀ + 2 w [v]ₓ`, written out.
+pub fn quaternion_matrix(q: [f64; 4]) -> Matrix3<f64> {
+    let [w, x, y, z] = q;
+    Matrix3::new(
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y - w * z),
+        2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z),
+        1.0 - 2.0 * (x * x + z * z),
+        2.0 * (y * z - w * x),
+        2.0 * (x * z - w * y),
+        2.0 * (y * z + w * x),
+        1.0 - 2.0 * (x * x + y * y),
+    )
+}
+
 /// Skew matrix [ω]× with [ω]× v = ω × v.
 pub fn skew(w: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -w.z, w.y, w.z, 0.0, -w.x, -w.y, w.x, 0.0)

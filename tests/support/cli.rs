@@ -26,3 +26,19 @@ pub fn scene(name: &str) -> String {
         .display()
         .to_string()
 }
+
+/// `(header, rows)` of a CSV file written by `bondmech run` (a header line of column names,
+/// then one line of numbers per output time).
+pub fn read_csv(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
