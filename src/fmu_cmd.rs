@@ -88,6 +88,8 @@ fn to_error(e: FmuError) -> Error {
 
 /// Writes the FMU and prints what it holds.
 pub fn export(args: &FmuArgs) -> Result<(), Error> {
+    // the FMU never replaces the scene it is made from (nor a link to it), checked before work
+    bondmech::output::check_outputs(&[&args.scene], &[("--out", Some(&args.out))])?;
     let (text, stem) = bondmech::scene::path::read_scene_text(&args.scene)?;
     let options = ExportOptions {
         fmi: if args.fmi == "2" {
@@ -103,7 +105,7 @@ pub fn export(args: &FmuArgs) -> Result<(), Error> {
     let lib_path = library_path(args.library.as_deref())?;
     let library = std::fs::read(&lib_path).map_err(|e| io(&lib_path, e))?;
     let bytes = config.archive(&text, &library).map_err(to_error)?;
-    std::fs::write(&args.out, bytes).map_err(|e| io(&args.out, e))?;
+    bondmech::output::write_atomic(&args.out, &bytes).map_err(|e| io(&args.out, e))?;
     let count = |k| config.of_kind(k).count();
     use bondmech::fmu::VariableKind::*;
     println!(

@@ -4,10 +4,14 @@
 //!   input (the same file by device and inode, so a hard link or a symbolic link of the scene
 //!   is caught as well as its path), an output given twice, and a file or directory that
 //!   cannot be written or made — naming the flag.
-//! * [`AtomicFile`] writes beside the target (a temporary file in the same directory) and
-//!   renames it into place when complete: a run killed mid-write leaves the previous file (or
-//!   no file), never a file cut mid-row. Writing through a symbolic link replaces the file it
-//!   points to and keeps the link.
+//! * [`AtomicFile`] writes a regular file (or a path that does not exist yet) beside the target
+//!   (a temporary file in the same directory) and renames it into place when complete: a run
+//!   killed mid-write leaves the previous file (or no file), never a file cut mid-row. Writing
+//!   through a symbolic link replaces the file it points to and keeps the link. Anything else
+//!   — a device such as `/dev/null`, a FIFO, a socket — is written in place, streaming, and is
+//!   never renamed over: replacing `/dev/null` with a regular file would break every program
+//!   on the machine. Every write, the final flush and the sync are checked: a full device or
+//!   disk is an error naming the file, never a success with a truncated file.
 //! * [`CsvRows`] writes a trajectory (`t`, then the columns) row by row through the `csv`
 //!   crate, so names holding a comma or a quote are quoted per RFC 4180 and memory stays
 //!   bounded whatever the number of rows.
@@ -147,6 +151,18 @@ fn writable(flag: &str, path: &Path) -> Result<(), OutputError> {
         return refuse("is a directory".into());
     }
     let target = write_target(path);
+    match std::fs::metadata(&target) {
+        // a FIFO: opening it for writing waits for its reader, so it is not opened now
+        Ok(m) if is_fifo(&m) => return Ok(()),
+        // a device or socket is written in place: only the node itself must be writable
+        Ok(m) if !m.is_file() => {
+            return match std::fs::OpenOptions::new().write(true).open(&target) {
+                Ok(_) => Ok(()),
+                Err(e) => refuse(format!("cannot be written ({e})")),
+            }
+        }
+        _ => {}
+    }
     if target.exists() {
         if let Err(e) = std::fs::OpenOptions::new().append(true).open(&target) {
             return refuse(format!("cannot be written ({e})"));
@@ -242,27 +258,65 @@ fn write_target(path: &Path) -> PathBuf {
     }
 }
 
-/// A file written beside its target and renamed into place by [`AtomicFile::commit`]; dropped
-/// without a commit (an error, a panic), it is removed and the target is left as it was.
+/// Whether `m` is a FIFO (named pipe).
+fn is_fifo(m: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    m.file_type().is_fifo()
+}
+
+/// Where an [`AtomicFile`]'s bytes go.
+enum Sink {
+    /// A temporary file beside a regular target, renamed over it by the commit.
+    Temp(tempfile::NamedTempFile),
+    /// The target itself, opened for writing: a device, a FIFO or a socket (never renamed over).
+    InPlace(std::fs::File),
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Sink::Temp(f) => f.write(buf),
+            Sink::InPlace(f) => f.write(buf),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Sink::Temp(f) => f.flush(),
+            Sink::InPlace(f) => f.flush(),
+        }
+    }
+}
+
+/// An output file: a regular file written beside its target and renamed into place by
+/// [`AtomicFile::commit`] (dropped without a commit, on an error or a panic, the temporary file
+/// is removed and the target is left as it was), or a device, FIFO or socket written in place.
 pub struct AtomicFile {
     target: PathBuf,
-    file: io::BufWriter<tempfile::NamedTempFile>,
+    file: io::BufWriter<Sink>,
 }
 
 impl AtomicFile {
-    /// Starts writing `path`: a temporary file `.NAME.XXXXXX.tmp` in the same directory, with
-    /// the permissions of the file it replaces (or the usual ones, umask applied).
+    /// Starts writing `path`: for a regular file (or a new one), a temporary file
+    /// `.NAME.XXXXXX.tmp` in the same directory, with the permissions of the file it replaces
+    /// (or the usual ones, umask applied); for a device, FIFO or socket, the node itself
+    /// (a FIFO's open waits for its reader, as a shell's `>` does).
     pub fn create(path: &Path) -> io::Result<AtomicFile> {
         use std::os::unix::fs::PermissionsExt;
         let target = write_target(path);
+        let meta = std::fs::metadata(&target).ok();
+        if meta.as_ref().is_some_and(|m| !m.is_file() && !m.is_dir()) {
+            let file = std::fs::OpenOptions::new().write(true).open(&target)?;
+            return Ok(AtomicFile {
+                target,
+                file: io::BufWriter::with_capacity(1 << 16, Sink::InPlace(file)),
+            });
+        }
         let dir = parent_dir(&target);
         let name = target
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "output".into());
-        let mode = std::fs::metadata(&target)
-            .map(|m| m.permissions().mode() & 0o7777)
-            .unwrap_or(0o666);
+        let mode = meta.map_or(0o666, |m| m.permissions().mode() & 0o7777);
         let tmp = tempfile::Builder::new()
             .prefix(&format!(".{name}."))
             .suffix(".tmp")
@@ -270,19 +324,28 @@ impl AtomicFile {
             .tempfile_in(&dir)?;
         Ok(AtomicFile {
             target,
-            file: io::BufWriter::with_capacity(1 << 16, tmp),
+            file: io::BufWriter::with_capacity(1 << 16, Sink::Temp(tmp)),
         })
     }
 
-    /// Flushes, syncs and renames the file into place.
+    /// Flushes and syncs the bytes, then renames a temporary file into place. A write error
+    /// (a full disk or device) is returned, and the temporary file removed.
     pub fn commit(self) -> io::Result<()> {
-        let tmp = self.file.into_inner().map_err(|e| e.into_error())?;
-        tmp.as_file().sync_all()?;
-        tmp.persist(&self.target).map_err(|e| e.error)?;
+        match self.file.into_inner().map_err(|e| e.into_error())? {
+            Sink::Temp(tmp) => {
+                tmp.as_file().sync_all()?;
+                tmp.persist(&self.target).map_err(|e| e.error)?;
+            }
+            Sink::InPlace(f) => match f.sync_all() {
+                // a character device, FIFO or socket has nothing to sync (EINVAL)
+                Err(e) if e.raw_os_error() == Some(22) => {}
+                other => other?,
+            },
+        }
         Ok(())
     }
 
-    /// The file this will replace.
+    /// The file this writes (the target of a symbolic link).
     pub fn target(&self) -> &Path {
         &self.target
     }

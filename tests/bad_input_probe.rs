@@ -3,6 +3,9 @@
 //! items (an output onto a hard or symbolic link of the input, a SIGTERM mid-write, a 1e7-row
 //! run and 6000 free bodies under `ulimit -v 4194304`).
 
+#[path = "support/nodes.rs"]
+#[allow(dead_code)] // the probe uses the sink only
+mod nodes;
 mod service_support;
 
 use std::path::{Path, PathBuf};
@@ -118,6 +121,7 @@ fn assert_clear_error(o: &Output, fragments: &[&str]) {
 #[test]
 fn regression_max_wall_seconds_1e20_panicked_in_duration_from_secs_f64() {
     let p = scene_path("pendulum.json");
+    let out = dir("wall1e20").join("o.csv");
     let o = run_within(
         &[
             "run",
@@ -125,7 +129,7 @@ fn regression_max_wall_seconds_1e20_panicked_in_duration_from_secs_f64() {
             "--max-wall-seconds",
             "1e20",
             "--out",
-            "/dev/null",
+            out.to_str().unwrap(),
         ],
         Duration::from_secs(60),
     )
@@ -374,10 +378,11 @@ fn regression_6000_free_bodies_aborted_under_ulimit_v_4_gib_instead_of_being_ref
     let d = dir("free6000");
     let p = d.join("free.json");
     std::fs::write(&p, free_bodies_scene(6000).to_string()).unwrap();
+    let out = d.join("o.csv");
     let started = Instant::now();
     let o = run_shell_within(
         Some(4_194_304),
-        &["run", p.to_str().unwrap(), "--out", "/dev/null"],
+        &["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()],
         Duration::from_secs(120),
     )
     .expect("no hang");
@@ -428,9 +433,11 @@ fn regression_1e6_rows_aborted_under_a_200_mb_address_space_instead_of_streaming
 
 #[test]
 fn a_1e7_row_run_under_ulimit_v_4_gib_completes_streaming_to_its_sink() {
-    // the documented row limit, 1e7 rows (t_end 10 s at 1e-6 s), streamed to /dev/null
+    // the documented row limit, 1e7 rows (t_end 10 s at 1e-6 s), streamed to a sink that
+    // discards them (a null device node made in the test's directory, or a drained FIFO)
     let d = dir("rows1e7");
     let summary = d.join("s.json");
+    let (sink, reader) = nodes::discard_sink(&d);
     let p = scene_path("bg_mass_spring_damper.json");
     let o = run_shell_within(
         Some(4_194_304),
@@ -440,7 +447,7 @@ fn a_1e7_row_run_under_ulimit_v_4_gib_completes_streaming_to_its_sink() {
             "--set",
             "solve.output_step=1e-6",
             "--out",
-            "/dev/null",
+            sink.to_str().unwrap(),
             "--summary",
             summary.to_str().unwrap(),
         ],
@@ -451,6 +458,14 @@ fn a_1e7_row_run_under_ulimit_v_4_gib_completes_streaming_to_its_sink() {
     let s: Value = serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
     assert_eq!(s["completed"], true);
     assert_eq!(s["t_reached"], 10.0);
+    if let Some(r) = reader {
+        assert!(
+            r.join().unwrap() > 1_000_000_000,
+            "the rows went through the FIFO"
+        );
+    } else {
+        assert!(nodes::is_char_device(&sink), "the sink is still a device");
+    }
 }
 
 #[test]
@@ -481,6 +496,7 @@ fn rows_kept_in_memory_beyond_the_limit_are_refused_up_front_naming_the_setting(
 #[test]
 fn regression_t_start_1e300_stepped_forever_because_t_plus_h_equals_t() {
     let p = scene_path("pendulum.json");
+    let out = dir("t1e300").join("o.csv");
     let o = run_within(
         &[
             "run",
@@ -492,7 +508,7 @@ fn regression_t_start_1e300_stepped_forever_because_t_plus_h_equals_t() {
             "--set",
             "solve.output_step=1e298",
             "--out",
-            "/dev/null",
+            out.to_str().unwrap(),
         ],
         Duration::from_secs(60),
     )

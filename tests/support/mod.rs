@@ -5,4 +5,5 @@
 
 pub mod bond;
 pub mod cli;
+pub mod nodes;
 pub mod solve;
