@@ -36,6 +36,12 @@ pub struct Index1Formulation {
     pub dependent: Vec<usize>,
     /// Dependent coordinate indices (sorted; the velocity indices when `q' = v`).
     pub coordinates: Vec<usize>,
+    /// The joint rows the dependent block is solved from (sorted): every row, or, where the
+    /// joints are redundant, a maximal independent set ([`independent_rows`]); the other rows'
+    /// multipliers are held at zero.
+    pub rows: Vec<usize>,
+    /// Multipliers `λ`: one per joint row, redundant rows included.
+    pub multipliers: usize,
     /// 1 for differential unknowns, 0 for algebraic.
     pub id: Vec<f64>,
 }
@@ -146,8 +152,8 @@ impl Index1Formulation {
     /// (the dynamics of the dependent inertias and the acceleration constraints, the saddle
     /// `[M_D G_Dᵀ; G_D 0]`).
     pub fn schur_split(&self, nq: usize) -> (Vec<usize>, Vec<Vec<usize>>) {
-        let nc = self.dependent.len();
-        let nv = self.dae.n - 2 * nc - nq;
+        let r = self.dependent.len();
+        let nv = self.dae.n - nq - r - self.multipliers;
         let outer = (0..nq)
             .filter(|i| !self.coordinates.contains(i))
             .chain(
@@ -187,11 +193,13 @@ impl Index1Formulation {
                 "the index-1 formulation with one dependent set needs q' = v (planar bodies in the default non-rotating frame); give the dependent coordinates too",
             ));
         }
-        Self::build_partitioned(sys, c, dependent, dependent)
+        let rows: Vec<usize> = (0..sys.nc()).collect();
+        Self::build_partitioned(sys, c, dependent, dependent, &rows)
     }
 
     /// Builds the residual for dependent velocities `dependent` and dependent coordinates
-    /// `coordinates` (each `nc` indices, `G_v[:, D]` and `G_q[:, D_q]` nonsingular) of a
+    /// `coordinates` (each `r` indices, `r` = `rows.len()`, the independent joint rows `R`:
+    /// every row unless the joints are redundant; `G_v[R, D]` and `G_q[R, D_q]` nonsingular) of a
     /// mechanism whose coordinates move as `q' = K(q) v` (quaternions of 3D bodies, body-fixed
     /// planar frames, or `K = I`):
     ///
@@ -204,27 +212,34 @@ impl Index1Formulation {
     ///   0 = G_I v_I' + G_D a_D + γ        (determines λ)
     /// ```
     ///
-    /// Slots: `y = [q, v, a_D, λ]` at `1..=n`, `y'` at `n+1..=2n`.
+    /// with `g`, `G_v v` and the acceleration rows taken over the rows `R` only, and `λ_k = 0`
+    /// for a row `k` outside `R` (a redundant row: its force is not determined by the motion,
+    /// and the reactions reported take it as zero).
+    ///
+    /// Slots: `y = [q, v, a_D, λ]` at `1..=n` (`a_D` of length `r`, `λ` one per row), `y'` at
+    /// `n+1..=2n`.
     pub fn build_partitioned(
         sys: &mut MultibodySystem,
         c: &ConstraintExprs,
         dependent: &[usize],
         coordinates: &[usize],
+        rows: &[usize],
     ) -> Result<Self, MechError> {
         let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-        if dependent.len() != nc || coordinates.len() != nc {
+        let r = rows.len();
+        if dependent.len() != r || coordinates.len() != r || rows.iter().any(|&k| k >= nc) {
             return Err(MechError::at(
                 "solve.formulation",
                 format!(
-                    "index-1 needs {nc} dependent velocities and coordinates, got {} and {}",
+                    "index-1 needs {r} dependent velocities and coordinates for its {r} independent rows of {nc}, got {} and {}",
                     dependent.len(),
                     coordinates.len()
                 ),
             ));
         }
-        let n = nq + nv + 2 * nc;
+        let n = nq + nv + r + nc;
         let a_slot = |k: usize| (1 + nq + nv + k) as u32;
-        let lam = |k: usize| (1 + nq + nv + nc + k) as u32;
+        let lam = |k: usize| (1 + nq + nv + r + k) as u32;
         let qp = |i: usize| (1 + n + i) as u32;
         let vp = |j: usize| (1 + n + nq + j) as u32;
         let dpos = |j: usize| dependent.iter().position(|&d| d == j);
@@ -234,7 +249,7 @@ impl Index1Formulation {
         // q rows
         for i in 0..nq {
             match qpos(i) {
-                Some(k) => res.push(c.g[k]),
+                Some(k) => res.push(c.g[rows[k]]),
                 None => {
                     let a = g.var(qp(i));
                     res.push(g.sub(a, sys.kinematics[i]));
@@ -255,7 +270,7 @@ impl Index1Formulation {
         };
         for j in 0..nv {
             match dpos(j) {
-                Some(k) => res.push(c.gvv[k]),
+                Some(k) => res.push(c.gvv[rows[k]]),
                 None => {
                     let a = g.var(vp(j));
                     res.push(dyn_row(g, j, a));
@@ -267,6 +282,11 @@ impl Index1Formulation {
             res.push(dyn_row(g, j, a));
         }
         for k in 0..nc {
+            if !rows.contains(&k) {
+                // a redundant row: its multiplier is held at zero
+                res.push(g.var(lam(k)));
+                continue;
+            }
             let mut terms = vec![c.gamma[k]];
             for j in 0..nv {
                 if g.is_zero(c.gv[k][j]) {
@@ -287,14 +307,94 @@ impl Index1Formulation {
         for j in 0..nv {
             id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
         }
-        id.extend(std::iter::repeat_n(0.0, 2 * nc));
+        id.extend(std::iter::repeat_n(0.0, r + nc));
         Ok(Index1Formulation {
             dae: ImplicitDae::build(g, &res, n),
             dependent: dependent.to_vec(),
             coordinates: coordinates.to_vec(),
+            rows: rows.to_vec(),
+            multipliers: nc,
             id,
         })
     }
+}
+
+/// The rows of `gv` that determine the motion where `redundant` of its rows are redundant
+/// (sorted; all rows when `redundant` is 0): the rows left out are those where the joints'
+/// self-stress — the left null space `N` of `gv`, `Nᵀ G_v = 0`, the eigenvectors of `G_v G_vᵀ`
+/// of its `redundant` smallest eigenvalues — is held best ([`select_dependent`] on `Nᵀ`, the
+/// rows in `prefer` (the causality's redundant junctions) first). Leaving out rows `L` keeps
+/// the rank exactly when `N[L, :]` is regular, and the kept rows are best conditioned when it
+/// is well conditioned. `None` when no such choice exists.
+///
+/// ```
+/// use bondmech::dae::independent_rows;
+/// use nalgebra::DMatrix;
+/// // the third row is the sum of the first two: N ∝ (1, 1, −1), any one row can go
+/// let g = DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0, 3.0]);
+/// assert_eq!(independent_rows(&g, 1, &[2]), Some(vec![0, 1]));
+/// assert_eq!(independent_rows(&g, 1, &[0]), Some(vec![1, 2]));
+/// // a row of zeros is the one left out, whatever is preferred
+/// let z = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 0.0, 0.0]);
+/// assert_eq!(independent_rows(&z, 1, &[0]), Some(vec![0]));
+/// ```
+pub fn independent_rows(
+    gv: &DMatrix<f64>,
+    redundant: usize,
+    prefer: &[usize],
+) -> Option<Vec<usize>> {
+    let m = gv.nrows();
+    if redundant == 0 {
+        return Some((0..m).collect());
+    }
+    let nt = self_stress(gv, redundant)?;
+    let mask: Vec<bool> = (0..m).map(|k| prefer.contains(&k)).collect();
+    let left = select_dependent(&nt, &mask)?;
+    Some((0..m).filter(|k| !left.contains(k)).collect())
+}
+
+/// `Nᵀ` (`redundant × rows`): the orthonormal left null space of `gv`, `Nᵀ G_v = 0`, as the
+/// eigenvectors of `G_v G_vᵀ` of its `redundant` smallest eigenvalues. `None` when `redundant`
+/// exceeds the rows.
+fn self_stress(gv: &DMatrix<f64>, redundant: usize) -> Option<DMatrix<f64>> {
+    let m = gv.nrows();
+    if redundant > m {
+        return None;
+    }
+    let eig = (gv * gv.transpose()).symmetric_eigen();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    Some(DMatrix::from_fn(redundant, m, |i, k| {
+        eig.eigenvectors[(k, order[i])]
+    }))
+}
+
+/// How well leaving out the rows outside `rows` keeps the rank of `gv`, `redundant` of whose
+/// rows are redundant: `σ_min(N[L, :])` with `L` the rows left out and `N` the orthonormal
+/// self-stress ([`independent_rows`]), in `[0, 1]`; 0 when the kept rows lose rank (the
+/// self-stress has no component on the rows left out), 1 when nothing is redundant.
+///
+/// ```
+/// use bondmech::dae::redundant_row_grip;
+/// use nalgebra::DMatrix;
+/// // rows 0 and 1 repeat each other: N = (1, −1)/√2, either row can go
+/// let g = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 1.0, 2.0]);
+/// assert!((redundant_row_grip(&g, 1, &[0]) - 0.5f64.sqrt()).abs() < 1e-12);
+/// ```
+pub fn redundant_row_grip(gv: &DMatrix<f64>, redundant: usize, rows: &[usize]) -> f64 {
+    if redundant == 0 {
+        return 1.0;
+    }
+    let Some(nt) = self_stress(gv, redundant) else {
+        return 0.0;
+    };
+    let left: Vec<usize> = (0..gv.nrows()).filter(|k| !rows.contains(k)).collect();
+    if left.len() != redundant {
+        return 0.0;
+    }
+    DMatrix::from_fn(redundant, redundant, |i, j| nt[(i, left[j])])
+        .singular_values()
+        .min()
 }
 
 #[cfg(test)]

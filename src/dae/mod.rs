@@ -31,7 +31,10 @@ pub use compiled::{ExplicitOde, ImplicitDae, Workspace};
 pub use decoupled::DecoupledFormulation;
 pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
-pub use index1::{block_condition_bound, dependent_condition, select_dependent, Index1Formulation};
+pub use index1::{
+    block_condition_bound, dependent_condition, independent_rows, redundant_row_grip,
+    select_dependent, Index1Formulation,
+};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};

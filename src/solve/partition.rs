@@ -105,7 +105,7 @@ impl CausalPartition {
     /// The velocities whose inertias the assignment at the start puts in differential causality
     /// (the `differential[].element` of `graph --causality`), sorted; `None` when the
     /// velocities are not one inertia each or the assignment does not give one dependent
-    /// velocity per constraint row.
+    /// velocity per independent constraint row (the rows less the redundant ones it names).
     pub fn dependent(&self) -> Option<Vec<usize>> {
         let report = self.start.as_ref()?;
         if self.inertias.is_empty() {
@@ -118,7 +118,27 @@ impl CausalPartition {
             .collect();
         dependent.sort_unstable();
         dependent.dedup();
-        (dependent.len() == self.nc).then_some(dependent)
+        let rank = self.nc - report.redundant.len().min(self.nc);
+        (dependent.len() == rank).then_some(dependent)
+    }
+
+    /// The joint rows (indices into `rows`) that the assignment at the start names redundant
+    /// (`redundant[]` of `graph --causality`: a junction `joint.direction`), sorted.
+    pub fn redundant_rows(&self, rows: &[crate::mech::ConstraintRow]) -> Vec<usize> {
+        let Some(report) = self.start.as_ref() else {
+            return Vec::new();
+        };
+        let mut out: Vec<usize> = report
+            .redundant
+            .iter()
+            .filter_map(|r| {
+                rows.iter()
+                    .position(|row| row.joint == r.joint && row.direction == r.direction)
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// Which velocities the assignment at the configuration `q` at `t` puts in differential

@@ -65,7 +65,13 @@ fn solve_from_first_output(
         formulation: opts.formulation.name().into(),
         ..Summary::default()
     };
-    if !init.redundant_joints.is_empty() {
+    // the chapter's index-1 DAE leaves redundant rows out of its dependent block (and says so);
+    // the other IDA formulations take the compliant GGL
+    let index1 = matches!(
+        opts.formulation,
+        FormulationKind::Dae | FormulationKind::Index1
+    );
+    if !init.redundant_joints.is_empty() && !index1 {
         summary.warnings.push(format!(
             "redundant constraints at t = {t0}: joints [{}] are linearly dependent; solved with the compliant GGL",
             init.redundant_joints.join(", ")
@@ -101,18 +107,11 @@ fn solve_from_first_output(
             summary.formulation = "index1".into();
             index1::job(sys, &c, tapes, &init, opts, &mut summary)
         }
-        FormulationKind::Dae if init.redundant_joints.is_empty() => {
+        FormulationKind::Dae => {
             summary.formulation = "dae".into();
             index1::job(sys, &c, tapes, &init, opts, &mut summary)
         }
-        FormulationKind::Dae | FormulationKind::Ggl | FormulationKind::CompliantGgl => {
-            if opts.formulation == FormulationKind::Dae {
-                // the index-1 DAE does not apply (the arm above): the GGL, said so
-                summary.formulation = "ggl".into();
-                summary.warnings.push(
-                    "dae: the chapter's index-1 DAE does not apply to this mechanism (its joints are redundant); solved with ggl".into()
-                );
-            }
+        FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let eps_default = default_compliance(&sys, opts);
             let eps = if opts.formulation == FormulationKind::CompliantGgl
                 || !init.redundant_joints.is_empty()

@@ -20,9 +20,10 @@ use cpu_time::ThreadTime;
 use nalgebra::DMatrix;
 
 use crate::dae::{
-    block_condition_bound, consistent_state_from, dependent_condition, joint_condition_number,
-    joint_conditioning, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
-    GglFormulation, Index1Formulation, MechanicsTapes,
+    block_condition_bound, consistent_state_from, dependent_condition, independent_rows,
+    joint_condition_number, joint_conditioning, redundant_row_grip, select_dependent,
+    ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation, Index1Formulation,
+    MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::settings::LinearSolverKind;
@@ -51,33 +52,34 @@ use crate::sundials::SolverError;
 /// on the joints to the Newton tolerance, as the steps do.
 fn complete_dependent(
     tapes: &MechanicsTapes,
-    (dependent, coordinates): (&[usize], &[usize]),
+    (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
     t: f64,
     y: &mut [f64],
 ) {
-    let (nq, nv, nc) = tapes.dims;
+    let (nq, nv, _) = tapes.dims;
+    let nc = rows.len();
     if nc == 0 || dependent.len() != nc || coordinates.len() != nc {
         return;
     }
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for _ in 0..4 {
         let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
-        if g.iter().all(|v| v.abs() <= 1e-15 * scale) {
+        if rows.iter().all(|&k| g[k].abs() <= 1e-15 * scale) {
             break;
         }
         let gq = tapes.gq.matrix(t, &y[..nq + nv]);
-        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(r, coordinates[k])]);
-        let Some(dq) = block
-            .lu()
-            .solve(&nalgebra::DVector::from_iterator(nc, g.iter().map(|v| -v)))
-        else {
+        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(rows[r], coordinates[k])]);
+        let Some(dq) = block.lu().solve(&nalgebra::DVector::from_iterator(
+            nc,
+            rows.iter().map(|&k| -g[k]),
+        )) else {
             return;
         };
         for (k, &i) in coordinates.iter().enumerate() {
             y[i] += dq[k];
         }
     }
-    let gv = tapes.gv.matrix(t, &y[..nq + nv]);
+    let gv = rows_of(&tapes.gv.matrix(t, &y[..nq + nv]), rows);
     let block = DMatrix::from_fn(nc, nc, |r, k| gv[(r, dependent[k])]);
     let rhs = nalgebra::DVector::from_fn(nc, |r, _| {
         -(0..nv)
@@ -92,6 +94,37 @@ fn complete_dependent(
     }
 }
 
+/// The rows `rows` of `m` (all of them when `rows` lists every row).
+fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
+    if rows.len() == m.nrows() {
+        return m.clone();
+    }
+    DMatrix::from_fn(rows.len(), m.ncols(), |r, j| m[(rows[r], j)])
+}
+
+/// The multipliers of the independent rows `rows` that exert the same generalized forces as
+/// `λ` (a least-squares solution over all rows, as the consistent start gives it), with the
+/// other rows' held at zero: `λ_R = (G_R G_Rᵀ)⁻¹ G_R (G_vᵀ λ)`, exact where `G_R` spans the row
+/// space of `G_v`. `λ` itself when every row is independent.
+fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
+    if rows.len() == gv.nrows() {
+        return lambda.to_vec();
+    }
+    let force = gv.transpose() * nalgebra::DVector::from_column_slice(lambda);
+    let gr = rows_of(gv, rows);
+    let normal = &gr * gr.transpose();
+    let rhs = &gr * force;
+    let lr = normal
+        .cholesky()
+        .map(|c| c.solve(&rhs))
+        .unwrap_or_else(|| nalgebra::DVector::zeros(rows.len()));
+    let mut out = vec![0.0; gv.nrows()];
+    for (k, &row) in rows.iter().enumerate() {
+        out[row] = lr[k];
+    }
+    out
+}
+
 /// The dependent coordinates of the index-1 DAE for the dependent velocities `dependent`: the
 /// same indices where `q' = v`; otherwise `nc` columns of `G_q` chosen as
 /// [`select_dependent`] chooses velocities, the translations first (a 3D body's position, not
@@ -99,14 +132,14 @@ fn complete_dependent(
 fn dependent_coordinates(
     sys: &MultibodySystem,
     tapes: &MechanicsTapes,
-    t: f64,
-    x: &[f64],
+    (t, x): (f64, &[f64]),
     dependent: &[usize],
+    rows: &[usize],
 ) -> Option<Vec<usize>> {
     if q_rates_are_v(sys) {
         return Some(dependent.to_vec());
     }
-    let gq = tapes.gq.matrix(t, x);
+    let gq = rows_of(&tapes.gq.matrix(t, x), rows);
     select_dependent(&gq, &crate::dae::partition::preferred_coordinates(sys))
 }
 
@@ -145,6 +178,12 @@ const DAE_HANDOVER_RISE: f64 = 10.0;
 /// centre is not one: the crank angle stays a regular state there).
 const DAE_HANDOVER_CONDITION: f64 = 1e3;
 
+/// How much better a fresh set of independent joint rows must hold the rank
+/// ([`redundant_row_grip`]) than the running one for a restart with it: the grip of the rows
+/// left out falls like `|sin φ|` as the self-stress turns away from them, and a fresh set is
+/// taken while the running one still holds a quarter of it.
+const REDUNDANT_ROWS_GAIN: f64 = 4.0;
+
 /// The index-1 DAE with its re-selections and (for `dae`) its hand-over to the GGL.
 struct Index1<'a> {
     sys: MultibodySystem,
@@ -161,6 +200,12 @@ struct Index1<'a> {
     /// The dependent velocities and coordinates of the running segment.
     dependent: Vec<usize>,
     coordinates: Vec<usize>,
+    /// The joint rows the running segment solves its dependent block from: every row, or a
+    /// maximal independent set where the joints are redundant ([`independent_rows`]).
+    rows: Vec<usize>,
+    /// Redundant joints: how many rows are redundant, and the rows the causality names
+    /// redundant (left out first where they can be).
+    redundant: Option<(usize, Vec<usize>)>,
     /// The causality's dependent inertias, for the first segment.
     from_causality: Option<Vec<usize>>,
     watch: HandoverWatch,
@@ -171,8 +216,9 @@ struct Index1<'a> {
 }
 
 impl<'a> Index1<'a> {
+    /// `G_v` over the running segment's rows at `(t, x)`.
     fn gv_at(&self, t: f64, x: &[f64]) -> DMatrix<f64> {
-        self.tapes.gv.matrix(t, x)
+        rows_of(&self.tapes.gv.matrix(t, x), &self.rows)
     }
 
     fn nq(&self) -> usize {
@@ -186,14 +232,20 @@ impl<'a> Index1<'a> {
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
-        let ggl = GglFormulation::build(&mut sys, self.c, 0.0);
+        // redundant joints need the compliant form throughout
+        let eps = if self.redundant.is_some() {
+            eps_default
+        } else {
+            0.0
+        };
+        let ggl = GglFormulation::build(&mut sys, self.c, eps);
         let build_seconds = tb.elapsed().as_secs_f64();
         let job = super::ggl::job(
             sys,
             ggl,
             self.tapes.clone(),
             &init,
-            (0.0, eps_default),
+            (eps, eps_default),
             t_h,
             &self.opts,
         );
@@ -215,7 +267,23 @@ impl<'a> Formulation<'a> for Index1<'a> {
 
     fn segment(&mut self, t_start: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
-        let gv = self.gv_at(t_start, &self.x);
+        let full = self.tapes.gv.matrix(t_start, &self.x);
+        if let Some((d, hint)) = &self.redundant {
+            // the causality's choice at the start, the best-held rows at a re-selection
+            let hint: &[usize] = if self.reselections == 0 { hint } else { &[] };
+            match independent_rows(&full, *d, hint) {
+                Some(rows) => self.rows = rows,
+                None if self.hands_over => {
+                    let h = self.hand_over(t_start, "no regular set of independent joint rows")?;
+                    return Ok(Start::HandOver(h));
+                }
+                None => {}
+            }
+        } else {
+            self.rows = (0..nc).collect();
+        }
+        let r = self.rows.len();
+        let gv = rows_of(&full, &self.rows);
         let chosen = self
             .from_causality
             .take()
@@ -238,9 +306,13 @@ impl<'a> Formulation<'a> for Index1<'a> {
         if self.reselections == 0 {
             (summary.states, summary.dependent) = self.causal.names(&dependent);
         }
-        let Some(coordinates) =
-            dependent_coordinates(&self.sys, &self.tapes, t_start, &self.x, &dependent)
-        else {
+        let Some(coordinates) = dependent_coordinates(
+            &self.sys,
+            &self.tapes,
+            (t_start, &self.x),
+            &dependent,
+            &self.rows,
+        ) else {
             if self.hands_over {
                 let h = self.hand_over(t_start, "no regular set of dependent coordinates")?;
                 return Ok(Start::HandOver(h));
@@ -250,22 +322,27 @@ impl<'a> Formulation<'a> for Index1<'a> {
                 what: "the joints' position rows lose rank: no set of dependent coordinates exists; use the ggl formulation".into(),
             }));
         };
-        let f =
-            Index1Formulation::build_partitioned(&mut self.sys, self.c, &dependent, &coordinates)?;
+        let f = Index1Formulation::build_partitioned(
+            &mut self.sys,
+            self.c,
+            &dependent,
+            &coordinates,
+            &self.rows,
+        )?;
         summary.unknowns = f.dae.n;
         let split = f.schur_split(nq);
         let state = &self.state;
         let mut y0 = state.q.clone();
         y0.extend(&state.v);
         y0.extend(dependent.iter().map(|&j| state.vdot[j]));
-        y0.extend(&state.lambda);
+        y0.extend(multipliers_on_rows(&full, &state.lambda, &self.rows));
         // q' = K(q) v
         let x_start: Vec<f64> = state.q.iter().chain(&state.v).copied().collect();
         let mut yp0 = MechanicsTapes::eval(&self.tapes.kinematics, t_start, &x_start);
         yp0.extend(&state.vdot);
-        yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
+        yp0.extend(std::iter::repeat_n(0.0, r + nc));
         let mut atol = vec![self.opts.atol; nq + nv];
-        atol.extend(std::iter::repeat_n(self.opts.atol, nc));
+        atol.extend(std::iter::repeat_n(self.opts.atol, r));
         atol.extend(std::iter::repeat_n(super::multiplier_atol(&self.opts), nc));
         let dae: Arc<dyn DaeFormulation> = Arc::new(f);
         // `auto`: the Newton matrix by elimination of the dependent blocks (Schur complement)
@@ -287,7 +364,12 @@ impl<'a> Formulation<'a> for Index1<'a> {
     fn row_state(&mut self, t: f64, y: &[f64], x: &mut Vec<f64>) -> Result<(), SolveError> {
         x.clear();
         x.extend_from_slice(y);
-        complete_dependent(&self.tapes, (&self.dependent, &self.coordinates), t, x);
+        complete_dependent(
+            &self.tapes,
+            (&self.dependent, &self.coordinates, &self.rows),
+            t,
+            x,
+        );
         Ok(())
     }
 
@@ -335,12 +417,56 @@ impl<'a> Formulation<'a> for Index1<'a> {
             } else {
                 cond
             };
-            if kappa > DAE_HANDOVER_RISE * self.watch.joints || best > DAE_HANDOVER_CONDITION {
+            // (with redundant joints κ is that of the independent rows chosen, which varies as
+            // the self-stress turns — Bricard's rises 37× in its first second while every
+            // block stays regular —: there the blocks alone decide)
+            let rise = self.redundant.is_none() && kappa > DAE_HANDOVER_RISE * self.watch.joints;
+            if rise || best > DAE_HANDOVER_CONDITION {
+                // redundant joints: a fresh set of independent rows may hold the motion again
+                if let Some((d, _)) = &self.redundant {
+                    // (the best-held rows now, without the start's causality preference)
+                    let full = self.tapes.gv.matrix(t, &self.x);
+                    let fresh = independent_rows(&full, *d, &[])
+                        .filter(|rows| *rows != self.rows)
+                        .filter(|rows| {
+                            let g = rows_of(&full, rows);
+                            joint_condition_number(&g, &self.sys.mass)
+                                <= DAE_HANDOVER_RISE * self.watch.joints
+                        });
+                    if fresh.is_some() {
+                        self.reselections += 1;
+                        self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
+                        summary.warnings.push(format!(
+                            "{}: independent joint rows re-selected at t = {t:.6} (κ = {kappa:.1e})",
+                            summary.formulation
+                        ));
+                        return Ok(Next::Restart(t));
+                    }
+                }
                 let why = format!(
                     "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {}), the best dependent block's condition {best:.1e}",
                     self.watch.joints, self.watch.t0
                 );
                 return Ok(Next::HandOver(self.hand_over(t, &why)?));
+            }
+        }
+        // redundant joints: the rows left out must keep holding the rank (the self-stress
+        // turns with the mechanism: a parallel third crank's rows trade places as it passes
+        // the horizontal)
+        if let (Some((d, _)), true) = (&self.redundant, more) {
+            let full = self.tapes.gv.matrix(t, &self.x);
+            let grip = redundant_row_grip(&full, *d, &self.rows);
+            if let Some(fresh) = independent_rows(&full, *d, &[]) {
+                let fresh_grip = redundant_row_grip(&full, *d, &fresh);
+                if fresh != self.rows && fresh_grip > REDUNDANT_ROWS_GAIN * grip {
+                    self.reselections += 1;
+                    self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
+                    summary.warnings.push(format!(
+                        "{}: independent joint rows re-selected at t = {t:.6} (grip {grip:.1e}, fresh {fresh_grip:.1e})",
+                        summary.formulation
+                    ));
+                    return Ok(Next::Restart(t));
+                }
             }
         }
         if cond > INDEX1_CHECK_CONDITION && more {
@@ -368,7 +494,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         }
         // the dependent coordinates, where they are chosen apart from the velocities
         if self.coordinates != self.dependent && more {
-            let gq = self.tapes.gq.matrix(t, &self.x);
+            let gq = rows_of(&self.tapes.gq.matrix(t, &self.x), &self.rows);
             let cond_q = dependent_condition(&gq, &self.coordinates);
             let better = (cond_q > INDEX1_CHECK_CONDITION)
                 .then(|| {
@@ -419,15 +545,37 @@ pub(crate) fn job<'a>(
     let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     summary.solver = "IDA".into();
     let causal = CausalPartition::new(&sys, t0);
+    let full = tapes.gv.matrix(t0, &x);
+    // redundant joints: the rows the causality names redundant are left out of the dependent
+    // block (the others, a maximal independent set, determine the motion)
+    let redundant = (!init.redundant_joints.is_empty())
+        .then(|| (nc - init.rank.min(nc), causal.redundant_rows(&sys.rows)));
+    let joint_rows: Vec<usize> = match &redundant {
+        Some((d, hint)) => independent_rows(&full, *d, hint).unwrap_or_else(|| (0..nc).collect()),
+        None => (0..nc).collect(),
+    };
+    let r = joint_rows.len();
+    if redundant.is_some() {
+        let left: Vec<String> = (0..nc)
+            .filter(|k| !joint_rows.contains(k))
+            .map(|k| format!("{}.{}", sys.rows[k].joint, sys.rows[k].direction))
+            .collect();
+        summary.warnings.push(format!(
+            "{}: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {r} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
+            summary.formulation,
+            left.join(", "),
+            init.redundant_joints.join(", ")
+        ));
+    }
     // y = [q, v, a_D, λ]
-    let multipliers = Multipliers::Unknowns(nq + nv + nc);
+    let multipliers = Multipliers::Unknowns(nq + nv + r);
     let rows = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
     let events = super::events(&sys, &tapes, &super::solved_multipliers(&sys, &tapes));
     let mut y_first = x.clone();
-    y_first.extend(std::iter::repeat_n(0.0, nc));
-    y_first.extend(&init.lambda);
+    y_first.extend(std::iter::repeat_n(0.0, r));
+    y_first.extend(multipliers_on_rows(&full, &init.lambda, &joint_rows));
     let hands_over = summary.formulation == "dae";
-    let gv = tapes.gv.matrix(t0, &x);
+    let gv = rows_of(&full, &joint_rows);
     // the chapter's partition at the start: the differential-causality inertias' flows
     // (kept unless its block is ill-conditioned there and a numeric choice is much better)
     let from_causality = causal.dependent().filter(|d| {
@@ -472,6 +620,8 @@ pub(crate) fn job<'a>(
             state: init.clone(),
             dependent: Vec::new(),
             coordinates: Vec::new(),
+            rows: joint_rows,
+            redundant,
             from_causality,
             watch,
             hands_over,
