@@ -107,9 +107,9 @@ pub enum SolverError {
         /// Steps that did not advance it.
         steps: u32,
     },
-    /// The formulation's equations stopped the steps at `t` (a step size collapse it has
-    /// diagnosed), `cause` naming what degraded (the block, the joints).
-    #[error("the step cannot advance the time at t = {t}: {cause}")]
+    /// The formulation's equations stopped the steps at `t` (a failure or a step size
+    /// collapse it has diagnosed), `cause` naming what degraded (the block, the joints).
+    #[error("the formulation cannot go on at t = {t}: {cause}")]
     Stalled {
         /// Time reached.
         t: f64,

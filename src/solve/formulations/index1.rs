@@ -181,7 +181,8 @@ const GRIP_EVERY_STEP_ROWS: usize = 16;
 /// The step watch's estimate of the dependent block's condition: `G_v` at IDA's step, the
 /// block `G_v[:, D]`, its LU with partial pivoting and the ratio of its largest to its
 /// smallest pivot, `ρ = max|u_kk| / min|u_kk|` (`ρ ≤ κ(G_v[:, D])`, and `ρ → ∞` as the block
-/// becomes singular). Buffers are kept so that a check allocates nothing.
+/// becomes singular). Buffers are kept so that a check allocates nothing. A block whose
+/// entries are all constant expressions (the translations of a pinned chain) is not watched.
 struct BlockGrip {
     /// Tape slots `[t, q, v]`.
     vars: Vec<f64>,
@@ -192,9 +193,16 @@ struct BlockGrip {
     block: Vec<f64>,
     /// The estimate above which a step is examined.
     alert: f64,
-    /// Steps between two checks, and steps since the last one.
+    /// Steps between two checks at most rows (1 up to [`GRIP_EVERY_STEP_ROWS`]), steps until
+    /// the next check (that, times 4 while the estimate is below half the alert, times 2 below
+    /// 80 % of it), and steps since the last one.
     every: u64,
+    next: u64,
     since: u64,
+    /// Whether every entry of the running block `G_v[:, D]` is a constant expression (a
+    /// pinned chain's dependent translations: rows of ±1): its condition cannot change and
+    /// the watch is off.
+    constant: bool,
 }
 
 impl BlockGrip {
@@ -208,7 +216,9 @@ impl BlockGrip {
             block: vec![0.0; nc * nc],
             alert: f64::INFINITY,
             every: (ratio * ratio).max(1),
+            next: 1,
             since: 0,
+            constant: false,
         }
     }
 
@@ -421,7 +431,7 @@ impl<'a> Index1<'a> {
         let c = joint_conditioning(&gv, &self.sys.mass, &self.sys.rows);
         let (_, dependent) = self.causal.names(&self.dependent);
         format!(
-            "index1: IDA's steps collapsed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
+            "index1: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
             dependent.join(", "),
             c.joints.join(", "),
             c.condition
@@ -503,6 +513,12 @@ impl<'a> Formulation<'a> for Index1<'a> {
             .estimate(&self.tapes, &self.dependent, t_start, &x_start);
         self.grip.alert = (GRIP_GROWTH * start).max(GRIP_ALERT);
         self.grip.since = 0;
+        self.grip.next = self.grip.every;
+        self.grip.constant = self.c.gv.iter().all(|row| {
+            self.dependent
+                .iter()
+                .all(|&j| self.sys.graph.as_const(row[j]).is_some())
+        });
         Ok(Start::Run(Problem::Implicit(ImplicitProblem {
             dae,
             atol,
@@ -524,12 +540,25 @@ impl<'a> Formulation<'a> for Index1<'a> {
     }
 
     fn watch_step(&mut self, t: f64, y: &[f64]) -> bool {
+        if self.grip.constant {
+            return false;
+        }
         self.grip.since += 1;
-        if self.grip.since < self.grip.every {
+        if self.grip.since < self.grip.next {
             return false;
         }
         self.grip.since = 0;
-        self.grip.estimate(&self.tapes, &self.dependent, t, y) > self.grip.alert
+        let rho = self.grip.estimate(&self.tapes, &self.dependent, t, y);
+        // far below the alert the block cannot reach it in a few steps of a smooth motion
+        let margin = if 2.0 * rho < self.grip.alert {
+            4
+        } else if 1.25 * rho < self.grip.alert {
+            2
+        } else {
+            1
+        };
+        self.grip.next = self.grip.every * margin;
+        rho > self.grip.alert
     }
 
     fn at_step(
