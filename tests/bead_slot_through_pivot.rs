@@ -59,7 +59,12 @@ fn solve(v: &Value, f: FormulationKind) -> Result<Solution, String> {
 /// Largest error of θ, bead x, bead y over the rows of `sol` against the polar reference from
 /// `r0` with spring `k`.
 fn worst_error(sol: &Solution, r0: f64, k: f64) -> (f64, f64) {
-    let reference = MODEL.simulate_sprung(k, [0.0, 0.0, r0, 0.0], &sol.times);
+    worst_error_rigid(sol, r0, k, 0.0)
+}
+
+/// As [`worst_error`] for a bead of central inertia `i_bead` turning with the bar.
+fn worst_error_rigid(sol: &Solution, r0: f64, k: f64, i_bead: f64) -> (f64, f64) {
+    let reference = MODEL.simulate_rigid(k, i_bead, [0.0, 0.0, r0, 0.0], &sol.times);
     let (mut worst, mut at) = (0.0f64, 0.0);
     for (i, y) in reference.iter().enumerate() {
         let v = |c: &str| sol.value(i, c).unwrap();
@@ -193,5 +198,23 @@ fn regression_the_default_stopped_when_the_bead_passed_the_pivot_between_outputs
                 );
             }
         }
+    }
+}
+
+/// The same mechanism through another joint kind: the bead a rigid body (central inertia
+/// 0.01 kg·m²) on a `prismatic` joint along the bar through O, so it turns with the bar; the
+/// reference's `J_O` gains the bead's inertia.
+#[test]
+fn the_default_follows_a_prismatic_slider_through_the_pivot() {
+    let i_bead = 0.01;
+    for (name, solve_fields) in spacings() {
+        let mut v = variant(0.6, 20.0, solve_fields);
+        v["bodies"][1]["inertia"] = json!(i_bead);
+        v["bodies"][1]["angle"] = json!(0.0);
+        v["joints"][1]["type"] = json!("prismatic");
+        let sol = solve(&v, FormulationKind::Dae).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (worst, at) = worst_error_rigid(&sol, 0.6, 20.0, i_bead);
+        assert!(worst < BOUND, "outputs {name}: {worst:e} at t = {at}");
+        assert!(sol.summary.index1_reselections > 0, "outputs {name}");
     }
 }
