@@ -225,8 +225,15 @@ pub(crate) fn execute<'a>(
             (earlier, wall),
             summary,
         )?);
+        let watching = formulation.watches_steps();
         while k < times.len() {
-            let step = match s.solve_to(times[k]) {
+            let result = if watching {
+                let f = &mut *formulation;
+                s.solve_to_watched(times[k], &mut |t, y| f.watch_step(t, y))
+            } else {
+                s.solve_to(times[k])
+            };
+            let step = match result {
                 Ok(step) => step,
                 Err(e) => {
                     let next = if is_budget(&e) {
@@ -251,9 +258,29 @@ pub(crate) fn execute<'a>(
                             )
                         }
                         Next::Fail => return Err(run.stop(e, &mut *formulation, s, summary)),
+                        Next::FailWith(named) => {
+                            return Err(run.stop(named, &mut *formulation, s, summary))
+                        }
                     }
                 }
             };
+            if watching && step.t < times[k] && step.event == crate::sundials::StepEvent::Reached {
+                // the formulation's watch stopped at an internal step
+                let y = s.y().to_vec();
+                match formulation.at_step(step.t, &y, s, summary)? {
+                    Next::Continue | Next::Fail => continue,
+                    Next::Restart(t) => {
+                        t_start = t;
+                        continue 'segments;
+                    }
+                    Next::HandOver(h) => {
+                        return run.hand_over(&mut *formulation, Some(&*s), h, k, summary, observer)
+                    }
+                    Next::FailWith(named) => {
+                        return Err(run.stop(named, &mut *formulation, s, summary))
+                    }
+                }
+            }
             if let crate::sundials::StepEvent::Root(info) = &step.event {
                 let (user, rest) = info.split_at(n_ev.min(info.len()));
                 let defs = run.events.as_ref().map_or(&[][..], |e| &e.defs[..]);
@@ -282,6 +309,9 @@ pub(crate) fn execute<'a>(
             }
             match formulation.at_output(step.t, &run.x, s, k < times.len(), summary)? {
                 Next::Continue | Next::Fail => {}
+                Next::FailWith(named) => {
+                    return Err(run.stop(named, &mut *formulation, s, summary))
+                }
                 Next::Restart(t) => {
                     t_start = t;
                     continue 'segments;

@@ -121,6 +121,9 @@ pub(crate) enum Next<'a> {
     /// Stop with this error (a failure the formulation does not handle stops the solve with
     /// the rows so far).
     Fail,
+    /// Stop with the rows so far and this error instead of the integrator's (the formulation
+    /// names the cause: the block, the joints, the time).
+    FailWith(SolverError),
 }
 
 /// How a run ended, for [`Formulation::finish`].
@@ -164,6 +167,32 @@ pub(crate) trait Formulation<'a> {
         summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
         let _ = (t, x, solver, more, summary);
+        Ok(Next::Continue)
+    }
+
+    /// Whether the executor asks [`Formulation::watch_step`] about every internal step of an
+    /// implicit problem (IDA) between the outputs (default: no).
+    fn watches_steps(&self) -> bool {
+        false
+    }
+
+    /// A cheap check of IDA's internal step at `t` (its own state `y(t)`, not interpolated):
+    /// `true` stops the integration there and the executor calls [`Formulation::at_step`].
+    fn watch_step(&mut self, t: f64, y: &[f64]) -> bool {
+        let _ = (t, y);
+        false
+    }
+
+    /// After [`Formulation::watch_step`] stopped the integration at the step `t` with state
+    /// `y`: go on, restart a segment there (a re-chosen partition), hand over, or fail.
+    fn at_step(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        solver: &mut Solver,
+        summary: &mut Summary,
+    ) -> Result<Next<'a>, SolveError> {
+        let _ = (t, y, solver, summary);
         Ok(Next::Continue)
     }
 

@@ -35,6 +35,19 @@ impl Solver {
         each!(&mut self.integ, i => i.solve_to(t))
     }
 
+    /// [`Solver::solve_to`] that returns early at the first internal step before `t` for which
+    /// `watch(t_n, y(t_n))` is `true` (IDA; the other integrators are not watched).
+    pub(super) fn solve_to_watched(
+        &mut self,
+        t: f64,
+        watch: &mut dyn FnMut(f64, &[f64]) -> bool,
+    ) -> Result<Step, SolverError> {
+        match &mut self.integ {
+            Integ::Ida(i) => i.solve_to_watched(t, watch),
+            other => each!(other, i => i.solve_to(t)),
+        }
+    }
+
     /// The state at the last return.
     pub(crate) fn y(&self) -> &[f64] {
         each!(&self.integ, i => i.y())

@@ -564,6 +564,10 @@ impl Stepper for Cvode {
     fn clear_status(&mut self) {
         self.data.status.clear();
     }
+
+    fn state(&self) -> &[f64] {
+        self.y()
+    }
 }
 
 impl Cvode {

@@ -37,7 +37,14 @@ pub(crate) trait Stepper {
     fn interpolate(&mut self, t: f64) -> Result<(), SolverError>;
     /// Forget callback errors from a previous call.
     fn clear_status(&mut self);
+    /// The state vector as the last internal step left it (`y(t_n)` after a step in
+    /// one-step mode).
+    fn state(&self) -> &[f64];
 }
+
+/// A check of each internal step that lands at or before `tout` (its time `t_n` and state
+/// `y(t_n)`): `true` stops the solve there.
+pub type StepWatch<'w> = &'w mut dyn FnMut(f64, &[f64]) -> bool;
 
 /// Bookkeeping of the loop: last returned time, pending event, budgets.
 #[derive(Debug)]
@@ -144,12 +151,32 @@ fn check_total_steps(d: &DriverState, t: f64) -> Result<(), SolverError> {
 /// solver's wall-clock account.
 pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
     let start = Instant::now();
-    let result = solve_to_inner(s, tout, start);
+    let result = solve_to_inner(s, tout, start, None);
     s.driver().wall_used += start.elapsed();
     result
 }
 
-fn solve_to_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, SolverError> {
+/// [`solve_to`] with a check of every internal step that lands at or before `tout`: when
+/// `watch` returns `true` the solve returns at that step, `Step { t: t_n, event: Reached }`
+/// with `t_n < tout` and the state vectors holding the step's own `y(t_n)` (not an
+/// interpolation).
+pub(crate) fn solve_to_watched<S: Stepper>(
+    s: &mut S,
+    tout: f64,
+    watch: StepWatch<'_>,
+) -> Result<Step, SolverError> {
+    let start = Instant::now();
+    let result = solve_to_inner(s, tout, start, Some(watch));
+    s.driver().wall_used += start.elapsed();
+    result
+}
+
+fn solve_to_inner<S: Stepper>(
+    s: &mut S,
+    tout: f64,
+    start: Instant,
+    mut watch: Option<StepWatch<'_>>,
+) -> Result<Step, SolverError> {
     let t_last = s.driver().t;
     check_tout(t_last, tout)?;
     s.clear_status();
@@ -191,7 +218,20 @@ fn solve_to_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<St
         let after = s.current_time();
         check_progress(s.driver(), tn, after)?;
         let event = match raw {
-            RawEvent::Success => continue,
+            RawEvent::Success => {
+                if tret < tout {
+                    if let Some(w) = watch.as_deref_mut() {
+                        if w(tret, s.state()) {
+                            s.driver().t = tret;
+                            return Ok(Step {
+                                t: tret,
+                                event: StepEvent::Reached,
+                            });
+                        }
+                    }
+                }
+                continue;
+            }
             RawEvent::Root => StepEvent::Root(s.root_info()),
             RawEvent::StopTime => StepEvent::StopTime,
         };

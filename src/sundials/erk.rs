@@ -460,6 +460,10 @@ impl Stepper for Erk {
     fn clear_status(&mut self) {
         self.data.status.clear();
     }
+
+    fn state(&self) -> &[f64] {
+        self.y()
+    }
 }
 
 impl Erk {

@@ -100,17 +100,31 @@ pub enum SolverError {
     },
     /// The steps stopped advancing the time: `t + h == t` in floating point, the step size
     /// is below the resolution of doubles at `t` (a run at `t = 1e300`).
-    #[error("the step cannot advance the time at t = {t:e}: {steps} steps in a row left it unchanged (t + h == t: the step size is below the resolution of doubles there; move solve.t_start toward 0)")]
+    #[error("the step cannot advance the time at t = {t:e}: {steps} steps in a row left it unchanged (t + h == t: the step size collapsed below the resolution of doubles there{})", if t.abs() >= FAR_FROM_ZERO { "; move solve.t_start toward 0" } else { ", which at this t means the equations themselves stop the steps (a singular or degrading Newton matrix), not the time's magnitude" })]
     NoProgress {
         /// Time reached.
         t: f64,
         /// Steps that did not advance it.
         steps: u32,
     },
+    /// The formulation's equations stopped the steps at `t` (a failure or a step size
+    /// collapse it has diagnosed), `cause` naming what degraded (the block, the joints).
+    #[error("the formulation cannot go on at t = {t}: {cause}")]
+    Stalled {
+        /// Time reached.
+        t: f64,
+        /// What degraded, in the formulation's terms.
+        cause: String,
+    },
     /// Bad arguments (lengths, non-finite values, ...).
     #[error("invalid input: {0}")]
     InvalidInput(String),
 }
+
+/// `|t|` from which the resolution of doubles itself (`ulp(t) ≥ 2⁻²⁰ ≈ 1e-6`, at `|t| ≥ 2³² ≈
+/// 4e9`) limits the steps, so that moving the start toward 0 is the remedy of a
+/// [`SolverError::NoProgress`]; nearer 0 a step that leaves `t` unchanged has collapsed.
+pub const FAR_FROM_ZERO: f64 = 4.294_967_296e9;
 
 impl SolverError {
     /// Integration time at which the error happened, if there is one.
@@ -123,6 +137,7 @@ impl SolverError {
             | SolverError::StepBudget { t, .. }
             | SolverError::WallClock { t, .. }
             | SolverError::NoProgress { t, .. }
+            | SolverError::Stalled { t, .. }
             | SolverError::NonFinite { t, .. } => Some(*t),
             SolverError::InvalidInput(_) => None,
         }

@@ -613,6 +613,23 @@ impl Ida {
         driver::solve_to(self, tout)
     }
 
+    /// [`Ida::solve_to`] that also returns early at the first internal step before `tout`
+    /// for which `watch(t_n, y(t_n))` is `true` (`step.t < tout`; `y()` holds the step's own
+    /// `y(t_n)`).
+    pub fn solve_to_watched(
+        &mut self,
+        tout: f64,
+        watch: &mut dyn FnMut(f64, &[f64]) -> bool,
+    ) -> Result<Step, SolverError> {
+        driver::solve_to_watched(self, tout, watch)
+    }
+
+    /// Time of IDA's last accepted internal step `t_n` (after a failed solve call, the state
+    /// `y()` holds `y(t_n)`: IDA returns its last accepted step on a failure).
+    pub fn last_accepted_time(&self) -> f64 {
+        self.current_time()
+    }
+
     driver::budget_methods!();
 
     /// Time of the state in `y()`/`yp()`.
@@ -789,5 +806,9 @@ impl Stepper for Ida {
 
     fn clear_status(&mut self) {
         self.data.status.clear();
+    }
+
+    fn state(&self) -> &[f64] {
+        self.y()
     }
 }

@@ -8,11 +8,17 @@
 //!
 //! on IDA, the Newton matrix solved by eliminating the dependent blocks (a Schur complement of
 //! the size of the degrees of freedom) when the linear solver is `auto`. Recoveries: at the
-//! outputs, when the dependent block `G_v[:, D]` (or `G_q[:, D_q]`) has degraded and a fresh
-//! choice is [`INDEX1_RESELECT_GAIN`] times better conditioned, the run restarts with the
-//! fresh choice (counted in `summary.index1_reselections`). The `dae` formulation hands the
-//! rest of the run to the GGL where the joints approach a singular configuration (no regular
-//! dependent block exists) or IDA fails.
+//! outputs and inside the output intervals, when the dependent block `G_v[:, D]` (or
+//! `G_q[:, D_q]`) has degraded and a fresh choice is [`INDEX1_RESELECT_GAIN`] times better
+//! conditioned, the run restarts with the fresh choice (counted in
+//! `summary.index1_reselections`). Between outputs a step watch ([`BlockGrip`]) estimates the
+//! block's condition at every internal step of IDA from the LU pivots of `G_v[:, D]`; where it
+//! has grown the step is examined as an output is, and the run restarts at that step (the bead
+//! of a slot through a pivot passes the pivot between two outputs, and the block that held at
+//! the last output is singular there). When IDA fails, the choice is made again at its last
+//! accepted step before anything else. The `dae` formulation hands the rest of the run to the
+//! GGL only where no regular dependent block exists (the joints approach a singular
+//! configuration); `index1` then stops with the block, the joints and the time named.
 
 use std::sync::Arc;
 
@@ -184,6 +190,133 @@ const DAE_HANDOVER_CONDITION: f64 = 1e3;
 /// taken while the running one still holds a quarter of it.
 const REDUNDANT_ROWS_GAIN: f64 = 4.0;
 
+/// Growth of the dependent block's pivot-ratio estimate over its value at the start of a
+/// segment above which the step watch examines a step.
+const GRIP_GROWTH: f64 = 3.0;
+
+/// The pivot-ratio estimate above which the step watch examines a step in any case (a block of
+/// unit rows starts at 1; the examination's `μ` is then about 10).
+const GRIP_ALERT: f64 = 4.0;
+
+/// The factor by which the alert rises when an examination keeps the block (no block
+/// [`STEP_RESELECT_GAIN`] times better yet): the next look comes after a further degradation.
+const GRIP_RECHECK: f64 = 1.5;
+
+/// At an IDA step, a fresh choice replaces the running dependent velocities when its condition
+/// `μ` is this many times smaller. Smaller than the outputs' [`INDEX1_RESELECT_GAIN`]: between
+/// outputs the block is watched at every step, so the switch need not wait for a block 10×
+/// worse, and the dependent unknowns (algebraic, out of IDA's error test) amplify the
+/// independent ones' error by about `μ`. Measured on `scenes/bead_slot_through_pivot.json`
+/// (rtol 1e-10, atol 1e-8, outputs 0.03 … 0.5 s): a switch at `μ ≈ 30` (gain 10) left
+/// 0.8–19e-6 of error against the polar reference, at `μ ≈ 10` (gain 3) 1.9–2.0e-7, the
+/// GGL's 1e-7.
+const STEP_RESELECT_GAIN: f64 = 3.0;
+
+/// Joint rows up to which the step watch factors `G_v[:, D]` at every internal step (an LU of
+/// at most 16 × 16: a few hundred flops, against the residuals and Newton solves of a step);
+/// above, every `⌈nc / 16⌉²`-th step, so that the watch costs `O(nc)` per step on average.
+const GRIP_EVERY_STEP_ROWS: usize = 16;
+
+/// The step watch's estimate of the dependent block's condition: `G_v` at IDA's step, the
+/// block `G_v[:, D]`, its LU with partial pivoting and the ratio of its largest to its
+/// smallest pivot, `ρ = max|u_kk| / min|u_kk|` (`ρ ≤ κ(G_v[:, D])`, and `ρ → ∞` as the block
+/// becomes singular). Buffers are kept so that a check allocates nothing. A block whose
+/// entries are all constant expressions (the translations of a pinned chain) is not watched.
+struct BlockGrip {
+    /// Tape slots `[t, q, v]`.
+    vars: Vec<f64>,
+    work: (Vec<f64>, Vec<f64>),
+    /// `G_v`, row-major `nc × nv`.
+    gv: Vec<f64>,
+    /// `G_v[:, D]`, column-major `nc × nc`, factored in place.
+    block: Vec<f64>,
+    /// The estimate above which a step is examined.
+    alert: f64,
+    /// Steps between two checks at most rows (1 up to [`GRIP_EVERY_STEP_ROWS`]), steps until
+    /// the next check (that, times 4 while the estimate is below half the alert, times 2 below
+    /// 80 % of it), and steps since the last one.
+    every: u64,
+    next: u64,
+    since: u64,
+    /// Whether every entry of the running block `G_v[:, D]` is a constant expression (a
+    /// pinned chain's dependent translations: rows of ±1): its condition cannot change and
+    /// the watch is off.
+    constant: bool,
+}
+
+impl BlockGrip {
+    fn new(tapes: &MechanicsTapes) -> BlockGrip {
+        let (nq, nv, nc) = tapes.dims;
+        let ratio = nc.div_ceil(GRIP_EVERY_STEP_ROWS) as u64;
+        BlockGrip {
+            vars: vec![0.0; 1 + nq + nv],
+            work: tapes.gv.workspace(),
+            gv: vec![0.0; nc * nv],
+            block: vec![0.0; nc * nc],
+            alert: f64::INFINITY,
+            every: (ratio * ratio).max(1),
+            next: 1,
+            since: 0,
+            constant: false,
+        }
+    }
+
+    /// `ρ(G_v[R, D])` at `(t, y)`, `y = [q, v, …]`, over the joint rows `R` the segment solves
+    /// from (∞ for a singular block).
+    fn estimate(
+        &mut self,
+        tapes: &MechanicsTapes,
+        (dependent, rows): (&[usize], &[usize]),
+        t: f64,
+        y: &[f64],
+    ) -> f64 {
+        let (nq, nv, _) = tapes.dims;
+        let m = rows.len();
+        if m == 0 || dependent.len() != m {
+            return 1.0;
+        }
+        self.vars[0] = t;
+        self.vars[1..].copy_from_slice(&y[..nq + nv]);
+        tapes.gv.eval_into(&self.vars, &mut self.work, &mut self.gv);
+        for (k, &j) in dependent.iter().enumerate() {
+            for (i, &r) in rows.iter().enumerate() {
+                self.block[k * m + i] = self.gv[r * nv + j];
+            }
+        }
+        pivot_ratio(&mut self.block[..m * m], m)
+    }
+}
+
+/// Largest over smallest pivot magnitude of the LU with partial pivoting of the column-major
+/// `m × m` matrix `a` (factored in place); ∞ when a pivot is zero.
+fn pivot_ratio(a: &mut [f64], m: usize) -> f64 {
+    let (mut largest, mut smallest) = (0.0f64, f64::INFINITY);
+    for k in 0..m {
+        let (p, pv) = (k..m)
+            .map(|r| (r, a[k * m + r].abs()))
+            .fold((k, -1.0), |b, c| if c.1 > b.1 { c } else { b });
+        if pv == 0.0 {
+            return f64::INFINITY;
+        }
+        (largest, smallest) = (largest.max(pv), smallest.min(pv));
+        if p != k {
+            for c in k..m {
+                a.swap(c * m + k, c * m + p);
+            }
+        }
+        let d = a[k * m + k];
+        for r in k + 1..m {
+            let l = a[k * m + r] / d;
+            if l != 0.0 {
+                for c in k + 1..m {
+                    a[c * m + r] -= l * a[c * m + k];
+                }
+            }
+        }
+    }
+    largest / smallest
+}
+
 /// The index-1 DAE with its re-selections and (for `dae`) its hand-over to the GGL.
 struct Index1<'a> {
     sys: MultibodySystem,
@@ -213,6 +346,11 @@ struct Index1<'a> {
     hands_over: bool,
     reselections: u64,
     y_first: Vec<f64>,
+    /// The step watch of the running segment.
+    grip: BlockGrip,
+    /// The time of the last restart at a step (a failure there again is not answered by
+    /// another restart at the same time).
+    restarted_at: Option<f64>,
 }
 
 impl<'a> Index1<'a> {
@@ -228,7 +366,19 @@ impl<'a> Index1<'a> {
     /// The rest of the run from the last output `(t_h, x)` on the GGL (plain, compliant at
     /// singular passages).
     fn hand_over(&mut self, t_h: f64, why: &str) -> Result<Box<HandOver<'a>>, SolveError> {
-        let init = consistent_state_from(&self.sys, &self.tapes, t_h, &self.x)?;
+        let x = self.x.clone();
+        self.hand_over_from(t_h, &x, why)
+    }
+
+    /// The rest of the run from `(t_h, x)`, `x = [q, v]` (an output row or an IDA step), on the
+    /// GGL (plain, compliant at singular passages).
+    fn hand_over_from(
+        &mut self,
+        t_h: f64,
+        x: &[f64],
+        why: &str,
+    ) -> Result<Box<HandOver<'a>>, SolveError> {
+        let init = consistent_state_from(&self.sys, &self.tapes, t_h, x)?;
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
@@ -257,6 +407,115 @@ impl<'a> Index1<'a> {
             ),
             build_seconds,
         }))
+    }
+}
+
+impl<'a> Index1<'a> {
+    /// `[q, v]` of IDA's state `y` at `t`, the dependent coordinates and velocities completed.
+    fn completed(&self, t: f64, y: &[f64]) -> Vec<f64> {
+        let (nq, nv, _) = self.tapes.dims;
+        let mut x = y[..nq + nv].to_vec();
+        complete_dependent(
+            &self.tapes,
+            (&self.dependent, &self.coordinates, &self.rows),
+            t,
+            &mut x,
+        );
+        x
+    }
+
+    /// `[q, v]` of the consistent state a restart starts from.
+    fn state_x(&self) -> Vec<f64> {
+        self.state.q.iter().chain(&self.state.v).copied().collect()
+    }
+
+    /// The re-choice at an IDA step `(t, x)`, `x = [q, v]`: a fresh choice of dependent
+    /// velocities (or coordinates) [`INDEX1_RESELECT_GAIN`] times better conditioned than the
+    /// running one restarts the run there; where none exists and the best block is not
+    /// regular (condition above [`DAE_HANDOVER_CONDITION`]), `dae` hands over to the GGL
+    /// there. `None`: keep the block.
+    fn rechoose_at_step(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        why: &str,
+        summary: &mut Summary,
+    ) -> Result<Option<Next<'a>>, SolveError> {
+        let nq = self.nq();
+        let gv = self.gv_at(t, x);
+        let cond = dependent_condition(&gv, &self.dependent);
+        let best = select_dependent(&gv, &self.causal.preferred_at(t, &x[..nq]));
+        let best_cond = best
+            .as_ref()
+            .map_or(f64::INFINITY, |b| dependent_condition(&gv, b));
+        let mut restart = |me: &mut Self, what: &str, c: f64| -> Result<Next<'a>, SolveError> {
+            me.reselections += 1;
+            me.state = consistent_state_from(&me.sys, &me.tapes, t, x)?;
+            let xs = me.state_x();
+            me.x.copy_from_slice(&xs);
+            me.restarted_at = Some(t);
+            summary.warnings.push(format!(
+                "index1: dependent {what} re-selected at t = {t:.6} between outputs ({why}; condition {c:.1e})"
+            ));
+            Ok(Next::Restart(t))
+        };
+        // redundant joints: the rows left out may have lost their grip (the self-stress turned)
+        if let Some((d, _)) = &self.redundant {
+            let full = self.tapes.gv.matrix(t, x);
+            let grip = redundant_row_grip(&full, *d, &self.rows);
+            let fresh = independent_rows(&full, *d, &[])
+                .filter(|f| *f != self.rows)
+                .map_or(0.0, |f| redundant_row_grip(&full, *d, &f));
+            if fresh > REDUNDANT_ROWS_GAIN * grip {
+                return restart(self, "joint rows", grip).map(Some);
+            }
+        }
+        if best
+            .as_ref()
+            .is_some_and(|b| *b != self.dependent && best_cond * STEP_RESELECT_GAIN < cond)
+        {
+            return restart(self, "velocities", cond).map(Some);
+        }
+        // the dependent coordinates, where they are chosen apart from the velocities
+        if self.coordinates != self.dependent {
+            let gq = rows_of(&self.tapes.gq.matrix(t, x), &self.rows);
+            let cond_q = dependent_condition(&gq, &self.coordinates);
+            let better = select_dependent(
+                &gq,
+                &crate::dae::partition::preferred_coordinates(&self.sys),
+            )
+            .filter(|b| dependent_condition(&gq, b) * INDEX1_RESELECT_GAIN < cond_q);
+            if better.is_some() {
+                return restart(self, "coordinates", cond_q).map(Some);
+            }
+        }
+        let best_cond = best_cond.min(cond);
+        if self.hands_over && best_cond > DAE_HANDOVER_CONDITION {
+            let why = format!(
+                "no regular set of dependent velocities at t = {t:.6} ({why}): the best dependent block's condition is {best_cond:.1e}"
+            );
+            return Ok(Some(Next::HandOver(self.hand_over_from(t, x, &why)?)));
+        }
+        Ok(None)
+    }
+
+    /// What degraded where IDA's steps stop at `t` (state `x = [q, v]`, error `e`): the
+    /// dependent block, its condition, the joints whose rows lose rank.
+    fn stall_cause(&self, t: f64, x: &[f64], e: &SolverError) -> String {
+        let gv = self.gv_at(t, x);
+        let cond = dependent_condition(&gv, &self.dependent);
+        let c = joint_conditioning(
+            &self.tapes.gv.matrix(t, x),
+            &self.sys.mass,
+            &self.sys.rows,
+        );
+        let (_, dependent) = self.causal.names(&self.dependent);
+        format!(
+            "index1: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
+            dependent.join(", "),
+            c.joints.join(", "),
+            c.condition
+        )
     }
 }
 
@@ -352,6 +611,19 @@ impl<'a> Formulation<'a> for Index1<'a> {
         }
         self.dependent = dependent;
         self.coordinates = coordinates;
+        // the step watch's alert: GRIP_GROWTH times the block's estimate at the start, at least
+        // GRIP_ALERT
+        let start = self
+            .grip
+            .estimate(&self.tapes, (&self.dependent, &self.rows), t_start, &x_start);
+        self.grip.alert = (GRIP_GROWTH * start).max(GRIP_ALERT);
+        self.grip.since = 0;
+        self.grip.next = self.grip.every;
+        self.grip.constant = self.c.gv.iter().all(|row| {
+            self.dependent
+                .iter()
+                .all(|&j| self.sys.graph.as_const(row[j]).is_some())
+        });
         Ok(Start::Run(Problem::Implicit(ImplicitProblem {
             dae,
             atol,
@@ -373,19 +645,81 @@ impl<'a> Formulation<'a> for Index1<'a> {
         Ok(())
     }
 
+    fn watches_steps(&self) -> bool {
+        self.tapes.dims.2 > 0
+    }
+
+    fn watch_step(&mut self, t: f64, y: &[f64]) -> bool {
+        if self.grip.constant {
+            return false;
+        }
+        self.grip.since += 1;
+        if self.grip.since < self.grip.next {
+            return false;
+        }
+        self.grip.since = 0;
+        let rho = self.grip.estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
+        // far below the alert the block cannot reach it in a few steps of a smooth motion
+        let margin = if 2.0 * rho < self.grip.alert {
+            4
+        } else if 1.25 * rho < self.grip.alert {
+            2
+        } else {
+            1
+        };
+        self.grip.next = self.grip.every * margin;
+        rho > self.grip.alert
+    }
+
+    fn at_step(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        _solver: &mut Solver,
+        summary: &mut Summary,
+    ) -> Result<Next<'a>, SolveError> {
+        let x = self.completed(t, y);
+        if let Some(next) = self.rechoose_at_step(t, &x, "the block's grip degraded", summary)? {
+            return Ok(next);
+        }
+        // the block holds (no better one yet): look again when it has degraded further
+        self.grip.alert *= GRIP_RECHECK;
+        Ok(Next::Continue)
+    }
+
     fn recover(
         &mut self,
         e: &SolverError,
         solver: &mut Solver,
         _last: (f64, &[f64]),
-        _summary: &mut Summary,
+        summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
-        if self.hands_over && super::ggl::is_convergence_failure(e).is_some() {
-            let t_fail = solver.ida().map_or(f64::NAN, |i| i.t());
-            let h = self.hand_over(self.t_last, &format!("IDA failed at t = {t_fail:.6}: {e}"))?;
+        let stalled = matches!(e, SolverError::NoProgress { .. })
+            || super::ggl::is_convergence_failure(e).is_some();
+        if !stalled || self.tapes.dims.2 == 0 {
+            return Ok(Next::Fail);
+        }
+        // IDA's last accepted step: choose the partition again there first
+        let Some(ida) = solver.ida() else {
+            return Ok(Next::Fail);
+        };
+        let t_n = ida.last_accepted_time();
+        let y_n = ida.y().to_vec();
+        let x_n = self.completed(t_n, &y_n);
+        if self.restarted_at != Some(t_n) && x_n.iter().all(|v| v.is_finite()) {
+            let why = format!("IDA failed: {e}");
+            if let Some(next) = self.rechoose_at_step(t_n, &x_n, &why, summary)? {
+                return Ok(next);
+            }
+        }
+        if self.hands_over {
+            let h = self.hand_over(self.t_last, &format!("IDA failed at t = {t_n:.6}: {e}"))?;
             return Ok(Next::HandOver(h));
         }
-        Ok(Next::Fail)
+        Ok(Next::FailWith(SolverError::Stalled {
+            t: t_n,
+            cause: self.stall_cause(t_n, &x_n, e),
+        }))
     }
 
     fn at_output(
@@ -608,6 +942,7 @@ pub(crate) fn job<'a>(
             summary.formulation
         ));
     }
+    let grip = BlockGrip::new(&tapes);
     Job {
         formulation: Box::new(Index1 {
             sys,
@@ -627,6 +962,8 @@ pub(crate) fn job<'a>(
             hands_over,
             reselections: 0,
             y_first,
+            grip,
+            restarted_at: None,
         }),
         rows: Box::new(rows),
         events,
