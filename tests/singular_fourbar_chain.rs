@@ -224,11 +224,8 @@ fn triple_crank_json() -> String {
     )
 }
 
-/// The default leaves a redundant row out of the dependent block (issue 34) and re-chooses it as
-/// the cranks' self-stress turns (the left-out row `pin2.y` loses its grip as the cranks pass the
-/// horizontal): no compliance is needed.
 #[test]
-fn parallel_third_crank_is_named_redundant_and_solved_without_compliance_on_the_default() {
+fn parallel_third_crank_is_named_redundant_and_solved_compliant() {
     let m = model(&triple_crank_json());
     let mut o = m.default_options();
     o.rtol = 1e-9;
@@ -248,9 +245,7 @@ fn parallel_third_crank_is_named_redundant_and_solved_without_compliance_on_the_
     for j in &sm.redundant_joints {
         assert!(warning.contains(j.as_str()), "{warning}");
     }
-    assert_eq!(sm.formulation, "dae", "{sm:?}");
-    assert!(!sm.compliance_used, "{sm:?}");
-    assert!(sm.index1_reselections >= 1, "{sm:?}");
+    assert!(sm.compliance_used && sm.compliance > 0.0, "{sm:?}");
     let (j, w) = (2.0, (1.5 + 1.0) * G);
     let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
         dy[0] = y[1];
