@@ -31,11 +31,13 @@ pub use compiled::{ExplicitOde, ImplicitDae, Workspace};
 pub use decoupled::DecoupledFormulation;
 pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
-pub use index1::{block_condition_bound, dependent_condition, select_dependent, Index1Formulation};
+pub use index1::{
+    block_condition_bound, dependent_condition, select_dependent, Index1Formulation, JointRows,
+};
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
 pub use singular::{
     dense_joint_condition_number, joint_condition_number, joint_conditioning,
-    sparse_joint_condition_number, JointConditioning,
+    sparse_joint_condition_number, sparse_joint_condition_number_of, JointConditioning,
 };
