@@ -17,10 +17,18 @@
 //!    tapes (`GglFormulation::build`) — each with its growth against N = 32 (linear: 2×, 4×,
 //!    8×, 16×).
 //!
+//! 4. The default `dae` (the index-1 DAE: faer's sparse LU from
+//!    `LinearSolverKind::AUTO_SCHUR_UNKNOWNS` unknowns, the output checks on the non-zeros from
+//!    `SPARSE_GRIP_ROWS` joint rows) against `ggl` on the N-link pendulum as in 1. (outputs
+//!    every 0.01 s), N = 32 … 256: `cpu_seconds / steps` (median of 5 solves), the ratio
+//!    dae / ggl and each one's growth against N = 32 (linear: 2×, 4×, 8×); and where `auto`
+//!    stops eliminating the dependent blocks (`dae_crossover`: the Schur elimination against
+//!    faer below the threshold).
+//!
 //! One solve per cell (the tables are ratios from one run); criterion then times one step-heavy
 //! solve per solver at N = 64 and `Model::new` at N = 32, 128, 512. Run with
 //! `cargo bench --bench sparse` (`BONDMECH_SPARSE_BENCH=build|n_link|chain|crossover|monitor`
-//! for some tables only, comma-separated; `chain_sparse`: the chain without its minutes-long dense run; `monitor`: the
+//! for some tables only, comma-separated; `dae`, `dae_crossover`: the default at scale; `chain_sparse`: the chain without its minutes-long dense run; `monitor`: the
 //! singular-passage monitor's κ, dense against sparse).
 
 #[allow(unused_imports)]
@@ -320,6 +328,97 @@ fn build_table() {
     }
 }
 
+/// `cpu_seconds / steps` of the N-link pendulum on `formulation` (median of `runs` solves),
+/// with the summary of the last.
+fn per_step(
+    model: &Model,
+    formulation: FormulationKind,
+    ls: LinearSolverKind,
+    runs: usize,
+) -> (f64, Solution) {
+    let mut o = model.default_options();
+    o.formulation = formulation;
+    o.rtol = 1e-6;
+    o.atol = 1e-8;
+    o.linear_solver = ls;
+    let mut last = None;
+    let mut cells: Vec<f64> = (0..runs)
+        .map(|_| {
+            let s = model.solve(&o).expect("the N-link pendulum solves");
+            let c = s.summary.cpu_seconds / s.summary.steps.max(1) as f64;
+            last = Some(s);
+            c
+        })
+        .collect();
+    cells.sort_by(f64::total_cmp);
+    (cells[runs / 2], last.expect("at least one run"))
+}
+
+/// The default at scale: `dae` against `ggl`, µs per step (median of 5 solves).
+fn dae_table() {
+    println!(
+        "\nThe default at scale: N-link pendulum, rtol 1e-6, atol 1e-8, 1 s, outputs every 0.01 s, \
+         µs per step (median of 5 solves)"
+    );
+    println!(
+        "{:>4} {:>8} {:>6} {:>10} {:>6} {:>10} {:>9} {:>8} {:>8}",
+        "N", "unknowns", "steps", "dae", "steps", "ggl", "dae/ggl", "dae ×", "ggl ×"
+    );
+    let mut base = None;
+    for n in [32usize, 64, 128, 256] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        let model = Model::new(&scene).expect("model builds");
+        let (dae, sd) = per_step(&model, FormulationKind::Dae, LinearSolverKind::Auto, 5);
+        let (ggl, sg) = per_step(&model, FormulationKind::Ggl, LinearSolverKind::Auto, 5);
+        assert_eq!(sd.summary.formulation, "dae", "the default ran its own DAE");
+        let (b_dae, b_ggl) = *base.get_or_insert((dae, ggl));
+        println!(
+            "{:>4} {:>8} {:>6} {:>10.1} {:>6} {:>10.1} {:>9.2} {:>7.2}× {:>7.2}×  ({}, {})",
+            n,
+            sd.summary.unknowns,
+            sd.summary.steps,
+            dae * 1e6,
+            sg.summary.steps,
+            ggl * 1e6,
+            dae / ggl,
+            dae / b_dae,
+            ggl / b_ggl,
+            sd.summary.linear_solver,
+            sg.summary.linear_solver
+        );
+    }
+}
+
+/// Where `auto` should stop eliminating the dependent blocks: `dae` with `auto` (the Schur
+/// elimination below `AUTO_SCHUR_UNKNOWNS`) against faer, µs per step (median of 5).
+fn dae_crossover_table() {
+    println!(
+        "\ndae crossover: N-link pendulum as above, µs per step (median of 5 solves); auto is \
+         the Schur elimination below {} unknowns",
+        LinearSolverKind::AUTO_SCHUR_UNKNOWNS
+    );
+    println!(
+        "{:>4} {:>8} {:>12} {:>12} {:>12}",
+        "N", "unknowns", "auto", "faer", "auto/faer"
+    );
+    // below the threshold only: above it `auto` is faer itself
+    for n in [2usize, 4, 6, 8, 9] {
+        let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
+        let model = Model::new(&scene).expect("model builds");
+        let (auto, s) = per_step(&model, FormulationKind::Dae, LinearSolverKind::Auto, 5);
+        let (faer, _) = per_step(&model, FormulationKind::Dae, LinearSolverKind::Sparse, 5);
+        println!(
+            "{:>4} {:>8} {:>12.1} {:>12.1} {:>12.2}  ({})",
+            n,
+            s.summary.unknowns,
+            auto * 1e6,
+            faer * 1e6,
+            auto / faer,
+            s.summary.linear_solver
+        );
+    }
+}
+
 fn main() {
     let only = std::env::var("BONDMECH_SPARSE_BENCH").unwrap_or_default();
     let only: Vec<&str> = only.split(',').filter(|s| !s.is_empty()).collect();
@@ -339,6 +438,12 @@ fn main() {
     if want("chain") || only.contains(&"chain_sparse") {
         chain_table(want("chain"));
     }
+    if want("dae") {
+        dae_table();
+    }
+    if want("dae_crossover") {
+        dae_crossover_table();
+    }
     let scene = n_link_pendulum(64, 1.0, 0.01).expect("generated scene is valid");
     let model = Model::new(&scene).expect("model builds");
     let mut crit = Criterion::default()
@@ -349,6 +454,16 @@ fn main() {
     let mut g = crit.benchmark_group("n_link_64");
     for (ls, label) in SOLVERS {
         g.bench_function(label, |b| b.iter(|| n_link_solve(&model, ls)));
+    }
+    g.finish();
+    // the default against ggl at N = 128, one whole solve each (`-- dae_n_link_128`)
+    let scene = n_link_pendulum(128, 1.0, 0.01).expect("generated scene is valid");
+    let model = Model::new(&scene).expect("model builds");
+    let mut g = crit.benchmark_group("dae_n_link_128");
+    for (f, label) in [(FormulationKind::Dae, "dae"), (FormulationKind::Ggl, "ggl")] {
+        g.bench_function(label, |b| {
+            b.iter(|| per_step(&model, f, LinearSolverKind::Auto, 1))
+        });
     }
     g.finish();
     // the 40-four-bar chain's whole 20 s solve (faer, rtol 1e-8, as the chain table's first

@@ -185,6 +185,23 @@ impl LinearSolverKind {
     /// noise of the machine, and dense keeps the step sequences small scenes always had.
     pub const AUTO_SPARSE_UNKNOWNS: usize = 30;
 
+    /// Unknowns of the index-1 DAE (the default `dae`, `index1`) from which `auto` factors
+    /// its Newton matrix with faer's sparse LU instead of eliminating the dependent blocks
+    /// ([`crate::sundials::schur`]: dense blocks `G_qD`, `G_vD` and the saddle
+    /// `[M_D G_Dᵀ; G_D 0]` inverted, a dense Schur complement on the degrees of freedom, all
+    /// in a dense `n × n` matrix: cubic in the size of a chain). Measured with
+    /// `cargo bench --bench sparse` (`BONDMECH_SPARSE_BENCH=dae_crossover`: N-link pendulum,
+    /// `dae`, rtol 1e-6, µs per step, median of 5 solves), Schur / faer: see
+    /// docs/perf/dae_scale.txt. Every bundled scene (82 unknowns at most: Andrews' squeezer, the
+    /// three-four-bar chain) stays below it.
+    pub const AUTO_SCHUR_UNKNOWNS: usize = 100;
+
+    /// Whether the index-1 DAE's Newton matrix with `n` unknowns is solved by the Schur
+    /// elimination: `auto` below [`Self::AUTO_SCHUR_UNKNOWNS`].
+    pub fn index1_schur(self, n: usize) -> bool {
+        self == LinearSolverKind::Auto && n < Self::AUTO_SCHUR_UNKNOWNS
+    }
+
     /// The name used in scenes, on the command line and in summaries.
     pub fn name(self) -> &'static str {
         match self {

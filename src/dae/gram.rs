@@ -136,19 +136,8 @@ impl SparseGram {
     ///
     /// `None` when an iteration does not converge or no shift up to `σ = 2 θ` is found.
     pub fn extreme_eigenvalues(&self, rel_tol: f64, max_iterations: usize) -> Option<(f64, f64)> {
+        let lmin = self.smallest_eigenvalue(rel_tol, max_iterations)?;
         let v0 = start_vector(self.m);
-        let inv_lmin = lanczos_largest(
-            |x, y| {
-                y.copy_from_slice(x);
-                self.solve_in_place(y);
-            },
-            &v0,
-            rel_tol,
-            max_iterations,
-        );
-        if !inv_lmin.converged {
-            return None;
-        }
         let rough = lanczos_largest(|x, y| self.apply_into(x, y), &v0, 1e-3, ROUGH_STEPS);
         let theta = rough.theta;
         if !(theta > 0.0 && theta.is_finite()) {
@@ -181,7 +170,24 @@ impl SparseGram {
         if !top.converged || top.theta <= 0.0 {
             return None;
         }
-        Some((1.0 / inv_lmin.theta, sigma - 1.0 / top.theta))
+        Some((lmin, sigma - 1.0 / top.theta))
+    }
+
+    /// `λ_min` of `A` to the relative accuracy `rel_tol`: `1 / λ_min` is the largest
+    /// eigenvalue of `A⁻¹` ([`lanczos_largest`] with solves by the Cholesky factor, at most
+    /// `max_iterations` steps). `None` when the iteration does not converge.
+    pub fn smallest_eigenvalue(&self, rel_tol: f64, max_iterations: usize) -> Option<f64> {
+        let v0 = start_vector(self.m);
+        let inv_lmin = lanczos_largest(
+            |x, y| {
+                y.copy_from_slice(x);
+                self.solve_in_place(y);
+            },
+            &v0,
+            rel_tol,
+            max_iterations,
+        );
+        inv_lmin.converged.then(|| 1.0 / inv_lmin.theta)
     }
 
     /// The Cholesky factor of `σ I − A` (same pattern as `A`), `None` when it is not
@@ -256,7 +262,7 @@ impl SparseGram {
 /// A fixed start vector with no special structure (entries in `[0.5, 1.5)` from the
 /// SplitMix64 sequence), so that it is not orthogonal to an extreme eigenvector of a symmetric
 /// mechanism, as the all-ones vector can be; the same on every run.
-fn start_vector(n: usize) -> Vec<f64> {
+pub(crate) fn start_vector(n: usize) -> Vec<f64> {
     let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
     (0..n)
         .map(|_| {

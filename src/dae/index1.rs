@@ -144,6 +144,290 @@ pub fn block_condition_bound(gv: &DMatrix<f64>) -> f64 {
     s.max() / smin
 }
 
+/// Joint rows from which [`JointRows`] reads `G_v` by its non-zeros and measures the dependent
+/// block's grip by sparse Cholesky factors and Lanczos iterations (linear in the size of a
+/// chain) instead of dense singular values (cubic): the size from which the joints' condition
+/// monitor takes its sparse path ([`crate::dae::singular::SPARSE_CONDITION_ROWS`]). Measured
+/// on the N-link pendulum (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=dae`): at
+/// N = 64 (128 rows) the dense singular values at the outputs took three quarters of the run.
+pub const SPARSE_GRIP_ROWS: usize = super::singular::SPARSE_CONDITION_ROWS;
+
+/// Relative accuracy of the smallest eigenvalues of `G_v G_vᵀ` and `G_D G_Dᵀ` on the sparse
+/// path (the Lanczos residual bound, [`super::gram::lanczos_largest`] on the inverse): the
+/// checks compare `μ(D)` and `κ(G_v)` with thresholds a factor 2 or 10 apart. The small
+/// eigenvalues are well separated; a few steps suffice.
+pub const SPARSE_GRIP_TOL: f64 = 1e-3;
+
+/// Relative accuracy of `λ_max(G_v G_vᵀ)` on the sparse path (plain Lanczos from below: the
+/// Ritz value is a lower bound). The top of a chain's spectrum is clustered, and resolving it
+/// costs steps that grow with the chain (measured on the N-link pendulum at N = 256: 102 steps
+/// for 1e-3, 10 for 1e-2, where the value found was 0.3 % below the top); `μ(D) ∝ √λ_max` is
+/// then within 0.5 %.
+pub const SPARSE_GRIP_TOP_TOL: f64 = 1e-2;
+
+/// Lanczos steps for `λ_max(G_v G_vᵀ)` on the sparse path, after which the Ritz value is taken
+/// as it is (a lower bound of `λ_max`; its deficit on a clustered top falls with the steps'
+/// square): with the chain nearly straight (the joint rows along it decoupled from the
+/// rotations) the residual test took steps enough to cost a tenth of the run at N = 32 (perf:
+/// `top_eigenvalue` and the tridiagonal bisections 8 %). The re-selection's test
+/// `μ(D) > INDEX1_RESELECT_GAIN κ(G_v)` does not depend on it: `λ_max` divides out of the ratio.
+pub const SPARSE_GRIP_TOP_STEPS: usize = 16;
+
+/// Lanczos steps per eigenvalue on the sparse path before the dense singular values decide.
+const SPARSE_GRIP_ITERATIONS: usize = 200;
+
+/// The velocity Jacobian `G_v` (`nc × nv`) at one state as the index-1 DAE's checks read it:
+/// dense below [`SPARSE_GRIP_ROWS`] rows (the singular values of [`dependent_condition`] and
+/// [`block_condition_bound`]), by its non-zeros from there on, where
+///
+/// ```text
+///   σ_max(G_v)² = λ_max(G_v G_vᵀ),   σ_min(G_v)² = λ_min(G_v G_vᵀ),   σ_min(G_D)² = λ_min(G_D G_Dᵀ)
+/// ```
+///
+/// come from Lanczos iterations ([`super::gram::lanczos_largest`]: on the inverse of the sparse
+/// Gram matrix through its Cholesky factor for `λ_min`, [`super::gram::SparseGram`]; on the
+/// products `G_v (G_vᵀ x)` for `λ_max`), so that `μ(D) = σ_max(G_v) / σ_min(G_D)`
+/// and `κ(G_v)` cost time linear in the non-zeros of a chain-like mechanism. Where a sparse
+/// factorisation fails (a rank loss: the Gram matrix not numerically positive definite) or an
+/// iteration does not converge, the dense singular values decide. The dense `G_v` is built only
+/// where a check needs it ([`JointRows::dense`]: a fresh selection of dependent velocities).
+#[derive(Clone, Debug)]
+pub struct JointRows {
+    shape: (usize, usize),
+    sparse: bool,
+    /// Non-zeros `(row, column, value)` in row-major order (the sparse path only).
+    entries: Vec<(usize, usize, f64)>,
+    dense: Option<DMatrix<f64>>,
+    /// `λ_max(G_v G_vᵀ)` once computed on the sparse path (`None` inside: failed).
+    top: Option<Option<f64>>,
+    /// `λ_min(G_v G_vᵀ)` once computed on the sparse path (`None` inside: failed).
+    bottom: Option<Option<f64>>,
+}
+
+impl JointRows {
+    /// `G_v` of `tape` at `(t, x)`, `x = [q, v]`.
+    pub fn new(tape: &super::MatrixTape, t: f64, x: &[f64]) -> Self {
+        if tape.rows >= SPARSE_GRIP_ROWS {
+            Self::from_entries((tape.rows, tape.cols), tape.entries(t, x))
+        } else {
+            Self::from_dense(tape.matrix(t, x))
+        }
+    }
+
+    /// The dense `gv` (the dense path whatever its size).
+    pub fn from_dense(gv: DMatrix<f64>) -> Self {
+        JointRows {
+            shape: gv.shape(),
+            sparse: false,
+            entries: Vec::new(),
+            dense: Some(gv),
+            top: None,
+            bottom: None,
+        }
+    }
+
+    /// The `nc × nv` matrix of the non-zeros `entries` (row-major; the sparse path whatever
+    /// its size).
+    pub fn from_entries(shape: (usize, usize), entries: Vec<(usize, usize, f64)>) -> Self {
+        JointRows {
+            shape,
+            sparse: true,
+            entries,
+            dense: None,
+            top: None,
+            bottom: None,
+        }
+    }
+
+    /// Whether the measures come from the non-zeros.
+    pub fn is_sparse(&self) -> bool {
+        self.sparse
+    }
+
+    /// `(rows, columns)`.
+    pub fn shape(&self) -> (usize, usize) {
+        self.shape
+    }
+
+    /// The dense `G_v` (built from the non-zeros the first time on the sparse path).
+    pub fn dense(&mut self) -> &DMatrix<f64> {
+        let (shape, entries) = (self.shape, &self.entries);
+        self.dense.get_or_insert_with(|| {
+            let mut m = DMatrix::zeros(shape.0, shape.1);
+            for &(i, j, v) in entries {
+                m[(i, j)] = v;
+            }
+            m
+        })
+    }
+
+    /// The non-zeros `(row, column, value)`, row-major (empty on the dense path).
+    pub fn entries(&self) -> &[(usize, usize, f64)] {
+        &self.entries
+    }
+
+    /// `λ_max(G_v G_vᵀ)` by Lanczos on the products `x ↦ G_v (G_vᵀ x)` from the non-zeros
+    /// (no Gram matrix formed; computed once), at most [`SPARSE_GRIP_TOP_STEPS`] steps.
+    fn top_eigenvalue(&mut self) -> Option<f64> {
+        let (m, n) = self.shape;
+        let entries = &self.entries;
+        *self.top.get_or_insert_with(|| {
+            let mut w = vec![0.0; n];
+            let top = super::gram::lanczos_largest(
+                |x, y| {
+                    w.fill(0.0);
+                    for &(i, j, v) in entries {
+                        w[j] += v * x[i];
+                    }
+                    y.fill(0.0);
+                    for &(i, j, v) in entries {
+                        y[i] += v * w[j];
+                    }
+                },
+                &super::gram::start_vector(m),
+                SPARSE_GRIP_TOP_TOL,
+                SPARSE_GRIP_TOP_STEPS,
+            );
+            (top.theta.is_finite() && top.theta > 0.0).then_some(top.theta)
+        })
+    }
+
+    /// `λ_min(G_v G_vᵀ)` from the sparse Gram matrix's Cholesky factor (computed once).
+    fn bottom_eigenvalue(&mut self) -> Option<f64> {
+        let (m, n) = self.shape;
+        let entries = &self.entries;
+        *self.bottom.get_or_insert_with(|| {
+            super::gram::SparseGram::from_entries(m, n, entries, &vec![1.0; n])?
+                .smallest_eigenvalue(SPARSE_GRIP_TOL, SPARSE_GRIP_ITERATIONS)
+        })
+    }
+
+    /// The dependent block's grip `μ(D) = σ_max(G_v) / σ_min(G_D)` ([`dependent_condition`]).
+    pub fn dependent_condition(&mut self, dependent: &[usize]) -> f64 {
+        self.dependent_condition_with(dependent, None)
+    }
+
+    /// [`Self::dependent_condition`], on the sparse path with `lu`, the sparse LU of
+    /// `G_D = G_v[:, D]` at this state where the caller has it (factored here otherwise):
+    /// `σ_min(G_D)² = 1 / λ_max(G_D⁻ᵀ G_D⁻¹)` ([`block_smallest_squared`]).
+    pub fn dependent_condition_with(
+        &mut self,
+        dependent: &[usize],
+        lu: Option<&faer::sparse::linalg::solvers::Lu<usize, f64>>,
+    ) -> f64 {
+        let (m, _) = self.shape;
+        if self.is_sparse() && m > 0 && dependent.len() == m {
+            let lmax = self.top_eigenvalue();
+            let own = match lu {
+                Some(_) => None,
+                None => block_lu(self.shape, &self.entries, dependent, &mut None),
+            };
+            let lmin_d = lu
+                .or(own.as_ref())
+                .and_then(|lu| block_smallest_squared(lu, m));
+            if let Some((lmax, lmin_d)) = lmax.zip(lmin_d) {
+                return if lmin_d <= 0.0 {
+                    f64::INFINITY
+                } else {
+                    (lmax / lmin_d).sqrt()
+                };
+            }
+        }
+        dependent_condition(self.dense(), dependent)
+    }
+
+    /// The lower bound `κ(G_v)` of every block's grip ([`block_condition_bound`]).
+    pub fn condition_bound(&mut self) -> f64 {
+        let (m, n) = self.shape;
+        if m == 0 || m > n {
+            return 0.0;
+        }
+        if self.is_sparse() {
+            if let Some((lmin, lmax)) = self.bottom_eigenvalue().zip(self.top_eigenvalue()) {
+                return if lmin <= 0.0 {
+                    f64::INFINITY
+                } else {
+                    (lmax / lmin).sqrt()
+                };
+            }
+        }
+        block_condition_bound(self.dense())
+    }
+
+    /// The joints' condition number `κ(G_v M⁺ G_vᵀ)` ([`super::joint_condition_number`], its
+    /// sparse path from the non-zeros here).
+    pub fn joint_condition_number(&mut self, mass: &[f64]) -> f64 {
+        if self.is_sparse() {
+            let kappa =
+                super::singular::sparse_joint_condition_number_of(self.shape, &self.entries, mass);
+            return kappa
+                .unwrap_or_else(|| super::dense_joint_condition_number(self.dense(), mass));
+        }
+        super::joint_condition_number(self.dense(), mass)
+    }
+}
+
+/// faer's sparse LU of the square block `G_v[:, D]` (`nc × nc`, `D` ordered as given) of the
+/// `nc × nv` matrix with the non-zeros `entries`, with the symbolic factorisation `symbolic`
+/// of its pattern (computed and kept there when `None`: the pattern of a partition's block is
+/// fixed). `None` when `D` is not `nc` columns of the matrix or the factorisation fails (a
+/// structurally or numerically singular block).
+pub fn block_lu(
+    (nc, nv): (usize, usize),
+    entries: &[(usize, usize, f64)],
+    dependent: &[usize],
+    symbolic: &mut Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
+) -> Option<faer::sparse::linalg::solvers::Lu<usize, f64>> {
+    use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+    use faer::sparse::{SparseColMat, Triplet};
+    if dependent.len() != nc {
+        return None;
+    }
+    let mut local = vec![usize::MAX; nv];
+    for (k, &j) in dependent.iter().enumerate() {
+        *local.get_mut(j)? = k;
+    }
+    let block: Vec<Triplet<usize, usize, f64>> = entries
+        .iter()
+        .filter(|e| local[e.1] != usize::MAX)
+        .map(|&(i, j, v)| Triplet::new(i, local[j], v))
+        .collect();
+    let b = SparseColMat::<usize, f64>::try_new_from_triplets(nc, nc, &block).ok()?;
+    let symbolic = match symbolic {
+        Some(s) => s.clone(),
+        None => symbolic
+            .insert(SymbolicLu::try_new(b.symbolic()).ok()?)
+            .clone(),
+    };
+    Lu::try_new_with_symbolic(symbolic, b.as_ref()).ok()
+}
+
+/// `σ_min(B)² = λ_min(B Bᵀ) = 1 / λ_max(B⁻ᵀ B⁻¹)` of the `n × n` matrix `B` factored as `lu`:
+/// Lanczos ([`super::gram::lanczos_largest`], relative accuracy [`SPARSE_GRIP_TOL`]) on
+/// `x ↦ B⁻ᵀ (B⁻¹ x)`, two triangular solve pairs per step. `None` when the iteration does not
+/// converge or meets a non-finite value.
+pub fn block_smallest_squared(
+    lu: &faer::sparse::linalg::solvers::Lu<usize, f64>,
+    n: usize,
+) -> Option<f64> {
+    use faer::linalg::solvers::SolveCore;
+    use faer::{Conj, MatMut};
+    let top = super::gram::lanczos_largest(
+        |x, y| {
+            y.copy_from_slice(x);
+            lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(y, n, 1));
+            lu.solve_transpose_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(y, n, 1),
+            );
+        },
+        &super::gram::start_vector(n),
+        SPARSE_GRIP_TOL,
+        SPARSE_GRIP_ITERATIONS,
+    );
+    (top.converged && top.theta > 0.0).then(|| 1.0 / top.theta)
+}
+
 impl Index1Formulation {
     /// The split of `y = [q, v, a_D, λ]` (`nq` coordinates) for the Schur solver of the Newton matrix
     /// ([`crate::sundials::schur`]): the independent coordinates and velocities `(q_I, v_I)`,

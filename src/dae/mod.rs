@@ -33,12 +33,12 @@ pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{
     block_condition_bound, dependent_condition, independent_rows, redundant_row_grip,
-    select_dependent, Index1Formulation,
+    select_dependent, Index1Formulation, JointRows,
 };
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
 pub use singular::{
     dense_joint_condition_number, joint_condition_number, joint_conditioning,
-    sparse_joint_condition_number, JointConditioning,
+    sparse_joint_condition_number, sparse_joint_condition_number_of, JointConditioning,
 };

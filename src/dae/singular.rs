@@ -134,14 +134,35 @@ pub fn sparse_joint_condition_number(gv: &DMatrix<f64>, mass: &[f64]) -> Option<
     if gv.nrows() == 0 {
         return Some(1.0);
     }
-    let w: Vec<f64> = mass
-        .iter()
-        .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
-        .collect();
+    let w = inverse_masses(mass);
     let gram = SparseGram::new(gv, &w)?;
     let (lmin, lmax) =
         gram.extreme_eigenvalues(SPARSE_CONDITION_TOL, SPARSE_CONDITION_ITERATIONS)?;
     Some(ratio(lmax, lmin))
+}
+
+/// [`sparse_joint_condition_number`] from the nonzeros `(row, column, value)` of the `nc × nv`
+/// `G_v` in row-major order ([`crate::dae::MatrixTape::entries`]): the same Gram matrix, summed
+/// in the same order, without reading a dense `G_v` (linear in the non-zeros).
+pub fn sparse_joint_condition_number_of(
+    (nc, nv): (usize, usize),
+    entries: &[(usize, usize, f64)],
+    mass: &[f64],
+) -> Option<f64> {
+    if nc == 0 {
+        return Some(1.0);
+    }
+    let gram = SparseGram::from_entries(nc, nv, entries, &inverse_masses(mass))?;
+    let (lmin, lmax) =
+        gram.extreme_eigenvalues(SPARSE_CONDITION_TOL, SPARSE_CONDITION_ITERATIONS)?;
+    Some(ratio(lmax, lmin))
+}
+
+/// `M⁺`'s diagonal: `1 / m_j`, 0 for a massless coordinate.
+fn inverse_masses(mass: &[f64]) -> Vec<f64> {
+    mass.iter()
+        .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+        .collect()
 }
 
 /// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` from all eigenvalues of the dense Gram matrix.

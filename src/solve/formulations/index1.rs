@@ -23,16 +23,18 @@
 use std::sync::Arc;
 
 use cpu_time::ThreadTime;
+use faer::linalg::solvers::SolveCore;
+use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
+use crate::dae::index1::{block_lu, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    block_condition_bound, consistent_state_from, dependent_condition, independent_rows,
-    joint_condition_number, joint_conditioning, redundant_row_grip, select_dependent,
-    ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation, Index1Formulation,
-    MechanicsTapes,
+    consistent_state_from, dependent_condition, independent_rows, joint_condition_number,
+    joint_conditioning, redundant_row_grip, select_dependent, ConsistentState, ConstraintExprs,
+    DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
-use crate::settings::LinearSolverKind;
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{
     Ending, Formulation, HandOver, ImplicitProblem, Next, Problem, Start,
@@ -56,15 +58,25 @@ use crate::sundials::SolverError;
 /// test, are interpolated by a polynomial that satisfies the joints only at the steps (measured:
 /// a pinned point moving at 1e-5 m/s at outputs of the double pendulum); the completed row lies
 /// on the joints to the Newton tolerance, as the steps do.
+///
+/// From [`SPARSE_GRIP_ROWS`] joint rows on, the blocks are read by their non-zeros and solved
+/// by faer's sparse LU ([`complete_dependent_sparse`]: linear in the size of a chain, where the
+/// dense LU is cubic).
 fn complete_dependent(
     tapes: &MechanicsTapes,
     (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
     t: f64,
     y: &mut [f64],
+    lus: &mut BlockLus,
 ) {
     let (nq, nv, _) = tapes.dims;
     let nc = rows.len();
     if nc == 0 || dependent.len() != nc || coordinates.len() != nc {
+        return;
+    }
+    // (every row: a subset, where the joints are redundant, takes the dense path)
+    if nc >= SPARSE_GRIP_ROWS && nc == tapes.dims.2 {
+        complete_dependent_sparse(tapes, (dependent, coordinates), t, y, lus);
         return;
     }
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
@@ -129,6 +141,80 @@ fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec
         out[row] = lr[k];
     }
     out
+}
+
+/// At scale: faer's symbolic LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]` (their patterns
+/// are fixed while the partition is), and the numeric LU of `G_v[:, D]` at the last completed
+/// row, which the output's grip check ([`JointRows::dependent_condition_with`]) reuses.
+#[derive(Default)]
+struct BlockLus {
+    q: Option<SymbolicLu<usize>>,
+    v: Option<SymbolicLu<usize>>,
+    /// `(t, [q, v])` of the completed row and the LU of `G_v[:, D]` there.
+    last: Option<(f64, Vec<f64>, Lu<usize, f64>)>,
+}
+
+/// [`complete_dependent`] with the blocks `G_q[:, D_q]` and `G_v[:, D]` read by their
+/// non-zeros ([`crate::dae::MatrixTape::entries`]) and solved by faer's sparse LU
+/// ([`crate::dae::index1::block_lu`], the symbolic factorisations kept in `lus`):
+/// `G_q[:, D_q] Δq_D = −g` (up to four Newton steps), then
+/// `G_v[:, D] v_D = −Σ_{j ∉ D} G_v[:, j] v_j`. A singular block leaves the row as it is.
+fn complete_dependent_sparse(
+    tapes: &MechanicsTapes,
+    (dependent, coordinates): (&[usize], &[usize]),
+    t: f64,
+    y: &mut [f64],
+    lus: &mut BlockLus,
+) {
+    let (nq, nv, nc) = tapes.dims;
+    lus.last = None;
+    let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    for _ in 0..4 {
+        let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
+        if g.iter().all(|v| v.abs() <= 1e-15 * scale) {
+            break;
+        }
+        let gq = tapes.gq.entries(t, &y[..nq + nv]);
+        let Some(lu) = block_lu((nc, nq), &gq, coordinates, &mut lus.q) else {
+            return;
+        };
+        let mut dq: Vec<f64> = g.iter().map(|v| -v).collect();
+        lu.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut dq, nc, 1),
+        );
+        if !dq.iter().all(|v| v.is_finite()) {
+            return;
+        }
+        for (k, &i) in coordinates.iter().enumerate() {
+            y[i] += dq[k];
+        }
+    }
+    let gv = tapes.gv.entries(t, &y[..nq + nv]);
+    let Some(lu) = block_lu((nc, nv), &gv, dependent, &mut lus.v) else {
+        return;
+    };
+    let mut in_d = vec![false; nv];
+    for &j in dependent {
+        in_d[j] = true;
+    }
+    let mut vd = vec![0.0; nc];
+    for &(r, c, v) in &gv {
+        if !in_d[c] {
+            vd[r] -= v * y[nq + c];
+        }
+    }
+    lu.solve_in_place_with_conj(
+        Conj::No,
+        MatMut::from_column_major_slice_mut(&mut vd, nc, 1),
+    );
+    if !vd.iter().all(|v| v.is_finite()) {
+        return;
+    }
+    for (k, &j) in dependent.iter().enumerate() {
+        y[nq + j] = vd[k];
+    }
+    lus.last = Some((t, y[..nq + nv].to_vec(), lu));
 }
 
 /// The dependent coordinates of the index-1 DAE for the dependent velocities `dependent`: the
@@ -351,12 +437,19 @@ struct Index1<'a> {
     /// The time of the last restart at a step (a failure there again is not answered by
     /// another restart at the same time).
     restarted_at: Option<f64>,
+    /// The blocks' sparse LUs at scale (reset with the partition).
+    block_lus: BlockLus,
 }
 
 impl<'a> Index1<'a> {
-    /// `G_v` over the running segment's rows at `(t, x)`.
-    fn gv_at(&self, t: f64, x: &[f64]) -> DMatrix<f64> {
-        rows_of(&self.tapes.gv.matrix(t, x), &self.rows)
+    /// `G_v` over the running segment's rows at `(t, x)` as the checks read it (dense, or by
+    /// its non-zeros at scale; a subset of the rows, where the joints are redundant, dense).
+    fn gv_at(&self, t: f64, x: &[f64]) -> JointRows {
+        if self.rows.len() == self.tapes.dims.2 {
+            JointRows::new(&self.tapes.gv, t, x)
+        } else {
+            JointRows::from_dense(rows_of(&self.tapes.gv.matrix(t, x), &self.rows))
+        }
     }
 
     fn nq(&self) -> usize {
@@ -420,6 +513,7 @@ impl<'a> Index1<'a> {
             (&self.dependent, &self.coordinates, &self.rows),
             t,
             &mut x,
+            &mut BlockLus::default(),
         );
         x
     }
@@ -442,12 +536,12 @@ impl<'a> Index1<'a> {
         summary: &mut Summary,
     ) -> Result<Option<Next<'a>>, SolveError> {
         let nq = self.nq();
-        let gv = self.gv_at(t, x);
-        let cond = dependent_condition(&gv, &self.dependent);
-        let best = select_dependent(&gv, &self.causal.preferred_at(t, &x[..nq]));
+        let mut gv = self.gv_at(t, x);
+        let cond = gv.dependent_condition(&self.dependent);
+        let best = select_dependent(gv.dense(), &self.causal.preferred_at(t, &x[..nq]));
         let best_cond = best
             .as_ref()
-            .map_or(f64::INFINITY, |b| dependent_condition(&gv, b));
+            .map_or(f64::INFINITY, |b| gv.dependent_condition(b));
         let mut restart = |me: &mut Self, what: &str, c: f64| -> Result<Next<'a>, SolveError> {
             me.reselections += 1;
             me.state = consistent_state_from(&me.sys, &me.tapes, t, x)?;
@@ -502,13 +596,8 @@ impl<'a> Index1<'a> {
     /// What degraded where IDA's steps stop at `t` (state `x = [q, v]`, error `e`): the
     /// dependent block, its condition, the joints whose rows lose rank.
     fn stall_cause(&self, t: f64, x: &[f64], e: &SolverError) -> String {
-        let gv = self.gv_at(t, x);
-        let cond = dependent_condition(&gv, &self.dependent);
-        let c = joint_conditioning(
-            &self.tapes.gv.matrix(t, x),
-            &self.sys.mass,
-            &self.sys.rows,
-        );
+        let cond = self.gv_at(t, x).dependent_condition(&self.dependent);
+        let c = joint_conditioning(&self.tapes.gv.matrix(t, x), &self.sys.mass, &self.sys.rows);
         let (_, dependent) = self.causal.names(&self.dependent);
         format!(
             "index1: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
@@ -526,10 +615,10 @@ impl<'a> Formulation<'a> for Index1<'a> {
 
     fn segment(&mut self, t_start: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
-        let full = self.tapes.gv.matrix(t_start, &self.x);
         if let Some((d, hint)) = &self.redundant {
             // the causality's choice at the start, the best-held rows at a re-selection
             let hint: &[usize] = if self.reselections == 0 { hint } else { &[] };
+            let full = self.tapes.gv.matrix(t_start, &self.x);
             match independent_rows(&full, *d, hint) {
                 Some(rows) => self.rows = rows,
                 None if self.hands_over => {
@@ -542,17 +631,19 @@ impl<'a> Formulation<'a> for Index1<'a> {
             self.rows = (0..nc).collect();
         }
         let r = self.rows.len();
-        let gv = rows_of(&full, &self.rows);
-        let chosen = self
-            .from_causality
-            .take()
-            .or_else(|| select_dependent(&gv, &self.causal.preferred_at(t_start, &self.x[..nq])));
+        // G_v only where the causality's choice is not taken (a restart)
+        let mut gv: Option<JointRows> = None;
+        let chosen = self.from_causality.take().or_else(|| {
+            let preferred = self.causal.preferred_at(t_start, &self.x[..nq]);
+            select_dependent(gv.insert(self.gv_at(t_start, &self.x)).dense(), &preferred)
+        });
         if chosen.is_none() && self.hands_over {
             let h = self.hand_over(t_start, "no regular set of dependent velocities")?;
             return Ok(Start::HandOver(h));
         }
         let dependent = chosen.ok_or_else(|| {
-            let c = joint_conditioning(&gv, &self.sys.mass, &self.sys.rows);
+            let full = self.tapes.gv.matrix(t_start, &self.x);
+            let c = joint_conditioning(&full, &self.sys.mass, &self.sys.rows);
             SolveError::Init(crate::dae::InitError::Singular {
                 t: t_start,
                 what: format!(
@@ -594,7 +685,12 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let mut y0 = state.q.clone();
         y0.extend(&state.v);
         y0.extend(dependent.iter().map(|&j| state.vdot[j]));
-        y0.extend(multipliers_on_rows(&full, &state.lambda, &self.rows));
+        if self.redundant.is_some() {
+            let full = self.tapes.gv.matrix(t_start, &self.x);
+            y0.extend(multipliers_on_rows(&full, &state.lambda, &self.rows));
+        } else {
+            y0.extend(&state.lambda);
+        }
         // q' = K(q) v
         let x_start: Vec<f64> = state.q.iter().chain(&state.v).copied().collect();
         let mut yp0 = MechanicsTapes::eval(&self.tapes.kinematics, t_start, &x_start);
@@ -605,7 +701,12 @@ impl<'a> Formulation<'a> for Index1<'a> {
         atol.extend(std::iter::repeat_n(super::multiplier_atol(&self.opts), nc));
         let dae: Arc<dyn DaeFormulation> = Arc::new(f);
         // `auto`: the Newton matrix by elimination of the dependent blocks (Schur complement)
-        let schur = (self.opts.linear_solver == LinearSolverKind::Auto).then_some(split);
+        // below AUTO_SCHUR_UNKNOWNS, faer's sparse LU from there on (make_ida resolves `auto`)
+        let schur = self
+            .opts
+            .linear_solver
+            .index1_schur(dae.len())
+            .then_some(split);
         if schur.is_none() {
             summary.linear_solver = self.opts.linear_solver.resolved_name(dae.len()).into();
         }
@@ -613,9 +714,12 @@ impl<'a> Formulation<'a> for Index1<'a> {
         self.coordinates = coordinates;
         // the step watch's alert: GRIP_GROWTH times the block's estimate at the start, at least
         // GRIP_ALERT
-        let start = self
-            .grip
-            .estimate(&self.tapes, (&self.dependent, &self.rows), t_start, &x_start);
+        let start = self.grip.estimate(
+            &self.tapes,
+            (&self.dependent, &self.rows),
+            t_start,
+            &x_start,
+        );
         self.grip.alert = (GRIP_GROWTH * start).max(GRIP_ALERT);
         self.grip.since = 0;
         self.grip.next = self.grip.every;
@@ -624,6 +728,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
                 .iter()
                 .all(|&j| self.sys.graph.as_const(row[j]).is_some())
         });
+        self.block_lus = BlockLus::default();
         Ok(Start::Run(Problem::Implicit(ImplicitProblem {
             dae,
             atol,
@@ -641,6 +746,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             (&self.dependent, &self.coordinates, &self.rows),
             t,
             x,
+            &mut self.block_lus,
         );
         Ok(())
     }
@@ -658,7 +764,9 @@ impl<'a> Formulation<'a> for Index1<'a> {
             return false;
         }
         self.grip.since = 0;
-        let rho = self.grip.estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
+        let rho = self
+            .grip
+            .estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
         // far below the alert the block cannot reach it in a few steps of a smooth motion
         let margin = if 2.0 * rho < self.grip.alert {
             4
@@ -734,19 +842,26 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let n = self.x.len();
         self.x.copy_from_slice(&full[..n]);
         self.t_last = t;
-        // G_v at this output, evaluated once for every check below
-        let gv = self.gv_at(t, &self.x);
-        let cond = dependent_condition(&gv, &self.dependent);
+        // G_v at this output, evaluated once for every check below (dense, or by its
+        // non-zeros at scale: every measure then linear in the size of a chain)
+        let mut gv = self.gv_at(t, &self.x);
+        // (at scale, with the LU of G_v[:, D] the completion of this row factored)
+        let lu = self
+            .block_lus
+            .last
+            .take()
+            .filter(|(tl, xl, _)| *tl == t && xl[..] == self.x[..]);
+        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
         // the causality's preference at this output (a graph assignment), assigned at most once
         let mut preferred: Option<Vec<bool>> = None;
         if self.hands_over && cond > 2.0 * self.watch.block && more {
             // the partition degrades: are the joints approaching a singular configuration?
-            let kappa = joint_condition_number(&gv, &self.sys.mass);
+            let kappa = gv.joint_condition_number(&self.sys.mass);
             // best ≤ cond: a fresh choice only matters above the hand-over's threshold
             let best = if cond > DAE_HANDOVER_CONDITION {
                 let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &self.x[..nq]));
-                select_dependent(&gv, p)
-                    .map_or(f64::INFINITY, |b| dependent_condition(&gv, &b))
+                select_dependent(gv.dense(), p)
+                    .map_or(f64::INFINITY, |b| gv.dependent_condition(&b))
                     .min(cond)
             } else {
                 cond
@@ -806,17 +921,16 @@ impl<'a> Formulation<'a> for Index1<'a> {
         if cond > INDEX1_CHECK_CONDITION && more {
             // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
             // allows, no fresh choice (a causality assignment) can replace this one
-            let possible = cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * block_condition_bound(&gv);
+            let possible = cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * gv.condition_bound();
             let better = possible
                 .then(|| {
                     let p =
                         preferred.get_or_insert_with(|| self.causal.preferred_at(t, &self.x[..nq]));
-                    select_dependent(&gv, p)
+                    select_dependent(gv.dense(), p)
                 })
                 .flatten();
             if let Some(b) = better {
-                if b != self.dependent && dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN < cond
-                {
+                if b != self.dependent && gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond {
                     self.reselections += 1;
                     self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
                     summary.warnings.push(format!(
@@ -828,17 +942,21 @@ impl<'a> Formulation<'a> for Index1<'a> {
         }
         // the dependent coordinates, where they are chosen apart from the velocities
         if self.coordinates != self.dependent && more {
-            let gq = rows_of(&self.tapes.gq.matrix(t, &self.x), &self.rows);
-            let cond_q = dependent_condition(&gq, &self.coordinates);
+            let mut gq = if self.rows.len() == self.tapes.dims.2 {
+                JointRows::new(&self.tapes.gq, t, &self.x)
+            } else {
+                JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, &self.x), &self.rows))
+            };
+            let cond_q = gq.dependent_condition(&self.coordinates);
             let better = (cond_q > INDEX1_CHECK_CONDITION)
                 .then(|| {
                     select_dependent(
-                        &gq,
+                        gq.dense(),
                         &crate::dae::partition::preferred_coordinates(&self.sys),
                     )
                 })
                 .flatten()
-                .filter(|b| dependent_condition(&gq, b) * INDEX1_RESELECT_GAIN < cond_q);
+                .filter(|b| gq.dependent_condition(b) * INDEX1_RESELECT_GAIN < cond_q);
             if better.is_some() {
                 self.reselections += 1;
                 self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
@@ -879,14 +997,16 @@ pub(crate) fn job<'a>(
     let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     summary.solver = "IDA".into();
     let causal = CausalPartition::new(&sys, t0);
-    let full = tapes.gv.matrix(t0, &x);
     // redundant joints: the rows the causality names redundant are left out of the dependent
     // block (the others, a maximal independent set, determine the motion)
     let redundant = (!init.redundant_joints.is_empty())
         .then(|| (nc - init.rank.min(nc), causal.redundant_rows(&sys.rows)));
-    let joint_rows: Vec<usize> = match &redundant {
-        Some((d, hint)) => independent_rows(&full, *d, hint).unwrap_or_else(|| (0..nc).collect()),
-        None => (0..nc).collect(),
+    let full = redundant.as_ref().map(|_| tapes.gv.matrix(t0, &x));
+    let joint_rows: Vec<usize> = match (&redundant, &full) {
+        (Some((d, hint)), Some(full)) => {
+            independent_rows(full, *d, hint).unwrap_or_else(|| (0..nc).collect())
+        }
+        _ => (0..nc).collect(),
     };
     let r = joint_rows.len();
     if redundant.is_some() {
@@ -907,28 +1027,41 @@ pub(crate) fn job<'a>(
     let events = super::events(&sys, &tapes, &super::solved_multipliers(&sys, &tapes));
     let mut y_first = x.clone();
     y_first.extend(std::iter::repeat_n(0.0, r));
-    y_first.extend(multipliers_on_rows(&full, &init.lambda, &joint_rows));
+    match &full {
+        Some(full) => y_first.extend(multipliers_on_rows(full, &init.lambda, &joint_rows)),
+        None => y_first.extend(&init.lambda),
+    }
     let hands_over = summary.formulation == "dae";
-    let gv = rows_of(&full, &joint_rows);
+    let mut gv = match &full {
+        Some(full) => JointRows::from_dense(rows_of(full, &joint_rows)),
+        None => JointRows::new(&tapes.gv, t0, &x),
+    };
     // the chapter's partition at the start: the differential-causality inertias' flows
-    // (kept unless its block is ill-conditioned there and a numeric choice is much better)
-    let from_causality = causal.dependent().filter(|d| {
-        let cond = dependent_condition(&gv, d);
-        cond <= INDEX1_CHECK_CONDITION
-            || select_dependent(&gv, &causal.preferred_at(t0, &x[..nq]))
-                .is_none_or(|b| dependent_condition(&gv, &b) * INDEX1_RESELECT_GAIN >= cond)
+    // (kept unless its block is ill-conditioned there and a numeric choice is much better;
+    // no choice can be INDEX1_RESELECT_GAIN times better when the causality's block is within
+    // that factor of the bound κ(G_v) ≤ μ(D) of every block: then no numeric choice is made)
+    let causality_block = causal.dependent().map(|d| {
+        let cond = gv.dependent_condition(&d);
+        (d, cond)
+    });
+    let from_causality = causality_block.as_ref().and_then(|(d, cond)| {
+        let keep = *cond <= INDEX1_CHECK_CONDITION
+            || *cond * (1.0 + 1e-9) <= INDEX1_RESELECT_GAIN * gv.condition_bound()
+            || select_dependent(gv.dense(), &causal.preferred_at(t0, &x[..nq]))
+                .is_none_or(|b| gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN >= *cond);
+        keep.then(|| (d.clone(), *cond))
     });
     // what the hand-over compares with: the joints' and the partition's conditioning at the start
     let watch = {
         // (the causality's preference, a graph assignment, only where the causality's block fails)
         let block = match &from_causality {
-            Some(d) => dependent_condition(&gv, d),
-            None => select_dependent(&gv, &causal.preferred_at(t0, &x[..nq]))
-                .map_or(f64::INFINITY, |d| dependent_condition(&gv, &d)),
+            Some((_, cond)) => *cond,
+            None => select_dependent(gv.dense(), &causal.preferred_at(t0, &x[..nq]))
+                .map_or(f64::INFINITY, |d| gv.dependent_condition(&d)),
         };
         HandoverWatch {
             joints: if hands_over {
-                joint_condition_number(&gv, &sys.mass)
+                gv.joint_condition_number(&sys.mass)
             } else {
                 f64::INFINITY
             },
@@ -957,13 +1090,14 @@ pub(crate) fn job<'a>(
             coordinates: Vec::new(),
             rows: joint_rows,
             redundant,
-            from_causality,
+            from_causality: from_causality.map(|(d, _)| d),
             watch,
             hands_over,
             reselections: 0,
             y_first,
             grip,
             restarted_at: None,
+            block_lus: BlockLus::default(),
         }),
         rows: Box::new(rows),
         events,
