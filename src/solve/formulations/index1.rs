@@ -369,13 +369,22 @@ impl BlockGrip {
                 self.block[k * m + i] = self.gv[r * nv + j];
             }
         }
-        pivot_ratio(&mut self.block[..m * m], m)
+        // the whole rows' largest entry: a block that loses its grip uniformly (a 1 × 1 block,
+        // a point mass on a distance link passing under its pivot) has pivots of one size
+        let whole = rows
+            .iter()
+            .flat_map(|&r| self.gv[r * nv..(r + 1) * nv].iter())
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        pivot_ratio(&mut self.block[..m * m], m, whole)
     }
 }
 
-/// Largest over smallest pivot magnitude of the LU with partial pivoting of the column-major
-/// `m × m` matrix `a` (factored in place); ∞ when a pivot is zero.
-fn pivot_ratio(a: &mut [f64], m: usize) -> f64 {
+/// The largest of `whole` (the largest entry of the block's rows) and the largest pivot, over
+/// the smallest pivot magnitude of the LU with partial pivoting of the column-major `m × m`
+/// matrix `a` (factored in place); ∞ when a pivot is zero. Like `μ(D)`
+/// ([`crate::dae::dependent_condition`]) it sees a block that loses its grip against the whole
+/// rows: `G_v = [x  y]`, `D = {x}` gives `max(|x|, |y|) / |x|`, where the pivots alone give 1.
+fn pivot_ratio(a: &mut [f64], m: usize, whole: f64) -> f64 {
     let (mut largest, mut smallest) = (0.0f64, f64::INFINITY);
     for k in 0..m {
         let (p, pv) = (k..m)
@@ -400,7 +409,7 @@ fn pivot_ratio(a: &mut [f64], m: usize) -> f64 {
             }
         }
     }
-    largest / smallest
+    largest.max(whole) / smallest
 }
 
 /// The index-1 DAE with its re-selections and (for `dae`) its hand-over to the GGL.
