@@ -30,9 +30,9 @@ use nalgebra::DMatrix;
 
 use crate::dae::index1::{block_lu, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    consistent_state_from, dependent_condition, independent_rows, joint_condition_number,
-    joint_conditioning, redundant_row_grip, select_dependent, ConsistentState, ConstraintExprs,
-    DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
+    consistent_state_from, dependent_condition, independent_rows, joint_conditioning,
+    redundant_row_grip, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
+    GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::formulation::Job;
@@ -532,6 +532,18 @@ impl<'a> Index1<'a> {
         self.state.q.iter().chain(&self.state.v).copied().collect()
     }
 
+    /// Where the joints are redundant and a fresh set of independent rows holds the rank
+    /// [`REDUNDANT_ROWS_GAIN`] times better than the running one at `(t, x)`: the running and
+    /// the fresh set's grip ([`redundant_row_grip`]). `None`: keep the rows.
+    fn fresher_rows(&self, t: f64, x: &[f64]) -> Option<(f64, f64)> {
+        let (d, _) = self.redundant.as_ref()?;
+        let full = self.tapes.gv.matrix(t, x);
+        let grip = redundant_row_grip(&full, *d, &self.rows);
+        let fresh = independent_rows(&full, *d, &[]).filter(|f| *f != self.rows)?;
+        let fresh_grip = redundant_row_grip(&full, *d, &fresh);
+        (fresh_grip > REDUNDANT_ROWS_GAIN * grip).then_some((grip, fresh_grip))
+    }
+
     /// The re-choice at an IDA step `(t, x)`, `x = [q, v]`: a fresh choice of dependent
     /// velocities (or coordinates) [`INDEX1_RESELECT_GAIN`] times better conditioned than the
     /// running one restarts the run there; where none exists and the best block is not
@@ -563,15 +575,8 @@ impl<'a> Index1<'a> {
             Ok(Next::Restart(t))
         };
         // redundant joints: the rows left out may have lost their grip (the self-stress turned)
-        if let Some((d, _)) = &self.redundant {
-            let full = self.tapes.gv.matrix(t, x);
-            let grip = redundant_row_grip(&full, *d, &self.rows);
-            let fresh = independent_rows(&full, *d, &[])
-                .filter(|f| *f != self.rows)
-                .map_or(0.0, |f| redundant_row_grip(&full, *d, &f));
-            if fresh > REDUNDANT_ROWS_GAIN * grip {
-                return restart(self, "joint rows", grip).map(Some);
-            }
+        if let Some((grip, _)) = self.fresher_rows(t, x) {
+            return restart(self, "joint rows", grip).map(Some);
         }
         if best
             .as_ref()
@@ -863,6 +868,18 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
         // the causality's preference at this output (a graph assignment), assigned at most once
         let mut preferred: Option<Vec<bool>> = None;
+        // redundant joints: the rows left out must keep holding the rank (the self-stress
+        // turns with the mechanism: a parallel third crank's rows trade places as it passes
+        // the horizontal)
+        if let Some((grip, fresh)) = self.fresher_rows(t, &self.x).filter(|_| more) {
+            self.reselections += 1;
+            self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
+            summary.warnings.push(format!(
+                "{}: independent joint rows re-selected at t = {t:.6} (grip {grip:.1e}, fresh {fresh:.1e})",
+                summary.formulation
+            ));
+            return Ok(Next::Restart(t));
+        }
         if self.hands_over && cond > 2.0 * self.watch.block && more {
             // the partition degrades: are the joints approaching a singular configuration?
             let kappa = gv.joint_condition_number(&self.sys.mass);
@@ -880,51 +897,11 @@ impl<'a> Formulation<'a> for Index1<'a> {
             // block stays regular —: there the blocks alone decide)
             let rise = self.redundant.is_none() && kappa > DAE_HANDOVER_RISE * self.watch.joints;
             if rise || best > DAE_HANDOVER_CONDITION {
-                // redundant joints: a fresh set of independent rows may hold the motion again
-                if let Some((d, _)) = &self.redundant {
-                    // (the best-held rows now, without the start's causality preference)
-                    let full = self.tapes.gv.matrix(t, &self.x);
-                    let fresh = independent_rows(&full, *d, &[])
-                        .filter(|rows| *rows != self.rows)
-                        .filter(|rows| {
-                            let g = rows_of(&full, rows);
-                            joint_condition_number(&g, &self.sys.mass)
-                                <= DAE_HANDOVER_RISE * self.watch.joints
-                        });
-                    if fresh.is_some() {
-                        self.reselections += 1;
-                        self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
-                        summary.warnings.push(format!(
-                            "{}: independent joint rows re-selected at t = {t:.6} (κ = {kappa:.1e})",
-                            summary.formulation
-                        ));
-                        return Ok(Next::Restart(t));
-                    }
-                }
                 let why = format!(
                     "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {}), the best dependent block's condition {best:.1e}",
                     self.watch.joints, self.watch.t0
                 );
                 return Ok(Next::HandOver(self.hand_over(t, &why)?));
-            }
-        }
-        // redundant joints: the rows left out must keep holding the rank (the self-stress
-        // turns with the mechanism: a parallel third crank's rows trade places as it passes
-        // the horizontal)
-        if let (Some((d, _)), true) = (&self.redundant, more) {
-            let full = self.tapes.gv.matrix(t, &self.x);
-            let grip = redundant_row_grip(&full, *d, &self.rows);
-            if let Some(fresh) = independent_rows(&full, *d, &[]) {
-                let fresh_grip = redundant_row_grip(&full, *d, &fresh);
-                if fresh != self.rows && fresh_grip > REDUNDANT_ROWS_GAIN * grip {
-                    self.reselections += 1;
-                    self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
-                    summary.warnings.push(format!(
-                        "{}: independent joint rows re-selected at t = {t:.6} (grip {grip:.1e}, fresh {fresh_grip:.1e})",
-                        summary.formulation
-                    ));
-                    return Ok(Next::Restart(t));
-                }
             }
         }
         if cond > INDEX1_CHECK_CONDITION && more {
