@@ -58,6 +58,7 @@ fn main() {
     // their first call inside a timed solve (`cpu_seconds` of a short run paid the lazy
     // binding); also the hardening Debian builds use
     println!("cargo:rustc-link-arg-bins=-Wl,-z,now");
+    bundled_scenes();
 
     if let Some(root) = env::var_os("DEP_SUNDIALS_ROOT") {
         panic!(
@@ -109,4 +110,32 @@ fn main() {
             major.unwrap_or("<missing>")
         ),
     }
+}
+
+/// `$OUT_DIR/bundled_scenes.rs`: every `scenes/*.json` as `(name, include_str!(file))`, sorted
+/// by name, for the service's `GET /v1/scenes` (embedded: an installed binary has no
+/// checkout to read them from).
+fn bundled_scenes() {
+    let dir = Path::new(&env::var("CARGO_MANIFEST_DIR").expect("cargo sets it")).join("scenes");
+    println!("cargo:rerun-if-changed={}", dir.display());
+    let mut names: Vec<String> = fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let name = e.file_name().into_string().ok()?;
+            name.strip_suffix(".json").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    let mut code = String::from("&[\n");
+    for n in &names {
+        let file = dir.join(format!("{n}.json"));
+        code.push_str(&format!(
+            "    ({n:?}, include_str!({:?})),\n",
+            file.display().to_string()
+        ));
+    }
+    code.push_str("]\n");
+    let out = Path::new(&env::var("OUT_DIR").expect("cargo sets it")).join("bundled_scenes.rs");
+    fs::write(&out, code).unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
 }

@@ -8,6 +8,10 @@
 //! | `POST /v1/compare` | the `compare --json` document |
 //! | `POST /v1/graph?format=dot\|svg\|causality` | the bond graph drawing or causality report |
 //! | `POST /v1/sweep?quick=true` | NDJSON progress, then the sweep report |
+//! | `POST /v1/animate?view=&speed=&format=svg\|frames` | the `animate` SVG (SMIL) or its frames |
+//! | `POST /v1/validate` | `{valid, errors: [{path, message}]}`, the command line's problems (always 200) |
+//! | `GET /v1/scenes`, `GET /v1/scenes/{name}` | the bundled scenes' names; one scene's JSON |
+//! | `GET /` | the playground page ([`page`]) |
 //! | `GET /metrics` | Prometheus text |
 //! | `GET /openapi.json` | OpenAPI 3.1 |
 //!
@@ -32,6 +36,7 @@ mod body;
 pub mod limits;
 pub mod metrics;
 pub mod openapi;
+pub mod page;
 pub mod pool;
 pub mod problem;
 mod routes;
@@ -216,6 +221,13 @@ fn router(app: Arc<App>) -> Router {
         .route("/v1/compare", post(routes::compare))
         .route("/v1/graph", post(routes::graph))
         .route("/v1/sweep", post(routes::sweep))
+        .route("/v1/animate", post(routes::animate))
+        .route("/v1/validate", post(page::validate))
+        .route("/v1/scenes", get(page::scenes))
+        .route("/v1/scenes/{name}", get(page::scene))
+        .route("/", get(page::index))
+        .route("/playground.js", get(page::script))
+        .route("/playground.css", get(page::style))
         .fallback(routes::not_found)
         .method_not_allowed_fallback(routes::method_not_allowed)
         .layer(axum::middleware::from_fn_with_state(

@@ -129,6 +129,24 @@ pub fn document() -> Value {
         "json (default): columns, rows, summary; csv: the command line's CSV; ndjson: a {columns, rows} line, one row array per output time as it is computed, then {summary} (or {error}).",
         json!({"type": "string", "enum": ["json", "csv", "ndjson"], "default": "json"}),
     ));
+    let mut animate_params = solve_params();
+    animate_params.extend([
+        query(
+            "view",
+            "xy (planar default), xz, yz or iso (spatial default: the 3D view).",
+            json!({"type": "string", "enum": ["xy", "xz", "yz", "iso"]}),
+        ),
+        query(
+            "speed",
+            "Seconds of motion per second of playback (default 1, or slower for fast motions).",
+            json!({"type": "number", "exclusiveMinimum": 0}),
+        ),
+        query(
+            "format",
+            "svg (default) or frames (the points of every body in every frame, JSON).",
+            json!({"type": "string", "enum": ["svg", "frames"], "default": "svg"}),
+        ),
+    ]);
     json!({
         "openapi": "3.1.0",
         "info": {
@@ -174,7 +192,28 @@ pub fn document() -> Value {
                 query("repeats", "Timed runs per point (1 to 5).", json!({"type": "integer", "minimum": 1, "maximum": 5})),
             ], json!({
                 "description": "Progress, then the report.", "content": {"application/x-ndjson": {"schema": {"type": "string"}}}
-            }))
+            })),
+            "/v1/animate": post("The bondmech animate picture: an SVG animated with SMIL (root data-t0, data-t-end, data-speed, data-duration for scrubbing with setCurrentTime((t - t0) / speed)), or its frames as JSON. A raw bond graph is a 422.", animate_params, json!({
+                "description": "The animation.",
+                "content": {
+                    "image/svg+xml": {"schema": {"type": "string"}},
+                    "application/json": {"schema": {"type": "object", "properties": {
+                        "frames": {"type": "array", "items": {"type": "object", "properties": {
+                            "t": {"type": "number"}, "points": {"type": "object"}}}}}}}
+                }
+            })),
+            "/v1/validate": {"post": {"summary": "Check a scene as /v1/run does (JSON, limits, the scene's rules) without solving; always 200.", "requestBody": scene_body(), "responses": {
+                "200": {"description": "Valid, or the command line's problems with their JSON paths.", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Validation"}}}},
+                "415": problem("Content-Type is not JSON.")}}},
+            "/v1/scenes": {"get": {"summary": "The bundled scenes' names (the file names under scenes/ without .json), sorted.", "responses": {
+                "200": {"description": "Names.", "content": {"application/json": {"schema": {"type": "array", "items": {"type": "string"}}}}}}}},
+            "/v1/scenes/{name}": {"get": {"summary": "One bundled scene's file.", "parameters": [
+                {"name": "name", "in": "path", "required": true, "description": "A name from GET /v1/scenes.", "schema": {"type": "string"}}
+            ], "responses": {
+                "200": {"description": "The scene, byte for byte.", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Scene"}}}},
+                "404": problem("No bundled scene of that name (the detail lists them).")}}},
+            "/": {"get": {"summary": "The playground: a page to pick, edit, run, compare and animate scenes (no network outside this origin; strict Content-Security-Policy).", "responses": {
+                "200": {"description": "HTML.", "content": {"text/html": {"schema": {"type": "string"}}}}}}}
         },
         "components": {"schemas": {
             "Scene": scene_schema(),
@@ -185,6 +224,11 @@ pub fn document() -> Value {
                 "limit": {"type": "string"}, "limit_value": {},
                 "t_reached": {"type": "number"}, "columns": {"type": "array", "items": {"type": "string"}},
                 "rows": {"type": "array", "items": {"type": "array", "items": {"type": "number"}}}
+            }},
+            "Validation": {"type": "object", "required": ["valid", "errors"], "properties": {
+                "valid": {"type": "boolean"},
+                "errors": {"type": "array", "items": {"type": "object", "properties": {"path": {"type": "string"}, "message": {"type": "string"}}}},
+                "line": {"type": "integer"}, "column": {"type": "integer"}
             }},
             "Run": {"type": "object", "properties": {
                 "columns": {"type": "array", "items": {"type": "string"}, "description": "t, then the command line's columns."},

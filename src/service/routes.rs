@@ -26,7 +26,7 @@ use crate::report::SweepConfig;
 use crate::scene::Scene;
 
 /// The routes, for metrics labels and the 404 answer.
-pub const ROUTES: [&str; 8] = [
+pub const ROUTES: [&str; 15] = [
     "/healthz",
     "/metrics",
     "/openapi.json",
@@ -34,10 +34,23 @@ pub const ROUTES: [&str; 8] = [
     "/v1/compare",
     "/v1/graph",
     "/v1/sweep",
+    "/v1/animate",
+    "/v1/validate",
+    "/v1/scenes",
+    "/v1/scenes/{name}",
+    "/",
+    "/playground.js",
+    "/playground.css",
     "other",
 ];
 
 fn route_label(path: &str) -> &'static str {
+    if path
+        .strip_prefix("/v1/scenes/")
+        .is_some_and(|n| !n.is_empty())
+    {
+        return "/v1/scenes/{name}";
+    }
     ROUTES
         .iter()
         .copied()
@@ -151,7 +164,11 @@ fn not_shutting_down(app: &App) -> Result<(), Problem> {
 }
 
 /// Reads, parses and validates the scene in the body, and checks it against the limits.
-async fn scene_from(app: &App, headers: &HeaderMap, body: Body) -> Result<Scene, Problem> {
+pub(super) async fn scene_from(
+    app: &App,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Scene, Problem> {
     let bytes = read_body(headers, body, &app.limits).await?;
     let doc = parse_json(&bytes)?;
     check_document(&doc, &app.limits)?;
@@ -214,7 +231,7 @@ pub async fn not_found(req: Request) -> Response {
         format!(
             "no route {} (routes: {}; see /openapi.json)",
             req.uri().path(),
-            ROUTES[..7].join(", ")
+            ROUTES[..ROUTES.len() - 1].join(", ")
         ),
     )
     .into_response()
@@ -598,4 +615,138 @@ async fn sweep_inner(
         Ok(())
     }));
     stream_response(started_rx, rx).await
+}
+
+/// `POST /v1/animate?view=xy|xz|yz|iso&speed=S&format=svg|frames` and the solve parameters:
+/// the `bondmech animate --out FILE.svg` picture (an SVG animated with SMIL; its root states
+/// `data-t0`, `data-t-end`, `data-speed`, `data-duration`, so a page scrubs it with
+/// `setCurrentTime((t − t0) / speed)`), or the frames as drawn (`--frames`). Solved as the
+/// command line solves it: again at denser output times when a body would turn more than 15°
+/// between rows, all within the one budget.
+pub async fn animate(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = animate_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn animate_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    use crate::report::animate::{
+        animation, denser_output_times, frames_json, AnimationFormat, AnimationOptions, View,
+    };
+    not_shutting_down(app)?;
+    let mut allowed = SOLVE_PARAMS.to_vec();
+    allowed.extend(["format", "view", "speed"]);
+    let params = Params::parse(q.as_deref(), &allowed)?;
+    let format = params.choice("format", &["svg", "frames"])?;
+    let view = match params.text("view") {
+        None => None,
+        Some(v) => Some(View::parse(v).ok_or_else(|| {
+            invalid_value(
+                "view",
+                format!("view: expected xy, xz, yz or iso (got '{v}')"),
+            )
+        })?),
+    };
+    let speed = params.number("speed")?;
+    if let Some(s) = speed {
+        if !(s > 0.0 && s.is_finite()) {
+            return Err(invalid_value(
+                "speed",
+                format!("speed: must be > 0 (got {s})"),
+            ));
+        }
+    }
+    let solve = SolveParams::from(&params)?;
+    let mut scene = scene_from(app, headers, body).await?;
+    if scene.bodies.is_empty() {
+        return Err(invalid_scene([(
+            "bond_graph".to_string(),
+            "animate needs a scene with bodies (a raw bond graph has no geometry to draw)"
+                .to_string(),
+        )]));
+    }
+    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
+    solve.apply_to_scene(&mut scene)?;
+    let slot = app
+        .pool
+        .acquire_for(super::pool::estimated_cost(&scene))
+        .await?;
+    let limits = app.limits.clone();
+    let stop = app.stop_flags();
+    let mut guard = CancelOnDrop::new(&stop);
+    let metrics = app.metrics.clone();
+    let job = app.pool.spawn(slot, move || {
+        let budget = Budget::of(&scene, &limits);
+        let start = std::time::Instant::now();
+        let model = Model::new(&scene).map_err(|e| library_problem(&e, budget))?;
+        let mut opts = super::solve::options(&model, budget, &limits)?;
+        // each solve stops at its next output row when the client has gone or the server's
+        // shutdown grace has run out
+        let solve = |opts: &crate::solve::SolveOptions| {
+            let mut stopped = false;
+            let sol = model
+                .solve_streaming(opts, &mut |_| {
+                    stopped = stop.client_gone.load(Ordering::SeqCst)
+                        || stop.shutdown.load(Ordering::SeqCst);
+                    if stopped {
+                        std::ops::ControlFlow::Break(())
+                    } else {
+                        std::ops::ControlFlow::Continue(())
+                    }
+                })
+                .map_err(|e| library_problem(&e, budget))?;
+            if stopped {
+                if stop.client_gone.load(Ordering::SeqCst) {
+                    metrics.cancelled();
+                }
+                return Err(Problem::unavailable(
+                    "the animation's solve was stopped (client gone or shutting down)",
+                    1,
+                ));
+            }
+            Ok(sol)
+        };
+        opts.keep_rows = true;
+        let mut sol = solve(&opts)?;
+        let report = |e: crate::report::ReportError| library_problem(&e.into(), budget);
+        // rows close enough that every frame is a row (as `bondmech animate` does), each solve
+        // with what is left of the one budget
+        for _ in 0..4 {
+            let Some(times) = denser_output_times(&scene, &sol).map_err(report)? else {
+                break;
+            };
+            if times.len() > limits.max_rows {
+                break;
+            }
+            opts.output_times = times.into_iter().filter(|&t| t >= opts.t_start).collect();
+            opts.max_wall_clock = Some(budget.duration().saturating_sub(start.elapsed()));
+            sol = solve(&opts)?;
+        }
+        let aopts = AnimationOptions {
+            speed,
+            view,
+            source: "the solution".into(),
+            ..AnimationOptions::default()
+        };
+        Ok(if format == "frames" {
+            with_type(frames_json(&scene, &sol, &aopts).map_err(report)?, JSON)
+        } else {
+            with_type(
+                animation(&scene, &sol, &aopts, AnimationFormat::Svg).map_err(report)?,
+                "image/svg+xml",
+            )
+        })
+    });
+    let r = join(job).await;
+    guard.disarm();
+    r
 }
