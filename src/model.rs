@@ -238,6 +238,7 @@ impl Model {
             linear_solver: s.linear_solver,
             integrator: s.integrator,
             switching_functions: s.switching_functions,
+            energy_invariant: s.energy_invariant,
             ..SolveOptions::default()
         }
     }

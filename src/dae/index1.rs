@@ -42,8 +42,44 @@ pub struct Index1Formulation {
     pub rows: Vec<usize>,
     /// Multipliers `λ`: one per joint row, redundant rows included.
     pub multipliers: usize,
+    /// The energy invariant's unknowns `(κ, μ)` after `λ`, where the run keeps the energy
+    /// ([`EnergyInvariant`]); `None` otherwise.
+    pub energy: Option<EnergyInvariant>,
     /// 1 for differential unknowns, 0 for algebraic.
     pub id: Vec<f64>,
+}
+
+/// The energy of a conservative mechanism kept as an invariant of the index-1 DAE, `E(q, v) =
+/// E₀`, with one multiplier `μ` acting along the energy's gradient on the joints' manifold
+/// (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, IV.4: projection onto the
+/// invariant; here as a row of the DAE, so IDA keeps it at every step instead of a projection
+/// after the step):
+///
+/// ```text
+///   q_I' = K_I(q) v − μ ĝ_I,        ĝ_I = h_I − G_q[R, I]ᵀ κ       (the reduced gradient)
+///   h = ∂E/∂q − (∂(G_v v)/∂q)ᵀ η                                   (v_D moves with q)
+///   0 = G_v[R, D]ᵀ η − ∂E/∂v_D                                     (determines η)
+///   0 = G_q[R, D_q]ᵀ κ − h_D                                       (determines κ)
+///   M v' = Q − G_vᵀ λ − μ M v                                      (independent and dummy rows)
+///   0 = E(q, v) − E₀                                               (determines μ)
+/// ```
+///
+/// `ĝ_I` is the gradient of `E` along the manifold in the independent coordinates at fixed
+/// independent velocities (the dependent coordinates and velocities follow the joints), and `−μ M v` removes kinetic energy
+/// along the velocity itself (tangent: `G_v v = 0`), so `dE/dμ = −(|ĝ_I|² + vᵀ M v)`, which
+/// vanishes only at rest in an equilibrium: the row holds wherever the mechanism moves. In the
+/// exact solution `μ = 0`; numerically `μ` absorbs the integrator's energy error, which BDF's
+/// numerical damping makes one-signed and which, over hundreds of periods of an undamped
+/// oscillation, becomes a phase error (the IFToMM A01 pendulum). `η`, `κ` and `μ` are algebraic
+/// and left out of the local error test (`μ` is an index-2 unknown, as the GGL's position
+/// multipliers are).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyInvariant {
+    /// The energy kept, `E₀` (J).
+    pub e0: f64,
+    /// Offset of `η` in `y` (`r` entries, one per independent joint row), then `κ` (`r`),
+    /// then `μ`.
+    pub offset: usize,
 }
 
 /// Picks `nc` columns of `G_v` by Gram–Schmidt with column pivoting (largest remaining norm
@@ -437,8 +473,9 @@ impl Index1Formulation {
     /// `[M_D G_Dᵀ; G_D 0]`).
     pub fn schur_split(&self, nq: usize) -> (Vec<usize>, Vec<Vec<usize>>) {
         let r = self.dependent.len();
-        let nv = self.dae.n - nq - r - self.multipliers;
-        let outer = (0..nq)
+        let extra = if self.energy.is_some() { 2 * r + 1 } else { 0 };
+        let nv = self.dae.n - nq - r - self.multipliers - extra;
+        let mut outer: Vec<usize> = (0..nq)
             .filter(|i| !self.coordinates.contains(i))
             .chain(
                 (0..nv)
@@ -446,11 +483,19 @@ impl Index1Formulation {
                     .map(|j| nq + j),
             )
             .collect();
-        let blocks = vec![
+        let saddle_end = nq + nv + r + self.multipliers;
+        let mut blocks = vec![
             self.coordinates.clone(),
             self.dependent.iter().map(|&j| nq + j).collect(),
-            (nq + nv..self.dae.n).collect(),
+            (nq + nv..saddle_end).collect(),
         ];
+        if let Some(inv) = &self.energy {
+            // η after v_D (its rows read q, v), κ after it (its rows read q, v, η), μ with the
+            // degrees of freedom (its row reads every coordinate and velocity)
+            blocks.push((inv.offset..inv.offset + r).collect());
+            blocks.push((inv.offset + r..inv.offset + 2 * r).collect());
+            outer.push(inv.offset + 2 * r);
+        }
         (outer, blocks)
     }
 
@@ -509,6 +554,17 @@ impl Index1Formulation {
         coordinates: &[usize],
         rows: &[usize],
     ) -> Result<Self, MechError> {
+        Self::build_with_energy(sys, c, (dependent, coordinates, rows), None)
+    }
+
+    /// [`Index1Formulation::build_partitioned`] with, where `e0` is given, the system's energy
+    /// kept at `e0` as an invariant ([`EnergyInvariant`]): `y = [q, v, a_D, λ, η, κ, μ]`.
+    pub fn build_with_energy(
+        sys: &mut MultibodySystem,
+        c: &ConstraintExprs,
+        (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
+        e0: Option<f64>,
+    ) -> Result<Self, MechError> {
         let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
         let r = rows.len();
         if dependent.len() != r || coordinates.len() != r || rows.iter().any(|&k| k >= nc) {
@@ -521,14 +577,40 @@ impl Index1Formulation {
                 ),
             ));
         }
-        let n = nq + nv + r + nc;
+        let n = nq + nv + r + nc + if e0.is_some() { 2 * r + 1 } else { 0 };
+        let eta = |k: usize| (1 + nq + nv + r + nc + k) as u32;
+        let kappa = |k: usize| (1 + nq + nv + r + nc + r + k) as u32;
+        let mu_slot = (1 + nq + nv + r + nc + 2 * r) as u32;
         let a_slot = |k: usize| (1 + nq + nv + k) as u32;
         let lam = |k: usize| (1 + nq + nv + r + k) as u32;
         let qp = |i: usize| (1 + n + i) as u32;
         let vp = |j: usize| (1 + n + nq + j) as u32;
         let dpos = |j: usize| dependent.iter().position(|&d| d == j);
         let qpos = |i: usize| coordinates.iter().position(|&d| d == i);
+        let energy = sys.energy;
+        let v_slots: Vec<u32> = (0..nv).map(|j| sys.v_slot(j)).collect();
         let g = &mut sys.graph;
+        // h = ∂E/∂q − (∂(G_v v)/∂q)ᵀ η: the energy's gradient in the coordinates with the
+        // dependent velocities' dependence on them (G_v[R, D]ᵀ η = ∂E/∂v_D)
+        let grad: Vec<Expr> = if e0.is_some() {
+            (0..nq)
+                .map(|i| {
+                    let mut terms = vec![g.diff(energy, (1 + i) as u32)];
+                    for (k, &rk) in rows.iter().enumerate() {
+                        if g.depends_on(c.gvv[rk], (1 + i) as u32) {
+                            let d = g.diff(c.gvv[rk], (1 + i) as u32);
+                            let e = g.var(eta(k));
+                            let t = g.mul(d, e);
+                            terms.push(g.neg(t));
+                        }
+                    }
+                    g.sum(&terms)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mu = g.var(mu_slot);
         let mut res: Vec<Expr> = Vec::with_capacity(n);
         // q rows
         for i in 0..nq {
@@ -536,13 +618,35 @@ impl Index1Formulation {
                 Some(k) => res.push(c.g[rows[k]]),
                 None => {
                     let a = g.var(qp(i));
-                    res.push(g.sub(a, sys.kinematics[i]));
+                    let mut row = g.sub(a, sys.kinematics[i]);
+                    if e0.is_some() {
+                        // + μ ĝ_i, ĝ_i = ∂E/∂q_i − Σ_k G_q[R_k, i] κ_k
+                        let mut terms = vec![grad[i]];
+                        for (k, &rk) in rows.iter().enumerate() {
+                            if !g.is_zero(c.gq[rk][i]) {
+                                let kk = g.var(kappa(k));
+                                let t = g.mul(c.gq[rk][i], kk);
+                                terms.push(g.neg(t));
+                            }
+                        }
+                        let gi = g.sum(&terms);
+                        let push = g.mul(mu, gi);
+                        row = g.add(row, push);
+                    }
+                    res.push(row);
                 }
             }
         }
         // dynamics with the multipliers, for v_j' (independent) or a_j (dependent)
+        let keep = e0.is_some();
         let dyn_row = |g: &mut crate::expr::ExprGraph, j: usize, acc: Expr| {
             let mut terms = vec![g.scale(sys.mass[j], acc)];
+            if keep && sys.mass[j] != 0.0 {
+                // + μ M_j v_j
+                let v = g.var(v_slots[j]);
+                let mv = g.scale(sys.mass[j], v);
+                terms.push(g.mul(mu, mv));
+            }
             terms.push(g.neg(sys.forces[j]));
             for k in 0..nc {
                 if !g.is_zero(c.gv[k][j]) {
@@ -584,6 +688,35 @@ impl Index1Formulation {
             }
             res.push(g.sum(&terms));
         }
+        if let Some(e0) = e0 {
+            // η: G_v[R, D]ᵀ η − ∂E/∂v_D = 0, one row per dependent velocity
+            for &j in dependent {
+                let mut terms = vec![];
+                let dv = g.diff(energy, v_slots[j]);
+                terms.push(g.neg(dv));
+                for (k, &rk) in rows.iter().enumerate() {
+                    if !g.is_zero(c.gv[rk][j]) {
+                        let e = g.var(eta(k));
+                        terms.push(g.mul(c.gv[rk][j], e));
+                    }
+                }
+                res.push(g.sum(&terms));
+            }
+            // κ: G_q[R, D_q]ᵀ κ − h_D = 0, one row per dependent coordinate
+            for &i in coordinates {
+                let mut terms = vec![g.neg(grad[i])];
+                for (k, &rk) in rows.iter().enumerate() {
+                    if !g.is_zero(c.gq[rk][i]) {
+                        let kk = g.var(kappa(k));
+                        terms.push(g.mul(c.gq[rk][i], kk));
+                    }
+                }
+                res.push(g.sum(&terms));
+            }
+            // μ: E(q, v) − E₀ = 0
+            let e = g.constant(e0);
+            res.push(g.sub(energy, e));
+        }
         let mut id = Vec::with_capacity(n);
         for i in 0..nq {
             id.push(if qpos(i).is_some() { 0.0 } else { 1.0 });
@@ -591,13 +724,17 @@ impl Index1Formulation {
         for j in 0..nv {
             id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
         }
-        id.extend(std::iter::repeat_n(0.0, r + nc));
+        id.resize(n, 0.0);
         Ok(Index1Formulation {
             dae: ImplicitDae::build(g, &res, n),
             dependent: dependent.to_vec(),
             coordinates: coordinates.to_vec(),
             rows: rows.to_vec(),
             multipliers: nc,
+            energy: e0.map(|e0| EnergyInvariant {
+                e0,
+                offset: nq + nv + r + nc,
+            }),
             id,
         })
     }

@@ -33,7 +33,7 @@ pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{
     block_condition_bound, dependent_condition, independent_rows, redundant_row_grip,
-    select_dependent, Index1Formulation, JointRows,
+    select_dependent, EnergyInvariant, Index1Formulation, JointRows,
 };
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};

@@ -319,6 +319,10 @@ pub struct SolveSettings {
     /// The partitioned formulation stops at the zeros of the loads' non-smooth operations
     /// (default true; the solve options' `switching_functions`).
     pub switching_functions: bool,
+    /// The default DAE keeps a conservative mechanism's energy as an invariant: `None` (`"auto"`,
+    /// the default) once its drift exceeds what the tolerance promises, `Some(true)`
+    /// (`"always"`) from the start, `Some(false)` (`"never"`) not at all.
+    pub energy_invariant: Option<bool>,
 }
 
 impl SolveSettings {
@@ -348,6 +352,7 @@ impl SolveSettings {
             linear_solver: LinearSolverKind::Auto,
             integrator: Integrator::Auto,
             switching_functions: true,
+            energy_invariant: None,
         }
     }
 }

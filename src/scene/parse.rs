@@ -687,6 +687,7 @@ pub(crate) const SOLVE_KEYS: &[&str] = &[
     "linear_solver",
     "integrator",
     "switching_functions",
+    "energy_invariant",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -744,6 +745,18 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         }),
     };
     let switching_functions = f.boolean(p, "switching_functions").unwrap_or(true);
+    let energy_invariant = match f.string(p, "energy_invariant").as_deref() {
+        None | Some("auto") => None,
+        Some("always") => Some(true),
+        Some("never") => Some(false),
+        Some(s) => {
+            p.push(
+                f.path("energy_invariant"),
+                format!("unknown energy invariant policy \"{s}\" (expected auto, always or never)"),
+            );
+            None
+        }
+    };
     Some(SolveSettings {
         formulation,
         t_start,
@@ -759,5 +772,6 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
         linear_solver,
         integrator,
         switching_functions,
+        energy_invariant,
     })
 }

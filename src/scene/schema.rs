@@ -225,6 +225,8 @@ struct Solve {
     /// The decoupled twin's integrator.
     integrator: Option<String>,
     switching_functions: Option<bool>,
+    /// auto (kept once the energy drifts), always or never: the default DAE's energy invariant.
+    energy_invariant: Option<String>,
 }
 
 /// A mechanism (bodies, joints, …) or a raw bond graph (`bond_graph`).

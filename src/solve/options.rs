@@ -86,6 +86,10 @@ pub struct SolveOptions {
     /// keeps just the latest one, so memory stays bounded whatever the number of rows (the
     /// command line streams `run`'s CSV so).
     pub keep_rows: bool,
+    /// The default DAE (`dae`, `index1`) keeps a conservative mechanism's energy as an
+    /// invariant of the DAE ([`crate::dae::EnergyInvariant`]): `None` (auto) and `Some(true)`
+    /// where the mechanism conserves its energy and moves, `Some(false)` never.
+    pub energy_invariant: Option<bool>,
 }
 
 impl Default for SolveOptions {
@@ -110,6 +114,7 @@ impl Default for SolveOptions {
             integrator: Integrator::Auto,
             switching_functions: true,
             keep_rows: true,
+            energy_invariant: None,
         }
     }
 }

@@ -77,6 +77,9 @@ pub struct Summary {
     pub singular_passages: Vec<SingularPassage>,
     /// Times the index-1 formulation re-selected its dependent velocities.
     pub index1_reselections: u64,
+    /// Whether the default DAE kept the mechanism's energy as an invariant (a row
+    /// `E(q, v) = E₀` with its multiplier, [`crate::dae::EnergyInvariant`]).
+    pub energy_invariant: bool,
     /// Times the partitioned formulation re-chose its dependent coordinates and velocities
     /// (its dependent block had degraded).
     pub partition_rechoices: u64,
