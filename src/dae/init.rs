@@ -96,57 +96,6 @@ fn pinv_apply(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize) {
     (x, rank)
 }
 
-/// The velocity correction `δv` of least kinetic energy that makes `v0 − δv` satisfy the joints
-/// (Gauss's principle: what an impulsive reaction would do), and the rank of `G_v`:
-///
-/// ```text
-///   min ½ δvᵀ W δv   subject to   G_v (v0 − δv) = 0   ⇒   δv = W⁻¹ G_vᵀ (G_v W⁻¹ G_vᵀ)⁺ G_v v0
-/// ```
-///
-/// with `W = diag(m)`, a massless coordinate weighted [`MASSLESS_WEIGHT`] × the largest mass
-/// (its velocity is whatever the joints make it, so it takes the correction first). The
-/// kinetic energy then changes only at second order in the violation, `ΔT = −½ |δv|²_W`,
-/// whereas a Euclidean correction changes it at first order (`v0ᵀ M δv`) wherever the masses
-/// differ: at every re-selection of a long run (a point mass on a revolute link: 3 378 restarts
-/// in 2000 s) that first-order change accumulated into the energy drift.
-fn mass_weighted_correction(
-    gv: &DMatrix<f64>,
-    mass: &[f64],
-    v0: &DVector<f64>,
-) -> (DVector<f64>, usize) {
-    let top = mass.iter().fold(0.0f64, |a, &m| a.max(m.abs()));
-    let w: Vec<f64> = mass
-        .iter()
-        .map(|&m| {
-            if m > MASSLESS_WEIGHT * top {
-                m.sqrt()
-            } else {
-                (MASSLESS_WEIGHT * top).max(1e-300).sqrt()
-            }
-        })
-        .collect();
-    // u = W^½ v: the Euclidean correction of u is the W-weighted one of v
-    let scaled = DMatrix::from_fn(gv.nrows(), gv.ncols(), |i, j| gv[(i, j)] / w[j]);
-    let violation = gv * v0;
-    let (du, _) = pinv_apply(&scaled, &violation);
-    // the rank (redundant joints) is that of G_v itself: the weights must not move it
-    let rank = if gv.nrows() == 0 || gv.ncols() == 0 {
-        0
-    } else {
-        let s = gv.singular_values();
-        let tol = RANK_TOL * s.max().max(1e-300);
-        s.iter().filter(|&&v| v > tol).count()
-    };
-    (
-        DVector::from_iterator(du.len(), du.iter().zip(&w).map(|(d, s)| d / s)),
-        rank,
-    )
-}
-
-/// Weight of a massless (or nearly massless) coordinate in [`mass_weighted_correction`],
-/// relative to the largest mass.
-const MASSLESS_WEIGHT: f64 = 1e-6;
-
 /// Joints whose rows take part in a linear dependency of `a`'s rows: the eigenvectors of
 /// `a aᵀ` with (relatively) zero eigenvalue span the left null space.
 pub fn dependent_joints(a: &DMatrix<f64>, rows: &[ConstraintRow]) -> Vec<String> {
@@ -247,7 +196,7 @@ pub fn consistent_state_from(
         });
     }
     let gv = tapes.gv.matrix(t0, &x);
-    let (dv, rank) = mass_weighted_correction(&gv, &sys.mass, &v0);
+    let (dv, rank) = pinv_apply(&gv, &(&gv * &v0));
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }
