@@ -452,11 +452,12 @@ pub(crate) fn stop_reason(e: &SolverError) -> &'static str {
     match e {
         SolverError::StepBudget { .. } | SolverError::TooMuchWork { .. } => "max_steps",
         SolverError::WallClock { .. } => "max_wall_seconds",
+        SolverError::Interrupted { .. } => "interrupt",
         _ => "solver_error",
     }
 }
 
-/// Whether `e` is a budget running out (the state at the time reached is sound).
+/// Whether `e` is a budget running out or an interrupt (the state at the time reached is sound).
 pub(crate) fn is_budget(e: &SolverError) -> bool {
     stop_reason(e) != "solver_error"
 }
