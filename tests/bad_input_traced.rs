@@ -229,3 +229,106 @@ fn regression_raw_graph_c_stiffness_1e308_failed_as_cv_reptd_rhsfunc_err() {
         "{err}"
     );
 }
+
+/// Runs `bondmech run SCENE --out …` on `scene` (written to a file), killing it after 30 s: a
+/// guard against a hang (no timing claim: a refusal takes milliseconds). Its standard error.
+fn run_guarded(name: &str, scene: &Value) -> String {
+    use std::time::{Duration, Instant};
+    let path = tmp(&format!("{name}.json"));
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = tmp(&format!("{name}.csv"));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > Duration::from_secs(30) {
+            child.kill().unwrap();
+            panic!("{name}: no answer within 30 s");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let mut err = String::new();
+    use std::io::Read;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(!status.success(), "{name}: accepted");
+    err
+}
+
+#[test]
+fn regression_a_10_mb_sum_of_forces_gave_no_answer_within_60_s() {
+    let mut v = pendulum();
+    let sum = vec!["t"; 5_000_000].join("+");
+    assert!(sum.len() > 9_000_000);
+    v["loads"] = json!([{ "name": "sum", "body": "bar", "type": "force", "value": [sum, "0"] }]);
+    let err = run_guarded("sum10mb", &v);
+    assert!(
+        err.contains("loads[0].value[0]") && err.contains("more than 100000 operands"),
+        "{err}"
+    );
+    // a million-long product, which took 5 s to compile and evaluate
+    v["loads"][0]["value"][0] = json!(vec!["t"; 1_000_000].join("*"));
+    let err = run_guarded("product", &v);
+    assert!(err.contains("more than 100000 operands"), "{err}");
+}
+
+#[test]
+fn regression_expressions_nested_a_million_deep_are_refused_naming_the_path() {
+    let mut v = pendulum();
+    let n = 1_000_000;
+    for (name, deep) in [
+        ("parens", format!("{}t{}", "(".repeat(n), ")".repeat(n))),
+        ("calls", format!("{}t{}", "sin(".repeat(n), ")".repeat(n))),
+        ("powers", format!("{}2", "2^".repeat(n))),
+        ("signs", format!("{}t", "-".repeat(n))),
+    ] {
+        v["loads"] =
+            json!([{ "name": "deep", "body": "bar", "type": "force", "value": [deep, "0"] }]);
+        let err = run_guarded(name, &v);
+        assert!(
+            err.contains("loads[0].value[0]") && err.contains("nested too deeply"),
+            "{name}: {err}"
+        );
+    }
+}
+
+#[test]
+fn regression_a_10_mb_raw_graph_expression_gave_no_answer_within_20_s() {
+    let mut g = json!({
+        "bond_graph": {
+            "elements": [
+                {"name": "F", "kind": "Se", "value": 0.0},
+                {"name": "v", "kind": "1"},
+                {"name": "m", "kind": "I", "value": 1.5}
+            ],
+            "bonds": [{"from": "F", "to": "v"}, {"from": "v", "to": "m"}]
+        },
+        "solve": {"t_end": 1.0}
+    });
+    g["bond_graph"]["elements"][0]["value"] = json!(vec!["t"; 5_000_000].join("*"));
+    let err = run_guarded("raw10mb", &g);
+    assert!(
+        err.contains("bond_graph.elements[0].value") && err.contains("longer than the limit"),
+        "{err}"
+    );
+    // just under the byte limit, the operand limit answers
+    g["bond_graph"]["elements"][0]["value"] = json!(vec!["t"; 400_000].join("*"));
+    let err = run_guarded("raw800kb", &g);
+    assert!(err.contains("more than 100000 operands"), "{err}");
+}

@@ -767,6 +767,6 @@ fn scan_pos(expr: &str, e: &ScanError) -> usize {
     match e {
         ScanError::BadCharacter(_, i) => expr.char_indices().nth(*i).map_or(0, |(b, _)| b),
         ScanError::UnknownFunction(n) => expr.find(n.as_str()).unwrap_or(0),
-        ScanError::Unbalanced | ScanError::Empty => 0,
+        ScanError::Unbalanced | ScanError::Empty | ScanError::TooLong(_) => 0,
     }
 }
