@@ -332,3 +332,75 @@ fn regression_a_10_mb_raw_graph_expression_gave_no_answer_within_20_s() {
     let err = run_guarded("raw800kb", &g);
     assert!(err.contains("more than 100000 operands"), "{err}");
 }
+
+/// The summary's warnings of `scene` solved by the library.
+fn solved_warnings(v: &Value) -> bondmech::Summary {
+    let scene = Scene::from_json_str(&v.to_string()).expect("a valid scene");
+    let model = bondmech::Model::new(&scene).expect("a model");
+    model
+        .solve(&model.default_options())
+        .expect("solved")
+        .summary
+}
+
+#[test]
+fn regression_initial_velocities_violating_the_joints_were_projected_silently() {
+    // the bar's centre (0.5, 0) turns about the pivot at the origin: its velocity must be
+    // (0, 0.5 ω); vx = 1 m/s violates the joint and is removed whole by the projection
+    let mut v = pendulum();
+    v["bodies"][0]["velocity"] = json!([1.0, 0.0]);
+    let s = solved_warnings(&v);
+    assert!(
+        (s.initial_velocity_correction - 1.0).abs() < 1e-9,
+        "{}",
+        s.initial_velocity_correction
+    );
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("initial velocities violate the joints") && w.contains("1.000e0")),
+        "{:?}",
+        s.warnings
+    );
+    // a velocity the joint allows (vy = 0.5 ω) is not projected and not warned about
+    v["bodies"][0]["velocity"] = json!([0.0, 1.0]);
+    v["bodies"][0]["angular_velocity"] = json!(2.0);
+    let s = solved_warnings(&v);
+    assert!(s.initial_velocity_correction < 1e-12);
+    assert!(
+        !s.warnings.iter().any(|w| w.contains("initial velocities")),
+        "{:?}",
+        s.warnings
+    );
+}
+
+#[test]
+fn regression_a_spatial_body_with_a_zero_principal_moment_was_accepted_silently() {
+    let top = |inertia: Value| {
+        json!({
+            "dimension": 3, "gravity": [0.0, 0.0, -9.81],
+            "bodies": [{ "name": "rod", "mass": 1.0, "inertia": inertia,
+                         "points": { "tip": [-0.5, 0.0, 0.0] }, "position": [0.5, 0.0, 0.0] }],
+            "joints": [{ "name": "ball", "type": "spherical", "bodies": ["ground", "rod"],
+                         "points": [[0.0, 0.0, 0.0], "tip"] }],
+            "solve": { "t_end": 0.1 }
+        })
+    };
+    let scene = Scene::from_json_str(&top(json!([0.0, 0.1, 0.1])).to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    assert!(
+        model
+            .warnings()
+            .iter()
+            .any(|w| w.starts_with("bodies[0].inertia:") && w.contains("about its x axis")),
+        "{:?}",
+        model.warnings()
+    );
+    let scene = Scene::from_json_str(&top(json!([0.01, 0.1, 0.1])).to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    assert!(
+        !model.warnings().iter().any(|w| w.contains("no inertia")),
+        "{:?}",
+        model.warnings()
+    );
+}

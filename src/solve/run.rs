@@ -65,6 +65,13 @@ fn solve_from_first_output(
         formulation: opts.formulation.name().into(),
         ..Summary::default()
     };
+    // initial velocities that violate the joints are projected onto them: say by how much
+    if init.velocity_correction > crate::mech::geometry::INITIAL_VIOLATION_WARNING {
+        summary.warnings.push(format!(
+            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction)",
+            init.velocity_correction
+        ));
+    }
     // the chapter's index-1 DAE leaves redundant rows out of its dependent block (and says so);
     // the other IDA formulations take the compliant GGL
     let index1 = matches!(
