@@ -404,3 +404,47 @@ fn regression_a_spatial_body_with_a_zero_principal_moment_was_accepted_silently(
         model.warnings()
     );
 }
+
+#[test]
+fn regression_a_utf8_byte_order_mark_was_refused_as_expected_value_at_column_1() {
+    let text = pendulum().to_string();
+    let with_bom = format!("\u{feff}{text}");
+    let a = Scene::from_json_str(&with_bom).expect("a scene behind a byte-order mark is read");
+    let b = Scene::from_json_str(&text).unwrap();
+    assert_eq!(a.bodies[0].mass, b.bodies[0].mass);
+    assert_eq!(a.joints.len(), b.joints.len());
+    // and through the CLI, from a file
+    let path = tmp("bom.json");
+    std::fs::write(&path, with_bom.as_bytes()).unwrap();
+    let out = tmp("bom.csv");
+    let o = bondmech(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn regression_a_0_dof_mechanism_under_partitioned_failed_as_y0_is_empty() {
+    // the bar welded to the ground: no degree of freedom
+    let mut v = pendulum();
+    v["joints"][0]["type"] = json!("weld");
+    v["solve"]["formulation"] = json!("partitioned");
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let e = model.solve(&model.default_options()).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("0 degrees of freedom") && msg.contains("partitioned") && !msg.contains("y0"),
+        "{msg}"
+    );
+    // the default formulation solves it: the bar stays where it is
+    v["solve"]["formulation"] = json!("dae");
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let sol = model.solve(&model.default_options()).unwrap();
+    let x = sol.columns.iter().position(|c| c == "bar.x").unwrap();
+    assert!(sol.rows.iter().all(|r| (r[x] - 0.5).abs() < 1e-9));
+}

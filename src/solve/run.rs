@@ -84,6 +84,16 @@ fn solve_from_first_output(
             init.redundant_joints.join(", ")
         ));
     }
+    // the partitioned ODE's states are the degrees of freedom: with none there is nothing to
+    // integrate (it failed as "invalid input: y0 is empty")
+    let dof = init.v.len().saturating_sub(init.rank);
+    if opts.formulation == FormulationKind::Partitioned && dof == 0 {
+        return Err(SolveError::Options(format!(
+            "formulation 'partitioned': the mechanism has 0 degrees of freedom (its joints fix all {} velocity coordinates: G_v has rank {}), so the partitioned ODE has no state to integrate; solve it with 'dae' (the default), which holds it in place",
+            init.v.len(),
+            init.rank
+        )));
+    }
     let mut build = build_cpu_seconds + clock.elapsed().as_secs_f64();
     // the formulation's build (and the index-1 DAE's causality analysis) is model building,
     // not integration
