@@ -448,3 +448,48 @@ fn regression_a_0_dof_mechanism_under_partitioned_failed_as_y0_is_empty() {
     let x = sol.columns.iter().position(|c| c == "bar.x").unwrap();
     assert!(sol.rows.iter().all(|r| (r[x] - 0.5).abs() < 1e-9));
 }
+
+#[test]
+fn regression_a_stiff_double_pendulum_at_rtol_1e_12_failed_at_t_0_suggesting_nothing() {
+    // two hinged bars (1 m, 1 kg) with a strut of 8e5 N/m and 4e4 N·s/m from the ground to the
+    // tip: at rtol 1e-12, atol 1e-14 IDA's error test cannot be met in double precision
+    let mut v = json!({
+        "dimension": 2, "gravity": [0.0, -9.81],
+        "bodies": [
+            { "name": "bar1", "mass": 1.0, "inertia": 0.0833333333333333,
+              "points": { "O": [-0.5, 0.0], "A": [0.5, 0.0] }, "position": [0.5, 0.0] },
+            { "name": "bar2", "mass": 1.0, "inertia": 0.0833333333333333,
+              "points": { "O": [-0.5, 0.0], "A": [0.5, 0.0] }, "position": [1.5, 0.0] }
+        ],
+        "joints": [
+            { "name": "pivot", "type": "revolute", "bodies": ["ground", "bar1"], "points": [[0.0, 0.0], "O"] },
+            { "name": "knee", "type": "revolute", "bodies": ["bar1", "bar2"], "points": ["A", "O"] }
+        ],
+        "springs": [{ "name": "strut", "bodies": ["ground", "bar2"], "points": [[2.0, 0.0], "A"],
+                      "stiffness": 8e5, "damping": 4e4 }],
+        "solve": { "t_end": 3.0, "output_step": 0.01, "rtol": 1e-12, "atol": 1e-14 }
+    });
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let e = model
+        .solve(&model.default_options())
+        .expect_err("the error test cannot be met at rtol 1e-12, atol 1e-14");
+    let partial = e.partial_solution().expect("the rows so far");
+    assert!(
+        partial
+            .summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("loosen them") && w.contains("atol 1e-13")),
+        "{e}; {:?}",
+        partial.summary.warnings
+    );
+    // the advice holds: at atol 1e-13 the run completes
+    v["solve"]["atol"] = json!(1e-13);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let sol = model
+        .solve(&model.default_options())
+        .expect("solved at atol 1e-13");
+    assert!(sol.summary.completed);
+}
