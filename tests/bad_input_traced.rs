@@ -493,3 +493,14 @@ fn regression_a_stiff_double_pendulum_at_rtol_1e_12_failed_at_t_0_suggesting_not
         .expect("solved at atol 1e-13");
     assert!(sol.summary.completed);
 }
+
+#[test]
+fn regression_a_zero_inertia_in_a_raw_graph_was_refused_without_its_json_path() {
+    let err = raw_graph_error("zero_inertia", |v| {
+        v["bond_graph"]["elements"][2]["value"] = json!(0.0)
+    });
+    assert!(
+        err.contains("bond_graph.elements[2].value") && err.contains("inertia 0"),
+        "{err}"
+    );
+}
