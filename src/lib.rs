@@ -74,6 +74,7 @@ pub mod error;
 pub mod expr;
 pub mod fmu;
 pub mod graph;
+pub mod interrupt;
 pub mod mech;
 pub mod model;
 mod model_inspect;

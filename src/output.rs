@@ -287,12 +287,54 @@ impl Write for Sink {
     }
 }
 
+/// The temporary files of the [`AtomicFile`]s being written, for [`remove_temporaries`].
+static TEMPORARIES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn temporaries() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the temporary files of every [`AtomicFile`] still being written, leaving their
+/// targets as they were: for a program about to exit at once (a second Ctrl-C), which runs no
+/// destructor. Returns how many were removed.
+pub fn remove_temporaries() -> usize {
+    temporaries()
+        .iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
+/// A temporary file listed for [`remove_temporaries`] while it lives.
+struct Listed(Option<PathBuf>);
+
+impl Listed {
+    fn new(path: Option<&Path>) -> Listed {
+        if let Some(p) = path {
+            temporaries().push(p.to_path_buf());
+        }
+        Listed(path.map(Path::to_path_buf))
+    }
+}
+
+impl Drop for Listed {
+    fn drop(&mut self) {
+        if let Some(p) = &self.0 {
+            let mut list = temporaries();
+            if let Some(i) = list.iter().position(|q| q == p) {
+                list.swap_remove(i);
+            }
+        }
+    }
+}
+
 /// An output file: a regular file written beside its target and renamed into place by
 /// [`AtomicFile::commit`] (dropped without a commit, on an error or a panic, the temporary file
 /// is removed and the target is left as it was), or a device, FIFO or socket written in place.
+/// Its temporary file is listed for [`remove_temporaries`] until it is renamed or removed.
 pub struct AtomicFile {
     target: PathBuf,
     file: io::BufWriter<Sink>,
+    listed: Listed,
 }
 
 impl AtomicFile {
@@ -309,6 +351,7 @@ impl AtomicFile {
             return Ok(AtomicFile {
                 target,
                 file: io::BufWriter::with_capacity(1 << 16, Sink::InPlace(file)),
+                listed: Listed::new(None),
             });
         }
         let dir = parent_dir(&target);
@@ -324,6 +367,7 @@ impl AtomicFile {
             .tempfile_in(&dir)?;
         Ok(AtomicFile {
             target,
+            listed: Listed::new(Some(tmp.path())),
             file: io::BufWriter::with_capacity(1 << 16, Sink::Temp(tmp)),
         })
     }
@@ -331,10 +375,16 @@ impl AtomicFile {
     /// Flushes and syncs the bytes, then renames a temporary file into place. A write error
     /// (a full disk or device) is returned, and the temporary file removed.
     pub fn commit(self) -> io::Result<()> {
-        match self.file.into_inner().map_err(|e| e.into_error())? {
+        let AtomicFile {
+            target,
+            file,
+            listed,
+        } = self;
+        match file.into_inner().map_err(|e| e.into_error())? {
             Sink::Temp(tmp) => {
                 tmp.as_file().sync_all()?;
-                tmp.persist(&self.target).map_err(|e| e.error)?;
+                tmp.persist(&target).map_err(|e| e.error)?;
+                drop(listed);
             }
             Sink::InPlace(f) => match f.sync_all() {
                 // a character device, FIFO or socket has nothing to sync (EINVAL)

@@ -134,10 +134,18 @@ fn syntax_errors_name_the_position_and_what_was_expected() {
 
 #[test]
 fn absurd_nesting_is_an_error_not_a_stack_overflow() {
+    // a variant of its own since issue 38 (was `Expected { expected: "less deeply nested
+    // expression" }`), its message saying what the limit is
     let src = "(".repeat(100_000) + "x" + &")".repeat(100_000);
-    assert!(matches!(error(&src), ParseError::Expected { .. }));
+    assert!(matches!(error(&src), ParseError::TooDeep { .. }));
     let src = "-".repeat(100_000) + "x";
-    assert!(matches!(error(&src), ParseError::Expected { .. }));
+    assert!(matches!(error(&src), ParseError::TooDeep { .. }));
+    // a long expression is refused at its operand limit, not compiled
+    let src = vec!["x"; 200_000].join("+");
+    assert!(matches!(
+        error(&src),
+        ParseError::TooLarge { limit: 100_000, .. }
+    ));
 }
 
 proptest! {

@@ -66,3 +66,45 @@ fn serve_refuses_a_bad_flag_naming_it() {
     assert!(!ok);
     assert!(err.contains("--max-solve-seconds"), "{err}");
 }
+
+/// `serve` with `flag 0`, killed after 20 s if it starts serving (the old behaviour: a server
+/// that refused every request): whether it exited unsuccessfully, and its standard error.
+fn serve_with_zero(flag: &str) -> (bool, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+        .args(["serve", "--addr", "127.0.0.1:0", flag, "0"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("bondmech serve starts");
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break Some(s);
+        }
+        if start.elapsed() > Duration::from_secs(20) {
+            child.kill().unwrap();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    (status.is_some_and(|s| !s.success()), err)
+}
+
+#[test]
+fn regression_serve_max_rows_0_and_max_elements_0_started_a_server_that_refused_every_request() {
+    for flag in [
+        "--max-rows",
+        "--max-elements",
+        "--max-body",
+        "--max-expression-length",
+    ] {
+        let (refused, err) = serve_with_zero(flag);
+        assert!(refused, "serve {flag} 0 started: {err}");
+        assert!(
+            err.contains(flag) && err.contains("at least 1"),
+            "{flag}: {err}"
+        );
+    }
+}

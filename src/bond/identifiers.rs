@@ -20,7 +20,14 @@ pub enum ScanError {
     UnknownFunction(String),
     /// The expression is empty.
     Empty,
+    /// The expression is longer than [`MAX_EXPRESSION_BYTES`] (its length in bytes).
+    TooLong(usize),
 }
+
+/// Longest expression scanned (1 MiB): beyond it an expression is refused before anything
+/// else is done with it (a 10 MB sum took seconds to scan and could not be parsed anyway:
+/// [`crate::expr::MAX_OPERANDS`]).
+pub const MAX_EXPRESSION_BYTES: usize = 1 << 20;
 
 impl std::fmt::Display for ScanError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -29,6 +36,10 @@ impl std::fmt::Display for ScanError {
             ScanError::Unbalanced => write!(f, "unbalanced parentheses"),
             ScanError::UnknownFunction(n) => write!(f, "unknown function '{n}'"),
             ScanError::Empty => write!(f, "empty expression"),
+            ScanError::TooLong(n) => write!(
+                f,
+                "expression of {n} bytes, longer than the limit of {MAX_EXPRESSION_BYTES} bytes; no law of a mechanism is that long — tabulate it instead (a `table`)"
+            ),
         }
     }
 }
@@ -36,8 +47,13 @@ impl std::fmt::Display for ScanError {
 /// Returns the variable identifiers of `expr` in order of appearance (with repeats removed).
 /// Identifiers may contain dots (`bar1.I_J`).
 pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
+    if expr.len() > MAX_EXPRESSION_BYTES {
+        return Err(ScanError::TooLong(expr.len()));
+    }
     let chars: Vec<char> = expr.chars().collect();
     let mut vars: Vec<String> = Vec::new();
+    // the names already in `vars`: a lookup per name, not a scan of `vars`
+    let mut seen: std::collections::HashSet<String> = std::collections::HashSet::new();
     let mut depth: i64 = 0;
     let mut i = 0;
     let mut any = false;
@@ -74,7 +90,7 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
             };
             let name: String = chars[start..start + len].iter().collect();
             i = start + len + 1;
-            if !vars.contains(&name) {
+            if seen.insert(name.clone()) {
                 vars.push(name);
             }
         } else if c.is_alphabetic() || c == '_' {
@@ -94,7 +110,7 @@ pub fn variables(expr: &str) -> Result<Vec<String>, ScanError> {
                 if !is_function(&name) {
                     return Err(ScanError::UnknownFunction(name));
                 }
-            } else if name != "pi" && !is_function(&name) && !vars.contains(&name) {
+            } else if name != "pi" && !is_function(&name) && seen.insert(name.clone()) {
                 vars.push(name);
             }
         } else {

@@ -388,6 +388,13 @@ impl RawBondGraph {
                         element: raw.name.clone(),
                         value: x0,
                     });
+                } else if x0.abs() > super::validate::MAX_PARAMETER {
+                    errors.push(BondError::TooLarge {
+                        path: format!("{path}.initial"),
+                        element: raw.name.clone(),
+                        value: x0,
+                        max: super::validate::MAX_PARAMETER,
+                    });
                 } else {
                     graph.set_initial(id, x0);
                 }
@@ -467,7 +474,7 @@ impl RawBondGraph {
         for err in collect_errors(&graph, &skip) {
             // parameters given as stiffness were already checked above
             let skip_err = stiffness_elements.iter().any(|i| {
-                matches!(&err, BondError::NonPositive { path, .. } | BondError::NonFinite { path, .. } | BondError::UnknownVariable { path, .. } | BondError::BadExpression { path, .. } | BondError::BadParameter { path, .. }
+                matches!(&err, BondError::NonPositive { path, .. } | BondError::NonFinite { path, .. } | BondError::TooLarge { path, .. } | BondError::UnknownVariable { path, .. } | BondError::BadExpression { path, .. } | BondError::BadParameter { path, .. }
                     if path.starts_with(&format!("{}.compliance", element_path(*i))))
             });
             if !skip_err {

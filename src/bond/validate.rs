@@ -159,6 +159,19 @@ pub enum BondError {
         /// The value.
         value: f64,
     },
+    /// A number beyond [`MAX_PARAMETER`] in magnitude (a parameter, a table value, an initial
+    /// momentum or displacement): its products with the state overflow.
+    #[error("{path}: '{element}': {value:e} is beyond ±{max:e}: its products with the state overflow in the equations (rule: |value| <= {max:e})")]
+    TooLarge {
+        /// JSON path of the number.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The value.
+        value: f64,
+        /// The bound ([`MAX_PARAMETER`]).
+        max: f64,
+    },
     /// A negative inertia, or a capacitor (or stiffness) that is zero or negative. (A zero
     /// inertia is a massless flow fixed by the constraints: accepted, and read as such when the
     /// graph is solved as a mechanism.)
@@ -234,6 +247,12 @@ pub enum BondError {
         kind: String,
     },
 }
+
+/// Largest magnitude of a raw bond graph's numbers (parameters, table values, initial values),
+/// as the masses of a mechanism scene (`crate::scene::validate::MAX_MASS`): beyond it their
+/// products with the state (`e = q/C`, `f = p/I`, `e = R f`) overflow (issue 38: a C stiffness
+/// of 1e308 failed as "CVode failed with CV_REPTD_RHSFUNC_ERR").
+pub const MAX_PARAMETER: f64 = 1e100;
 
 /// All the errors found in one bond graph.
 #[derive(Debug, Clone, PartialEq)]
@@ -562,6 +581,13 @@ pub(crate) fn check_parameter(
                 element: name.into(),
                 value: v,
             });
+        } else if v.abs() > MAX_PARAMETER {
+            errors.push(BondError::TooLarge {
+                path: path.into(),
+                element: name.into(),
+                value: v,
+                max: MAX_PARAMETER,
+            });
         } else if (kind == ElementKind::C && v <= 0.0) || (kind == ElementKind::I && v < 0.0) {
             errors.push(BondError::NonPositive {
                 path: path.into(),
@@ -741,6 +767,6 @@ fn scan_pos(expr: &str, e: &ScanError) -> usize {
     match e {
         ScanError::BadCharacter(_, i) => expr.char_indices().nth(*i).map_or(0, |(b, _)| b),
         ScanError::UnknownFunction(n) => expr.find(n.as_str()).unwrap_or(0),
-        ScanError::Unbalanced | ScanError::Empty => 0,
+        ScanError::Unbalanced | ScanError::Empty | ScanError::TooLong(_) => 0,
     }
 }

@@ -32,6 +32,6 @@ mod tape;
 pub use display::{DISPLAY_MAX_CHARS, DISPLAY_MAX_DEPTH};
 pub use excerpt::{excerpt, EXCERPT_CONTEXT, EXCERPT_MAX_CHARS};
 pub use graph::{Expr, ExprGraph};
-pub use parse::{is_function, quote_name, ParseError, FUNCTIONS};
+pub use parse::{is_function, quote_name, ParseError, FUNCTIONS, MAX_DEPTH, MAX_OPERANDS};
 pub use switches::FrozenSwitches;
 pub use tape::{StagedTape, Tape};

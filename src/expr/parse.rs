@@ -67,6 +67,24 @@ pub enum ParseError {
         /// What was found instead (`end of input` at the end).
         found: String,
     },
+    /// Nested deeper than [`MAX_DEPTH`] (parentheses, signs, function calls, powers): refused
+    /// so that hostile input cannot overflow the stack.
+    #[error("at {pos}: expression nested too deeply (more than {} parentheses, function calls or powers inside one another, or {limit} signs)", limit / 2)]
+    TooDeep {
+        /// Byte offset where the limit was passed.
+        pos: usize,
+        /// The limit ([`MAX_DEPTH`]).
+        limit: usize,
+    },
+    /// More than [`MAX_OPERANDS`] operands: refused at once, so that a runaway expression (a
+    /// 10 MB sum) answers in milliseconds instead of being compiled and evaluated at every step.
+    #[error("at {pos}: expression of more than {limit} operands (numbers, names, calls); no law of a mechanism is that long — tabulate it instead (a load's `table`)")]
+    TooLarge {
+        /// Byte offset where the limit was passed.
+        pos: usize,
+        /// The limit ([`MAX_OPERANDS`]).
+        limit: usize,
+    },
 }
 
 impl ParseError {
@@ -77,7 +95,9 @@ impl ParseError {
             | ParseError::UnknownFunction { pos, .. }
             | ParseError::WrongArity { pos, .. }
             | ParseError::BadNumber { pos, .. }
-            | ParseError::Expected { pos, .. } => *pos,
+            | ParseError::Expected { pos, .. }
+            | ParseError::TooDeep { pos, .. }
+            | ParseError::TooLarge { pos, .. } => *pos,
         }
     }
 }
@@ -88,10 +108,18 @@ struct Parser<'a, 'r> {
     g: &'a mut ExprGraph,
     resolve: &'r mut dyn FnMut(&str) -> Option<Expr>,
     depth: usize,
+    /// Operands read so far (each `unary`).
+    operands: usize,
 }
 
 /// Nesting limit, so hostile input cannot overflow the stack.
-const MAX_DEPTH: usize = 256;
+pub const MAX_DEPTH: usize = 256;
+
+/// Operand limit of one expression (numbers, names, calls and signs, each counted where it is
+/// read): 100 000, some 100 times the longest law written by hand or by `graph --as-scene`,
+/// and a bound on the work of one evaluation (a tape of at most a few hundred thousand
+/// instructions).
+pub const MAX_OPERANDS: usize = 100_000;
 
 /// The functions an expression may call, with their number of arguments: `sin`, `cos`,
 /// `tan`, `sqrt`, `abs`, `exp`, `ln`, `log` take one; `atan2(y, x)`, `min`, `max`, `pow` two.
@@ -173,6 +201,14 @@ impl Parser<'_, '_> {
         }
     }
 
+    fn too_deep(&mut self) -> ParseError {
+        self.skip_ws();
+        ParseError::TooDeep {
+            pos: self.pos,
+            limit: MAX_DEPTH,
+        }
+    }
+
     fn expect(&mut self, c: u8) -> Result<(), ParseError> {
         if self.peek() == Some(c) {
             self.pos += 1;
@@ -185,7 +221,7 @@ impl Parser<'_, '_> {
     fn expr(&mut self) -> Result<Expr, ParseError> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self.expected("less deeply nested expression"));
+            return Err(self.too_deep());
         }
         let mut acc = self.term()?;
         loop {
@@ -230,7 +266,15 @@ impl Parser<'_, '_> {
     fn unary(&mut self) -> Result<Expr, ParseError> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self.expected("less deeply nested expression"));
+            return Err(self.too_deep());
+        }
+        self.operands += 1;
+        if self.operands > MAX_OPERANDS {
+            self.skip_ws();
+            return Err(ParseError::TooLarge {
+                pos: self.pos,
+                limit: MAX_OPERANDS,
+            });
         }
         let r = match self.peek() {
             Some(b'-') => {
@@ -410,6 +454,7 @@ impl ExprGraph {
             g: self,
             resolve,
             depth: 0,
+            operands: 0,
         };
         let e = p.expr()?;
         if p.peek().is_some() {

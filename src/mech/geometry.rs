@@ -223,9 +223,28 @@ impl Geometry<'_> {
         }
     }
 
-    /// Warn about bodies nothing connects to.
+    /// Warn about bodies nothing connects to, and about spatial bodies with some (not all)
+    /// principal moments 0: no inertia about that axis, so their rotation about it is fixed by
+    /// the joints alone (a slender rod's spin) — legal, and singular if nothing fixes it.
     fn connectivity(&mut self) {
         let s = self.scene;
+        for (bi, b) in s.bodies.iter().enumerate() {
+            if let crate::scene::Inertia::Principal(js) = b.inertia {
+                let zero: Vec<&str> = js
+                    .iter()
+                    .zip(["x", "y", "z"])
+                    .filter(|(j, _)| **j == 0.0)
+                    .map(|(_, a)| a)
+                    .collect();
+                if !zero.is_empty() && zero.len() < 3 {
+                    self.warnings.push(format!(
+                        "bodies[{bi}].inertia: '{}' has no inertia about its {} axis (principal moments {js:?}): a singular inertia, its angular acceleration about that axis is fixed by the joints alone (a slender rod's spin) and undetermined if they leave it free",
+                        b.name,
+                        zero.join(" and ")
+                    ));
+                }
+            }
+        }
         for (bi, b) in s.bodies.iter().enumerate() {
             let used = s.joints.iter().any(|j| j.bodies.contains(&b.name))
                 || s.springs.iter().any(|j| j.bodies.contains(&b.name))

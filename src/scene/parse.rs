@@ -65,8 +65,11 @@ pub(crate) fn parse_scene(
     scene_from_tree(&tree, default_name)
 }
 
-/// Reads scene text into the order-preserving tree (JSON syntax problems only).
+/// Reads scene text into the order-preserving tree (JSON syntax problems only). A UTF-8
+/// byte-order mark in front (as some editors write) is skipped, as RFC 8259 §8.1 allows: it
+/// was refused as "expected value at line 1 column 1", which named nothing one could see.
 pub(crate) fn parse_tree(text: &str) -> Result<Json, Vec<super::error::Problem>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if let Err(e) = super::validate::check_text_length(text.len()) {
         return Err(vec![super::error::Problem::new(e.path(), e.to_string())]);
     }

@@ -163,6 +163,7 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
         );
     }
     vec_len(&mut p, "gravity", &scene.gravity, dim.coords());
+    magnitudes(&mut p, "gravity", &scene.gravity, MAX_GRAVITY, GRAVITY_WHY);
     if let Err(e) = check_scene_size(scene) {
         // refused at once: nothing else is looked at in a scene this large
         p.push(e.path(), e.to_string());
@@ -201,9 +202,30 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
         }
         attachment(&mut p, scene, &path, &s.bodies, &s.points);
         non_negative(&mut p, &field(&path, "stiffness"), s.stiffness);
+        magnitude(
+            &mut p,
+            &field(&path, "stiffness"),
+            s.stiffness,
+            MAX_SPRING,
+            SPRING_WHY,
+        );
         non_negative(&mut p, &field(&path, "damping"), s.damping);
+        magnitude(
+            &mut p,
+            &field(&path, "damping"),
+            s.damping,
+            MAX_SPRING,
+            SPRING_WHY,
+        );
         if let Some(l0) = s.rest_length {
             non_negative(&mut p, &field(&path, "rest_length"), l0);
+            magnitude(
+                &mut p,
+                &field(&path, "rest_length"),
+                l0,
+                MAX_COORDINATE,
+                COORDINATE_WHY,
+            );
         }
     }
     let mut load_names = std::collections::HashSet::new();
@@ -368,6 +390,22 @@ fn non_negative(p: &mut Problems, path: &str, x: f64) {
     }
 }
 
+/// Refuses a finite `x` beyond `±max` at `path` (a magnitude no mechanism has, whose products
+/// with the scene's other quantities overflow or leave no digits: [`MAX_COORDINATE`] and the
+/// bounds beside it).
+fn magnitude(p: &mut Problems, path: &str, x: f64, max: f64, why: &str) {
+    if x.is_finite() && x.abs() > max {
+        p.push(path, format!("must be within ±{max:e} (got {x:e}): {why}"));
+    }
+}
+
+/// [`magnitude`] for each component of `v` (`path[k]`).
+fn magnitudes(p: &mut Problems, path: &str, v: &[f64], max: f64, why: &str) {
+    for (k, x) in v.iter().enumerate() {
+        magnitude(p, &index(path, k), *x, max, why);
+    }
+}
+
 /// Checks length and finiteness of a vector.
 fn vec_len(p: &mut Problems, path: &str, v: &[f64], n: usize) {
     if v.len() != n {
@@ -437,9 +475,24 @@ fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bo
             );
         }
         vec_len(p, &path_k, c, dim.coords());
+        magnitudes(p, &path_k, c, MAX_COORDINATE, COORDINATE_WHY);
     }
     vec_len(p, &field(&path, "position"), &b.position, dim.coords());
+    magnitudes(
+        p,
+        &field(&path, "position"),
+        &b.position,
+        MAX_COORDINATE,
+        COORDINATE_WHY,
+    );
     vec_len(p, &field(&path, "velocity"), &b.velocity, dim.coords());
+    magnitudes(
+        p,
+        &field(&path, "velocity"),
+        &b.velocity,
+        MAX_SPEED,
+        SPEED_WHY,
+    );
     let wp = field(&path, "angular_velocity");
     if dim == Dimension::Planar && b.angular_velocity.len() != 1 {
         p.push(
@@ -452,10 +505,13 @@ fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bo
     } else {
         vec_len(p, &wp, &b.angular_velocity, dim.rotations());
     }
+    magnitudes(p, &wp, &b.angular_velocity, MAX_SPEED, SPEED_WHY);
     finite(p, &field(&path, "angle"), b.angle);
+    magnitude(p, &field(&path, "angle"), b.angle, MAX_ANGLE, ANGLE_WHY);
     for (k, x) in b.cardan.iter().enumerate() {
         finite(p, &index(&field(&path, "cardan"), k), *x);
     }
+    magnitudes(p, &field(&path, "cardan"), &b.cardan, MAX_ANGLE, ANGLE_WHY);
 }
 
 /// Checks that `name` is ground or a known body and that `point` exists on it.
@@ -468,6 +524,9 @@ fn point_on(
     point: &PointRef,
 ) {
     let dim = scene.dimension;
+    if let PointRef::Coords(c) = point {
+        magnitudes(p, point_path, c, MAX_COORDINATE, COORDINATE_WHY);
+    }
     if name == GROUND {
         match point {
             PointRef::Coords(c) => vec_len(p, point_path, c, dim.coords()),
@@ -559,7 +618,10 @@ fn load(p: &mut Problems, scene: &Indexed<'_>, path: &str, l: &Load) {
     let n = l.components(scene.dimension);
     let vp = field(path, "value");
     match &l.value {
-        LoadValue::Const(v) => vec_len(p, &vp, v, n),
+        LoadValue::Const(v) => {
+            vec_len(p, &vp, v, n);
+            magnitudes(p, &vp, v, MAX_LOAD, LOAD_WHY);
+        }
         LoadValue::Expr(e) => {
             if e.len() != n {
                 p.push(&vp, format!("expected {n} expressions, got {}", e.len()));
@@ -598,6 +660,7 @@ fn load(p: &mut Problems, scene: &Indexed<'_>, path: &str, l: &Load) {
             }
             for (k, row) in v.iter().enumerate() {
                 vec_len(p, &index(&v_path, k), row, n);
+                magnitudes(p, &index(&v_path, k), row, MAX_LOAD, LOAD_WHY);
             }
         }
     }
@@ -657,6 +720,14 @@ fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
             format!(
                 "t_end - t_start = {:e} - ({t0:e}) overflows to {span}: the time span must be finite",
                 s.t_end
+            ),
+        );
+    }
+    if span.is_finite() && span > 0.0 && span < MIN_SPAN {
+        p.push(
+            "solve.t_end",
+            format!(
+                "t_end - t_start = {span:e} s is shorter than {MIN_SPAN:e} s: the solver's step sizes underflow below it (rule: t_end - t_start >= 1e-100 s)"
             ),
         );
     }
@@ -828,6 +899,40 @@ pub const MIN_JOINT_STIFFNESS: f64 = 1e-100;
 /// on a mechanism of 1 m), and the oscillation `√(k/m)` cannot be resolved in any number of
 /// steps.
 pub const MAX_JOINT_STIFFNESS: f64 = 1e16;
+
+/// Largest coordinate (m) of a body's position, a point, a ground attachment or a rest length:
+/// a mechanism of 1e12 m (seven times the Earth–Sun distance) is no mechanism, and beyond it a
+/// double keeps fewer than 4 digits of a millimetre (`1e12 · 2.2e-16 = 2.2e-4 m`), and the
+/// products with speeds, masses and loads head for overflow (issue 38: a position of 1e300
+/// was solved, with 1e300 in the CSV).
+pub const MAX_COORDINATE: f64 = 1e12;
+const COORDINATE_WHY: &str = "a coordinate beyond 1e12 m leaves no digits for the mechanism's own motion, and its products with the other quantities overflow (rule: |x| <= 1e12 m)";
+/// Largest angle (rad) of a body's `angle` or `cardan` angles: 1e6 rad is 160 000 turns; beyond
+/// it `sin` and `cos` of the angle keep fewer than 10 digits (`1e6 · 2.2e-16 = 2.2e-10 rad`).
+pub const MAX_ANGLE: f64 = 1e6;
+const ANGLE_WHY: &str = "an angle beyond 1e6 rad (160 000 turns) loses its digits in sin and cos; give it modulo 2π (rule: |angle| <= 1e6 rad)";
+/// Largest initial speed (m/s) or angular speed (rad/s) component: `v²` and `ω² r` of larger
+/// speeds, in the constraint accelerations and the energies, overflow with the masses allowed
+/// (issue 38: a velocity of 1e200 failed as "non-finite value in the constraint acceleration
+/// terms").
+pub const MAX_SPEED: f64 = 1e12;
+const SPEED_WHY: &str = "a speed beyond 1e12 m/s (or rad/s) makes v² and ω²·r overflow in the constraint accelerations and the energies (rule: |v| <= 1e12)";
+/// Largest gravity component (m/s²): `m g` and `m g y` overflow beyond it with the masses and
+/// coordinates allowed (issue 38: gravity 1e308 failed as "the residual evaluates to -inf").
+pub const MAX_GRAVITY: f64 = 1e12;
+const GRAVITY_WHY: &str = "gravity beyond 1e12 m/s² makes the weights m·g and the potential energy m·g·y overflow (rule: |g| <= 1e12 m/s²)";
+/// Largest spring stiffness (N/m) or damping (N·s/m), as [`MAX_MASS`]: `k x²`, `k/m` overflow
+/// beyond it (issue 38: a stiffness of 1e300 failed as an IDA failure handed to the GGL).
+pub const MAX_SPRING: f64 = 1e100;
+const SPRING_WHY: &str = "a spring stiffer (or a damper stronger) than 1e100 makes k·x² and k/m overflow (rule: 0 <= k, c <= 1e100)";
+/// Largest load component (N or N·m), constant or tabulated, as [`MAX_MASS`] (issue 38: a load
+/// table of 1e308 failed as "y0[6] is not finite").
+pub const MAX_LOAD: f64 = 1e100;
+const LOAD_WHY: &str = "a load beyond 1e100 N (N·m) overflows in the accelerations and the work it does (rule: |F| <= 1e100)";
+/// Shortest time span `t_end − t_start` (s): below about 1e-160 s the solver's step-size
+/// arithmetic underflows and IDA refuses the first step (issue 38: `t_end` 1e-300 failed as
+/// "IDA_ILL_INPUT").
+pub const MIN_SPAN: f64 = 1e-100;
 
 /// Why a number given for a scene field or a command-line flag cannot be used.
 ///

@@ -167,6 +167,32 @@ impl ServeArgs {
                 crate::scene::validate::MAX_SCENE_ENTRIES as u64,
             ),
         ];
+        // limits every request must stay within: 0 would make a server that refuses them all
+        let floors: [(&str, u64, &str); 4] = [
+            ("--max-body", self.max_body, "every request body"),
+            (
+                "--max-rows",
+                self.max_rows as u64,
+                "every run (a run has at least one row)",
+            ),
+            (
+                "--max-elements",
+                self.max_elements as u64,
+                "every scene (a scene has at least one body or element)",
+            ),
+            (
+                "--max-expression-length",
+                self.max_expression_length as u64,
+                "every scene with a name or an expression",
+            ),
+        ];
+        for (flag, value, what) in floors {
+            if value == 0 {
+                return Err(format!(
+                    "{flag}: must be at least 1 (got 0, which would refuse {what}: the server could answer nothing)"
+                ));
+            }
+        }
         for (flag, value, max) in counts {
             if value > max {
                 return Err(format!("{flag}: must be at most {max} (got {value})"));

@@ -25,6 +25,26 @@ fn bond_error(e: impl std::fmt::Display) -> SolveError {
     SolveError::BondGraph(e.to_string().replace('\n', "; "))
 }
 
+/// [`bond_error`] for the equations of `g`: a zero inertia with integral causality names the
+/// JSON path of its value (`bond_graph.elements[i].value`; it was "element 'm': missing a
+/// nonzero inertia", no path).
+fn equation_error(g: &BondGraph, e: crate::bond::equations::EquationError) -> SolveError {
+    use crate::bond::equations::EquationError;
+    if let EquationError::MissingParameter { element, what } = &e {
+        let at = g
+            .elements
+            .iter()
+            .position(|x| x.name == *element && x.kind == crate::bond::ElementKind::I);
+        if let (Some(i), true) = (at, what.starts_with("a nonzero inertia")) {
+            return SolveError::BondGraph(format!(
+                "{}.value: I element '{element}' has inertia 0 but integral causality: its flow p/I is undefined (a massless flow is fixed only by joint closures: give the graph its closures, or the element a nonzero value)",
+                crate::bond::validate::element_path(i)
+            ));
+        }
+    }
+    bond_error(e)
+}
+
 /// Every error of an invalid raw bond graph, `; `-separated, each starting with its JSON path.
 fn validation_error(e: crate::bond::ValidationErrors) -> SolveError {
     SolveError::BondGraph(
@@ -80,7 +100,7 @@ pub fn solve_raw_bond_graph(scene: &Scene, opts: &SolveOptions) -> Result<Soluti
 pub fn bond_graph_columns(g: &BondGraph, opts: &SolveOptions) -> Result<Vec<String>, SolveError> {
     let g = &graph_solved(g, opts)?;
     let causality = assign_causality(g).map_err(bond_error)?;
-    let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
+    let eq = BondEquations::new(g, &causality).map_err(|e| equation_error(g, e))?;
     Ok(columns_of(&eq).1)
 }
 
@@ -161,7 +181,7 @@ fn solve_from_first_output(
     let decoupled = opts.formulation == FormulationKind::Decoupled;
     let g = &graph_solved(g, opts)?;
     let causality = assign_causality(g).map_err(bond_error)?;
-    let eq = BondEquations::new(g, &causality).map_err(bond_error)?;
+    let eq = BondEquations::new(g, &causality).map_err(|e| equation_error(g, e))?;
     // the equations are the causality's: its integral storages are the states, its
     // differential inertias the dependent unknowns
     let report = causality.report(g);

@@ -376,6 +376,9 @@ impl Run<'_> {
             f.row_state(tr, &y, &mut x).ok()?;
             Some((tr, self.rows.row(tr, &x)))
         });
+        if let Some(hint) = tolerance_hint(&e, self.opts) {
+            summary.warnings.push(hint);
+        }
         self.figures(f, Some(solver), summary, Ending::Stopped);
         stopped(e, self.sol, summary.clone(), last)
     }
@@ -448,15 +451,46 @@ fn merge_parts(first: &Solution, before: &Summary, part: &mut Solution) {
     }
 }
 
+/// Tolerances at or below which repeated error-test failures are most likely the tolerance's
+/// fault: `rtol <= 1e-10` or `atol <= 1e-13` ask for digits that rounding (about 2.2e-16 times
+/// each state, amplified by a stiff problem's Newton iterations) does not leave.
+const TIGHT_RTOL: f64 = 1e-10;
+const TIGHT_ATOL: f64 = 1e-13;
+
+/// The advice for a solve stopped by repeated error-test failures (`IDA_ERR_FAIL`,
+/// `CV_ERR_FAILURE`) at tight tolerances: the error test cannot be met in double precision
+/// there; loosen them (issue 38: a stiff double pendulum at rtol 1e-12, atol 1e-14 failed at
+/// t = 0 with nothing saying why, and atol 1e-13 works).
+fn tolerance_hint(e: &SolverError, opts: &SolveOptions) -> Option<String> {
+    let SolverError::Flag { name, t, .. } = e else {
+        return None;
+    };
+    if !(name == "IDA_ERR_FAIL" || name == "CV_ERR_FAILURE") {
+        return None;
+    }
+    if !(opts.rtol <= TIGHT_RTOL || opts.atol <= TIGHT_ATOL) {
+        return None;
+    }
+    // one decade looser in atol (at least 1e-13), two in rtol (at least 1e-10)
+    let decade = |x: f64| x.log10().round() as i32;
+    let atol = (decade(opts.atol) + 1).max(-13);
+    let rtol = (decade(opts.rtol) + 2).clamp(-10, -6);
+    Some(format!(
+        "the error test failed repeatedly at t = {t} at rtol = {:e}, atol = {:e}: tolerances this tight ask for more digits than double precision leaves in a stiff problem's states; loosen them (solve.rtol, solve.atol or --rtol, --atol: e.g. atol 1e{atol} or rtol 1e{rtol})",
+        opts.rtol, opts.atol,
+    ))
+}
+
 pub(crate) fn stop_reason(e: &SolverError) -> &'static str {
     match e {
         SolverError::StepBudget { .. } | SolverError::TooMuchWork { .. } => "max_steps",
         SolverError::WallClock { .. } => "max_wall_seconds",
+        SolverError::Interrupted { .. } => "interrupt",
         _ => "solver_error",
     }
 }
 
-/// Whether `e` is a budget running out (the state at the time reached is sound).
+/// Whether `e` is a budget running out or an interrupt (the state at the time reached is sound).
 pub(crate) fn is_budget(e: &SolverError) -> bool {
     stop_reason(e) != "solver_error"
 }

@@ -65,6 +65,13 @@ fn solve_from_first_output(
         formulation: opts.formulation.name().into(),
         ..Summary::default()
     };
+    // initial velocities that violate the joints are projected onto them: say by how much
+    if init.velocity_correction > crate::mech::geometry::INITIAL_VIOLATION_WARNING {
+        summary.warnings.push(format!(
+            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction)",
+            init.velocity_correction
+        ));
+    }
     // the chapter's index-1 DAE leaves redundant rows out of its dependent block (and says so);
     // the other IDA formulations take the compliant GGL
     let index1 = matches!(
@@ -76,6 +83,16 @@ fn solve_from_first_output(
             "redundant constraints at t = {t0}: joints [{}] are linearly dependent; solved with the compliant GGL",
             init.redundant_joints.join(", ")
         ));
+    }
+    // the partitioned ODE's states are the degrees of freedom: with none there is nothing to
+    // integrate (it failed as "invalid input: y0 is empty")
+    let dof = init.v.len().saturating_sub(init.rank);
+    if opts.formulation == FormulationKind::Partitioned && dof == 0 {
+        return Err(SolveError::Options(format!(
+            "formulation 'partitioned': the mechanism has 0 degrees of freedom (its joints fix all {} velocity coordinates: G_v has rank {}), so the partitioned ODE has no state to integrate; solve it with 'dae' (the default), which holds it in place",
+            init.v.len(),
+            init.rank
+        )));
     }
     let mut build = build_cpu_seconds + clock.elapsed().as_secs_f64();
     // the formulation's build (and the index-1 DAE's causality analysis) is model building,

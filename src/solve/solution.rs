@@ -57,7 +57,8 @@ pub struct Summary {
     pub completed: bool,
     /// The time the integration reached (the last output time when `completed`).
     pub t_reached: f64,
-    /// What stopped an incomplete solve: `max_steps`, `max_wall_seconds` or `solver_error`.
+    /// What stopped an incomplete solve: `max_steps`, `max_wall_seconds`, `interrupt` (SIGINT,
+    /// SIGTERM: [`crate::interrupt`]) or `solver_error`.
     pub stopped_by: Option<String>,
     /// ‖q − q₀‖ of the initial projection onto the joints.
     pub initial_position_correction: f64,

@@ -126,7 +126,13 @@ fn time_point(model: &Model, p: &Point, w: &mut WorkPoint, repeats: usize) {
     };
     let mut cpu: Vec<f64> = Vec::with_capacity(repeats);
     for _ in 0..repeats {
+        if crate::interrupt::requested().is_some() {
+            // interrupted: the accuracy run's own CPU time stands
+            return;
+        }
         match model.solve(&p.opts) {
+            // a timing run stopped by an interrupt: as above
+            Err(_) if crate::interrupt::requested().is_some() => return,
             Ok(s) => cpu.push(s.summary.cpu_seconds),
             Err(e) => {
                 w.failure = Some(format!("timing run failed: {e}"));
@@ -296,9 +302,20 @@ pub fn run_sweep(
     let mut runs: Vec<WorkPoint> = all
         .par_iter()
         .map(|p| {
-            let w = match model.solve(&p.opts) {
-                Ok(sol) => measured(p, &sol, Some(&reference)),
-                Err(e) => failed(p, e.to_string()),
+            // after an interrupt (SIGINT, SIGTERM) the points not begun are not run; the
+            // finished ones are kept
+            let w = match crate::interrupt::requested() {
+                Some(sig) => failed(
+                    p,
+                    format!(
+                        "not run: interrupted by {}",
+                        crate::interrupt::signal_name(sig)
+                    ),
+                ),
+                None => match model.solve(&p.opts) {
+                    Ok(sol) => measured(p, &sol, Some(&reference)),
+                    Err(e) => failed(p, e.to_string()),
+                },
             };
             tick(&p.series);
             w

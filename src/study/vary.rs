@@ -271,6 +271,15 @@ impl VarySweep {
             t_final: f64::NAN,
             final_values: Vec::new(),
         };
+        // after an interrupt (SIGINT, SIGTERM) the points not begun are not run; the finished
+        // ones are kept
+        if let Some(sig) = crate::interrupt::requested() {
+            point.failure = Some(format!(
+                "not run: interrupted by {}",
+                crate::interrupt::signal_name(sig)
+            ));
+            return Ok((point, Vec::new()));
+        }
         let mut scene = self.scene(k)?;
         if self.reference.is_some() {
             // errors are measured row by row at the reference's times: event rows would

@@ -137,6 +137,15 @@ fn check_wall_clock(d: &DriverState, start: Instant, t: f64) -> Result<(), Solve
     }
 }
 
+/// `Err(Interrupted)` when an interrupt (SIGINT, SIGTERM) was asked for since the solve began
+/// ([`crate::interrupt::requested`]): the solve stops between two steps, as after a budget.
+fn check_interrupt(t: f64) -> Result<(), SolverError> {
+    match crate::interrupt::requested() {
+        Some(signal) => Err(SolverError::Interrupted { t, signal }),
+        None => Ok(()),
+    }
+}
+
 /// `Err(StepBudget)` when the steps of the solver's whole life have used up its budget.
 fn check_total_steps(d: &DriverState, t: f64) -> Result<(), SolverError> {
     match d.max_total_steps {
@@ -206,6 +215,7 @@ fn solve_to_inner<S: Stepper>(
             });
         }
         check_wall_clock(s.driver(), start, tn)?;
+        check_interrupt(tn)?;
         if let Some(max_steps) = s.driver().max_steps {
             if steps >= max_steps {
                 return Err(SolverError::TooMuchWork { t: tn, max_steps });
@@ -268,6 +278,7 @@ fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, 
     }
     let tn = s.current_time();
     check_wall_clock(s.driver(), start, tn)?;
+    check_interrupt(tn)?;
     check_total_steps(s.driver(), tn)?;
     let (tret, raw) = s.one_step(tout)?;
     s.driver().steps_used += 1;

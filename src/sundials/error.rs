@@ -77,6 +77,15 @@ pub enum SolverError {
         /// The budget.
         limit: Duration,
     },
+    /// An interrupt (SIGINT, SIGTERM: [`crate::interrupt`]) asked the solve to stop; it stopped
+    /// between two internal steps, the state at `t` as sound as after a budget stop.
+    #[error("interrupted by {}, reached t = {t}", crate::interrupt::signal_name(*signal))]
+    Interrupted {
+        /// Time reached.
+        t: f64,
+        /// The signal's number (2: SIGINT, 15: SIGTERM).
+        signal: i32,
+    },
     /// The residual or right-hand side evaluated to NaN or ±∞ and the solver could not step
     /// past it: either it failed after such an evaluation, or its trial steps shrank against it
     /// ([`NonFinite::stuck`](SolverError::NonFinite)). `y` is the state of that evaluation, so
@@ -136,6 +145,7 @@ impl SolverError {
             | SolverError::TooMuchWork { t, .. }
             | SolverError::StepBudget { t, .. }
             | SolverError::WallClock { t, .. }
+            | SolverError::Interrupted { t, .. }
             | SolverError::NoProgress { t, .. }
             | SolverError::Stalled { t, .. }
             | SolverError::NonFinite { t, .. } => Some(*t),
