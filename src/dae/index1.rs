@@ -619,9 +619,9 @@ impl Index1Formulation {
                 None => {
                     let a = g.var(qp(i));
                     let mut row = g.sub(a, sys.kinematics[i]);
-                    if e0.is_some() {
-                        // + μ ĝ_i, ĝ_i = ∂E/∂q_i − Σ_k G_q[R_k, i] κ_k
-                        let mut terms = vec![grad[i]];
+                    if let Some(&h) = grad.get(i) {
+                        // + μ ĝ_i, ĝ_i = h_i − Σ_k G_q[R_k, i] κ_k
+                        let mut terms = vec![h];
                         for (k, &rk) in rows.iter().enumerate() {
                             if !g.is_zero(c.gq[rk][i]) {
                                 let kk = g.var(kappa(k));

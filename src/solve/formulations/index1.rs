@@ -590,11 +590,18 @@ impl<'a> Index1<'a> {
             self.opts.output_times.last().copied().unwrap_or(t),
         );
         let elapsed = t - t0;
-        if !(elapsed >= ENERGY_TREND_FRACTION * (t_end - t0)) || !e.is_finite() {
+        if elapsed
+            .partial_cmp(&(ENERGY_TREND_FRACTION * (t_end - t0)))
+            .is_none_or(|o| o.is_lt())
+            || !e.is_finite()
+        {
             return Ok(None);
         }
         let projected = drift.abs() * (t_end - t0) / elapsed;
-        if !(projected > ENERGY_DRIFT_TRIGGER * promise) {
+        if projected
+            .partial_cmp(&(ENERGY_DRIFT_TRIGGER * promise))
+            .is_none_or(|o| o.is_le())
+        {
             return Ok(None);
         }
         // the energy lost so far is given back by scaling the velocities (the joints' rows
