@@ -300,6 +300,21 @@ pub struct ConstraintJunction {
 }
 
 impl BondGraph {
+    /// Why the graph's stored energy `Σ p²/2m + Σ q²/2C` is not conserved: its first resistor
+    /// or source that delivers power (a constant zero source does not); `None` when it is.
+    pub fn energy_exchange(&self) -> Option<String> {
+        self.elements
+            .iter()
+            .find_map(|e| match (e.kind, &e.parameter) {
+                (ElementKind::R, _) => Some(format!("resistor '{}' dissipates energy", e.name)),
+                (ElementKind::Se | ElementKind::Sf, Some(Parameter::Const(v))) if *v == 0.0 => None,
+                (ElementKind::Se | ElementKind::Sf, _) => {
+                    Some(format!("source '{}' delivers power", e.name))
+                }
+                _ => None,
+            })
+    }
+
     /// An empty graph.
     pub fn new() -> Self {
         Self::default()

@@ -806,7 +806,7 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         reactions: Vec::new(),
         reaction_outputs: false,
         events: Vec::new(),
-        energy_exchange: None,
+        energy_exchange: g.energy_exchange(),
         bodies: Vec::new(),
         names: Vec::new(),
         flow_rows,

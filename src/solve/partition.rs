@@ -204,7 +204,7 @@ impl CausalPartition {
 
 /// The dependent block's `μ(D)` ([`crate::dae::dependent_condition`]) above which a fresh selection of dependent velocities is
 /// considered at the output times (between them the step watch of
-/// `crate::solve::formulations::index1` examines IDA's steps).
+/// `crate::solve::runners::index1` examines IDA's steps).
 pub(crate) const INDEX1_CHECK_CONDITION: f64 = 10.0;
 
 /// The fresh selection replaces the current one when its condition is this many times smaller.

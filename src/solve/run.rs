@@ -1,5 +1,5 @@
 //! Solving a mechanism: the consistent start, then the formulation chosen in
-//! [`SolveOptions::formulation`] (one module each, `solve/formulations/`) run by the one
+//! [`SolveOptions::formulation`] (one module each, `solve/runners/`) run by the one
 //! executor (`solve/executor.rs`). The public names of the solve (its [`Solution`] and
 //! [`Summary`], the thresholds of the recoveries) are re-exported here.
 
@@ -8,23 +8,23 @@ use std::ops::ControlFlow;
 use cpu_time::ThreadTime;
 
 use super::executor::{execute, from_t_start};
-use super::formulations::{decoupled, default_compliance, ggl, index1, partitioned};
 use super::options::{FormulationKind, SolveOptions};
+use super::runners::{decoupled, default_compliance, ggl, index1, partitioned};
 use crate::dae::{
     consistent_state, ConstraintExprs, DecoupledFormulation, GglFormulation, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::SolveError;
 
-pub use super::formulations::ggl::{
+pub use super::rows::output_columns;
+pub use super::runners::ggl::{
     GGL_ERROR_TEST_SINGULAR, PASSAGE_CONDITION, REGULAR_CONDITION, RESUME_PLAIN_GGL,
     SINGULAR_CONDITION,
 };
-pub use super::formulations::partitioned::{
+pub use super::runners::partitioned::{
     MAX_SWITCHINGS_PER_OUTPUT, REGULAR_PARTITION, REPARTITION_CONDITION, REPARTITION_GROWTH,
     SINGULAR_PARTITION, STIFFNESS_LIMIT, TYPICAL_CONDITION,
 };
-pub use super::rows::output_columns;
 pub use super::solution::{EventRecord, Row, SingularPassage, Solution, Summary};
 
 /// Solves a multibody system with the chosen formulation, streaming rows to `observer`

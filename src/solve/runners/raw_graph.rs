@@ -13,7 +13,7 @@
 use std::sync::Arc;
 
 use crate::bond::equations::{BondEquations, VariableKind};
-use crate::bond::model::{BondGraph, ElementKind, Parameter};
+use crate::bond::model::BondGraph;
 use crate::dae::{ExplicitOde, IdDae};
 use crate::expr::Tape;
 use crate::solve::formulation::{ExplicitProblem, Formulation, ImplicitProblem, Problem, Start};
@@ -100,19 +100,9 @@ impl Outputs {
     }
 }
 
-/// Why a bond graph's stored energy `Σ p²/2m + Σ q²/2C` is not conserved: its first resistor
-/// or source that delivers power (a constant zero source does not); `None` when it is.
+/// Why a bond graph's stored energy is not conserved ([`BondGraph::energy_exchange`]).
 fn energy_exchange(g: &BondGraph) -> Option<String> {
-    g.elements
-        .iter()
-        .find_map(|e| match (e.kind, &e.parameter) {
-            (ElementKind::R, _) => Some(format!("resistor '{}' dissipates energy", e.name)),
-            (ElementKind::Se | ElementKind::Sf, Some(Parameter::Const(v))) if *v == 0.0 => None,
-            (ElementKind::Se | ElementKind::Sf, _) => {
-                Some(format!("source '{}' delivers power", e.name))
-            }
-            _ => None,
-        })
+    g.energy_exchange()
 }
 
 impl RowEval for Outputs {

@@ -1,4 +1,6 @@
-//! One module per formulation, each implementing [`super::formulation::Formulation`] (no run
+//! The runners: one module per formulation, each implementing [`super::formulation::Formulation`]
+//! over the equations `crate::dae` builds for it (`dae/ggl.rs` the GGL's residual, `runners/ggl.rs`
+//! its restarts, compliant switch and statistics) (no run
 //! loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
 //! and the chapter's `dae`), the partitioned ODE, the decoupled twin, and a raw bond graph's
 //! own equations. What the mechanism formulations share (their events, compliance and
