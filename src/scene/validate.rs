@@ -926,7 +926,7 @@ const GRAVITY_WHY: &str = "gravity beyond 1e12 m/s² makes the weights m·g and 
 pub const MAX_SPRING: f64 = 1e100;
 const SPRING_WHY: &str = "a spring stiffer (or a damper stronger) than 1e100 makes k·x² and k/m overflow (rule: 0 <= k, c <= 1e100)";
 /// Largest load component (N or N·m), constant or tabulated, as [`MAX_MASS`] (issue 38: a load
-/// table of 1e308 failed as "y0[6] is not finite").
+/// table of 1e308 failed as "`y0[6]` is not finite").
 pub const MAX_LOAD: f64 = 1e100;
 const LOAD_WHY: &str = "a load beyond 1e100 N (N·m) overflows in the accelerations and the work it does (rule: |F| <= 1e100)";
 /// Shortest time span `t_end − t_start` (s): below about 1e-160 s the solver's step-size
