@@ -15,24 +15,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use support::cli::{read_csv, scene};
+use support::cli::{read_csv, scene, temp_files};
 
 /// A fresh directory for one test.
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("bondmech-intr-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The names in `d` that look like an output's temporary file (`.NAME.XXXXXX.tmp`).
-fn temp_files(d: &Path) -> Vec<String> {
-    std::fs::read_dir(d)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.') && n.ends_with(".tmp"))
-        .collect()
+    support::cli::fresh_dir("intr", name)
 }
 
 /// `bondmech run pendulum.json --t-end 1e5 --out o.csv --summary s.json` in `d`, started in

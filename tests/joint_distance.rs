@@ -212,6 +212,21 @@ fn a_distance_joint_round_trips_through_json() {
     assert!(v["joints"][0].get("length").is_none(), "{v}");
 }
 
+/// The default on the A01 distance pendulum for `seconds` at the benchmark's rtol 1e-9 (atol
+/// 1e-11), outputs 0.5 s apart.
+fn default_a01(seconds: f64) -> Solution {
+    let model = support::solve::model_with_reactions(SCENE);
+    let mut o = model.default_options();
+    o.rtol = 1e-9;
+    o.atol = 1e-11;
+    let n = (seconds / 0.5).round() as usize;
+    o.output_times = (0..=n).map(|k| 0.5 * k as f64).collect();
+    o.max_steps = Some(20_000_000);
+    model
+        .solve(&o)
+        .expect("the default solves the A01 pendulum")
+}
+
 /// Regression (silent drift): the step watch of the default re-chose the dependent velocity
 /// between outputs on a pivot-ratio estimate, the largest over the smallest pivot of the block
 /// `G_v[:, D]` — 1 for the link's 1×1 block at every position — so with outputs 0.5 s apart the
@@ -224,13 +239,7 @@ fn a_distance_joint_round_trips_through_json() {
 /// 4.6e-2 J per 100 s).
 #[test]
 fn regression_the_default_drifted_off_the_distance_pendulum_with_sparse_outputs() {
-    let model = support::solve::model_with_reactions(SCENE);
-    let mut o = model.default_options();
-    o.rtol = 1e-9;
-    o.atol = 1e-11;
-    o.output_times = (0..=200).map(|k| 0.5 * k as f64).collect();
-    o.max_steps = Some(10_000_000);
-    let sol = model.solve(&o).expect("the default solves 100 s");
+    let sol = default_a01(100.0);
     assert_eq!(sol.summary.formulation, "dae");
     assert!(sol.summary.index1_reselections > 100, "{:?}", sol.summary);
     let (pos, _) = errors(&sol, ["bob.x", "bob.y"], false);
@@ -247,13 +256,7 @@ fn regression_the_default_drifted_off_the_distance_pendulum_with_sparse_outputs(
 /// without the invariant, whose restarts scatter the energy error instead of piling it up).
 #[test]
 fn the_default_follows_the_a01_distance_pendulum_over_2000_s_within_1e_3() {
-    let model = support::solve::model_with_reactions(SCENE);
-    let mut o = model.default_options();
-    o.rtol = 1e-9;
-    o.atol = 1e-11;
-    o.output_times = (0..=4000).map(|k| 0.5 * k as f64).collect();
-    o.max_steps = Some(20_000_000);
-    let sol = model.solve(&o).expect("the default solves 2000 s");
+    let sol = default_a01(2000.0);
     let s = &sol.summary;
     assert_eq!(s.formulation, "dae");
     assert!(s.completed && s.energy_invariant, "{s:?}");

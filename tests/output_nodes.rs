@@ -5,27 +5,14 @@
 
 mod support;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use support::cli::{bondmech, scene};
+use support::cli::{bondmech, scene, temp_files};
 use support::nodes::{char_device, fifo, is_char_device, is_root};
 
 /// A fresh directory for one test.
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("bondmech-nodes-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The names in `d` that look like an output's temporary file (`.NAME.XXXXXX.tmp`).
-fn temp_files(d: &Path) -> Vec<String> {
-    std::fs::read_dir(d)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.') && n.ends_with(".tmp"))
-        .collect()
+    support::cli::fresh_dir("nodes", name)
 }
 
 fn stderr(o: &std::process::Output) -> String {

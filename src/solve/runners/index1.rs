@@ -1189,7 +1189,7 @@ fn energy_multipliers(
 /// is the first choice of the dependent velocities, unless its block is ill-conditioned at the
 /// start and a numeric choice is much better.
 pub(crate) fn job<'a>(
-    sys: MultibodySystem,
+    mut sys: MultibodySystem,
     c: &'a ConstraintExprs,
     tapes: MechanicsTapes,
     init: &ConsistentState,
@@ -1285,9 +1285,8 @@ pub(crate) fn job<'a>(
         Some(e0) => {
             let mut exprs = vec![sys.energy, sys.kinetic];
             let energy = sys.energy;
-            let mut graph = sys.graph.clone();
-            exprs.extend((1..=nq + nv).map(|s| graph.diff(energy, s as u32)));
-            let tape = graph.compile(&exprs);
+            exprs.extend((1..=nq + nv).map(|s| sys.graph.diff(energy, s as u32)));
+            let tape = sys.graph.compile(&exprs);
             let ek = MechanicsTapes::eval(&tape, t0, &x);
             (
                 None,
