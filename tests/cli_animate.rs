@@ -593,3 +593,50 @@ fn every_bundled_scene_animates_without_a_console_error() {
     }
     assert!(failures.is_empty(), "console errors: {failures:#?}");
 }
+
+/// The 3D page of a spatial scene (`animate --out FILE.html`): the renderer it inlines (the one
+/// the playground serves as `/view3d.js`) draws the bodies and moves the traced point with the
+/// clock; a body named with `</script>` in it is data, not the end of the page's data block.
+#[test]
+fn spatial_html_page_draws_the_3d_view_and_follows_the_clock() {
+    let Some(browser) = chromium() else { return };
+    let mut doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(scene("hinged_double_pendulum_3d.json")).unwrap(),
+    )
+    .unwrap();
+    let evil = "bar2</script><b id=x>no</b>";
+    doc["bodies"][1]["name"] = evil.into();
+    doc["joints"][1]["bodies"][1] = evil.into();
+    doc["outputs"] = serde_json::json!([format!("{evil}.A")]);
+    doc["solve"]["t_end"] = 1.0.into();
+    let path = tmp("anim-3d-evil.json");
+    std::fs::write(&path, doc.to_string()).unwrap();
+    let html = tmp("anim-3d.html");
+    run_ok(&[
+        "animate",
+        path.to_str().unwrap(),
+        "--out",
+        html.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&html).unwrap();
+    assert_eq!(
+        text.matches("</script>").count(),
+        2,
+        "the data block and the script end once each"
+    );
+    let marker = TRACE_COLOURS[0];
+    let mut seen = Vec::new();
+    for t in [0.0, 0.6] {
+        let pic = screenshot(&browser, &html, t, (800, 600), &format!("3d-html-{t}.png"));
+        let (at, n) = pic
+            .find(marker, 40.0)
+            .unwrap_or_else(|| panic!("t = {t}: the traced point's marker is not drawn"));
+        assert!(n > 20, "t = {t}: a marker of {n} pixels");
+        seen.push(at);
+    }
+    // the bar falls from horizontal: its tip moves down the picture by a good part of its length
+    assert!(
+        seen[1][1] - seen[0][1] > 50.0,
+        "the traced point moves down with the clock: {seen:?}"
+    );
+}

@@ -338,14 +338,48 @@ def main():
         errors = console_errors(driver)
         check(not errors, f"no console errors so far {errors}")
 
-        # ---- a spatial scene: the 3D (isometric) view
+        # ---- a spatial scene: the 3D view (shaded bodies on a canvas, orbit and zoom)
         pick(driver, "hinged_double_pendulum_3d")
         run(driver)
         views = driver.execute_script(
-            "return Array.from(document.querySelectorAll('#animation svg')).map(s => s.getAttribute('data-view'))"
+            "return Array.from(document.querySelectorAll('#animation canvas, #animation svg')).map(s => s.getAttribute('data-view'))"
         )
-        check(views == ["iso"], f"a spatial scene is drawn in the 3D (iso) view ({views})")
+        check(views == ["3d"], f"a spatial scene is drawn in the 3D view, on a canvas ({views})")
+        # the canvas's pixels: how many are not the white background, and a digest of them
+        pixels = (
+            "var c = document.querySelector('#animation canvas'), g = c.getContext('2d');"
+            "var d = g.getImageData(0, 0, c.width, c.height).data, n = 0, h = 0;"
+            "for (var i = 0; i < d.length; i += 4) { if (d[i] < 250 || d[i+1] < 250 || d[i+2] < 250) n++;"
+            " h = (h * 31 + d[i] + 7 * d[i+1] + 13 * d[i+2]) % 1000000007; }"
+            "return [n / (c.width * c.height), h];"
+        )
+        inked, start = driver.execute_script(pixels)
+        check(inked > 0.01, f"the 3D view draws the bodies ({inked:.3f} of the canvas inked)")
+        t1 = float(driver.find_element(By.ID, "time").get_attribute("max"))
+        scrub(0.5 * t1)
+        _, middle = driver.execute_script(pixels)
+        readout = driver.find_element(By.ID, "time-readout").text
+        check(middle != start and readout.startswith("t = "), f"scrubbing moves the 3D view ({readout})")
+        driver.execute_script("document.getElementById('animation').scrollIntoView()")
         shot(driver, "spatial")
+        driver.execute_script("window.scrollTo(0, 0)")
+        canvas = driver.find_element(By.CSS_SELECTOR, "#animation canvas")
+        ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(80, 30).release().perform()
+        _, orbited = driver.execute_script(pixels)
+        check(orbited != middle and driver.find_element(By.ID, "time-readout").text == readout,
+              "dragging orbits the camera, at the same time")
+        driver.find_element(By.ID, "play").click()
+        time.sleep(0.4)
+        driver.find_element(By.ID, "play").click()
+        moved = driver.find_element(By.ID, "time-readout").text
+        check(moved != readout, f"play runs the 3D view's clock ({readout} → {moved})")
+        driver.find_element(By.ID, "compare").click()
+        wait(driver, lambda d: state(d) in ("compared", "failed"), "the 3D comparison", timeout=120)
+        check(state(driver) == "compared", "compare works on the spatial scene")
+        check("twin" in driver.find_element(By.ID, "animation").text,
+              "the twin's motion is drawn in the 3D view, faded (the page says so)")
+        errors = console_errors(driver)
+        check(not errors, f"no console errors in 3D {errors}")
 
         # ---- a raw bond graph: no animation, and the page says so
         pick(driver, "bg_dc_motor")
@@ -408,7 +442,8 @@ def main():
         set_editor(driver, json.dumps(evil2, indent=2))
         wait(driver, lambda d: any("injected2" in p for p in problems(d)), "the markup-named body's problem")
         check(not driver.find_elements(By.ID, "injected2"), "a body name in a problem is shown as text")
-        check(driver.execute_script("return document.scripts.length") == 1, "the page's one script, no other")
+        scripts = driver.execute_script("return Array.from(document.scripts).map(s => s.getAttribute('src'))")
+        check(scripts == ["/view3d.js", "/playground.js"], f"the page's own two scripts, no other ({scripts})")
         shot(driver, "injection")
 
         # ---- a long run: progress, the page stays usable (validation answers), cancel

@@ -156,6 +156,33 @@ fn animate_is_the_clis_animation() {
             std::fs::read_to_string(&frames).unwrap(),
             "{scene}: frames"
         );
+        if scene.ends_with("_3d.json") {
+            // the 3D view's data is what the command line's 3D page draws
+            let html = dir.join("a.html");
+            let mut args = vec!["animate", path.as_str(), "--out", html.to_str().unwrap()];
+            args.extend(flags.iter().copied());
+            let (ok, _, err) = cli(&args);
+            assert!(ok, "{err}");
+            let page = std::fs::read_to_string(&html).unwrap();
+            let open = "<script id=\"scene-data\" type=\"application/json\">";
+            let start = page.find(open).expect("the page's data block") + open.len();
+            let len = page[start..].find("</script>").unwrap();
+            let cli_data: serde_json::Value =
+                serde_json::from_str(&page[start..start + len]).unwrap();
+            let v = post(
+                server.addr(),
+                &format!("/v1/animate{query}{sep}format=view3d"),
+                text.as_bytes(),
+            );
+            assert_eq!(v.status, 200, "{}", v.text());
+            assert_eq!(v.header("content-type"), Some("application/json"));
+            assert_eq!(v.json(), cli_data, "{scene}: the 3D view's data");
+            let bodies = cli_data["bodies"].as_array().unwrap().len();
+            assert!(bodies > 0);
+            for pose in cli_data["poses"].as_array().unwrap() {
+                assert_eq!(pose.as_array().unwrap().len(), 7 * bodies);
+            }
+        }
         std::fs::remove_dir_all(&dir).ok();
     }
     // a raw bond graph has nothing to draw; a bad view is named
@@ -173,6 +200,15 @@ fn animate_is_the_clis_animation() {
     )
     .problem(422);
     assert_eq!(p["parameter"], "view", "{p}");
+    // a planar scene has no 3D view: the parameter is named, nothing is solved
+    let p = post(
+        server.addr(),
+        "/v1/animate?format=view3d",
+        scene_text("pendulum.json").as_bytes(),
+    )
+    .problem(422);
+    assert_eq!(p["parameter"], "format", "{p}");
+    assert!(p["detail"].as_str().unwrap().contains("spatial"), "{p}");
     server.shutdown().unwrap();
 }
 
@@ -214,12 +250,14 @@ fn the_page_keeps_its_ids_and_allows_only_its_origin() {
     }
     assert!(html.contains("<input id=\"time\" type=\"range\""));
     // no inline script, nothing from elsewhere
-    assert_eq!(html.matches("<script").count(), 1);
+    assert_eq!(html.matches("<script").count(), 2);
     assert!(html.contains("<script src=\"/playground.js\""));
+    assert!(html.contains("<script src=\"/view3d.js\""));
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("//cdn"));
     for (path, ctype) in [
         ("/playground.js", "text/javascript; charset=utf-8"),
         ("/playground.css", "text/css; charset=utf-8"),
+        ("/view3d.js", "text/javascript; charset=utf-8"),
     ] {
         let r = get(server.addr(), path);
         assert_eq!(r.status, 200, "{path}");
@@ -233,7 +271,7 @@ fn the_page_keeps_its_ids_and_allows_only_its_origin() {
         );
     }
     // the JavaScript inserts text from scenes as text only
-    let js = get(server.addr(), "/playground.js").text();
+    let js = get(server.addr(), "/playground.js").text() + &get(server.addr(), "/view3d.js").text();
     for sink in [
         "innerHTML",
         "outerHTML",

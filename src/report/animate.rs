@@ -691,8 +691,23 @@ fn quaternion(p: &Pose) -> [f64; 4] {
     [q.w, q.i, q.j, q.k]
 }
 
-/// The 3D page of a spatial scene ([`super::view3d`]).
-fn page_3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<String> {
+/// The 3D view's frames, traced points, playback speed, whether it was slowed, and the
+/// clock's digits, for [`super::view3d`].
+struct View3d {
+    frames: Vec<FramePose>,
+    traces: Vec<(String, Vec<[f64; 3]>)>,
+    speed: f64,
+    slowed: bool,
+    digits: usize,
+}
+
+fn view3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<View3d> {
+    if scene.dimension != Dimension::Spatial {
+        return Err(ReportError::NotSpatial);
+    }
+    if scene.bodies.is_empty() || sol.times.is_empty() {
+        return Err(ReportError::NothingToDraw);
+    }
     let cols = pose_columns(scene, sol, &opts.source)?;
     let plan = plan_frames(scene, sol, opts)?;
     let frames: Vec<FramePose> = plan
@@ -728,14 +743,36 @@ fn page_3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<Str
         ));
     }
     let span = plan.times[plan.times.len() - 1] - plan.times[0];
-    super::view3d::page(
-        scene,
-        &frames,
-        &traces,
-        plan.speed,
-        plan.slowed,
-        clock_digits(span),
-    )
+    Ok(View3d {
+        frames,
+        traces,
+        speed: plan.speed,
+        slowed: plan.slowed,
+        digits: clock_digits(span),
+    })
+}
+
+/// The 3D page of a spatial scene ([`super::view3d`]).
+fn page_3d(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<String> {
+    let v = view3d(scene, sol, opts)?;
+    super::view3d::page(scene, &v.frames, &v.traces, v.speed, v.slowed, v.digits)
+}
+
+/// The data of the 3D view of a spatial scene, as JSON (the page of `bondmech animate --out
+/// FILE.html` draws it; the playground fetches it from `POST /v1/animate?format=view3d` and
+/// draws it with the same renderer, [`view3d_script`]): bodies (name, colour, box half-sizes,
+/// points), joints, the frames' times and every body's pose per frame (`x y z qw qx qy qz`),
+/// traced points, gravity, playback speed. A planar scene is refused (its view is the SVG).
+pub fn view3d_json(scene: &Scene, sol: &Solution, opts: &AnimationOptions) -> Result<String> {
+    check_options(opts)?;
+    let v = view3d(scene, sol, opts)?;
+    super::view3d::data(scene, &v.frames, &v.traces, v.speed, v.digits)
+}
+
+/// The 3D view's renderer, `bondmechView3d(data, ui)` (JavaScript, no library), as the
+/// playground serves it at `/view3d.js`.
+pub fn view3d_script() -> &'static str {
+    super::view3d::VIEW_JS
 }
 
 /// One frame as drawn: its time and the world coordinates of every body's named points.
@@ -1751,9 +1788,6 @@ pub fn animation(
         });
     }
     if format == AnimationFormat::Html && scene.dimension == Dimension::Spatial {
-        if scene.bodies.is_empty() || sol.times.is_empty() {
-            return Err(ReportError::NothingToDraw);
-        }
         return page_3d(scene, sol, opts);
     }
     let drawing = build_drawing(scene, sol, opts)?;

@@ -103,6 +103,9 @@ pub enum ReportError {
         /// Its value.
         value: f64,
     },
+    /// The 3D view was asked for a planar scene.
+    #[error("the 3D view needs a spatial scene (\"dimension\": 3); a planar scene is drawn in its xy view (SVG)")]
+    NotSpatial,
     /// A planar scene asked for a view other than `xy`.
     #[error("--view {view}: a planar scene has only the xy view")]
     PlanarView {

@@ -63,6 +63,43 @@ pub(crate) fn page(
     slowed: bool,
     digits: usize,
 ) -> Result<String> {
+    let s = data(scene, frames, traces, speed, digits)?;
+    let note = if slowed {
+        format!(
+            " — played at ×{speed}: slowed so that no body turns more than 15° per frame (--speed to change)"
+        )
+    } else {
+        format!(" — ×{speed} speed")
+    };
+    let title = xml(&scene.name);
+    // a name holding `</script>` must not end the data block: `<` only occurs inside the
+    // JSON's strings, where `<\/` is the same text
+    let s = s.replace("</", "<\\/");
+    Ok(format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title} — bondmech 3D</title>\n\
+<style>body{{margin:0;font-family:Helvetica,Arial,sans-serif;background:#fff}}#bar{{padding:6px 12px;font-size:14px}}\
+#bar input[type=range]{{width:420px;vertical-align:middle}}#bar button{{width:5em}}canvas{{display:block;cursor:grab}}\
+#head{{position:absolute;left:12px;top:8px;font-size:17px;color:#222}}#head span{{display:block;font-size:13px;color:#777}}\
+#clock{{position:absolute;right:16px;top:8px;font-size:18px;color:#222}}</style></head>\n<body>\n\
+<div id=\"head\">{title}<span>{note}; drag to orbit, wheel to zoom</span></div><span id=\"clock\">t = 0 s</span>\n\
+<canvas id=\"view\" width=\"800\" height=\"600\"></canvas>\n\
+<div id=\"bar\"><button id=\"play\">play</button> <input id=\"time\" type=\"range\"> <span id=\"readout\"></span> \
+<label><input id=\"frames\" type=\"checkbox\"> frames</label> <label><input id=\"labels\" type=\"checkbox\" checked> labels</label></div>\n\
+<script id=\"scene-data\" type=\"application/json\">{s}</script>\n<script>\n{VIEW_JS}\n{PAGE_JS}\n</script>\n</body></html>\n"
+    ))
+}
+
+/// The scene data the renderer draws, as JSON: `{"bodies": [{name, colour, half, rod,
+/// points}], "joints": [{name, kind, b1, p1, b2, p2, axis}], "t": [...], "poses": [[x y z qw qx
+/// qy qz per body] per frame], "traces": [{name, pts}], "gravity", "extent", "speed", "digits",
+/// "name"}` — the body of `POST /v1/animate?format=view3d`.
+pub(crate) fn data(
+    scene: &Scene,
+    frames: &[FramePose],
+    traces: &[(String, Vec<[f64; 3]>)],
+    speed: f64,
+    digits: usize,
+) -> Result<String> {
     if frames.is_empty() {
         return Err(ReportError::NoFrames);
     }
@@ -204,26 +241,7 @@ pub(crate) fn page(
         n(speed),
         json_str(&scene.name)
     );
-    let note = if slowed {
-        format!(
-            " — played at ×{speed}: slowed so that no body turns more than 15° per frame (--speed to change)"
-        )
-    } else {
-        format!(" — ×{speed} speed")
-    };
-    let title = xml(&scene.name);
-    Ok(format!(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title} — bondmech 3D</title>\n\
-<style>body{{margin:0;font-family:Helvetica,Arial,sans-serif;background:#fff}}#bar{{padding:6px 12px;font-size:14px}}\
-#bar input[type=range]{{width:420px;vertical-align:middle}}#bar button{{width:5em}}canvas{{display:block;cursor:grab}}\
-#head{{position:absolute;left:12px;top:8px;font-size:17px;color:#222}}#head span{{display:block;font-size:13px;color:#777}}\
-#clock{{position:absolute;right:16px;top:8px;font-size:18px;color:#222}}</style></head>\n<body>\n\
-<div id=\"head\">{title}<span>{note}; drag to orbit, wheel to zoom</span></div><span id=\"clock\">t = 0 s</span>\n\
-<canvas id=\"view\" width=\"800\" height=\"600\"></canvas>\n\
-<div id=\"bar\"><button id=\"play\">play</button> <input id=\"time\" type=\"range\"> <span id=\"readout\"></span> \
-<label><input id=\"frames\" type=\"checkbox\"> frames</label> <label><input id=\"labels\" type=\"checkbox\" checked> labels</label></div>\n\
-<script id=\"scene-data\" type=\"application/json\">{s}</script>\n<script>\n{VIEW_JS}\n</script>\n</body></html>\n"
-    ))
+    Ok(s)
 }
 
 fn xml(s: &str) -> String {
@@ -234,212 +252,28 @@ fn xml(s: &str) -> String {
 }
 
 /// The renderer (written for bondmech; no library).
-const VIEW_JS: &str = r#"(function () {
-  var D = JSON.parse(document.getElementById('scene-data').textContent);
-  var cv = document.getElementById('view'), g = cv.getContext('2d');
-  var slider = document.getElementById('time'), readout = document.getElementById('readout');
-  var clock = document.getElementById('clock'), button = document.getElementById('play');
-  var showFrames = document.getElementById('frames'), showLabels = document.getElementById('labels');
-  var T = D.t, nb = D.bodies.length, t0 = T[0], t1 = T[T.length - 1];
-  function fit() { cv.width = Math.max(400, window.innerWidth); cv.height = Math.max(300, window.innerHeight - 44); }
-  fit(); window.addEventListener('resize', function () { fit(); draw(); });
-  // vectors
-  function add(a, b) { return [a[0] + b[0], a[1] + b[1], a[2] + b[2]]; }
-  function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
-  function mul(a, s) { return [a[0] * s, a[1] * s, a[2] * s]; }
-  function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-  function cross(a, b) { return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]; }
-  function norm(a) { var l = Math.sqrt(dot(a, a)) || 1; return mul(a, 1 / l); }
-  function rot(q, v) { // rotate v by the unit quaternion q = [w, x, y, z]
-    var u = [q[1], q[2], q[3]], w = q[0];
-    var t = mul(cross(u, v), 2);
-    return add(add(v, mul(t, w)), cross(u, t));
-  }
-  function slerp(a, b, s) {
-    var d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-    if (d < 0) { b = b.map(function (x) { return -x; }); d = -d; }
-    if (d > 0.9995) {
-      var r = a.map(function (x, i) { return x + s * (b[i] - x); });
-      var l = Math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
-      return r.map(function (x) { return x / l; });
-    }
-    var th = Math.acos(d), sn = Math.sin(th);
-    var wa = Math.sin((1 - s) * th) / sn, wb = Math.sin(s * th) / sn;
-    return a.map(function (x, i) { return wa * x + wb * b[i]; });
-  }
-  // each body's pose at time t: centre along a line, attitude by slerp between frames
-  function poses(t) {
-    var k = 0, lo = 0, hi = T.length - 1;
-    if (t <= t0) k = 0; else if (t >= t1) k = T.length - 2; else {
-      while (hi - lo > 1) { var m = (lo + hi) >> 1; if (T[m] <= t) lo = m; else hi = m; }
-      k = lo;
-    }
-    if (T.length < 2) k = 0;
-    var k2 = Math.min(k + 1, T.length - 1), span = T[k2] - T[k];
-    var s = span > 0 ? Math.min(Math.max((t - T[k]) / span, 0), 1) : 0;
-    var out = [];
-    for (var b = 0; b < nb; b++) {
-      var A = D.poses[k], B = D.poses[k2], o = 7 * b;
-      var r = [0, 1, 2].map(function (i) { return A[o + i] + s * (B[o + i] - A[o + i]); });
-      var q = slerp(A.slice(o + 3, o + 7), B.slice(o + 3, o + 7), s);
-      out.push({ r: r, q: q });
-    }
-    return out;
-  }
-  // the camera: orbit about the scene's centre, up against gravity
-  var up = dot(D.gravity, D.gravity) > 0 ? norm(mul(D.gravity, -1)) : [0, 0, 1];
-  var side = Math.abs(up[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
-  var e1 = norm(sub(side, mul(up, dot(side, up)))), e2 = cross(up, e1);
-  var yaw = 0.8, pitch = 0.45, zoom = 1;
-  var centre = [0, 0, 0], cn = 0;
-  for (var k = 0; k < D.poses.length; k += Math.max(1, Math.floor(D.poses.length / 50)))
-    for (var b = 0; b < nb; b++) { centre = add(centre, D.poses[k].slice(7 * b, 7 * b + 3)); cn++; }
-  centre = mul(centre, 1 / Math.max(cn, 1));
-  // the radius the motion sweeps about that centre (every frame's points)
-  var reach = 0.05;
-  for (var k = 0; k < D.poses.length; k++)
-    for (var b = 0; b < nb; b++) {
-      var r0 = D.poses[k].slice(7 * b, 7 * b + 3), q0 = D.poses[k].slice(7 * b + 3, 7 * b + 7);
-      var d0 = sub(r0, centre); reach = Math.max(reach, Math.sqrt(dot(d0, d0)));
-      D.bodies[b].points.forEach(function (pt) {
-        var d1 = sub(add(r0, rot(q0, pt[1])), centre); reach = Math.max(reach, Math.sqrt(dot(d1, d1)));
-      });
-    }
-  function camera() {
-    var f = add(add(mul(e1, Math.cos(pitch) * Math.cos(yaw)), mul(e2, Math.cos(pitch) * Math.sin(yaw))), mul(up, Math.sin(pitch)));
-    var right = norm(cross(up, f)), u = cross(f, right);
-    var scale = zoom * Math.min(cv.width, cv.height) / (2.3 * reach);
-    return { f: f, right: right, up: u, scale: scale };
-  }
-  function project(c, p) {
-    var d = sub(p, centre);
-    return [cv.width / 2 + c.scale * dot(d, c.right), cv.height / 2 - c.scale * dot(d, c.up), dot(d, c.f)];
-  }
-  function shade(hex, k) {
-    var v = parseInt(hex.slice(1), 16), r = v >> 16, gg = (v >> 8) & 255, bl = v & 255;
-    k = 0.35 + 0.65 * Math.max(0, k);
-    return 'rgb(' + Math.round(r * k) + ',' + Math.round(gg * k) + ',' + Math.round(bl * k) + ')';
-  }
-  // a box from the centre c, half-extents along the unit axes (u, v, w)
-  function box(faces, c, u, v, w, hu, hv, hw, colour) {
-    var corner = function (a, b, d) { return add(add(add(c, mul(u, a * hu)), mul(v, b * hv)), mul(w, d * hw)); };
-    var quads = [[[1,-1,-1],[1,1,-1],[1,1,1],[1,-1,1],u], [[-1,-1,-1],[-1,-1,1],[-1,1,1],[-1,1,-1],mul(u,-1)],
-                 [[-1,1,-1],[-1,1,1],[1,1,1],[1,1,-1],v], [[-1,-1,-1],[1,-1,-1],[1,-1,1],[-1,-1,1],mul(v,-1)],
-                 [[-1,-1,1],[1,-1,1],[1,1,1],[-1,1,1],w], [[-1,-1,-1],[-1,1,-1],[1,1,-1],[1,-1,-1],mul(w,-1)]];
-    quads.forEach(function (q) {
-      faces.push({ pts: q.slice(0, 4).map(function (s) { return corner(s[0], s[1], s[2]); }), n: q[4], colour: colour });
-    });
-  }
-  function rod(faces, a, b, r, colour) {
-    var d = sub(b, a), l = Math.sqrt(dot(d, d));
-    if (l < 1e-12) return;
-    var u = mul(d, 1 / l), s0 = Math.abs(u[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
-    var v = norm(cross(u, s0)), w = cross(u, v);
-    box(faces, mul(add(a, b), 0.5), u, v, w, l / 2, r, r, colour);
-  }
-  var t = t0, playing = true, pinned = false, last = null;
-  function draw() {
-    var c = camera(), P = poses(t), faces = [], marks = [];
-    g.fillStyle = '#fff'; g.fillRect(0, 0, cv.width, cv.height);
-    // traces (faint, under everything)
-    D.traces.forEach(function (tr, i) {
-      g.strokeStyle = ['rgba(230,0,126,0.35)', 'rgba(255,127,14,0.35)', 'rgba(214,39,40,0.35)'][i % 3];
-      g.lineWidth = 1.5; g.beginPath();
-      tr.pts.forEach(function (p, k) { var s = project(c, p); if (k) g.lineTo(s[0], s[1]); else g.moveTo(s[0], s[1]); });
-      g.stroke();
-    });
-    D.bodies.forEach(function (B, b) {
-      var p = P[b], ax = [rot(p.q, [1, 0, 0]), rot(p.q, [0, 1, 0]), rot(p.q, [0, 0, 1])];
-      box(faces, p.r, ax[0], ax[1], ax[2], B.half[0], B.half[1], B.half[2], B.colour);
-      B.points.forEach(function (pt) { rod(faces, p.r, add(p.r, rot(p.q, pt[1])), B.rod, B.colour); });
-    });
-    var world = function (b, pt) { return b < 0 ? pt : add(P[b].r, rot(P[b].q, pt)); };
-    var dir = function (b, a) { return b < 0 ? a : rot(P[b].q, a); };
-    D.joints.forEach(function (J) {
-      var at = J.b2 >= 0 ? world(J.b2, J.p2) : world(J.b1, J.p1);
-      if (J.kind === 'hinge' || J.kind === 'slider') {
-        var a = norm(dir(J.b1, J.axis)), L = (J.kind === 'hinge' ? 0.12 : 0.5) * D.extent;
-        var base = J.kind === 'hinge' ? at : world(J.b1, J.p1);
-        rod(faces, sub(base, mul(a, L)), add(base, mul(a, L)), 0.012 * D.extent, '#333333');
-      }
-      marks.push({ p: at, kind: J.kind });
-    });
-    // painter's algorithm: far faces first, lit by a light over the viewer's shoulder
-    var light = norm(add(add(c.f, mul(c.up, 0.6)), mul(c.right, -0.3)));
-    faces.forEach(function (f) {
-      f.s = f.pts.map(function (p) { return project(c, p); });
-      f.z = (f.s[0][2] + f.s[1][2] + f.s[2][2] + f.s[3][2]) / 4;
-    });
-    faces.sort(function (a, b) { return a.z - b.z; });
-    faces.forEach(function (f) {
-      if (dot(f.n, c.f) <= 0) return; // facing away
-      g.fillStyle = shade(f.colour, dot(f.n, light));
-      g.strokeStyle = 'rgba(0,0,0,0.25)'; g.lineWidth = 0.7;
-      g.beginPath(); f.s.forEach(function (s, i) { if (i) g.lineTo(s[0], s[1]); else g.moveTo(s[0], s[1]); });
-      g.closePath(); g.fill(); g.stroke();
-    });
-    marks.forEach(function (m) {
-      var s = project(c, m.p);
-      g.fillStyle = m.kind === 'weld' ? '#222' : '#fff'; g.strokeStyle = '#222'; g.lineWidth = 2;
-      g.beginPath(); g.arc(s[0], s[1], 5, 0, 2 * Math.PI); g.fill(); g.stroke();
-    });
-    // markers of the traced points
-    D.traces.forEach(function (tr, i) {
-      var parts = tr.name.split('.'), b = -1;
-      D.bodies.forEach(function (B, k) { if (B.name === parts[0]) b = k; });
-      if (b < 0) return;
-      var pt = null; D.bodies[b].points.forEach(function (p) { if (p[0] === parts[1]) pt = p[1]; });
-      if (!pt) return;
-      var s = project(c, world(b, pt));
-      g.fillStyle = ['rgb(230,0,126)', 'rgb(255,127,14)', 'rgb(214,39,40)'][i % 3];
-      g.beginPath(); g.arc(s[0], s[1], 6, 0, 2 * Math.PI); g.fill();
-    });
-    if (showFrames.checked) D.bodies.forEach(function (B, b) {
-      var o = project(c, P[b].r), L = 0.15 * D.extent;
-      ['#d62728', '#2ca02c', '#1f77b4'].forEach(function (col, i) {
-        var e = [0, 0, 0]; e[i] = 1; var s = project(c, add(P[b].r, mul(rot(P[b].q, e), L)));
-        g.strokeStyle = col; g.lineWidth = 2; g.beginPath(); g.moveTo(o[0], o[1]); g.lineTo(s[0], s[1]); g.stroke();
-      });
-    });
-    if (showLabels.checked) D.bodies.forEach(function (B, b) {
-      var s = project(c, P[b].r);
-      g.font = '13px Helvetica, Arial, sans-serif'; g.fillStyle = '#111';
-      g.fillText(B.name, s[0] + 10, s[1] - 10);
-    });
-    // world axes at the origin
-    var o = project(c, [0, 0, 0]), L = 0.25 * D.extent;
-    ['x', 'y', 'z'].forEach(function (name, i) {
-      var e = [0, 0, 0]; e[i] = L; var s = project(c, e);
-      g.strokeStyle = '#777'; g.lineWidth = 1.5; g.beginPath(); g.moveTo(o[0], o[1]); g.lineTo(s[0], s[1]); g.stroke();
-      g.fillStyle = '#555'; g.font = '12px Helvetica, Arial, sans-serif'; g.fillText(name, s[0] + 3, s[1] - 3);
-    });
-    var text = 't = ' + t.toFixed(D.digits) + ' s';
-    clock.textContent = text; readout.textContent = text; slider.value = t;
-  }
-  slider.min = t0; slider.max = t1; slider.step = 'any';
-  slider.oninput = function () { pinned = false; playing = false; button.textContent = 'play'; t = +slider.value; draw(); };
-  button.onclick = function () { pinned = false; playing = !playing; button.textContent = playing ? 'pause' : 'play'; last = null; };
-  showFrames.onchange = draw; showLabels.onchange = draw;
-  var drag = null;
-  cv.onmousedown = function (e) { drag = [e.clientX, e.clientY, yaw, pitch]; };
-  window.onmouseup = function () { drag = null; };
-  window.onmousemove = function (e) {
-    if (!drag) return;
-    yaw = drag[2] - 0.01 * (e.clientX - drag[0]);
-    pitch = Math.max(-1.5, Math.min(1.5, drag[3] + 0.01 * (e.clientY - drag[1])));
-    draw();
-  };
-  cv.onwheel = function (e) { e.preventDefault(); zoom *= Math.exp(-0.001 * e.deltaY); draw(); };
-  function tick(now) {
-    if (playing && !pinned) {
-      if (last !== null) { t += (now - last) / 1000 * D.speed; if (t > t1) t = t0 + (t - t1) % Math.max(t1 - t0, 1e-9); }
-      last = now; draw();
-    }
-    requestAnimationFrame(tick);
-  }
+/// The renderer (written for bondmech; no library): `bondmechView3d(data, ui)`, shared with the
+/// playground, which serves it as `/view3d.js`.
+pub(crate) const VIEW_JS: &str = include_str!("assets/view3d.js");
+
+/// The standalone page's wiring: its slider, button, clock, check boxes and `#t=T`.
+const PAGE_JS: &str = r#"(function () {
+  var $ = function (id) { return document.getElementById(id); };
+  var D = JSON.parse($('scene-data').textContent);
+  var slider = $('time'), readout = $('readout'), clock = $('clock'), button = $('play');
   var m = /[?#&]t=([-+0-9.eE]+)/.exec(location.href);
-  if (m) { pinned = true; playing = false; t = Math.min(Math.max(parseFloat(m[1]), t0), t1); }
-  button.textContent = playing ? 'pause' : 'play';
-  draw();
-  requestAnimationFrame(tick);
+  var v = bondmechView3d(D, {
+    canvas: $('view'), frames: $('frames'), labels: $('labels'),
+    fit: function (cv) { cv.width = Math.max(400, window.innerWidth); cv.height = Math.max(300, window.innerHeight - 44); },
+    onTime: function (t, text) { clock.textContent = text; readout.textContent = text; slider.value = t; },
+    start: m ? parseFloat(m[1]) : undefined, autoplay: !m
+  });
+  slider.min = v.t0; slider.max = v.t1; slider.step = 'any';
+  slider.oninput = function () { v.seek(+slider.value); button.textContent = 'play'; };
+  button.onclick = function () {
+    if (v.playing()) v.pause(); else v.play();
+    button.textContent = v.playing() ? 'pause' : 'play';
+  };
+  $('frames').onchange = v.redraw; $('labels').onchange = v.redraw;
+  button.textContent = v.playing() ? 'pause' : 'play';
 })();"#;

@@ -254,6 +254,7 @@ fn router(app: Arc<App>) -> Router {
         .route("/", get(page::index))
         .route("/playground.js", get(page::script))
         .route("/playground.css", get(page::style))
+        .route("/view3d.js", get(page::view3d_script))
         .fallback(routes::not_found)
         .method_not_allowed_fallback(routes::method_not_allowed)
         .layer(axum::middleware::from_fn_with_state(

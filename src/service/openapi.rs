@@ -143,8 +143,8 @@ pub fn document() -> Value {
         ),
         query(
             "format",
-            "svg (default) or frames (the points of every body in every frame, JSON).",
-            json!({"type": "string", "enum": ["svg", "frames"], "default": "svg"}),
+            "svg (default), frames (the points of every body in every frame, JSON) or view3d (a spatial scene's 3D view: bodies, joints, every body's pose per frame, JSON, drawn by /view3d.js).",
+            json!({"type": "string", "enum": ["svg", "frames", "view3d"], "default": "svg"}),
         ),
     ]);
     json!({
@@ -193,7 +193,7 @@ pub fn document() -> Value {
             ], json!({
                 "description": "Progress, then the report.", "content": {"application/x-ndjson": {"schema": {"type": "string"}}}
             })),
-            "/v1/animate": post("The bondmech animate picture: an SVG animated with SMIL (root data-t0, data-t-end, data-speed, data-duration for scrubbing with setCurrentTime((t - t0) / speed)), or its frames as JSON. A raw bond graph is a 422.", animate_params, json!({
+            "/v1/animate": post("The bondmech animate picture: an SVG animated with SMIL (root data-t0, data-t-end, data-speed, data-duration for scrubbing with setCurrentTime((t - t0) / speed)), its frames as JSON, or a spatial scene's 3D view data (JSON). A raw bond graph is a 422, and so is view3d for a planar scene.", animate_params, json!({
                 "description": "The animation.",
                 "content": {
                     "image/svg+xml": {"schema": {"type": "string"}},

@@ -1,10 +1,12 @@
 //! The playground (`GET /`): one page to work in — pick a bundled scene, edit it with
 //! validation as you type, run, compare, scrub the animation, look at the bond graph (issue 37).
 //!
-//! The page is three files compiled into the binary (`assets/playground.{html,js,css}`) and
+//! The page is three files compiled into the binary (`assets/playground.{html,js,css}`), plus
+//! the 3D view's renderer of `bondmech animate --out FILE.html` (`/view3d.js`), all
 //! served by the service itself under a Content-Security-Policy that allows nothing outside
 //! the origin ([`CSP`]): no CDN, no network, no inline script. The page draws only what the
-//! service returns (`/v1/run`'s rows as polylines, `/v1/animate`'s SVG, `/v1/graph`'s SVG);
+//! service returns (`/v1/run`'s rows as polylines, `/v1/animate`'s SVG or 3D view data,
+//! `/v1/graph`'s SVG);
 //! every text that comes from a scene is inserted as text, never as markup.
 //!
 //! Also here, the routes the page needs and any client may use: `GET /v1/scenes` (the bundled
@@ -66,6 +68,15 @@ pub(super) async fn index() -> Response {
 /// `GET /playground.js`.
 pub(super) async fn script() -> Response {
     asset(JS, "text/javascript; charset=utf-8")
+}
+
+/// `GET /view3d.js`: the 3D view's renderer, the one `bondmech animate --out FILE.html`
+/// inlines ([`crate::report::animate::view3d_script`]).
+pub(super) async fn view3d_script() -> Response {
+    asset(
+        crate::report::animate::view3d_script(),
+        "text/javascript; charset=utf-8",
+    )
 }
 
 /// `GET /playground.css`.

@@ -617,10 +617,12 @@ async fn sweep_inner(
     stream_response(started_rx, rx).await
 }
 
-/// `POST /v1/animate?view=xy|xz|yz|iso&speed=S&format=svg|frames` and the solve parameters:
-/// the `bondmech animate --out FILE.svg` picture (an SVG animated with SMIL; its root states
-/// `data-t0`, `data-t-end`, `data-speed`, `data-duration`, so a page scrubs it with
-/// `setCurrentTime((t − t0) / speed)`), or the frames as drawn (`--frames`). Solved as the
+/// `POST /v1/animate?view=xy|xz|yz|iso&speed=S&format=svg|frames|view3d` and the solve
+/// parameters: the `bondmech animate --out FILE.svg` picture (an SVG animated with SMIL; its
+/// root states `data-t0`, `data-t-end`, `data-speed`, `data-duration`, so a page scrubs it with
+/// `setCurrentTime((t − t0) / speed)`), the frames as drawn (`--frames`), or, for a spatial
+/// scene, the data of the 3D view (JSON, drawn by the renderer served at `/view3d.js`, the one
+/// `bondmech animate --out FILE.html` inlines). Solved as the
 /// command line solves it: again at denser output times when a body would turn more than 15°
 /// between rows, all within the one budget.
 pub async fn animate(
@@ -640,13 +642,14 @@ async fn animate_inner(
     body: Body,
 ) -> Result<Response, Problem> {
     use crate::report::animate::{
-        animation, denser_output_times, frames_json, AnimationFormat, AnimationOptions, View,
+        animation, denser_output_times, frames_json, view3d_json, AnimationFormat,
+        AnimationOptions, View,
     };
     not_shutting_down(app)?;
     let mut allowed = SOLVE_PARAMS.to_vec();
     allowed.extend(["format", "view", "speed"]);
     let params = Params::parse(q.as_deref(), &allowed)?;
-    let format = params.choice("format", &["svg", "frames"])?;
+    let format = params.choice("format", &["svg", "frames", "view3d"])?;
     let view = match params.text("view") {
         None => None,
         Some(v) => Some(View::parse(v).ok_or_else(|| {
@@ -673,6 +676,12 @@ async fn animate_inner(
             "animate needs a scene with bodies (a raw bond graph has no geometry to draw)"
                 .to_string(),
         )]));
+    }
+    if format == "view3d" && scene.dimension != crate::scene::Dimension::Spatial {
+        return Err(invalid_value(
+            "format",
+            "format=view3d: the 3D view needs a spatial scene (\"dimension\": 3); a planar scene is drawn as SVG (format=svg)",
+        ));
     }
     check_rows(&scene, solve.overrides.t_end, &app.limits)?;
     solve.apply_to_scene(&mut scene)?;
@@ -739,6 +748,8 @@ async fn animate_inner(
         };
         Ok(if format == "frames" {
             with_type(frames_json(&scene, &sol, &aopts).map_err(report)?, JSON)
+        } else if format == "view3d" {
+            with_type(view3d_json(&scene, &sol, &aopts).map_err(report)?, JSON)
         } else {
             with_type(
                 animation(&scene, &sol, &aopts, AnimationFormat::Svg).map_err(report)?,

@@ -18,7 +18,7 @@
     twin: null,       // the decoupled twin's {columns, rows} after compare
     controller: null, // the AbortController of the work in progress
     validation: 0,    // sequence number of the latest validation request
-    anim: null        // {svg, t0, t1, speed, duration, digits}
+    anim: null        // {svg, t0, t1, speed, duration, digits} or, in 3D, {view, t0, t1, digits}
   };
 
   function clear(el) { while (el.firstChild) el.removeChild(el.firstChild); }
@@ -389,7 +389,52 @@
     return document.importNode(root, true);
   }
 
+  function spatial(body) {
+    try { var d = JSON.parse(body); return !!d && d.dimension === 3; } catch (e) { return false; }
+  }
+  // a spatial scene: the 3D view (shaded bodies on a canvas that orbits and zooms), drawn by
+  // the renderer `bondmech animate --out FILE.html` inlines, served as /view3d.js
+  function animateQuery(format, formulation) {
+    var q = new URLSearchParams(solveQuery().slice(1));
+    q.set('format', format);
+    if (formulation) q.set('formulation', formulation);
+    return '/v1/animate?' + q.toString();
+  }
+  function loadAnimation3d(body, signal) {
+    hint(animation, 'drawing the motion…');
+    resetTime();
+    return post(animateQuery('view3d'), body, signal).then(function (r) {
+      if (!r.ok) return readProblem(r).then(function (p) { hint(animation, 'no animation: ' + problemText(p)); });
+      return r.json().then(function (data) {
+        clear(animation);
+        if (typeof window.bondmechView3d !== 'function') {
+          hint(animation, 'no animation: the 3D renderer (/view3d.js) did not load');
+          return;
+        }
+        var canvas = document.createElement('canvas');
+        canvas.className = 'bondmech-view3d';
+        canvas.setAttribute('data-view', '3d');
+        canvas.setAttribute('aria-label', 'the 3D view of the motion');
+        animation.appendChild(canvas);
+        animation.appendChild(el('p', 'the 3D view: drag to orbit, wheel to zoom', 'hint view3d-note'));
+        var a = { t0: data.t[0], t1: data.t[data.t.length - 1], digits: data.digits || 2 };
+        a.view = window.bondmechView3d(data, {
+          canvas: canvas,
+          fit: function (c) {
+            var w = Math.max(320, Math.floor(animation.clientWidth || 640));
+            c.width = w; c.height = Math.round(0.62 * w);
+          },
+          onTime: function (t) { if (state.anim === a) showTime(t); },
+          autoplay: false
+        });
+        state.anim = a;
+        time.min = a.t0; time.max = a.t1; time.step = 'any'; time.disabled = false; play.disabled = false;
+        seek(a.t0);
+      });
+    });
+  }
   function loadAnimation(body, signal) {
+    if (spatial(body)) return loadAnimation3d(body, signal);
     hint(animation, 'drawing the motion…');
     resetTime();
     return post('/v1/animate' + solveQuery(), body, signal).then(function (r) {
@@ -419,6 +464,7 @@
     });
   }
   function resetTime() {
+    if (state.anim && state.anim.view) state.anim.view.destroy();
     state.anim = null;
     time.disabled = true; play.disabled = true; play.textContent = 'play';
     readout.textContent = '';
@@ -433,6 +479,7 @@
   function seek(t) {
     var a = state.anim;
     if (!a) return;
+    if (a.view) { a.view.seek(t); play.textContent = 'play'; return; }
     var tau = Math.min(Math.max((t - a.t0) / a.speed, 0), a.duration * (1 - 1e-9));
     a.svg.pauseAnimations();
     a.svg.setCurrentTime(tau);
@@ -449,7 +496,7 @@
   }
   function tick() {
     var a = state.anim;
-    if (a && !a.svg.animationsPaused()) {
+    if (a && a.svg && !a.svg.animationsPaused()) {
       var t = a.t0 + (a.svg.getCurrentTime() % a.duration) * a.speed;
       showTime(t);
       seekTwin(t);
@@ -461,6 +508,17 @@
   function loadTwinAnimation(body, signal) {
     var a = state.anim;
     if (!a) return Promise.resolve();
+    if (a.view) {
+      // in 3D the twin's bodies are drawn faded under the DAE's, by the same renderer
+      return post(animateQuery('view3d', 'decoupled'), body, signal).then(function (r) {
+        if (!r.ok || state.anim !== a) return null;
+        return r.json().then(function (data) {
+          if (state.anim !== a) return;
+          a.view.ghost(data);
+          animation.appendChild(el('p', 'faded: the decoupled twin, on the same clock', 'hint twin-note'));
+        });
+      });
+    }
     var q = new URLSearchParams(solveQuery().slice(1));
     q.set('formulation', 'decoupled');
     return post('/v1/animate?' + q.toString(), body, signal).then(function (r) {
@@ -661,6 +719,11 @@
   play.addEventListener('click', function () {
     var a = state.anim;
     if (!a) return;
+    if (a.view) {
+      if (a.view.playing()) a.view.pause(); else a.view.play();
+      play.textContent = a.view.playing() ? 'pause' : 'play';
+      return;
+    }
     if (a.svg.animationsPaused()) { a.svg.unpauseAnimations(); play.textContent = 'pause'; }
     else { a.svg.pauseAnimations(); play.textContent = 'play'; }
   });
