@@ -109,6 +109,21 @@ proptest! {
                 continue;
             }
             assert_matches_fd(&mut g, e, &[x, y], what);
+            // the reverse sweep's gradient, of the operation and of the operation composed
+            // (its adjoint is then not 1): against the same central differences
+            let s = g.sin(vy);
+            let composed = g.mul(e, s);
+            for f in [e, composed] {
+                let grad = g.gradient(f, &[0, 1, 2]);
+                let pt = [x, y];
+                for (v, &d) in grad.iter().take(2).enumerate() {
+                    let sym = g.eval(d, &pt);
+                    let num = fd(&g, f, v, &pt, 1e-6);
+                    let tol = 1e-6 * (1.0 + sym.abs() + g.eval(f, &pt).abs());
+                    prop_assert!((sym - num).abs() <= tol, "{}: gradient d/dx{} {} vs FD {}", what, v, sym, num);
+                }
+                prop_assert!(g.is_zero(grad[2]), "{}: no x2 in the expression", what);
+            }
         }
     }
 }

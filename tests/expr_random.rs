@@ -154,6 +154,17 @@ proptest! {
     }
 
     #[test]
+    fn reverse_gradient_of_random_dags_matches_central_differences(s in steps(), pt in point()) {
+        let mut g = ExprGraph::new();
+        let e = build(&mut g, &s, true);
+        let wrt: Vec<u32> = (0..N_VARS as u32).collect();
+        let grad = g.gradient(e, &wrt);
+        for (v, &d) in grad.iter().enumerate() {
+            check_against_fd(&g, e, d, v, &pt)?;
+        }
+    }
+
+    #[test]
     fn second_derivatives_of_random_dags_match_differences_of_first(s in steps(), pt in point()) {
         let mut g = ExprGraph::new();
         let e = build(&mut g, &s, true);

@@ -177,8 +177,18 @@ impl SparseGram {
     /// eigenvalue of `A⁻¹` ([`lanczos_largest`] with solves by the Cholesky factor, at most
     /// `max_iterations` steps). `None` when the iteration does not converge.
     pub fn smallest_eigenvalue(&self, rel_tol: f64, max_iterations: usize) -> Option<f64> {
+        self.smallest_eigenpair(rel_tol, max_iterations)
+            .map(|(l, _)| l)
+    }
+
+    /// [`Self::smallest_eigenvalue`] and its eigenvector (the Ritz vector, unit).
+    pub fn smallest_eigenpair(
+        &self,
+        rel_tol: f64,
+        max_iterations: usize,
+    ) -> Option<(f64, Vec<f64>)> {
         let v0 = start_vector(self.m);
-        let inv_lmin = lanczos_largest(
+        let (inv_lmin, u) = lanczos_largest_vector(
             |x, y| {
                 y.copy_from_slice(x);
                 self.solve_in_place(y);
@@ -187,7 +197,7 @@ impl SparseGram {
             rel_tol,
             max_iterations,
         );
-        inv_lmin.converged.then(|| 1.0 / inv_lmin.theta)
+        inv_lmin.converged.then(|| (1.0 / inv_lmin.theta, u))
     }
 
     /// The Cholesky factor of `σ I − A` (same pattern as `A`), `None` when it is not
@@ -300,11 +310,32 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// rows of the 40-four-bar chain that costs about as much as the dense eigenvalues, while
 /// this loop stops after the few steps the extreme eigenvalue needs.
 pub fn lanczos_largest(
-    mut op: impl FnMut(&[f64], &mut [f64]),
+    op: impl FnMut(&[f64], &mut [f64]),
     v0: &[f64],
     rel_tol: f64,
     max_iterations: usize,
 ) -> Lanczos {
+    lanczos(op, v0, rel_tol, max_iterations, false).0
+}
+
+/// [`lanczos_largest`] and its Ritz vector `y = V_j s` (unit; `s` the unit eigenvector of
+/// `T_j` for `θ`), the approximate eigenvector: empty where no `θ` was found.
+pub fn lanczos_largest_vector(
+    op: impl FnMut(&[f64], &mut [f64]),
+    v0: &[f64],
+    rel_tol: f64,
+    max_iterations: usize,
+) -> (Lanczos, Vec<f64>) {
+    lanczos(op, v0, rel_tol, max_iterations, true)
+}
+
+fn lanczos(
+    mut op: impl FnMut(&[f64], &mut [f64]),
+    v0: &[f64],
+    rel_tol: f64,
+    max_iterations: usize,
+    want_vector: bool,
+) -> (Lanczos, Vec<f64>) {
     let n = v0.len();
     let mut result = Lanczos {
         theta: f64::NAN,
@@ -314,7 +345,7 @@ pub fn lanczos_largest(
     };
     let norm0 = dot(v0, v0).sqrt();
     if n == 0 || norm0 == 0.0 || !norm0.is_finite() {
-        return result;
+        return (result, Vec::new());
     }
     let mut v: Vec<f64> = v0.iter().map(|x| x / norm0).collect();
     let mut w = vec![0.0; n];
@@ -322,11 +353,28 @@ pub fn lanczos_largest(
     let mut alpha: Vec<f64> = Vec::new();
     let mut beta: Vec<f64> = Vec::new();
     let mut previous = f64::NAN;
+    // the Ritz vector V_j s of the last step's θ
+    let ritz = |basis: &[f64], s: &[f64]| -> Vec<f64> {
+        if !want_vector {
+            return Vec::new();
+        }
+        let mut y = vec![0.0; n];
+        for (col, &c) in basis.chunks_exact(n).zip(s) {
+            y.iter_mut().zip(col).for_each(|(a, x)| *a += c * x);
+        }
+        y
+    };
+    let mut s_vec = Vec::new();
     for j in 0..max_iterations.min(n) {
         basis.extend_from_slice(&v);
         op(&v, &mut w);
         if !w.iter().all(|x| x.is_finite()) {
-            return result;
+            let y = if s_vec.is_empty() {
+                Vec::new()
+            } else {
+                ritz(&basis[..n * s_vec.len()], &s_vec)
+            };
+            return (result, y);
         }
         alpha.push(dot(&v, &w));
         for _ in 0..2 {
@@ -336,7 +384,9 @@ pub fn lanczos_largest(
             }
         }
         let b = dot(&w, &w).sqrt();
-        let (theta, s_last) = tridiagonal_largest(&alpha, &beta, previous, rel_tol * 1e-3);
+        let (theta, s) = tridiagonal_largest(&alpha, &beta, previous, rel_tol * 1e-3);
+        let s_last = s.last().copied().unwrap_or(1.0);
+        s_vec = s;
         let scale = theta.abs().max(f64::MIN_POSITIVE);
         let invariant = b <= f64::EPSILON * scale || j + 1 == n;
         result = Lanczos {
@@ -352,13 +402,13 @@ pub fn lanczos_largest(
         if invariant || (result.residual <= rel_tol && (theta - previous).abs() <= rel_tol * scale)
         {
             result.converged = true;
-            return result;
+            return (result, ritz(&basis, &s_vec));
         }
         previous = theta;
         beta.push(b);
         v.iter_mut().zip(&w).for_each(|(x, y)| *x = y / b);
     }
-    result
+    (result, ritz(&basis, &s_vec))
 }
 
 /// What [`lanczos_largest`] found.
@@ -375,8 +425,8 @@ pub struct Lanczos {
 }
 
 /// The largest eigenvalue `θ` of the symmetric tridiagonal `T` (diagonal `alpha`,
-/// off-diagonal `beta`, `beta.len() + 1 = alpha.len()`) and the last entry of its unit
-/// eigenvector; `lower` is a lower bound of `θ` when finite (the previous step's Ritz value:
+/// off-diagonal `beta`, `beta.len() + 1 = alpha.len()`) and its unit eigenvector (the
+/// last unit vector where none is usable: the largest residual weight); `lower` is a lower bound of `θ` when finite (the previous step's Ritz value:
 /// by Cauchy's interlacing theorem the largest eigenvalue of `T_j` is at least that of
 /// `T_{j−1}`), `θ` is found to the relative accuracy `rel` (or rounding, if larger).
 ///
@@ -384,7 +434,7 @@ pub struct Lanczos {
 /// `T − x I = L D Lᵀ` (`d_1 = α_1 − x`, `d_i = α_i − x − β_{i−1}² / d_{i−1}`) inside the
 /// Gershgorin interval, to rounding; the eigenvector by two steps of inverse iteration with
 /// `σ I − T` (`σ` just above `θ`, so it is positive definite and `L D Lᵀ` needs no pivoting).
-fn tridiagonal_largest(alpha: &[f64], beta: &[f64], lower: f64, rel: f64) -> (f64, f64) {
+fn tridiagonal_largest(alpha: &[f64], beta: &[f64], lower: f64, rel: f64) -> (f64, Vec<f64>) {
     let k = alpha.len();
     let off = |i: usize| if i < beta.len() { beta[i].abs() } else { 0.0 };
     let mut lo = f64::INFINITY;
@@ -433,7 +483,7 @@ fn tridiagonal_largest(alpha: &[f64], beta: &[f64], lower: f64, rel: f64) -> (f6
     }
     let theta = 0.5 * (lo + hi);
     if k == 1 {
-        return (theta, 1.0);
+        return (theta, vec![1.0]);
     }
     let sigma = hi + 4.0 * f64::EPSILON * hi.abs().max(tiny);
     // σ I − T = L D Lᵀ: d_1 = σ − α_1, l_i = −β_i / d_i, d_{i+1} = σ − α_{i+1} − l_i (−β_i)
@@ -458,11 +508,13 @@ fn tridiagonal_largest(alpha: &[f64], beta: &[f64], lower: f64, rel: f64) -> (f6
         let n = dot(&x, &x).sqrt();
         if n == 0.0 || !n.is_finite() {
             // no usable eigenvector: report the largest possible residual weight
-            return (theta, 1.0);
+            let mut e = vec![0.0; k];
+            e[k - 1] = 1.0;
+            return (theta, e);
         }
         x.iter_mut().for_each(|v| *v /= n);
     }
-    (theta, x[k - 1])
+    (theta, x)
 }
 
 #[cfg(test)]

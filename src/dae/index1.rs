@@ -209,8 +209,25 @@ pub const SPARSE_GRIP_TOP_TOL: f64 = 1e-2;
 /// `μ(D) > INDEX1_RESELECT_GAIN κ(G_v)` does not depend on it: `λ_max` divides out of the ratio.
 pub const SPARSE_GRIP_TOP_STEPS: usize = 16;
 
+/// Lanczos steps for `λ_max(G_v G_vᵀ)` from the previous output's Ritz vector
+/// ([`JointRows::with_hints`]): the Krylov space holds that vector, so the Ritz value is at
+/// least its Rayleigh quotient at the new state — as close to the top as the last estimate
+/// was where the motion between outputs is smooth — and the steps refine it. On the N-link
+/// pendulum the 16 cold steps at every output were 6 % of the run at N = 128.
+pub const SPARSE_GRIP_TOP_WARM_STEPS: usize = 4;
+
 /// Lanczos steps per eigenvalue on the sparse path before the dense singular values decide.
 const SPARSE_GRIP_ITERATIONS: usize = 200;
+
+/// Approximate eigenvectors of `G_v G_vᵀ` (each of length `nc`, or empty: unknown) carried
+/// from one output to the next: `λ_max`'s, the dependent block's `σ_min(G_D)` left singular
+/// vector, `λ_min`'s.
+#[derive(Clone, Debug, Default)]
+pub struct SpectralHints {
+    top: Vec<f64>,
+    block: Vec<f64>,
+    smallest: Vec<f64>,
+}
 
 /// The velocity Jacobian `G_v` (`nc × nv`) at one state as the index-1 DAE's checks read it:
 /// dense below [`SPARSE_GRIP_ROWS`] rows (the singular values of [`dependent_condition`] and
@@ -238,6 +255,17 @@ pub struct JointRows {
     top: Option<Option<f64>>,
     /// `λ_min(G_v G_vᵀ)` once computed on the sparse path (`None` inside: failed).
     bottom: Option<Option<f64>>,
+    /// Vectors whose Rayleigh quotients `‖G_vᵀ u‖² / ‖u‖²` bound `λ_min(G_v G_vᵀ)` from
+    /// above (the sparse path): the dependent block's left singular vector for `σ_min(G_D)`,
+    /// the caller's hint (`λ_min`'s eigenvector at an earlier state), and the eigenvector once
+    /// `λ_min` is computed here.
+    block_vector: Vec<f64>,
+    hint: Vec<f64>,
+    bottom_vector: Vec<f64>,
+    /// Start vectors for the Lanczos iterations, from an earlier state of the same rows
+    /// ([`Self::with_hints`]): `λ_max(G_v G_vᵀ)`'s eigenvector and the dependent block's
+    /// singular vector; replaced by this state's once computed.
+    top_vector: Vec<f64>,
 }
 
 impl JointRows {
@@ -259,6 +287,10 @@ impl JointRows {
             dense: Some(gv),
             top: None,
             bottom: None,
+            block_vector: Vec::new(),
+            hint: Vec::new(),
+            bottom_vector: Vec::new(),
+            top_vector: Vec::new(),
         }
     }
 
@@ -272,6 +304,10 @@ impl JointRows {
             dense: None,
             top: None,
             bottom: None,
+            block_vector: Vec::new(),
+            hint: Vec::new(),
+            bottom_vector: Vec::new(),
+            top_vector: Vec::new(),
         }
     }
 
@@ -307,9 +343,21 @@ impl JointRows {
     fn top_eigenvalue(&mut self) -> Option<f64> {
         let (m, n) = self.shape;
         let entries = &self.entries;
+        if let Some(top) = self.top {
+            return top;
+        }
+        let (start, steps) = if self.top_vector.len() == m {
+            (
+                std::mem::take(&mut self.top_vector),
+                SPARSE_GRIP_TOP_WARM_STEPS,
+            )
+        } else {
+            (super::gram::start_vector(m), SPARSE_GRIP_TOP_STEPS)
+        };
+        let top_vector = &mut self.top_vector;
         *self.top.get_or_insert_with(|| {
             let mut w = vec![0.0; n];
-            let top = super::gram::lanczos_largest(
+            let (top, u) = super::gram::lanczos_largest_vector(
                 |x, y| {
                     w.fill(0.0);
                     for &(i, j, v) in entries {
@@ -320,10 +368,11 @@ impl JointRows {
                         y[i] += v * w[j];
                     }
                 },
-                &super::gram::start_vector(m),
+                &start,
                 SPARSE_GRIP_TOP_TOL,
-                SPARSE_GRIP_TOP_STEPS,
+                steps,
             );
+            *top_vector = u;
             (top.theta.is_finite() && top.theta > 0.0).then_some(top.theta)
         })
     }
@@ -331,11 +380,40 @@ impl JointRows {
     /// `λ_min(G_v G_vᵀ)` from the sparse Gram matrix's Cholesky factor (computed once).
     fn bottom_eigenvalue(&mut self) -> Option<f64> {
         let (m, n) = self.shape;
-        let entries = &self.entries;
-        *self.bottom.get_or_insert_with(|| {
-            super::gram::SparseGram::from_entries(m, n, entries, &vec![1.0; n])?
-                .smallest_eigenvalue(SPARSE_GRIP_TOL, SPARSE_GRIP_ITERATIONS)
-        })
+        if self.bottom.is_none() {
+            let pair = super::gram::SparseGram::from_entries(m, n, &self.entries, &vec![1.0; n])
+                .and_then(|g| g.smallest_eigenpair(SPARSE_GRIP_TOL, SPARSE_GRIP_ITERATIONS));
+            self.bottom = Some(pair.map(|(l, u)| {
+                self.bottom_vector = u;
+                l
+            }));
+        }
+        self.bottom.flatten()
+    }
+
+    /// The spectral vectors of an earlier state of the same rows ([`Self::hints`]): the
+    /// Lanczos iterations start from them (a smooth motion then needs a few steps), and
+    /// [`Self::no_block_much_better`] tries `λ_min`'s eigenvector's Rayleigh quotient before
+    /// factoring the Gram matrix.
+    pub fn with_hints(mut self, hints: SpectralHints) -> Self {
+        self.top_vector = hints.top;
+        self.block_vector = hints.block;
+        self.hint = hints.smallest;
+        self
+    }
+
+    /// The best vectors known at this state, for the next state's [`Self::with_hints`]: each
+    /// one computed here, or else the one given.
+    pub fn hints(&mut self) -> SpectralHints {
+        SpectralHints {
+            top: std::mem::take(&mut self.top_vector),
+            block: std::mem::take(&mut self.block_vector),
+            smallest: if self.bottom_vector.is_empty() {
+                std::mem::take(&mut self.hint)
+            } else {
+                std::mem::take(&mut self.bottom_vector)
+            },
+        }
     }
 
     /// The dependent block's grip `μ(D) = σ_max(G_v) / σ_min(G_D)` ([`dependent_condition`]).
@@ -358,9 +436,14 @@ impl JointRows {
                 Some(_) => None,
                 None => block_lu(self.shape, &self.entries, dependent, &mut None),
             };
+            let start = std::mem::take(&mut self.block_vector);
             let lmin_d = lu
                 .or(own.as_ref())
-                .and_then(|lu| block_smallest_squared(lu, m));
+                .and_then(|lu| block_smallest_squared(lu, m, &start))
+                .map(|(l, u)| {
+                    self.block_vector = u;
+                    l
+                });
             if let Some((lmax, lmin_d)) = lmax.zip(lmin_d) {
                 return if lmin_d <= 0.0 {
                     f64::INFINITY
@@ -370,6 +453,43 @@ impl JointRows {
             }
         }
         dependent_condition(self.dense(), dependent)
+    }
+
+    /// Whether no block of dependent velocities can be `gain` times better gripped than
+    /// `cond`, i.e. `cond ≤ gain · κ(G_v)` ([`Self::condition_bound`]: `κ(G_v)` bounds every
+    /// block's grip from below).
+    ///
+    /// On the sparse path a lower bound of `κ(G_v)` decides first, at the cost of one product
+    /// with `G_vᵀ`: `κ(G_v)² = λ_max / λ_min(G_v G_vᵀ) ≥ θ / ‖G_vᵀ u‖²`, with `θ` the Lanczos
+    /// value of `λ_max` (a lower bound) and `u` any vector: the last dependent block's
+    /// singular vector for `σ_min(G_D)` (`‖G_vᵀ u‖² = σ_min(G_D)² + ‖G_Iᵀ u‖²`), or the hint,
+    /// `λ_min`'s eigenvector at an earlier output ([`Self::with_hint`]) — a Rayleigh quotient
+    /// bounds `λ_min` from above. Where the motion is smooth the hint's bound is nearly sharp
+    /// and no Gram matrix is factored; otherwise `κ(G_v)` itself decides.
+    pub fn no_block_much_better(&mut self, cond: f64, gain: f64) -> bool {
+        let within = |bound: f64| cond * (1.0 + 1e-9) <= gain * bound;
+        let m = self.shape.0;
+        if self.is_sparse() && (self.block_vector.len() == m || self.hint.len() == m) {
+            if let Some(theta) = self.top_eigenvalue() {
+                let mut w = vec![0.0; self.shape.1];
+                let mut rq_min = f64::INFINITY;
+                for u in [&self.block_vector, &self.hint] {
+                    let uu = u.iter().map(|x| x * x).sum::<f64>();
+                    if u.len() != m || uu.is_nan() || uu <= 0.0 {
+                        continue;
+                    }
+                    w.fill(0.0);
+                    for &(i, j, v) in &self.entries {
+                        w[j] += v * u[i];
+                    }
+                    rq_min = rq_min.min(w.iter().map(|x| x * x).sum::<f64>() / uu);
+                }
+                if rq_min > 0.0 && rq_min.is_finite() && within((theta / rq_min).sqrt()) {
+                    return true;
+                }
+            }
+        }
+        within(self.condition_bound())
     }
 
     /// The lower bound `κ(G_v)` of every block's grip ([`block_condition_bound`]).
@@ -440,15 +560,18 @@ pub fn block_lu(
 
 /// `σ_min(B)² = λ_min(B Bᵀ) = 1 / λ_max(B⁻ᵀ B⁻¹)` of the `n × n` matrix `B` factored as `lu`:
 /// Lanczos ([`super::gram::lanczos_largest`], relative accuracy [`SPARSE_GRIP_TOL`]) on
-/// `x ↦ B⁻ᵀ (B⁻¹ x)`, two triangular solve pairs per step. `None` when the iteration does not
-/// converge or meets a non-finite value.
+/// `x ↦ B⁻ᵀ (B⁻¹ x)`, two triangular solve pairs per step, and its Ritz vector `u` (the left
+/// singular vector for `σ_min(B)`: `B Bᵀ u ≈ σ_min² u`), from `start` (that vector at an
+/// earlier state, or anything else of length `n`: a fixed start then). `None` when the
+/// iteration does not converge or meets a non-finite value.
 pub fn block_smallest_squared(
     lu: &faer::sparse::linalg::solvers::Lu<usize, f64>,
     n: usize,
-) -> Option<f64> {
+    start: &[f64],
+) -> Option<(f64, Vec<f64>)> {
     use faer::linalg::solvers::SolveCore;
     use faer::{Conj, MatMut};
-    let top = super::gram::lanczos_largest(
+    let (top, u) = super::gram::lanczos_largest_vector(
         |x, y| {
             y.copy_from_slice(x);
             lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(y, n, 1));
@@ -457,11 +580,15 @@ pub fn block_smallest_squared(
                 MatMut::from_column_major_slice_mut(y, n, 1),
             );
         },
-        &super::gram::start_vector(n),
+        &if start.len() == n {
+            start.to_vec()
+        } else {
+            super::gram::start_vector(n)
+        },
         SPARSE_GRIP_TOL,
         SPARSE_GRIP_ITERATIONS,
     );
-    (top.converged && top.theta > 0.0).then(|| 1.0 / top.theta)
+    (top.converged && top.theta > 0.0).then(|| (1.0 / top.theta, u))
 }
 
 impl Index1Formulation {
@@ -590,12 +717,24 @@ impl Index1Formulation {
         let energy = sys.energy;
         let v_slots: Vec<u32> = (0..nv).map(|j| sys.v_slot(j)).collect();
         let g = &mut sys.graph;
+        // ∂E/∂q and ∂E/∂v in one reverse sweep (linear in the energy's size)
+        let (de_dq, de_dv) = if e0.is_some() {
+            let slots: Vec<u32> = (0..nq)
+                .map(|i| (1 + i) as u32)
+                .chain(v_slots.iter().copied())
+                .collect();
+            let mut d = g.gradient(energy, &slots);
+            let dv = d.split_off(nq);
+            (d, dv)
+        } else {
+            (Vec::new(), Vec::new())
+        };
         // h = ∂E/∂q − (∂(G_v v)/∂q)ᵀ η: the energy's gradient in the coordinates with the
         // dependent velocities' dependence on them (G_v[R, D]ᵀ η = ∂E/∂v_D)
         let grad: Vec<Expr> = if e0.is_some() {
             (0..nq)
                 .map(|i| {
-                    let mut terms = vec![g.diff(energy, (1 + i) as u32)];
+                    let mut terms = vec![de_dq[i]];
                     for (k, &rk) in rows.iter().enumerate() {
                         if g.depends_on(c.gvv[rk], (1 + i) as u32) {
                             let d = g.diff(c.gvv[rk], (1 + i) as u32);
@@ -692,8 +831,7 @@ impl Index1Formulation {
             // η: G_v[R, D]ᵀ η − ∂E/∂v_D = 0, one row per dependent velocity
             for &j in dependent {
                 let mut terms = vec![];
-                let dv = g.diff(energy, v_slots[j]);
-                terms.push(g.neg(dv));
+                terms.push(g.neg(de_dv[j]));
                 for (k, &rk) in rows.iter().enumerate() {
                     if !g.is_zero(c.gv[rk][j]) {
                         let e = g.var(eta(k));

@@ -28,7 +28,7 @@ use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
-use crate::dae::index1::{block_lu, SPARSE_GRIP_ROWS};
+use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
     consistent_state_from, dependent_condition, independent_rows, joint_conditioning,
     redundant_row_grip, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
@@ -414,6 +414,10 @@ fn pivot_ratio(a: &mut [f64], m: usize, whole: f64) -> f64 {
 
 /// The index-1 DAE with its re-selections and (for `dae`) its hand-over to the GGL.
 struct Index1<'a> {
+    /// `G_v G_vᵀ`'s approximate eigenvectors at the last output: the next output's Lanczos
+    /// iterations start from them and its check bounds `κ(G_v)` by a Rayleigh quotient before
+    /// factoring the Gram matrix ([`JointRows::no_block_much_better`]).
+    hints: SpectralHints,
     sys: MultibodySystem,
     c: &'a ConstraintExprs,
     tapes: MechanicsTapes,
@@ -985,7 +989,9 @@ impl<'a> Formulation<'a> for Index1<'a> {
         self.t_last = t;
         // G_v at this output, evaluated once for every check below (dense, or by its
         // non-zeros at scale: every measure then linear in the size of a chain)
-        let mut gv = self.gv_at(t, &self.x);
+        let mut gv = self
+            .gv_at(t, &self.x)
+            .with_hints(std::mem::take(&mut self.hints));
         // (at scale, with the LU of G_v[:, D] the completion of this row factored)
         let lu = self
             .block_lus
@@ -993,6 +999,11 @@ impl<'a> Formulation<'a> for Index1<'a> {
             .take()
             .filter(|(tl, xl, _)| *tl == t && xl[..] == self.x[..]);
         let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
+        // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
+        // allows, no fresh choice (a causality assignment) can replace this one
+        let possible = (cond > INDEX1_CHECK_CONDITION && more)
+            .then(|| !gv.no_block_much_better(cond, INDEX1_RESELECT_GAIN));
+        self.hints = gv.hints();
         // the causality's preference at this output (a graph assignment), assigned at most once
         let mut preferred: Option<Vec<bool>> = None;
         // redundant joints: the rows left out must keep holding the rank (the self-stress
@@ -1031,10 +1042,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
                 return Ok(Next::HandOver(self.hand_over(t, &why)?));
             }
         }
-        if cond > INDEX1_CHECK_CONDITION && more {
-            // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
-            // allows, no fresh choice (a causality assignment) can replace this one
-            let possible = cond * (1.0 + 1e-9) > INDEX1_RESELECT_GAIN * gv.condition_bound();
+        if let Some(possible) = possible {
             let better = possible
                 .then(|| {
                     let p =
@@ -1147,8 +1155,13 @@ fn energy_multipliers(
     // outputs: ∂E/∂v_D (r), ∂E/∂q_D (r), G_v[R, D] (r×r), G_q[R, D_q] (r×r),
     // ∂(G_v v)_R/∂q_D (r×r), row-major
     let mut exprs = Vec::with_capacity(2 * r + 3 * r * r);
-    exprs.extend(v_slots.iter().map(|&s| g.diff(energy, s)));
-    exprs.extend(coordinates.iter().map(|&i| g.diff(energy, (1 + i) as u32)));
+    // ∂E/∂v_D and ∂E/∂q_D in one reverse sweep
+    let slots: Vec<u32> = v_slots
+        .iter()
+        .copied()
+        .chain(coordinates.iter().map(|&i| (1 + i) as u32))
+        .collect();
+    exprs.extend(g.gradient(energy, &slots));
     for &rk in rows {
         exprs.extend(dependent.iter().map(|&j| c.gv[rk][j]));
     }
@@ -1250,7 +1263,7 @@ pub(crate) fn job<'a>(
     });
     let from_causality = causality_block.as_ref().and_then(|(d, cond)| {
         let keep = *cond <= INDEX1_CHECK_CONDITION
-            || *cond * (1.0 + 1e-9) <= INDEX1_RESELECT_GAIN * gv.condition_bound()
+            || gv.no_block_much_better(*cond, INDEX1_RESELECT_GAIN)
             || select_dependent(gv.dense(), &causal.preferred_at(t0, &x[..nq]))
                 .is_none_or(|b| gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN >= *cond);
         keep.then(|| (d.clone(), *cond))
@@ -1284,8 +1297,8 @@ pub(crate) fn job<'a>(
         Some(e0) if opts.energy_invariant == Some(true) => (Some(e0), None),
         Some(e0) => {
             let mut exprs = vec![sys.energy, sys.kinetic];
-            let energy = sys.energy;
-            exprs.extend((1..=nq + nv).map(|s| sys.graph.diff(energy, s as u32)));
+            let slots: Vec<u32> = (1..=(nq + nv) as u32).collect();
+            exprs.extend(sys.graph.gradient(sys.energy, &slots));
             let tape = sys.graph.compile(&exprs);
             let ek = MechanicsTapes::eval(&tape, t0, &x);
             (
@@ -1304,6 +1317,7 @@ pub(crate) fn job<'a>(
     summary.energy_invariant = energy_e0.is_some();
     Job {
         formulation: Box::new(Index1 {
+            hints: SpectralHints::default(),
             sys,
             c,
             tapes,
