@@ -15,7 +15,31 @@ use crate::sundials::SolverError;
 /// name, expression) or generalized force that produced it. The state of every formulation
 /// starts with `[q, v]`.
 pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: SolveError) -> SolveError {
-    map_solver_cause(e, |solver| name_solver_error(sys, solver))
+    let e = map_solver_cause(e, |solver| name_solver_error(sys, solver));
+    // a step that collapsed against a load's pole (`1/(t - 0.1)` grows without bound but stays
+    // finite until t = 0.1, which the steps never reach): the load named as the culprit
+    match e {
+        SolveError::Incomplete { cause, partial } => {
+            let cause = match *cause {
+                SolveError::Solver(
+                    s @ (SolverError::NoProgress { .. } | SolverError::Flag { .. }),
+                ) => match s.time().and_then(|t| sys.load_pole(t)) {
+                    Some(culprit) => SolveError::NonFinite {
+                        culprit: Box::new(culprit),
+                        stuck: true,
+                        solver: Box::new(s),
+                    },
+                    None => SolveError::Solver(s),
+                },
+                other => other,
+            };
+            SolveError::Incomplete {
+                cause: Box::new(cause),
+                partial,
+            }
+        }
+        other => other,
+    }
 }
 
 /// `e` with `f` applied to the solver error it comes from: `e` itself, or the cause of an
