@@ -667,3 +667,42 @@ fn regression_a_scene_that_is_not_an_object_was_refused_naming_no_place() {
         );
     }
 }
+
+#[test]
+fn regression_a_non_finite_generalized_force_named_no_body() {
+    // the spring from the ground point (1, 0) to the bar's tip A, released at 0.3 rad: where
+    // the bar comes back to angle 0 the points meet and the spring's direction d/L is 0/0.
+    // Was "the generalized force on 'bar.vx' (gravity, springs, dampers and loads)"
+    let mut v = pendulum();
+    v["bodies"][0]["angle"] = json!(0.3);
+    v["bodies"][0]["position"] = json!([0.5 * 0.3f64.cos(), 0.5 * 0.3f64.sin()]);
+    v["springs"] = json!([{ "name": "s", "bodies": ["ground", "bar"], "points": [[1.0, 0.0], "A"],
+                            "stiffness": 10.0, "rest_length": 0.5 }]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let sys = model.system();
+    // the state at angle 0, at rest: A at (1, 0) exactly
+    let mut x = vec![0.0; sys.nq() + sys.nv()];
+    for (i, c) in sys.coords.iter().enumerate() {
+        x[i] = match c.name.as_str() {
+            "bar.x" => 0.5,
+            _ => 0.0,
+        };
+    }
+    let culprit = sys
+        .non_finite_source(0.0, &x)
+        .expect("the spring's force is 0/0 there");
+    let msg = culprit.to_string();
+    assert!(
+        msg.contains("bodies[0] 'bar'") && msg.contains("rest_length") && msg.contains("NaN"),
+        "{msg}"
+    );
+    // at the start (angle 0.3) every force is finite
+    let x0: Vec<f64> = sys
+        .coords
+        .iter()
+        .chain(&sys.velocities)
+        .map(|c| c.initial)
+        .collect();
+    assert!(sys.non_finite_source(0.0, &x0).is_none());
+}
