@@ -630,7 +630,8 @@ fn regression_a_misspelt_top_level_key_was_refused_without_a_suggestion() {
 #[test]
 fn regression_subnormal_numbers_were_accepted_silently() {
     // gravity 5e-324, an angle of -1e-310: no scene quantity is that small (was solved)
-    let edits: [(fn(&mut Value), &str); 3] = [
+    type Edit = (fn(&mut Value), &'static str);
+    let edits: [Edit; 3] = [
         (|v| v["gravity"][1] = json!(5e-324), "gravity[1]"),
         (
             |v| v["bodies"][0]["angle"] = json!(-1e-310),
