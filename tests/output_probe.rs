@@ -626,6 +626,18 @@ fn check_probe(root: &Path, inputs: &Inputs, probe: &Probe, target: Target) -> V
         if !err.contains(fname.as_ref()) {
             bad.push(format!("the error does not name {fname}: {err}"));
         }
+        // a file, FIFO or device where a directory output is wanted is called what it is
+        if probe.kind == Kind::Dir
+            && matches!(
+                target,
+                Target::Directory | Target::Fifo | Target::NullDevice | Target::FullDevice
+            )
+            && !err.contains("is a file")
+        {
+            bad.push(format!(
+                "a file in place of the directory not said so: {err}"
+            ));
+        }
         // a file that was there is left whole: as it was, or a complete new output
         if old_file && existed.is_some() {
             let now = std::fs::read(&real).unwrap_or_default();
