@@ -2,8 +2,9 @@
 //! hundred scenes a new user writes by mistake — misspelt field names, values of the wrong type,
 //! missing fields, out-of-range numbers, nonsense joints, empty arrays, duplicate names, unicode,
 //! huge and tiny numbers, units written into strings, broken expressions, unknown functions,
-//! `NaN`/`Infinity` literals, broken JSON, odd raw bond graphs — each run through `bondmech run`
-//! and its outcome classified:
+//! `NaN`/`Infinity` literals, broken JSON, odd raw bond graphs, numbers each within its bounds
+//! whose combination fails during the solve — each run through `bondmech run` and its outcome
+//! classified:
 //!
 //! - **clear**: refused (exit 1) with a message naming a JSON path, element, joint or field;
 //! - **warned**: accepted with a `bondmech: warning:` line;
@@ -1065,7 +1066,89 @@ fn cases() -> Vec<Case> {
         );
     }
 
-    // 11. text JSON cannot hold, and broken JSON
+    // 11. numbers each within its bounds whose combination fails during the solve
+    {
+        let mut v = planar();
+        v["bodies"][0]["mass"] = json!(1e100);
+        v["bodies"][0]["inertia"] = json!(1e-100);
+        add(
+            "runtime: a body of 1e100 kg and 1e-100 kg m2".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["bodies"][1]["mass"] = json!(1e-100);
+        v["bodies"][1]["inertia"] = json!(1e-100);
+        v["springs"][0]["stiffness"] = json!(1e100);
+        add(
+            "runtime: a 1e-100 kg body on a 1e100 N/m spring".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["bodies"][0]["points"]["O"] = json!([-1e11, 0.0]);
+        v["bodies"][0]["position"] = json!([1e11, 0.0]);
+        add(
+            "runtime: a pivot 1e11 m from its body".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["loads"][1]["value"] = json!("1e100*arm.omega^3");
+        v["bodies"][1]["angular_velocity"] = json!(1.0);
+        add(
+            "runtime: a torque cubic in the speed, 1e100".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["loads"][1]["value"] = json!("exp(1000*t)");
+        add(
+            "runtime: a torque exp(1000 t)".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["springs"][0]["points"] = json!([[1.25, 0.25], "B"]);
+        v["bodies"][1]["points"]["B"] = json!([0.0, 0.25]);
+        add(
+            "runtime: spring points coincident at the start".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = planar();
+        v["gravity"] = json!([0.0, -1e12]);
+        v["bodies"][0]["velocity"] = json!([0.0, 1e12]);
+        add(
+            "runtime: gravity 1e12 and a speed of 1e12".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = raw();
+        v["bond_graph"]["elements"][0]["value"] = json!("1/(t - 0.1)");
+        add(
+            "runtime: raw source with a pole".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = raw();
+        v["bond_graph"]["elements"][2]["value"] = json!(1e-100);
+        v["bond_graph"]["elements"][3]["stiffness"] = json!(1e100);
+        add(
+            "runtime: raw 1e-100 inertia on a 1e100 spring".into(),
+            Input::Json(v),
+            false,
+        );
+        let mut v = raw();
+        v["bond_graph"]["elements"][4]["value"] = json!("1e300*exp(t*1e3)");
+        add(
+            "runtime: raw resistance overflowing".into(),
+            Input::Json(v),
+            false,
+        );
+    }
+
+    // 12. text JSON cannot hold, and broken JSON
     let good = planar().to_string();
     for (what, text) in [
         (
