@@ -504,3 +504,243 @@ fn regression_a_zero_inertia_in_a_raw_graph_was_refused_without_its_json_path() 
         "{err}"
     );
 }
+
+#[test]
+fn regression_a_spring_whose_points_coincide_at_the_start_failed_as_a_nan_generalized_force() {
+    // the spring from (1, 0) on the ground to the bar's tip A, at (1, 0) at the start, with a
+    // rest length: its direction d/L is 0/0 there. Was "initialisation: the generalized force
+    // on 'bar.vx' (gravity, springs, dampers and loads) evaluates to NaN at t = 0"
+    let mut v = pendulum();
+    v["springs"] = json!([{ "name": "s", "bodies": ["ground", "bar"], "points": [[1.0, 0.0], "A"],
+                            "stiffness": 10.0, "rest_length": 0.5 }]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let msg = match bondmech::Model::new(&scene) {
+        Err(e) => e.to_string(),
+        Ok(m) => m
+            .solve(&m.default_options())
+            .expect_err("no direction at the start")
+            .to_string(),
+    };
+    assert!(
+        msg.contains("springs[0].points") && msg.contains("coincide") && !msg.contains("NaN"),
+        "{msg}"
+    );
+    // rest_length 0 is the spring linear in the vector: no direction needed, solved
+    v["springs"][0]["rest_length"] = json!(0.0);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    assert!(model.solve(&model.default_options()).is_ok());
+}
+
+#[test]
+fn regression_a_load_pole_collapsed_the_step_naming_no_input() {
+    // 1/(t - 0.1) grows without bound but stays finite below t = 0.1, which the steps never
+    // reach: was "the step cannot advance the time at t = 9.99…e-2: 100 steps in a row …"
+    let mut v = pendulum();
+    v["solve"] = json!({ "t_end": 0.2, "output_step": 0.05 });
+    v["loads"] = json!([{ "name": "push", "body": "bar", "type": "force",
+                          "value": ["1/(t - 0.1)", "0"] }]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let e = model
+        .solve(&model.default_options())
+        .expect_err("no step passes the pole");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("loads[0].value[0]") && msg.contains("1/(t - 0.1)") && msg.contains("pole"),
+        "{msg}"
+    );
+    // the time named is the pole's, to the step's resolution
+    let t = e.partial_solution().unwrap().summary.t_reached;
+    assert!((t - 0.1).abs() < 1e-9, "{t}");
+    // a steep load without a pole (1e10 sin t) is not blamed: it solves
+    v["loads"][0]["value"] = json!(["1e-3*sin(1e3*t)", "0"]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    assert!(model.solve(&model.default_options()).is_ok());
+}
+
+#[test]
+fn regression_10000_events_collapsing_the_step_gave_a_message_naming_no_event() {
+    // 10 000 events 1e-9 s apart from t = 0.5: the step collapses among them. Was "the step
+    // cannot advance the time at t = 5.0000625e-1 …" and nothing about the events
+    let mut v = pendulum();
+    v["events"] = Value::Array(
+        (0..10_000)
+            .map(|i| json!({ "name": format!("e{i}"), "when": format!("t - {}", 0.5 + i as f64 * 1e-9) }))
+            .collect(),
+    );
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let e = model
+        .solve(&model.default_options())
+        .expect_err("the step collapses");
+    let partial = e.partial_solution().expect("the rows so far");
+    let hint = partial
+        .summary
+        .warnings
+        .iter()
+        .find(|w| w.contains("event crossings"))
+        .unwrap_or_else(|| panic!("{e}; {:?}", partial.summary.warnings));
+    assert!(
+        hint.contains("events[0] 'e0'") && hint.contains("more") && hint.contains("direction"),
+        "{hint}"
+    );
+    // the same events spaced 1e-3 s apart are all met, and no such warning is given
+    v["events"] = Value::Array(
+        (0..100)
+            .map(|i| json!({ "name": format!("e{i}"), "when": format!("t - {}", 0.5 + i as f64 * 1e-3) }))
+            .collect(),
+    );
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let sol = model.solve(&model.default_options()).expect("solved");
+    assert_eq!(sol.summary.events.len(), 100);
+    assert!(!sol
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.contains("event crossings")));
+}
+
+#[test]
+fn regression_a_misspelt_top_level_key_was_refused_without_a_suggestion() {
+    let mut v = pendulum();
+    let g = v.as_object_mut().unwrap().remove("gravity").unwrap();
+    v["gravty"] = g;
+    let problems = refused(&v);
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.starts_with("gravty: unknown field (did you mean \"gravity\"?")),
+        "{problems:#?}"
+    );
+    // nothing close: no suggestion
+    let mut v = pendulum();
+    v["bodies"][0]["colour"] = json!("red");
+    let problems = refused(&v);
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.starts_with("bodies[0].colour: unknown field (expected one of")),
+        "{problems:#?}"
+    );
+}
+
+#[test]
+fn regression_subnormal_numbers_were_accepted_silently() {
+    // gravity 5e-324, an angle of -1e-310: no scene quantity is that small (was solved)
+    type Edit = (fn(&mut Value), &'static str);
+    let edits: [Edit; 3] = [
+        (|v| v["gravity"][1] = json!(5e-324), "gravity[1]"),
+        (
+            |v| v["bodies"][0]["angle"] = json!(-1e-310),
+            "bodies[0].angle",
+        ),
+        (
+            |v| v["bodies"][0]["velocity"] = json!([5e-324, 0.0]),
+            "bodies[0].velocity[0]",
+        ),
+    ];
+    for (edit, path) in edits {
+        let mut v = pendulum();
+        edit(&mut v);
+        let problems = refused(&v);
+        assert!(
+            problems
+                .iter()
+                .any(|p| p.starts_with(&format!("{path}: ")) && p.contains("subnormal")),
+            "{problems:#?}"
+        );
+    }
+    // the smallest normal double and 0 are accepted
+    accepted(|v| v["bodies"][0]["angle"] = json!(2.3e-308));
+    accepted(|v| v["gravity"][0] = json!(0.0));
+}
+
+#[test]
+fn regression_a_scene_that_is_not_an_object_was_refused_naming_no_place() {
+    for text in ["null", "[]", "42", "\"pendulum\""] {
+        let e = Scene::from_json_str(text).unwrap_err().to_string();
+        assert!(
+            e.starts_with("the top level of a scene must be a JSON object") && e.contains("§3"),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn regression_a_non_finite_generalized_force_named_no_body() {
+    // the spring from the ground point (1, 0) to the bar's tip A, released at 0.3 rad: where
+    // the bar comes back to angle 0 the points meet and the spring's direction d/L is 0/0.
+    // Was "the generalized force on 'bar.vx' (gravity, springs, dampers and loads)"
+    let mut v = pendulum();
+    v["bodies"][0]["angle"] = json!(0.3);
+    v["bodies"][0]["position"] = json!([0.5 * 0.3f64.cos(), 0.5 * 0.3f64.sin()]);
+    v["springs"] = json!([{ "name": "s", "bodies": ["ground", "bar"], "points": [[1.0, 0.0], "A"],
+                            "stiffness": 10.0, "rest_length": 0.5 }]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let sys = model.system();
+    // the state at angle 0, at rest: A at (1, 0) exactly
+    let mut x = vec![0.0; sys.nq() + sys.nv()];
+    for (i, c) in sys.coords.iter().enumerate() {
+        x[i] = match c.name.as_str() {
+            "bar.x" => 0.5,
+            _ => 0.0,
+        };
+    }
+    let culprit = sys
+        .non_finite_source(0.0, &x)
+        .expect("the spring's force is 0/0 there");
+    let msg = culprit.to_string();
+    assert!(
+        msg.contains("bodies[0] 'bar'") && msg.contains("rest_length") && msg.contains("NaN"),
+        "{msg}"
+    );
+    // at the start (angle 0.3) every force is finite
+    let x0: Vec<f64> = sys
+        .coords
+        .iter()
+        .chain(&sys.velocities)
+        .map(|c| c.initial)
+        .collect();
+    assert!(sys.non_finite_source(0.0, &x0).is_none());
+}
+
+#[test]
+fn regression_masses_200_decades_apart_failed_as_a_singular_matrix_naming_no_body() {
+    // a bar of 1e100 kg with an inertia of 1e-100 kg·m² (each within its bounds): the start's
+    // matrix is singular in double precision. Was "the mass–constraint matrix is singular: 3 of
+    // 3 accelerations are undetermined; massless coordinates: []" (nothing massless, nothing named)
+    let mut v = pendulum();
+    v["bodies"][0]["mass"] = json!(1e100);
+    v["bodies"][0]["inertia"] = json!(1e-100);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = bondmech::Model::new(&scene).unwrap();
+    let msg = model
+        .solve(&model.default_options())
+        .expect_err("singular")
+        .to_string();
+    assert!(
+        msg.contains("bodies[0].inertia")
+            && msg.contains("bodies[0].mass")
+            && msg.contains("1e-100")
+            && msg.contains("1e100")
+            && !msg.contains("massless coordinates: []"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn regression_a_raw_graph_source_with_a_pole_collapsed_the_step_naming_no_element() {
+    // Se value 1/(t - 0.1): was "the step cannot advance the time at t = 9.99…e-2 …"
+    let err = raw_graph_error("raw_pole", |v| {
+        v["bond_graph"]["elements"][0]["value"] = json!("1/(t - 0.1)");
+        v["solve"] = json!({ "t_end": 0.2 });
+    });
+    assert!(
+        err.contains("bond_graph.elements[0]") && err.contains("'F'") && err.contains("pole"),
+        "{err}"
+    );
+}

@@ -443,7 +443,7 @@ fn bad_paths_values_and_flags_are_refused_with_one_line() {
     );
     refused(
         &["run", SCENE, "--set", "solve.rtl=1e-9"],
-        "solve.rtl: unknown field (expected one of: formulation, t_start, t_end",
+        "solve.rtl: unknown field (did you mean \"rtol\"? expected one of: formulation, t_start, t_end",
     );
     refused(
         &["run", SCENE, "--set", "bodeis[0].mass=1"],

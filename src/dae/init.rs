@@ -79,6 +79,74 @@ pub enum InitError {
     NonFiniteSource(crate::mech::NonFiniteValue),
 }
 
+/// Where no coordinate is massless, why `[M G_vᵀ; G_v 0]` can still be singular: its entries
+/// span more than its rank tolerance ([`RANK_TOL`], relative) can tell apart. Names the
+/// smallest and largest mass or inertia (`bodies[i].mass`, `bodies[i].inertia`) and the largest
+/// joint-row coefficient `|∂g/∂v|` (its joint), with the ratio of the largest of these entries
+/// to the smallest (issue 38: a body of 1e100 kg
+/// with an inertia of 1e-100 kg·m², or joint points 1e11 m from a centre, failed naming none).
+fn scale_spread(sys: &MultibodySystem, gv: &DMatrix<f64>) -> String {
+    let field = |j: usize| {
+        let name = &sys.velocities[j].name;
+        let (body, what) = name.rsplit_once('.').unwrap_or((name.as_str(), ""));
+        let kind = if what.starts_with('v') {
+            "mass"
+        } else {
+            "inertia"
+        };
+        match sys.bodies.iter().position(|(b, _)| b == body) {
+            Some(i) => format!("bodies[{i}].{kind}, velocity '{name}'"),
+            None => format!("velocity '{name}'"),
+        }
+    };
+    let mut lo: Option<(f64, usize)> = None;
+    let mut hi: Option<(f64, usize)> = None;
+    for (j, &m) in sys.mass.iter().enumerate() {
+        if m > 0.0 {
+            if lo.is_none_or(|(l, _)| m < l) {
+                lo = Some((m, j));
+            }
+            if hi.is_none_or(|(h, _)| m > h) {
+                hi = Some((m, j));
+            }
+        }
+    }
+    let mut g: Option<(f64, usize)> = None;
+    for i in 0..gv.nrows() {
+        for j in 0..gv.ncols() {
+            let a = gv[(i, j)].abs();
+            if a > 0.0 && g.is_none_or(|(b, _)| a > b) {
+                g = Some((a, i));
+            }
+        }
+    }
+    let (Some((lo, jl)), Some((hi, jh))) = (lo, hi) else {
+        return "the joints leave a body without mass or inertia free".into();
+    };
+    let mut text = if lo == hi {
+        format!("every mass and inertia is {lo:e} ({})", field(jl))
+    } else {
+        format!(
+            "the smallest mass or inertia is {lo:e} ({}), the largest {hi:e} ({})",
+            field(jl),
+            field(jh)
+        )
+    };
+    let mut spread = hi / lo;
+    if let Some((gmax, row)) = g {
+        let joint = sys.rows.get(row).map_or("", |r| r.joint.as_str());
+        text.push_str(&format!(
+            ", the largest joint-row coefficient is {gmax:e} (joint '{joint}')"
+        ));
+        // the matrix holds both: the ratio of its largest to its smallest entry
+        spread = hi.max(gmax) / lo.min(gmax);
+    }
+    text.push_str(&format!(
+        ": a spread of {spread:.1e}, beyond what the rank test (relative {RANK_TOL:e}) tells apart in double precision; give the scene in units where these are closer to 1, or fix the body whose value is out of scale"
+    ));
+    text
+}
+
 /// Relative threshold below which a singular value counts as zero.
 const RANK_TOL: f64 = 1e-9;
 
@@ -226,15 +294,19 @@ pub fn consistent_state_from(
             .filter(|(_, &m)| m == 0.0)
             .map(|(c, _)| c.name.as_str())
             .collect();
-        return Err(InitError::Singular {
-            t: t0,
-            what: format!(
-                "{} of {} accelerations are undetermined; massless coordinates: [{}] — a rotation without inertia must be fixed by the joints",
-                nv + rank - rank_a,
-                nv,
+        let undetermined = nv + rank - rank_a;
+        let what = if massless.is_empty() {
+            format!(
+                "{undetermined} of {nv} accelerations are undetermined; {}",
+                scale_spread(sys, &gv)
+            )
+        } else {
+            format!(
+                "{undetermined} of {nv} accelerations are undetermined; massless coordinates: [{}] — a rotation without inertia must be fixed by the joints",
                 massless.join(", ")
-            ),
-        });
+            )
+        };
+        return Err(InitError::Singular { t: t0, what });
     }
     Ok(ConsistentState {
         q: x[..nq].to_vec(),

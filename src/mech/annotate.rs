@@ -187,6 +187,21 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
         }
         let d: Vec<Expr> = (0..dim).map(|i| eg.sub(pb[i], pa[i])).collect();
         let dd = eg.dot(&d, &d);
+        // F = −k (L − l₀) d/L has no direction where the points meet (d/L = 0/0 at L = 0)
+        let x0 = std::iter::once(0.0)
+            .chain(sys.coords.iter().map(|c| c.initial))
+            .chain(sys.velocities.iter().map(|c| c.initial))
+            .collect::<Vec<_>>();
+        if eg.eval(dd, &x0) == 0.0 {
+            return Err(MechError::at(
+                &format!("springs[{si}].points"),
+                format!(
+                    "spring '{}': its two points coincide at the start, where a spring of rest_length {l0} has no direction (its force −k (L − l₀) d/L is 0/0 at L = 0); give rest_length 0 for a spring linear in the vector, or points apart",
+                    s.name
+                ),
+            )
+            .into());
+        }
         let len = eg.sqrt(dd);
         let terms = rate_terms(&mut eg, sys, nq, len, &velocity_junctions, &text);
         let sum = modulated_sum(&mut g, &s.name, &terms);

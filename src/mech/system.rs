@@ -325,9 +325,55 @@ impl MultibodySystem {
         for (j, &f) in self.forces.iter().enumerate() {
             let value = self.graph.eval(f, &vars);
             if !value.is_finite() {
+                // the body whose velocity it is (`bar.vx` of `bodies[0]`)
+                let velocity = &self.velocities[j].name;
+                let body = velocity
+                    .rsplit_once('.')
+                    .and_then(|(b, _)| self.bodies.iter().position(|(n, _)| n == b))
+                    .map(|i| format!(" of bodies[{i}] '{}'", self.bodies[i].0))
+                    .unwrap_or_default();
                 return Some(NonFiniteValue {
-                    path: format!("the generalized force on '{}'", self.velocities[j].name),
-                    what: "gravity, springs, dampers and loads".into(),
+                    path: format!("the generalized force on '{velocity}'{body}"),
+                    what: "the gravity, springs, dampers and loads acting on it; a spring with a rest_length > 0 whose two points meet has no direction there (d/L = 0/0)".into(),
+                    t,
+                    value,
+                });
+            }
+        }
+        None
+    }
+
+    /// A load that depends on time alone and changes by its own size within 1 ns at `t`, its
+    /// rate `|v'|` above 1e9 per second and `|v|` above 1e6 (or that is not finite there): a
+    /// pole of its expression (`1/(t - 0.1)` near 0.1) that collapses the solver's step before
+    /// the value overflows. The load (JSON path, name, expression, the time scale `|v/v'|`)
+    /// with its value, or `None`.
+    pub fn load_pole(&self, t: f64) -> Option<NonFiniteValue> {
+        /// `|v'/v|` (1/s) above which a load changes by its own size within 1 ns.
+        const POLE_RATE: f64 = 1e9;
+        let mut g = self.graph.clone();
+        let mut vars = vec![0.0; 1 + self.coords.len() + self.velocities.len()];
+        vars[0] = t;
+        for l in &self.load_terms {
+            if g.vars(l.expr).iter().any(|&s| s != 0) {
+                continue;
+            }
+            let value = g.eval(l.expr, &vars);
+            let d = g.diff(l.expr, 0);
+            let rate = g.eval(d, &vars);
+            let relative = (rate / value).abs();
+            if !value.is_finite()
+                || !rate.is_finite()
+                || (relative > POLE_RATE && rate.abs() > POLE_RATE && value.abs() > 1e6)
+            {
+                return Some(NonFiniteValue {
+                    path: l.path.clone(),
+                    what: format!(
+                        "load '{}', {}, a pole: it changes by its own size within {:.1e} s",
+                        l.load,
+                        crate::expr::excerpt(&l.source, 0),
+                        1.0 / relative,
+                    ),
                     t,
                     value,
                 });

@@ -591,7 +591,11 @@ pub fn check_out_dir(dir: &Path, inputs: &[&Path]) -> Result<()> {
     };
     std::fs::create_dir_all(dir).map_err(|e| VaryError::OutDir {
         dir: dir.display().to_string(),
-        message: format!("cannot create it ({e})"),
+        // a file (or a FIFO, a device) in the way: say so, not "File exists (os error 17)"
+        message: match std::fs::metadata(dir) {
+            Ok(m) if !m.is_dir() => "is a file, not a directory: give a directory for the merged CSV, JSON and SVG files".into(),
+            _ => format!("cannot create it ({e})"),
+        },
     })?;
     let probe = dir.join(format!(".bondmech-write-test-{}", std::process::id()));
     std::fs::write(&probe, b"").map_err(|e| VaryError::OutDir {

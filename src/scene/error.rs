@@ -81,6 +81,9 @@ fn join_lines(problems: &[Problem]) -> String {
 #[derive(Debug, Default)]
 pub(crate) struct Problems {
     pub(crate) list: Vec<Problem>,
+    /// Problems reported after the meaning stage has run (a subnormal number: the field's own
+    /// range check, when it has one, speaks instead).
+    pub(crate) deferred: Vec<Problem>,
 }
 
 impl Problems {

@@ -33,10 +33,7 @@ impl<'a> Fields<'a> {
             if !seen.insert(k.as_str()) {
                 p.push(kp, "duplicate key");
             } else if k != COMMENT && !allowed.contains(&k.as_str()) {
-                p.push(
-                    kp,
-                    format!("unknown field (expected one of: {})", allowed.join(", ")),
-                );
+                p.push(kp, unknown_field(k, allowed));
             }
         }
         Some(Fields {
@@ -108,6 +105,14 @@ impl<'a> Fields<'a> {
 
 pub(crate) fn number(p: &mut Problems, path: &str, j: &Json) -> Option<f64> {
     match j {
+        Json::Number(x) if x.is_subnormal() => {
+            // kept for the field's own check (a mass's range), which speaks first
+            p.deferred.push(super::error::Problem::new(
+                path,
+                format!("{x:e} is a subnormal number (nonzero, below 2.2e-308, where doubles lose their digits): no quantity of a scene is that small; write 0 if 0 is meant"),
+            ));
+            Some(*x)
+        }
         Json::Number(x) => Some(*x),
         _ => {
             p.push(path, format!("expected a number, got {}", j.kind()));
@@ -143,4 +148,32 @@ pub(crate) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>>
         }
     }
     ok.then_some(out)
+}
+
+/// `unknown field (did you mean "gravity"? expected one of: …)`: the closest allowed key when
+/// one is within an edit distance of a third of the longer name (at least 1, 2 from 5
+/// letters), compared in lower case with `-` and spaces read as `_`.
+fn unknown_field(key: &str, allowed: &[&str]) -> String {
+    let norm: String = key
+        .trim()
+        .to_lowercase()
+        .chars()
+        .map(|c| if c == '-' || c == ' ' { '_' } else { c })
+        .collect();
+    let best = allowed
+        .iter()
+        .map(|k| (crate::bond::json::edit_distance(&norm, k), *k))
+        .min()
+        .filter(|(d, k)| {
+            let longer = k.len().max(norm.len());
+            *d <= (longer / 3).max(if longer >= 5 { 2 } else { 1 })
+        })
+        .map(|(_, k)| k);
+    match best {
+        Some(b) => format!(
+            "unknown field (did you mean \"{b}\"? expected one of: {})",
+            allowed.join(", ")
+        ),
+        None => format!("unknown field (expected one of: {})", allowed.join(", ")),
+    }
 }

@@ -84,7 +84,18 @@ pub(crate) fn scene_from_tree(
     let mut p = Problems::default();
     let scene = scene(&mut p, tree, default_name);
     match scene {
-        Some(s) if p.list.is_empty() => Ok(s),
+        Some(s) if p.list.is_empty() && p.deferred.is_empty() => Ok(s),
+        Some(s) if p.list.is_empty() => {
+            // subnormal numbers: refused, unless the field's own check already refuses them
+            let meaning = super::validate::validate(&s);
+            let mut all: Vec<super::error::Problem> = p
+                .deferred
+                .into_iter()
+                .filter(|d| !meaning.iter().any(|m| m.path == d.path))
+                .collect();
+            all.extend(meaning);
+            Err(all)
+        }
         _ => Err(p.list),
     }
 }
@@ -124,7 +135,10 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
     if !matches!(j, Json::Object(_)) {
         p.push(
             "",
-            format!("a scene must be a JSON object, got {}", j.kind()),
+            format!(
+                "the top level of a scene must be a JSON object ({{\"bodies\": […], \"solve\": {{…}}, …}}: docs/scene-format.md §3), got {}",
+                j.kind()
+            ),
         );
         return None;
     }
@@ -370,7 +384,7 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
     let mass = f.required_number(p, "mass");
     let inertia = match f.required(p, "inertia") {
         None => None,
-        Some(Json::Number(x)) => Some(Inertia::Planar(*x)),
+        Some(j @ Json::Number(_)) => number(p, &f.path("inertia"), j).map(Inertia::Planar),
         Some(j @ Json::Array(items)) if items.len() == 3 => {
             vector(p, &f.path("inertia"), j).map(|v| Inertia::Principal([v[0], v[1], v[2]]))
         }
@@ -462,7 +476,9 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
         .unwrap_or_else(|| vec![0.0; dim.coords()]);
     let angular_velocity = match f.get("angular_velocity") {
         None => vec![0.0; dim.rotations()],
-        Some(Json::Number(x)) => vec![*x],
+        Some(j @ Json::Number(_)) => number(p, &f.path("angular_velocity"), j)
+            .map(|x| vec![x])
+            .unwrap_or_default(),
         Some(j) => vector(p, &f.path("angular_velocity"), j).unwrap_or_default(),
     };
     Some(Body {
@@ -602,14 +618,14 @@ fn load(p: &mut Problems, i: usize, j: &Json) -> Option<Load> {
 /// A scalar (one component) or an array of numbers.
 fn components(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>> {
     match j {
-        Json::Number(x) => Some(vec![*x]),
+        Json::Number(_) => number(p, path, j).map(|x| vec![x]),
         _ => vector(p, path, j),
     }
 }
 
 fn load_value(p: &mut Problems, path: &str, j: &Json) -> Option<LoadValue> {
     match j {
-        Json::Number(x) => Some(LoadValue::Const(vec![*x])),
+        Json::Number(_) => number(p, path, j).map(|x| LoadValue::Const(vec![x])),
         Json::String(s) => Some(LoadValue::Expr(vec![s.clone()])),
         Json::Array(items) if items.iter().any(|x| matches!(x, Json::String(_))) => {
             let mut out = Vec::new();

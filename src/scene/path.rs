@@ -19,7 +19,7 @@
 //!
 //! Applying an assignment replaces the value at the path. A missing *object key* is added
 //! (`solve.rtol` in a scene that relies on the default), so the scene's own parser judges it:
-//! a misspelt last key comes back as `solve.rtl: unknown field (expected one of: …)`. Every
+//! a misspelt last key comes back as `solve.rtl: unknown field (did you mean "rtol"? expected one of: …)`. Every
 //! other mistake is a [`PathError`] naming the path: a key missing in front of an index (with
 //! the keys present there), an index out of range (with the length), an unknown name (with the
 //! names present), indexing into something that is not an array or object, a malformed path,

@@ -23,7 +23,8 @@ pub enum SolveError {
     #[error("{0}")]
     Solver(#[from] SolverError),
     /// A load of the scene (or a parameter or law of a raw bond graph element) evaluates to NaN
-    /// or ±∞ during the solve: which one (JSON path, name, expression) and when.
+    /// or ±∞ during the solve, or grows without bound where the steps stopped (a pole of a
+    /// load of time, `1/(t - 0.1)`): which one (JSON path, name, expression) and when.
     #[error("{culprit}{}", if *stuck { "; the solver cannot step past it" } else { "" })]
     NonFinite {
         /// The culprit, its value and the time.

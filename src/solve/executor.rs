@@ -379,6 +379,10 @@ impl Run<'_> {
         if let Some(hint) = tolerance_hint(&e, self.opts) {
             summary.warnings.push(hint);
         }
+        let defs = self.events.as_ref().map_or(&[][..], |ev| &ev.defs[..]);
+        if let Some(hint) = events_hint(&e, defs, &summary.events) {
+            summary.warnings.push(hint);
+        }
         self.figures(f, Some(solver), summary, Ending::Stopped);
         stopped(e, self.sol, summary.clone(), last)
     }
@@ -478,6 +482,59 @@ fn tolerance_hint(e: &SolverError, opts: &SolveOptions) -> Option<String> {
     Some(format!(
         "the error test failed repeatedly at t = {t} at rtol = {:e}, atol = {:e}: tolerances this tight ask for more digits than double precision leaves in a stiff problem's states; loosen them (solve.rtol, solve.atol or --rtol, --atol: e.g. atol 1e{atol} or rtol 1e{rtol})",
         opts.rtol, opts.atol,
+    ))
+}
+
+/// Event crossings met within this span before a failure (relative to `|t|`, at least
+/// [`EVENT_PILE_FLOOR`] s) that name the events as its likely cause.
+const EVENT_PILE_SPAN: f64 = 1e-3;
+/// Smallest span of [`EVENT_PILE_SPAN`] (s).
+const EVENT_PILE_FLOOR: f64 = 1e-9;
+/// Crossings within that span that make a pile.
+const EVENT_PILE_COUNT: usize = 10;
+
+/// The events piled up before a solver failure (issue 38: 10 000 events whose crossings lie
+/// 1e-9 s apart collapsed IDA's step at t = 0.50000625, and the message named no event): when
+/// at least [`EVENT_PILE_COUNT`] crossings were met within `max(1e-3 |t|, 1e-9 s)` before the
+/// failure at `t`, a warning naming how many, their span and the events (`events[i]` and
+/// name, at most five), with what to do.
+fn events_hint(e: &SolverError, defs: &[EventFunction], met: &[EventRecord]) -> Option<String> {
+    if is_budget(e) || defs.is_empty() {
+        return None;
+    }
+    let t = e.time()?;
+    let span = (EVENT_PILE_SPAN * t.abs()).max(EVENT_PILE_FLOOR);
+    let recent: Vec<&EventRecord> = met.iter().filter(|r| r.t >= t - span).collect();
+    if recent.len() < EVENT_PILE_COUNT {
+        return None;
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for r in &recent {
+        if !names.contains(&r.name.as_str()) {
+            names.push(&r.name);
+        }
+    }
+    let shown: Vec<String> = names
+        .iter()
+        .take(5)
+        .map(|n| match defs.iter().position(|d| d.name == *n) {
+            Some(i) => format!("events[{i}] '{n}'"),
+            None => format!("'{n}'"),
+        })
+        .collect();
+    let more = if names.len() > 5 {
+        format!(" and {} more", names.len() - 5)
+    } else {
+        String::new()
+    };
+    let first = recent.first().map_or(t, |r| r.t);
+    Some(format!(
+        "the solver failed at t = {t} after {} event crossings within {:e} s (from t = {first}) of {} event{} ({}{more}): crossings this close together make the solver stop and restart at each, and its step collapses; space the events' thresholds apart, merge them into fewer events, or count one direction only (events[i].direction)",
+        recent.len(),
+        t - first,
+        names.len(),
+        if names.len() == 1 { "" } else { "s" },
+        shown.join(", "),
     ))
 }
 

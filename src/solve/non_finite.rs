@@ -15,7 +15,31 @@ use crate::sundials::SolverError;
 /// name, expression) or generalized force that produced it. The state of every formulation
 /// starts with `[q, v]`.
 pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: SolveError) -> SolveError {
-    map_solver_cause(e, |solver| name_solver_error(sys, solver))
+    let e = map_solver_cause(e, |solver| name_solver_error(sys, solver));
+    // a step that collapsed against a load's pole (`1/(t - 0.1)` grows without bound but stays
+    // finite until t = 0.1, which the steps never reach): the load named as the culprit
+    match e {
+        SolveError::Incomplete { cause, partial } => {
+            let cause = match *cause {
+                SolveError::Solver(
+                    s @ (SolverError::NoProgress { .. } | SolverError::Flag { .. }),
+                ) => match s.time().and_then(|t| sys.load_pole(t)) {
+                    Some(culprit) => SolveError::NonFinite {
+                        culprit: Box::new(culprit),
+                        stuck: true,
+                        solver: Box::new(s),
+                    },
+                    None => SolveError::Solver(s),
+                },
+                other => other,
+            };
+            SolveError::Incomplete {
+                cause: Box::new(cause),
+                partial,
+            }
+        }
+        other => other,
+    }
 }
 
 /// `e` with `f` applied to the solver error it comes from: `e` itself, or the cause of an
@@ -63,7 +87,20 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
         t, y, stuck, index, ..
     } = &e
     else {
-        return SolveError::Solver(e);
+        return match e
+            .time()
+            .filter(|_| matches!(e, SolverError::NoProgress { .. } | SolverError::Flag { .. }))
+        {
+            Some(t) => match bond_graph_pole(g, eq, t) {
+                Some(culprit) => SolveError::NonFinite {
+                    culprit: Box::new(culprit),
+                    stuck: true,
+                    solver: Box::new(e),
+                },
+                None => SolveError::Solver(e),
+            },
+            None => SolveError::Solver(e),
+        };
     };
     // slots [t, y, y'] (y' unknown here: zero; parameters and laws do not use it)
     let mut vars = vec![0.0; 1 + 2 * eq.n + eq.signals.len()];
@@ -132,4 +169,47 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
         }
         None => SolveError::Solver(e),
     }
+}
+
+/// The element parameter of time alone (`Se` value `"1/(t - 0.1)"`) with a pole at `t`, where a
+/// raw bond graph's steps stopped: its value above 1e6 and changing by its own size within 1 ns
+/// (the rule of [`MultibodySystem::load_pole`]), or not finite.
+fn bond_graph_pole(g: &BondGraph, eq: &BondEquations, t: f64) -> Option<NonFiniteValue> {
+    const POLE_RATE: f64 = 1e9;
+    let mut graph = eq.graph.clone();
+    let mut vars = vec![0.0; 1 + 2 * eq.n + eq.signals.len()];
+    vars[0] = t;
+    for term in &eq.terms {
+        if graph.vars(term.expr).iter().any(|&s| s != 0) {
+            continue;
+        }
+        let value = graph.eval(term.expr, &vars);
+        let d = graph.diff(term.expr, 0);
+        let rate = graph.eval(d, &vars);
+        let relative = (rate / value).abs();
+        if value.is_finite()
+            && rate.is_finite()
+            && !(relative > POLE_RATE && rate.abs() > POLE_RATE && value.abs() > 1e6)
+        {
+            continue;
+        }
+        let el = g.element(term.element);
+        let src = match &el.parameter {
+            Some(crate::bond::model::Parameter::Expr(s)) => crate::expr::excerpt(s, 0),
+            _ => String::new(),
+        };
+        return Some(NonFiniteValue {
+            path: crate::bond::validate::element_path(term.element.0),
+            what: format!(
+                "{} '{}', {} {src}, a pole: it changes by its own size within {:.1e} s",
+                el.kind.as_str(),
+                el.name,
+                term.field,
+                1.0 / relative
+            ),
+            t,
+            value,
+        });
+    }
+    None
 }
