@@ -92,6 +92,7 @@ fn empty_system() -> MultibodySystem {
         reactions: Vec::new(),
         reaction_outputs: false,
         events: Vec::new(),
+        drivers: Vec::new(),
         energy_exchange: None,
         bodies: Vec::new(),
         names: Vec::new(),

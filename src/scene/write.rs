@@ -252,6 +252,23 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
             ),
         ));
     }
+    if !s.drivers.is_empty() {
+        e.push((
+            "drivers",
+            Json::Array(
+                s.drivers
+                    .iter()
+                    .map(|d| {
+                        obj(vec![
+                            ("name", text(&d.name)),
+                            ("joint", text(&d.joint)),
+                            (d.kind.key(), text(&d.value)),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ));
+    }
     if let Some(g) = &s.bond_graph {
         e.push(("bond_graph", Json::from_value(g)));
     }

@@ -109,6 +109,9 @@ impl StateMultipliers {
 #[derive(Clone, Debug)]
 pub(crate) struct ReactionEval {
     joints: Vec<JointReaction>,
+    /// Each driver's constraint row: its effort is `−λ_row`, its power the effort times the
+    /// prescribed rate `ṡ(t)` (the tape's outputs after the joints').
+    drivers: Vec<usize>,
     /// `B` then the lever of every joint, concatenated, over `[t, q, v]`.
     tape: Tape,
     gv: MatrixTape,
@@ -126,21 +129,34 @@ pub(crate) struct ReactionEval {
 }
 
 impl ReactionEval {
-    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`).
-    pub(crate) fn new(sys: &MultibodySystem, gv: &MatrixTape, source: Multipliers) -> Self {
-        let exprs: Vec<Expr> = sys
-            .reactions
+    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`); `joints`: whether the
+    /// joints' reaction columns are written (the drivers' columns always are, after them).
+    pub(crate) fn new(
+        sys: &MultibodySystem,
+        gv: &MatrixTape,
+        source: Multipliers,
+        joints: bool,
+    ) -> Self {
+        let reactions: Vec<JointReaction> = if joints {
+            sys.reactions.clone()
+        } else {
+            Vec::new()
+        };
+        let mut exprs: Vec<Expr> = reactions
             .iter()
             .flat_map(|r| r.basis.iter().chain(&r.lever).copied())
             .collect();
+        exprs.extend(sys.drivers.iter().map(|d| d.rate));
         let tape = sys.graph.compile(&exprs);
         let lambda_work = match &source {
             Multipliers::Springs(t) => t.workspace(),
             Multipliers::Unknowns(_) | Multipliers::FromState(_) => Vec::new(),
         };
         ReactionEval {
-            n_columns: sys.reactions.iter().map(|r| r.n_columns()).sum(),
-            joints: sys.reactions.clone(),
+            n_columns: reactions.iter().map(|r| r.n_columns()).sum::<usize>()
+                + 2 * sys.drivers.len(),
+            joints: reactions,
+            drivers: sys.drivers.iter().map(|d| d.row).collect(),
             work: tape.workspace(),
             vals: vec![0.0; tape.n_outputs()],
             gv_work: gv.workspace(),
@@ -188,6 +204,12 @@ impl ReactionEval {
             );
             at += nb + nl;
             col += n;
+        }
+        for (k, &row) in self.drivers.iter().enumerate() {
+            let effort = -self.lambda[row];
+            out[col] = effort;
+            out[col + 1] = effort * self.vals[at + k];
+            col += 2;
         }
     }
 }

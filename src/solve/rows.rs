@@ -8,12 +8,15 @@ use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
 
 /// The columns of a mechanism's rows (without `t`): the standard and requested outputs, every
-/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), then
+/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), every driver's
+/// columns (`<name>.torque|force`, `<name>.power`), then
 /// `constraint_error` (always written: cheap and always meaningful).
 pub fn output_columns(sys: &MultibodySystem) -> Vec<String> {
     let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
     if sys.reaction_outputs {
         columns.extend(sys.reaction_columns());
+    } else {
+        columns.extend(sys.driver_columns());
     }
     columns.push("constraint_error".into());
     columns
@@ -41,6 +44,10 @@ pub(crate) struct OutputEval {
     prev: Option<Vec<f64>>,
     /// Why energy is not conserved (from the system), if it is not.
     energy_exchange: Option<String>,
+    /// The row positions of the drivers' `<name>.power` columns.
+    power_columns: Vec<usize>,
+    /// The drivers' work so far and the last row's `(t, Σ P)`.
+    driver_work: (f64, Option<(f64, f64)>),
 }
 
 impl OutputEval {
@@ -66,9 +73,10 @@ impl OutputEval {
                 ])
             })
             .collect();
-        let reactions = sys
-            .reaction_outputs
-            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone()));
+        // the joints' reactions when asked for; the drivers' columns always
+        let reactions = (sys.reaction_outputs || !sys.drivers.is_empty()).then(|| {
+            ReactionEval::new(sys, &tapes.gv, multipliers.clone(), sys.reaction_outputs)
+        });
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
         OutputEval {
@@ -78,7 +86,7 @@ impl OutputEval {
             out: vec![0.0; n_out],
             g: vec![0.0; nc],
             tapes,
-            columns,
+            columns: columns.clone(),
             unwrap,
             cardan,
             want_constraint_error: true,
@@ -89,6 +97,12 @@ impl OutputEval {
             max_g: 0.0,
             prev: None,
             energy_exchange: sys.energy_exchange.clone(),
+            power_columns: sys
+                .drivers
+                .iter()
+                .filter_map(|d| columns.iter().position(|c| *c == d.columns()[1]))
+                .collect(),
+            driver_work: (0.0, None),
         }
     }
 
@@ -152,6 +166,14 @@ impl OutputEval {
         if self.want_constraint_error {
             row.push(ge);
         }
+        if !self.power_columns.is_empty() {
+            let p: f64 = self.power_columns.iter().map(|&k| row[k]).sum();
+            let (w, last) = &mut self.driver_work;
+            if let Some((t0, p0)) = *last {
+                *w += 0.5 * (t - t0) * (p + p0);
+            }
+            *last = Some((t, p));
+        }
         row
     }
 
@@ -180,5 +202,8 @@ impl RowEval for OutputEval {
     }
     fn energy_exchange(&self) -> Option<String> {
         self.energy_exchange.clone()
+    }
+    fn driver_work(&self) -> Option<f64> {
+        (!self.power_columns.is_empty()).then_some(self.driver_work.0)
     }
 }
