@@ -80,13 +80,17 @@ impl ConstraintExprs {
                 sys.graph.sum(&terms)
             })
             .collect();
-        // b = G_v v − Σ_j G_v[i][j] v_j: the part of the flow row free of v (∂g/∂t)
+        // b = G_v v − Σ_j G_v[i][j] v_j: the part of the flow row free of v (∂g/∂t, `−ṡ(t)`)
         let zero = sys.graph.zero();
+        // the rheonomic rows: the drivers' (a constant rate is free of t but not of v's
+        // complement), and any flow row that mentions t (a raw graph's Sf(t))
+        let driven: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
         let bias = gvv
             .iter()
             .zip(&gv)
-            .map(|(&e, row)| {
-                if !sys.graph.depends_on(e, 0) {
+            .enumerate()
+            .map(|(i, (&e, row))| {
+                if !driven.contains(&i) && !sys.graph.depends_on(e, 0) {
                     return zero;
                 }
                 let mut terms: Vec<Expr> = Vec::new();

@@ -129,14 +129,19 @@ pub(crate) struct ReactionEval {
 }
 
 impl ReactionEval {
-    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`); `joints`: whether the
-    /// joints' reaction columns are written (the drivers' columns always are, after them).
+    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`); `joints`, `drivers`:
+    /// whether the joints' reaction columns and the drivers' columns (after them) are written.
     pub(crate) fn new(
         sys: &MultibodySystem,
         gv: &MatrixTape,
         source: Multipliers,
-        joints: bool,
+        (joints, drivers): (bool, bool),
     ) -> Self {
+        let driver_list: Vec<crate::mech::DriverOutput> = if drivers {
+            sys.drivers.clone()
+        } else {
+            Vec::new()
+        };
         let reactions: Vec<JointReaction> = if joints {
             sys.reactions.clone()
         } else {
@@ -146,7 +151,7 @@ impl ReactionEval {
             .iter()
             .flat_map(|r| r.basis.iter().chain(&r.lever).copied())
             .collect();
-        exprs.extend(sys.drivers.iter().map(|d| d.rate));
+        exprs.extend(driver_list.iter().map(|d| d.rate));
         let tape = sys.graph.compile(&exprs);
         let lambda_work = match &source {
             Multipliers::Springs(t) => t.workspace(),
@@ -154,9 +159,9 @@ impl ReactionEval {
         };
         ReactionEval {
             n_columns: reactions.iter().map(|r| r.n_columns()).sum::<usize>()
-                + 2 * sys.drivers.len(),
+                + 2 * driver_list.len(),
             joints: reactions,
-            drivers: sys.drivers.iter().map(|d| d.row).collect(),
+            drivers: driver_list.iter().map(|d| d.row).collect(),
             work: tape.workspace(),
             vals: vec![0.0; tape.n_outputs()],
             gv_work: gv.workspace(),

@@ -3,7 +3,7 @@
 //! summary gathered on the way.
 
 use super::formulation::RowEval;
-use super::reactions::{Multipliers, ReactionEval};
+use super::reactions::{Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
 
@@ -32,6 +32,8 @@ pub(crate) struct OutputEval {
     want_constraint_error: bool,
     /// Joint reaction columns (`"outputs": ["reactions"]`), written before `constraint_error`.
     reactions: Option<ReactionEval>,
+    /// The drivers' columns, written after the reactions.
+    drivers: Option<ReactionEval>,
     vars: Vec<f64>,
     work: Vec<f64>,
     work_g: Vec<f64>,
@@ -73,9 +75,23 @@ impl OutputEval {
                 ])
             })
             .collect();
-        // the joints' reactions when asked for; the drivers' columns always
-        let reactions = (sys.reaction_outputs || !sys.drivers.is_empty()).then(|| {
-            ReactionEval::new(sys, &tapes.gv, multipliers.clone(), sys.reaction_outputs)
+        let reactions = sys
+            .reaction_outputs
+            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone(), (true, false)));
+        // the drivers' efforts always, from the multipliers solved at the row's state
+        // (`[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`: the dynamics of the motion the rows hold, not
+        // IDA's interpolant of λ, which its error test leaves out — a DOF-0 run's steps are
+        // long) or, in the twin, from its joint springs
+        let drivers = (!sys.drivers.is_empty()).then(|| {
+            let source = match multipliers {
+                Multipliers::Springs(_) => multipliers.clone(),
+                _ => Multipliers::FromState(Box::new(StateMultipliers::new(
+                    tapes.forces.clone(),
+                    tapes.gamma.clone(),
+                    sys.mass.clone(),
+                ))),
+            };
+            ReactionEval::new(sys, &tapes.gv, source, (false, true))
         });
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
@@ -91,6 +107,7 @@ impl OutputEval {
             cardan,
             want_constraint_error: true,
             reactions,
+            drivers,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
@@ -159,6 +176,11 @@ impl OutputEval {
             None => self.prev = Some(row.clone()),
         }
         if let Some(r) = &mut self.reactions {
+            let at = row.len();
+            row.resize(at + r.n_columns, 0.0);
+            r.eval(t, x, &mut row[at..]);
+        }
+        if let Some(r) = &mut self.drivers {
             let at = row.len();
             row.resize(at + r.n_columns, 0.0);
             r.eval(t, x, &mut row[at..]);

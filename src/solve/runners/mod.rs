@@ -25,7 +25,7 @@ pub(crate) fn events(
     multipliers: &Multipliers,
 ) -> Option<Events> {
     let eval = EventEval::new(sys, || {
-        ReactionEval::new(sys, &tapes.gv, multipliers.clone(), true)
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone(), (true, true))
     });
     (eval.len() > 0).then(|| Events {
         eval,
