@@ -181,6 +181,13 @@ pub fn decouple(
             // flows into the spring); its row was s f (s = −1 for `Sf → P`), so the spring's
             // displacement is s g_k: δ' = s (G_k v) = f
             ElementKind::Sf if bonds.len() == 1 => {
+                // a driver's Sf(t) is not a joint: the twin cannot open it into a spring
+                if !matches!(
+                    g.element(cj.element).parameter,
+                    Some(Parameter::Const(0.0)) | None
+                ) {
+                    return Err(DecoupleError::DrivenFlow { source_name: name });
+                }
                 let b = bonds[0];
                 if g.bond(b).from == cj.element {
                     sign = -1.0;
