@@ -139,7 +139,18 @@ impl Model {
                 Kind::Mechanism(sys)
             }
         } else {
-            Kind::Mechanism(crate::mech::build(scene)?)
+            let mut sys = crate::mech::build(scene)?;
+            if scene.solve.start_at_equilibrium {
+                // "start": "equilibrium": at rest in the static equilibrium nearest the bodies'
+                let eq = crate::solve::equilibrium::equilibrium(&sys, scene.solve.t_start)?;
+                for (c, (_, q)) in sys.coords.iter_mut().zip(&eq.coordinates) {
+                    c.initial = *q;
+                }
+                for v in &mut sys.velocities {
+                    v.initial = 0.0;
+                }
+            }
+            Kind::Mechanism(sys)
         };
         Ok(Model {
             scene: scene.clone(),

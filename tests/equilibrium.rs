@@ -196,3 +196,29 @@ fn closed_four_bar_with_spring_and_load_rests_like_the_one_coordinate_model() {
     assert_eq!(eq.stable, stable_want, "{eq:?}");
     assert_eq!(eq.stiffness_eigenvalues.len(), 1, "one DOF");
 }
+
+#[test]
+fn a_scene_may_start_from_its_equilibrium_and_stays_there() {
+    let (k, p) = (50.0, [1.0, 1.0]);
+    let dv = |th: f64| G * 0.5 * th.cos() + k * (p[0] * th.sin() - p[1] * th.cos());
+    let want = root(&dv, 0.3);
+    let mut scene = sprung_bar(0.3, k, p);
+    scene["solve"]["start"] = json!("equilibrium");
+    let scene = Scene::from_json_str(&scene.to_string()).unwrap();
+    let model = Model::new(&scene).unwrap();
+    let sol = model.solve(&model.default_options()).unwrap();
+    for a in sol.column("bar.angle").unwrap() {
+        assert!((a - want).abs() < 1e-8, "angle {a} vs rest {want}");
+    }
+}
+
+#[test]
+fn a_load_that_never_balances_is_refused_naming_why() {
+    // a torque of 100 N m on a 1 kg bar of 1 m: the weight's moment is at most 4.9 N m
+    let mut scene = sprung_bar(0.3, 0.0, [1.0, 1.0]);
+    scene["springs"] = json!([]);
+    scene["loads"] = json!([{"name": "motor", "type": "torque", "body": "bar", "value": 100.0}]);
+    let scene = Scene::from_json_str(&scene.to_string()).unwrap();
+    let e = Model::new(&scene).unwrap().equilibrium().unwrap_err().to_string();
+    assert!(e.contains("no equilibrium"), "{e}");
+}

@@ -326,6 +326,10 @@ pub struct SolveSettings {
     /// the default) once its drift exceeds what the tolerance promises, `Some(true)`
     /// (`"always"`) from the start, `Some(false)` (`"never"`) not at all.
     pub energy_invariant: Option<bool>,
+    /// `"start": "equilibrium"`: the motion starts at rest from the static equilibrium nearest
+    /// the bodies' configuration ([`crate::Model::equilibrium`]); `false` (`"given"`, the
+    /// default): from the bodies' configuration.
+    pub start_at_equilibrium: bool,
 }
 
 impl SolveSettings {
@@ -356,6 +360,7 @@ impl SolveSettings {
             integrator: Integrator::Auto,
             switching_functions: true,
             energy_invariant: None,
+            start_at_equilibrium: false,
         }
     }
 }

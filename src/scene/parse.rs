@@ -701,6 +701,7 @@ pub(crate) const SOLVE_KEYS: &[&str] = &[
     "integrator",
     "switching_functions",
     "energy_invariant",
+    "start",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -770,7 +771,19 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             None
         }
     };
+    let start_at_equilibrium = match f.string(p, "start").as_deref() {
+        None | Some("given") => false,
+        Some("equilibrium") => true,
+        Some(s) => {
+            p.push(
+                f.path("start"),
+                format!("unknown start \"{s}\" (expected \"given\" or \"equilibrium\")"),
+            );
+            false
+        }
+    };
     Some(SolveSettings {
+        start_at_equilibrium,
         formulation,
         t_start,
         t_end: t_end?,

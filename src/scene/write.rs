@@ -187,6 +187,9 @@ fn solve(s: &SolveSettings) -> Json {
     if !s.switching_functions {
         e.push(("switching_functions", Json::Bool(false)));
     }
+    if s.start_at_equilibrium {
+        e.push(("start", text("equilibrium")));
+    }
     if let Some(k) = s.energy_invariant {
         e.push(("energy_invariant", text(if k { "always" } else { "never" })));
     }
