@@ -744,13 +744,16 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if let Some(path) = json {
                 let text = serde_json::to_string_pretty(&eq.to_json())
                     .map_err(|e| options_error(e.to_string()))?;
-                std::fs::write(&path, text + "\n").map_err(|e| {
-                    options_error(format!("cannot write {}: {e}", path.display()))
-                })?;
+                std::fs::write(&path, text + "\n")
+                    .map_err(|e| options_error(format!("cannot write {}: {e}", path.display())))?;
             }
             let mut t = format!(
                 "equilibrium: {} after {} iterations (residual {:.3e}), {}\n",
-                if eq.converged { "converged" } else { "not converged" },
+                if eq.converged {
+                    "converged"
+                } else {
+                    "not converged"
+                },
                 eq.iterations,
                 eq.residual,
                 if eq.stable { "stable" } else { "unstable" }

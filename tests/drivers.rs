@@ -27,9 +27,7 @@ fn solve(scene: &Value, f: FormulationKind, rtol: f64) -> Solution {
     o.formulation = f;
     o.rtol = rtol;
     o.atol = rtol * 1e-2;
-    model
-        .solve(&o)
-        .unwrap_or_else(|e| panic!("{f:?}: {e}"))
+    model.solve(&o).unwrap_or_else(|e| panic!("{f:?}: {e}"))
 }
 
 fn col(sol: &Solution, name: &str) -> Vec<f64> {
@@ -206,10 +204,20 @@ fn slider_crank_driven_at_constant_speed_is_inverse_dynamics_with_the_power_bala
         let worst = (0..t.len())
             .map(|k| (tau[k] - want[k]).abs())
             .fold(0.0f64, f64::max);
-        eprintln!("{f:?}: torque error {:.2e} of the peak {peak:.3} N m", worst / peak);
-        assert!(sol.summary.kinematic_analysis && sol.summary.dof == 0, "{:?}", sol.summary);
+        eprintln!(
+            "{f:?}: torque error {:.2e} of the peak {peak:.3} N m",
+            worst / peak
+        );
+        assert!(
+            sol.summary.kinematic_analysis && sol.summary.dof == 0,
+            "{:?}",
+            sol.summary
+        );
         let note = sol.summary.energy_note.clone();
-        assert!(note.contains("motor"), "energy note names the driver: {note}");
+        assert!(
+            note.contains("motor"),
+            "energy note names the driver: {note}"
+        );
     }
 }
 
@@ -230,7 +238,8 @@ fn cart_driven_by_a_displacement_swings_its_pendulum_like_the_one_coordinate_mod
     let alpha0 = -1.2;
     let xc = |t: f64| 0.1 * (1.0 - (3.0 * t).cos());
     let xdd = |t: f64| 0.9 * (3.0 * t).cos();
-    let acc = move |t: f64, al: f64| (m * a * al.sin() * xdd(t) - m * G * a * al.cos()) / (j + m * a * a);
+    let acc =
+        move |t: f64, al: f64| (m * a * al.sin() * xdd(t) - m * G * a * al.cos()) / (j + m * a * a);
     let times: Vec<f64> = (0..=40).map(|i| 0.05 * i as f64).collect();
     let reference = integrate(
         |t, y, dy| {
@@ -348,11 +357,10 @@ fn refusal(scene: &Value) -> String {
 
 fn bad(drivers: Value) -> Value {
     let mut s = crank().scene();
-    s["joints"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!({"name": "glue", "type": "weld", "bodies": ["ground", "piston"],
-                     "points": [[0.0, 0.0], "P"]}));
+    s["joints"].as_array_mut().unwrap().push(
+        json!({"name": "glue", "type": "weld", "bodies": ["ground", "piston"],
+                     "points": [[0.0, 0.0], "P"]}),
+    );
     s["drivers"] = drivers;
     s
 }
@@ -361,7 +369,9 @@ fn bad(drivers: Value) -> Value {
 fn bad_drivers_are_refused_naming_the_path() {
     let e = refusal(&bad(json!([{"name": "m", "joint": "nope", "angle": "t"}])));
     assert!(e.contains("drivers[0].joint") && e.contains("nope"), "{e}");
-    let e = refusal(&bad(json!([{"name": "m", "joint": "cylinder", "angle": "t"}])));
+    let e = refusal(&bad(
+        json!([{"name": "m", "joint": "cylinder", "angle": "t"}]),
+    ));
     assert!(
         e.contains("drivers[0].angle")
             && e.contains("a prismatic joint is driven by displacement or velocity"),
@@ -377,7 +387,9 @@ fn bad_drivers_are_refused_naming_the_path() {
     );
     let e = refusal(&bad(json!([{"name": "m", "joint": "glue", "angle": "t"}])));
     assert!(e.contains("drivers[0].joint") && e.contains("weld"), "{e}");
-    let e = refusal(&bad(json!([{"name": "m", "joint": "main_bearing", "angle": "t", "angular_velocity": 2}])));
+    let e = refusal(&bad(
+        json!([{"name": "m", "joint": "main_bearing", "angle": "t", "angular_velocity": 2}]),
+    ));
     assert!(e.contains("drivers[0].angular_velocity"), "{e}");
 }
 
@@ -387,7 +399,10 @@ fn bad_drivers_are_refused_naming_the_path() {
 /// the rod term's integral vanishes by symmetry and `20 ∮ cos θ · r cos θ dθ = 20 r π`.
 #[test]
 fn bundled_driven_slider_crank_draws_its_driver_and_does_the_gas_work() {
-    let path = format!("{}/scenes/slider_crank_driven.json", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/scenes/slider_crank_driven.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let scene = Scene::from_json_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let model = Model::new(&scene).unwrap();
     let graph = bondmech::mech::scene_bond_graph(&scene, bondmech::mech::Variant::Pinned).unwrap();
@@ -397,13 +412,21 @@ fn bundled_driven_slider_crank_draws_its_driver_and_does_the_gas_work() {
         .find(|e| e.name == "motor")
         .expect("an element named after the driver");
     assert_eq!(sf.kind, bondmech::bond::model::ElementKind::Sf);
-    assert_eq!(model.causality().unwrap().dof, 0, "the driver takes the DOF");
+    assert_eq!(
+        model.causality().unwrap().dof,
+        0,
+        "the driver takes the DOF"
+    );
     let sol = model.solve(&model.default_options()).unwrap();
     let w = sol.summary.driver_work.expect("driver work reported");
     let want = 20.0 * 0.1 * std::f64::consts::PI;
     assert!((w - want).abs() < 1e-6 * want, "driver work {w} vs {want}");
     assert!(sol.summary.kinematic_analysis);
-    assert!(sol.summary.warnings.is_empty(), "{:?}", sol.summary.warnings);
+    assert!(
+        sol.summary.warnings.is_empty(),
+        "{:?}",
+        sol.summary.warnings
+    );
 }
 
 #[test]
@@ -413,5 +436,9 @@ fn an_event_may_watch_a_driver_column() {
     let sol = solve(&scene, FormulationKind::Ggl, 1e-10);
     let ev = sol.summary.events.first().expect("the torque passes 4 N m");
     let c = crank();
-    assert!((c.torque(ev.t) - 4.0).abs() < 1e-5, "torque at the event {}", c.torque(ev.t));
+    assert!(
+        (c.torque(ev.t) - 4.0).abs() < 1e-5,
+        "torque at the event {}",
+        c.torque(ev.t)
+    );
 }

@@ -68,7 +68,11 @@ fn sprung_bar_rests_where_the_potential_is_stationary_and_is_stable() {
     assert!(d2v > 0.0, "the reference is a minimum");
     let eq = equilibrium(&sprung_bar(0.3, k, p));
     let got = eq.coordinate("bar.angle").unwrap();
-    eprintln!("sprung bar: |Δθ| = {:.1e}, {} iterations", (got - want).abs(), eq.iterations);
+    eprintln!(
+        "sprung bar: |Δθ| = {:.1e}, {} iterations",
+        (got - want).abs(),
+        eq.iterations
+    );
     assert!(
         (got - want).abs() < 1e-8,
         "angle {got} vs dV/dθ = 0 at {want}"
@@ -191,7 +195,10 @@ fn closed_four_bar_with_spring_and_load_rests_like_the_one_coordinate_model() {
     );
     let (_, _, _, psi_want) = pose(want);
     let psi_got = eq.coordinate("rocker.angle").unwrap();
-    assert!((psi_got - psi_want).abs() < 1e-8, "rocker {psi_got} vs {psi_want}");
+    assert!(
+        (psi_got - psi_want).abs() < 1e-8,
+        "rocker {psi_got} vs {psi_want}"
+    );
     let stable_want = derivative(&dv, want, 1e-3) > 0.0;
     assert_eq!(eq.stable, stable_want, "{eq:?}");
     assert_eq!(eq.stiffness_eigenvalues.len(), 1, "one DOF");
@@ -219,6 +226,10 @@ fn a_load_that_never_balances_is_refused_naming_why() {
     scene["springs"] = json!([]);
     scene["loads"] = json!([{"name": "motor", "type": "torque", "body": "bar", "value": 100.0}]);
     let scene = Scene::from_json_str(&scene.to_string()).unwrap();
-    let e = Model::new(&scene).unwrap().equilibrium().unwrap_err().to_string();
+    let e = Model::new(&scene)
+        .unwrap()
+        .equilibrium()
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no equilibrium"), "{e}");
 }

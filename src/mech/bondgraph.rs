@@ -216,16 +216,15 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
                 .filter_map(|(k, m)| omega(&j.bodies[k]).map(|w| (w, m.to_string())))
                 .collect()
         } else {
-            let axis = match &j.kind {
-                crate::scene::JointKind::Prismatic(k) if k.axis[0].abs() < 1e-12 => Axis::Y,
-                crate::scene::JointKind::Prismatic(k) if k.axis[1].abs() < 1e-12 => Axis::X,
-                _ => {
-                    return Err(MechError::at(
+            let axis =
+                match &j.kind {
+                    crate::scene::JointKind::Prismatic(k) if k.axis[0].abs() < 1e-12 => Axis::Y,
+                    crate::scene::JointKind::Prismatic(k) if k.axis[1].abs() < 1e-12 => Axis::X,
+                    _ => return Err(MechError::at(
                         &format!("joints[{ji}].axis"),
                         "the bond graph drawing supports driven sliders along a global axis only",
-                    ))
-                }
-            };
+                    )),
+                };
             let jp = format!("joints[{ji}]");
             let pa = point(&j.bodies[0], &joint_points[ji][0], &jp)?;
             let pb = point(&j.bodies[1], &joint_points[ji][1], &jp)?;
@@ -242,8 +241,12 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
                 .filter_map(|(p, m)| p.map(|p| (p.axis(axis), m.to_string())))
                 .collect()
         };
-        let sum = crate::bond::fragments::modulated_sum(&mut g, &format!("{}.{}", d.name, "rel"), &terms);
-        let v = g.add_junction(format!("{}.rate", d.name), crate::bond::model::ElementKind::One);
+        let sum =
+            crate::bond::fragments::modulated_sum(&mut g, &format!("{}.{}", d.name, "rel"), &terms);
+        let v = g.add_junction(
+            format!("{}.rate", d.name),
+            crate::bond::model::ElementKind::One,
+        );
         g.add_bond(sum, v);
         let sf = g.add_element(
             d.name.clone(),

@@ -238,7 +238,11 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
         let mut alpha = 1.0;
         let mut accepted = None;
         while alpha > 1e-10 {
-            let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, d)| a + alpha * d).collect();
+            let trial: Vec<f64> = x
+                .iter()
+                .zip(step.iter())
+                .map(|(a, d)| a + alpha * d)
+                .collect();
             let mut tv = vars.clone();
             set_x(&mut tv, &trial);
             let rt = eval(&f_tape, &tv);
@@ -294,7 +298,12 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
     // reactions and drivers from the multipliers
     let mut y: Vec<f64> = vars[1..].to_vec();
     y.truncate(nq + nv + nc);
-    let mut reval = ReactionEval::new(&sys, &tapes.gv, Multipliers::Unknowns(nq + nv), (true, true));
+    let mut reval = ReactionEval::new(
+        &sys,
+        &tapes.gv,
+        Multipliers::Unknowns(nq + nv),
+        (true, true),
+    );
     let mut out = vec![0.0; reval.n_columns];
     reval.eval(t0, &y, &mut out);
     let columns = sys.reaction_columns();
