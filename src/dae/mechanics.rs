@@ -84,7 +84,18 @@ impl ConstraintExprs {
         let zero = sys.graph.zero();
         // the rheonomic rows: the drivers' (a constant rate is free of t but not of v's
         // complement), and any flow row that mentions t (a raw graph's Sf(t))
-        let driven: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
+        let mut driven: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
+        // (a graph read back, `graph --as-scene`, knows no drivers: a flow row that is not
+        // zero at rest, v = 0, has a prescribed part)
+        let mut at_rest = vec![0.0; 1 + nq + nv];
+        for (k, c) in sys.coords.iter().enumerate() {
+            at_rest[1 + k] = c.initial;
+        }
+        for (i, &e) in gvv.iter().enumerate() {
+            if !driven.contains(&i) && sys.graph.eval(e, &at_rest) != 0.0 {
+                driven.push(i);
+            }
+        }
         let bias = gvv
             .iter()
             .zip(&gv)
