@@ -373,6 +373,7 @@ impl Mechanism {
                 solve: SolveSettings::with_t_end(1.0),
                 outputs: Vec::new(),
                 events: Vec::new(),
+                drivers: Vec::new(),
                 inputs: Vec::new(),
                 bond_graph: None,
                 description: None,

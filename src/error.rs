@@ -64,6 +64,9 @@ pub enum Error {
     /// Invalid solve options.
     #[error("invalid options: {0}")]
     Options(String),
+    /// No static equilibrium was found (why in the message).
+    #[error("{0}")]
+    Equilibrium(#[from] crate::solve::equilibrium::EquilibriumError),
     /// An output path refused before anything is computed (an input, given twice, not
     /// writable).
     #[error("{0}")]

@@ -156,6 +156,7 @@ pub fn bond_graph_scene(scene: &Scene) -> Result<serde_json::Value> {
         "springs",
         "loads",
         "events",
+        "drivers",
         "gravity",
         "dimension",
     ] {

@@ -135,6 +135,20 @@ enum Command {
         /// Scene file (JSON; `-` reads standard input).
         scene: PathBuf,
     },
+    /// The static equilibrium nearest the scene's configuration (loads, drivers and inputs at
+    /// t_start): Newton with a line search, the joints held; its stability from the tangent
+    /// stiffness reduced to the degrees of freedom. Exit 1 when none is found.
+    Equilibrium {
+        /// Scene file (JSON; `-` reads standard input).
+        scene: PathBuf,
+        /// Change one scene field first: PATH=JSON (as `run --set`).
+        #[arg(long = "set", value_name = "PATH=JSON")]
+        set: Vec<String>,
+        /// Write the result as JSON to this file (converged, iterations, residual,
+        /// coordinates, reactions, drivers, stable, stiffness_eigenvalues).
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Solve the DAE (IDA) and the decoupled twin (CVODE) side by side.
     Compare {
         #[command(flatten)]
@@ -723,6 +737,44 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 (table, no_csv),
                 plot.as_deref(),
             )
+        }
+        Command::Equilibrium { scene, set, json } => {
+            let model = Model::new(&read_scene_with(&scene, &set)?)?;
+            let eq = model.equilibrium()?;
+            if let Some(path) = json {
+                let text = serde_json::to_string_pretty(&eq.to_json())
+                    .map_err(|e| options_error(e.to_string()))?;
+                std::fs::write(&path, text + "\n")
+                    .map_err(|e| options_error(format!("cannot write {}: {e}", path.display())))?;
+            }
+            let mut t = format!(
+                "equilibrium: {} after {} iterations (residual {:.3e}), {}\n",
+                if eq.converged {
+                    "converged"
+                } else {
+                    "not converged"
+                },
+                eq.iterations,
+                eq.residual,
+                if eq.stable { "stable" } else { "unstable" }
+            );
+            for (what, list) in [
+                ("coordinates", &eq.coordinates),
+                ("reactions", &eq.reactions),
+                ("drivers", &eq.drivers),
+            ] {
+                if !list.is_empty() {
+                    t.push_str(&format!("{what}:\n"));
+                    for (k, v) in list {
+                        t.push_str(&format!("  {k:<24} {v:>22.15e}\n"));
+                    }
+                }
+            }
+            t.push_str(&format!(
+                "stiffness eigenvalues: {:?}\n",
+                eq.stiffness_eigenvalues
+            ));
+            Ok(stdout_write(&t)?)
         }
         Command::Equations { scene } => {
             let model = Model::new(&read_scene(&scene)?)?;

@@ -92,6 +92,7 @@ fn empty_system() -> MultibodySystem {
         reactions: Vec::new(),
         reaction_outputs: false,
         events: Vec::new(),
+        drivers: Vec::new(),
         energy_exchange: None,
         bodies: Vec::new(),
         names: Vec::new(),
@@ -138,13 +139,58 @@ impl Model {
                 Kind::Mechanism(sys)
             }
         } else {
-            Kind::Mechanism(crate::mech::build(scene)?)
+            let mut sys = crate::mech::build(scene)?;
+            if scene.solve.start_at_equilibrium {
+                // "start": "equilibrium": at rest in the static equilibrium nearest the bodies'
+                let eq = crate::solve::equilibrium::equilibrium(&sys, scene.solve.t_start)?;
+                for (c, (_, q)) in sys.coords.iter_mut().zip(&eq.coordinates) {
+                    c.initial = *q;
+                }
+                for v in &mut sys.velocities {
+                    v.initial = 0.0;
+                }
+            }
+            Kind::Mechanism(sys)
         };
         Ok(Model {
             scene: scene.clone(),
             kind,
             build_cpu_seconds: clock.elapsed().as_secs_f64(),
         })
+    }
+
+    /// The static equilibrium nearest the scene's initial configuration, with its loads,
+    /// drivers and inputs at `t_start` ([`crate::solve::equilibrium`]): Newton with a line
+    /// search on the effort balance with the joints held; `stable` from the tangent stiffness
+    /// reduced to the degrees of freedom.
+    ///
+    /// ```
+    /// use bondmech::{Model, Scene};
+    /// // a bar pinned at its end O, held by a torsional-free spring to a point above: it rests
+    /// // where the spring's moment balances the weight's
+    /// let scene = Scene::from_json_str(r#"{
+    ///   "gravity": [0, -9.81],
+    ///   "bodies": [{ "name": "bar", "mass": 1, "inertia": 0.0833333333333333,
+    ///                "points": { "O": [-0.5, 0], "A": [0.5, 0] }, "position": [0.5, 0] }],
+    ///   "joints": [{ "name": "pivot", "type": "revolute", "bodies": ["ground", "bar"],
+    ///                "points": [[0, 0], "O"] }],
+    ///   "springs": [{ "bodies": ["ground", "bar"], "points": [[1, 1], "A"],
+    ///                 "stiffness": 100, "rest_length": 0 }],
+    ///   "solve": { "t_end": 1 } }"#).unwrap();
+    /// let eq = Model::new(&scene).unwrap().equilibrium().unwrap();
+    /// assert!(eq.converged && eq.stable);
+    /// // the pivot carries the weight less the spring's vertical pull
+    /// assert!(eq.residual < 1e-9);
+    /// assert!(eq.coordinate("bar.angle").unwrap() > 0.0);
+    /// ```
+    pub fn equilibrium(&self) -> Result<crate::solve::equilibrium::Equilibrium> {
+        let sys = self
+            .mechanism()
+            .ok_or(crate::solve::equilibrium::EquilibriumError::RawGraph)?;
+        Ok(crate::solve::equilibrium::equilibrium(
+            sys,
+            self.scene.solve.t_start,
+        )?)
     }
 
     /// The scene this model was built from (its inputs, if any, at their start values).

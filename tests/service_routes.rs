@@ -850,3 +850,41 @@ fn reactions_query_equals_the_cli_reactions_flag() {
         &["--t-end", "0.1", "--reactions"],
     );
 }
+
+/// `POST /v1/equilibrium` is `bondmech equilibrium --json` (same document, value for value);
+/// `POST /v1/run` carries a driven scene's driver columns as `run` does.
+#[test]
+fn equilibrium_route_equals_the_cli_json_and_run_carries_driver_columns() {
+    let server = start(Config::default());
+    let r = post(
+        server.addr(),
+        "/v1/equilibrium",
+        scene_text("four_bar.json").as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", r.text());
+    let j = r.json();
+    let out = std::env::temp_dir().join(format!("bondmech-eq-{}.json", std::process::id()));
+    let path = scene_path("four_bar.json");
+    let (ok, _, err) = cli(&["equilibrium", &path, "--json", &out.display().to_string()]);
+    assert!(ok, "{err}");
+    let want: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    std::fs::remove_file(&out).ok();
+    assert_eq!(j, want);
+    let r = post(
+        server.addr(),
+        "/v1/run",
+        scene_text("slider_crank_driven.json").as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", r.text());
+    let columns = r.json()["columns"].clone();
+    let names: Vec<&str> = columns
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"motor.torque") && names.contains(&"motor.power"),
+        "{names:?}"
+    );
+}

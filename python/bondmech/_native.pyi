@@ -65,6 +65,10 @@ class Scene:
     ) -> Solution:
         """Solves the scene (the GIL is released); raises SceneError, OptionsError,
         SolveError or BudgetExceeded."""
+    def equilibrium(self) -> Dict[str, Any]:
+        """The static equilibrium nearest the scene's configuration (the ``bondmech
+        equilibrium --json`` document): converged, iterations, residual, coordinates,
+        reactions, drivers, stable, stiffness_eigenvalues."""
 
 def compare(
     scene: Scene,

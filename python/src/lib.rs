@@ -589,6 +589,16 @@ impl Scene {
         Solution::new(py, solved.py(py)?)
     }
 
+    /// The static equilibrium nearest the scene's configuration (`bondmech equilibrium
+    /// --json`) as a dict: `converged`, `iterations`, `residual`, `coordinates`, `reactions`,
+    /// `drivers`, `stable`, `stiffness_eigenvalues`. Raises `SceneError` or `SolveError` (no
+    /// equilibrium: why in the message).
+    fn equilibrium<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let model = bondmech::Model::new(&self.scene).py(py)?;
+        let eq = model.equilibrium().py(py)?;
+        from_json(py, &eq.to_json().to_string())
+    }
+
     fn __repr__(&self) -> String {
         let s = &self.scene;
         if s.bond_graph.is_some() {

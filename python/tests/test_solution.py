@@ -118,3 +118,15 @@ def test_graph_gives_dot_and_the_causality_report(double_pendulum_path):
     # seed 16.7: two integral inertias (the DOF), four in differential causality
     assert report["dof"] == 2 and len(report["differential"]) == 4
     assert bondmech.graph(scene, decoupled=True) != dot
+
+
+def test_equilibrium_is_the_cli_document_and_a_driven_run_has_driver_columns(tmp_path, cli):
+    four_bar = SCENES / "four_bar.json"
+    eq = bondmech.load(four_bar).equilibrium()
+    assert set(eq) == {"converged", "iterations", "residual", "coordinates", "reactions",
+                       "drivers", "stable", "stiffness_eigenvalues"}
+    out = tmp_path / "eq.json"
+    cli("equilibrium", str(four_bar), "--json", str(out))
+    assert eq == json.loads(out.read_text())
+    sol = bondmech.load(SCENES / "slider_crank_driven.json").run(t_end=0.1)
+    assert "motor.torque" in sol and "motor.power" in sol

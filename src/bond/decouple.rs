@@ -188,10 +188,29 @@ pub fn decouple(
                     g.bonds[b.0].from = other;
                     g.bonds[b.0].to = cj.element;
                 }
-                let el = &mut g.elements[cj.element.0];
-                el.kind = ElementKind::One;
-                el.parameter = None;
-                cj.element
+                let driven = !matches!(
+                    g.element(cj.element).parameter,
+                    Some(Parameter::Const(0.0)) | None
+                );
+                if driven {
+                    // a driver stays a driver: its Sf(t) moves one end of the spring put in,
+                    // `f_rel = f − Sf(t)` on a 0-junction, so the spring's displacement is the
+                    // driver's closure `s(q) − s(t)` and its force the actuator's effort
+                    let parameter = g.elements[cj.element.0].parameter.take();
+                    let el = &mut g.elements[cj.element.0];
+                    el.kind = ElementKind::Zero;
+                    el.name = format!("{name}.twin");
+                    let sf = g.add_element(name.clone(), ElementKind::Sf, parameter);
+                    g.add_bond(cj.element, sf);
+                    let rel = g.add_junction(format!("{name}.rel"), ElementKind::One);
+                    g.add_bond(cj.element, rel);
+                    rel
+                } else {
+                    let el = &mut g.elements[cj.element.0];
+                    el.kind = ElementKind::One;
+                    el.parameter = None;
+                    cj.element
+                }
             }
             _ => return Err(DecoupleError::Shape { junction: name }),
         };

@@ -214,6 +214,8 @@ struct Reader<'a> {
     flows: Vec<Option<Expr>>,
     bonds_of: Vec<Vec<BondId>>,
     opened: Vec<bool>,
+    /// Flow sources whose flow is prescribed into the graph (not a constraint row).
+    sources: Vec<bool>,
 }
 
 /// Reads the multibody equations of a bond graph (see the module documentation).
@@ -250,6 +252,7 @@ pub fn read_mechanics_in(
         flows: vec![None; graph.bonds.len()],
         bonds_of,
         opened,
+        sources: vec![false; n_el],
     };
     r.read()
 }
@@ -539,6 +542,7 @@ impl Reader<'_> {
             .element_ids()
             .filter(|&e| g.element(e).kind == ElementKind::Sf)
             .filter(|e| !g.constraint_junctions.iter().any(|c| c.element == *e))
+            .filter(|e| !self.sources[e.0])
             .map(|e| (e, self.name(e), String::new(), None))
             .collect();
         for (e, joint, direction, closure) in annotated.into_iter().chain(bare) {
@@ -642,7 +646,29 @@ impl Reader<'_> {
                 }
             }
             if !changed {
-                return Ok(());
+                // a flow source the inertias' flows leave undetermined (on a 0-junction
+                // beside another unknown flow: a driver's Sf(t) moving one end of the twin's
+                // spring) is a prescribed flow, not a row: its bond carries its value
+                let sources: Vec<ElementId> = self
+                    .g
+                    .element_ids()
+                    .filter(|&e| {
+                        self.g.element(e).kind == ElementKind::Sf
+                            && self.bonds_of[e.0].len() == 1
+                            && self.flows[self.bonds_of[e.0][0].0].is_none()
+                            && !self.g.constraint_junctions.iter().any(|c| c.element == e)
+                            && !self.g.displacements.is_empty()
+                    })
+                    .collect();
+                if sources.is_empty() {
+                    return Ok(());
+                }
+                for e in sources {
+                    let b = self.bonds_of[e.0][0];
+                    let f = self.parameter(e, "a flow source needs a value")?;
+                    self.flows[b.0] = Some(f);
+                    self.sources[e.0] = true;
+                }
             }
         }
     }

@@ -2,7 +2,8 @@
 //!
 //! 1. Positions: the least change `min ‖q − q₀‖` with `g(q) = 0`, by Gauss–Newton steps
 //!    `Δq = −G_q⁺ g(q)` (pseudo-inverse, so redundant rows do no harm).
-//! 2. Velocities: the least change with `G_v v = 0`: `v ← v − G_v⁺ G_v v`.
+//! 2. Velocities: the least change with `G_v v + b = 0`: `v ← v − G_v⁺ (G_v v + b)` (`b = ∂g/∂t`
+//!    of a driver's row, zero otherwise).
 //! 3. Accelerations and multipliers: `[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`, solved in the
 //!    least-squares sense; the rank of `G_v` tells which joints are redundant.
 //!
@@ -264,7 +265,12 @@ pub fn consistent_state_from(
         });
     }
     let gv = tapes.gv.matrix(t0, &x);
-    let (dv, rank) = pinv_apply(&gv, &(&gv * &v0));
+    // G_v v + b: the velocity rows (b = ∂g/∂t, a driver's prescribed rate)
+    let mut gv_v = &gv * &v0;
+    if tapes.bias.is_some() {
+        gv_v += DVector::from_vec(tapes.bias_at(t0, &x));
+    }
+    let (dv, rank) = pinv_apply(&gv, &gv_v);
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }
@@ -453,6 +459,11 @@ fn sparse_start(
     };
     // velocities
     let mut r = g_times(&x[nq..]);
+    if tapes.bias.is_some() {
+        for (ri, bi) in r.iter_mut().zip(tapes.bias_at(t0, x)) {
+            *ri += bi;
+        }
+    }
     b.solve_in_place(&mut r);
     let dv = gt_times(&r);
     for j in 0..nv {

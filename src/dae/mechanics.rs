@@ -3,7 +3,11 @@
 //! * `g(q)` and `G_q = ∂g/∂q` (position level),
 //! * `G_v v = G_q K(q) v` and `G_v = ∂(G_v v)/∂v` (velocity level, the flows that the
 //!   differential-causality inertias receive from the junction structure),
-//! * `γ = ∂(G_v v)/∂q · K(q) v`, so that the acceleration-level constraint reads `G_v v' + γ = 0`,
+//! * `γ = ∂(G_v v)/∂q · K(q) v + ∂(G_v v)/∂t`, so that the acceleration-level constraint reads
+//!   `G_v v' + γ = 0`,
+//! * `b = ∂g/∂t`, the velocity bias of a rheonomic row (a driver's `g = s(q) − s(t)`): the
+//!   velocity-level row is `G_v v + b = 0` (the flow row `G_v v` above includes `b`; `b` alone
+//!   is what the numerical projections onto the velocity constraints need),
 //!
 //! plus numeric tapes of all of them for initialisation, diagnostics and outputs.
 
@@ -31,6 +35,8 @@ pub struct ConstraintExprs {
     pub gv: Vec<Vec<Expr>>,
     /// `γ`.
     pub gamma: Vec<Expr>,
+    /// `b = ∂g/∂t` (zero expressions for the rows that do not depend on `t`).
+    pub bias: Vec<Expr>,
 }
 
 impl ConstraintExprs {
@@ -60,15 +66,53 @@ impl ConstraintExprs {
         };
         let gv = dense_rows(&mut sys.graph, &gvv, &v_slots);
         let gq = dense_rows(&mut sys.graph, &g, &q_slots);
-        // γ = Σ_k ∂(G_v v)/∂q_k · (K v)_k
+        // γ = Σ_k ∂(G_v v)/∂q_k · (K v)_k (+ ∂(G_v v)/∂t for a rheonomic row)
         let gamma = gvv
             .iter()
             .map(|&e| {
-                let terms: Vec<Expr> = sparse_row(&mut sys.graph, e, &q_slots)
+                let mut terms: Vec<Expr> = sparse_row(&mut sys.graph, e, &q_slots)
                     .into_iter()
                     .map(|(k, d)| sys.graph.mul(d, sys.kinematics[k]))
                     .collect();
+                if sys.graph.depends_on(e, 0) {
+                    terms.push(sys.graph.diff(e, 0));
+                }
                 sys.graph.sum(&terms)
+            })
+            .collect();
+        // b = G_v v − Σ_j G_v[i][j] v_j: the part of the flow row free of v (∂g/∂t, `−ṡ(t)`)
+        let zero = sys.graph.zero();
+        // the rheonomic rows: the drivers' (a constant rate is free of t but not of v's
+        // complement), and any flow row that mentions t (a raw graph's Sf(t))
+        let mut driven: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
+        // (a graph read back, `graph --as-scene`, knows no drivers: a flow row that is not
+        // zero at rest, v = 0, has a prescribed part)
+        let mut at_rest = vec![0.0; 1 + nq + nv];
+        for (k, c) in sys.coords.iter().enumerate() {
+            at_rest[1 + k] = c.initial;
+        }
+        for (i, &e) in gvv.iter().enumerate() {
+            if !driven.contains(&i) && sys.graph.eval(e, &at_rest) != 0.0 {
+                driven.push(i);
+            }
+        }
+        let bias = gvv
+            .iter()
+            .zip(&gv)
+            .enumerate()
+            .map(|(i, (&e, row))| {
+                if !driven.contains(&i) && !sys.graph.depends_on(e, 0) {
+                    return zero;
+                }
+                let mut terms: Vec<Expr> = Vec::new();
+                for (&d, &s) in row.iter().zip(&v_slots) {
+                    if !sys.graph.is_zero(d) {
+                        let v = sys.graph.var(s);
+                        terms.push(sys.graph.mul(d, v));
+                    }
+                }
+                let gv_v = sys.graph.sum(&terms);
+                sys.graph.sub(e, gv_v)
             })
             .collect();
         ConstraintExprs {
@@ -77,6 +121,7 @@ impl ConstraintExprs {
             gvv,
             gv,
             gamma,
+            bias,
         }
     }
 }
@@ -126,6 +171,8 @@ pub struct MechanicsTapes {
     pub kinematics: Tape,
     /// `γ`
     pub gamma: Tape,
+    /// `b = ∂g/∂t` (the rheonomic rows' velocity bias), `None` when no row depends on `t`
+    pub bias: Option<Tape>,
     /// output columns, then energy, then kinetic energy
     pub outputs: Tape,
 }
@@ -154,7 +201,20 @@ impl MechanicsTapes {
             forces: gr.compile(&sys.forces),
             kinematics: gr.compile(&sys.kinematics),
             gamma: gr.compile(&c.gamma),
+            bias: c
+                .bias
+                .iter()
+                .any(|&b| !gr.is_zero(b))
+                .then(|| gr.compile(&c.bias)),
             outputs: gr.compile(&outs),
+        }
+    }
+
+    /// The velocity bias `b = ∂g/∂t` at `(t, x)` (zeros without rheonomic rows).
+    pub fn bias_at(&self, t: f64, x: &[f64]) -> Vec<f64> {
+        match &self.bias {
+            Some(b) => Self::eval(b, t, x),
+            None => vec![0.0; self.dims.2],
         }
     }
 

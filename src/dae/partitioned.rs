@@ -51,6 +51,8 @@ pub struct PartitionedSystem {
     gq_vars: Vec<Vec<u32>>,
     /// `G_v` (its structural non-zeros), evaluated row-major `nc × nv`.
     gv: MatrixTape,
+    /// `b = ∂g/∂t` of the rheonomic rows (drivers): `G_v v + b = 0`; `None` without them.
+    bias: Option<Tape>,
     /// The expressions every partition's staged tape compiles: `[g, G_q's non-zeros]` then
     /// `[Q, γ, K(q) v]`, over the system's expression graph.
     graph: ExprGraph,
@@ -82,7 +84,9 @@ impl PartitionedSystem {
                 let v = sys.graph.var(s);
                 sys.kinematics[i] == v
             });
-        let gv_is_gq = identity_kinematics && c.gq == c.gv;
+        // a rheonomic row's velocity level is `G_v v + b`, not `G_q v`: no shared elimination
+        let rheonomic = c.bias.iter().any(|&b| !sys.graph.is_zero(b));
+        let gv_is_gq = identity_kinematics && c.gq == c.gv && !rheonomic;
         let mut pos: Vec<Expr> = c.g.clone();
         let mut gq_entries = Vec::new();
         let mut gq_vars = Vec::new();
@@ -107,6 +111,7 @@ impl PartitionedSystem {
             gq_entries,
             gq_vars,
             gv: MatrixTape::new(&sys.graph, &c.gv, nv),
+            bias: rheonomic.then(|| sys.graph.compile(&c.bias)),
             switch_tape: sys.graph.compile(&frozen.switching),
             switching: frozen.switching.clone(),
             graph: sys.graph.clone(),
@@ -824,6 +829,15 @@ impl PartitionedRhs {
                 s += self.bv[k * niv + l] * self.vars[1 + nq + j];
             }
             self.tmp[k] = -s;
+        }
+        // v_D = −G_D⁻¹ (G_I v_I + b): a driver's prescribed rate
+        if let Some(bias) = &self.sys.bias {
+            let mut b = vec![0.0; nc];
+            bias.eval(&self.vars, &mut bias.workspace(), &mut b);
+            dep_solve(lu, &self.dep_inverse, &mut b, &mut self.scratch);
+            for k in 0..nc {
+                self.tmp[k] -= b[k];
+            }
         }
         for (k, &j) in dv.iter().enumerate() {
             self.vars[1 + nq + j] = self.tmp[k];

@@ -104,6 +104,23 @@ pub fn mechanism_graph(scene: &Scene, sys: &MultibodySystem) -> Result<BondGraph
             &velocity_junctions,
             &text,
         );
+        // a driver: the joint's relative flow (the rate of its coordinate s(q)) on a
+        // 1-junction, prescribed by the flow source `Sf <driver> = ṡ(t)`
+        if let Some(d) = sys.drivers.iter().find(|d| d.row == k) {
+            let sum = modulated_sum(&mut g, &name, &terms);
+            let v = g.add_junction(format!("{}.rate", d.name), ElementKind::One);
+            g.add_bond(sum, v);
+            let rate = text(&eg, d.rate);
+            let sf = g.add_element(d.name.clone(), ElementKind::Sf, Some(Parameter::Expr(rate)));
+            g.add_bond(v, sf);
+            g.constraint_junctions.push(ConstraintJunction {
+                element: sf,
+                joint: row.joint.clone(),
+                direction: row.direction.clone(),
+                closure: Some(closure),
+            });
+            continue;
+        }
         // the row's flow on a 1-junction, held at zero by an Sf (like a pin's point, 16.7)
         let sum = modulated_sum(&mut g, &name, &terms);
         let v = g.add_junction(format!("{name}.v"), ElementKind::One);
@@ -694,6 +711,7 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
     };
     let kin: Vec<BodyKinematics> = sys.bodies.iter().map(|(_, k)| k.clone()).collect();
     let (nq, nv) = (sys.nq(), sys.nv());
+    let reaction_columns = sys.reaction_columns();
     let mut columns = Columns {
         g: &mut sys.graph,
         scene,
@@ -703,7 +721,7 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
     };
     let (energy, kinetic) = columns.energy(&sys.mass, stored);
     sys.outputs = columns.outputs(&names, energy)?;
-    sys.events = columns.events(&names, energy, &sys.reactions)?;
+    sys.events = columns.events(&names, energy, &reaction_columns)?;
     sys.energy = energy;
     sys.kinetic = kinetic;
     Ok(sys)
@@ -821,6 +839,7 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         reactions: Vec::new(),
         reaction_outputs: false,
         events: Vec::new(),
+        drivers: Vec::new(),
         energy_exchange: g.energy_exchange(),
         bodies: Vec::new(),
         names: Vec::new(),

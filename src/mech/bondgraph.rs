@@ -191,6 +191,70 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
         };
         d.draw(&j.kind)?;
     }
+    // drivers: the joint's relative flow on a 1-junction `<driver>.rate`, prescribed by the
+    // flow source `Sf <driver> = ṡ(t)` (the solver's graph gets it from
+    // crate::mech::annotate, with the driver's closure)
+    for (di, d) in scene.drivers.iter().enumerate() {
+        if open {
+            break;
+        }
+        let path = format!("drivers[{di}]");
+        let Some((ji, j)) = scene
+            .joints
+            .iter()
+            .enumerate()
+            .find(|(_, j)| j.name == d.joint)
+        else {
+            return Err(MechError::at(
+                &format!("{path}.joint"),
+                format!("no joint named '{}'", d.joint),
+            ));
+        };
+        let terms: Vec<(crate::bond::model::ElementId, String)> = if d.kind.is_rotation() {
+            [(1, "1"), (0, "-1")]
+                .into_iter()
+                .filter_map(|(k, m)| omega(&j.bodies[k]).map(|w| (w, m.to_string())))
+                .collect()
+        } else {
+            let axis =
+                match &j.kind {
+                    crate::scene::JointKind::Prismatic(k) if k.axis[0].abs() < 1e-12 => Axis::Y,
+                    crate::scene::JointKind::Prismatic(k) if k.axis[1].abs() < 1e-12 => Axis::X,
+                    _ => return Err(MechError::at(
+                        &format!("joints[{ji}].axis"),
+                        "the bond graph drawing supports driven sliders along a global axis only",
+                    )),
+                };
+            let jp = format!("joints[{ji}]");
+            let pa = point(&j.bodies[0], &joint_points[ji][0], &jp)?;
+            let pb = point(&j.bodies[1], &joint_points[ji][1], &jp)?;
+            let (pa, pb) = common_frame(
+                &mut g,
+                &d.name,
+                [&j.bodies[0], &j.bodies[1]],
+                [pa, pb],
+                [0, 1].map(|k| body_fixed_angle(scene, &j.bodies[k])),
+                true,
+            );
+            [(pb, "1"), (pa, "-1")]
+                .into_iter()
+                .filter_map(|(p, m)| p.map(|p| (p.axis(axis), m.to_string())))
+                .collect()
+        };
+        let sum =
+            crate::bond::fragments::modulated_sum(&mut g, &format!("{}.{}", d.name, "rel"), &terms);
+        let v = g.add_junction(
+            format!("{}.rate", d.name),
+            crate::bond::model::ElementKind::One,
+        );
+        g.add_bond(sum, v);
+        let sf = g.add_element(
+            d.name.clone(),
+            crate::bond::model::ElementKind::Sf,
+            Some(Parameter::Expr(driver_rate_text(d))),
+        );
+        g.add_bond(v, sf);
+    }
     for (si, s) in scene.springs.iter().enumerate() {
         if open && planar_rest_length(scene, si) != 0.0 {
             continue;
@@ -262,6 +326,24 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
         }
     }
     Ok(g)
+}
+
+/// The prescribed rate `ṡ(t)` of a driver as expression text: its value for a rate driver,
+/// the value's time derivative for an angle or displacement.
+fn driver_rate_text(d: &crate::scene::Driver) -> String {
+    if d.kind.is_rate() {
+        return d.value.clone();
+    }
+    let mut eg = crate::expr::ExprGraph::new();
+    let tv = eg.var(0);
+    match eg.parse(&d.value, &mut |n: &str| (n == "t").then_some(tv)) {
+        Ok(e) => {
+            let r = eg.diff(e, 0);
+            eg.display_exact(r, &|_| "t".to_string(), 100_000)
+                .unwrap_or_else(|| format!("d/dt({})", d.value))
+        }
+        Err(_) => format!("d/dt({})", d.value),
+    }
 }
 
 /// The angle variable `x_<body>.omega` of a planar body written in its body-fixed frame

@@ -7,7 +7,6 @@ use std::collections::HashMap;
 
 use super::body::BodyKinematics;
 use super::error::MechError;
-use super::reactions::JointReaction;
 use super::system::{EventFunction, OutputColumn};
 use crate::expr::{Expr, ExprGraph};
 use crate::scene::{Dimension, Scene};
@@ -190,15 +189,14 @@ impl Columns<'_> {
 
     /// The scene's events as functions over the event layout `[t, q, v, reactions]`: `when`
     /// may name `t`, any standard column or point coordinate/velocity, `energy`, and any
-    /// joint's reaction column.
+    /// joint's reaction column and any driver's column (`motor.torque`).
     pub(super) fn events(
         &mut self,
         names: &HashMap<String, Expr>,
         energy: Expr,
-        reactions: &[JointReaction],
+        reaction_columns: &[String],
     ) -> Result<Vec<EventFunction>, MechError> {
         let base = 1 + self.nq + self.nv;
-        let reaction_columns: Vec<String> = reactions.iter().flat_map(|r| r.columns()).collect();
         let mut out = Vec::with_capacity(self.scene.events.len());
         let placeholders: Vec<Expr> = (0..reaction_columns.len())
             .map(|k| self.g.var((base + k) as u32))

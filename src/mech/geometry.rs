@@ -13,7 +13,7 @@ use super::error::MechError;
 use super::joints::{joint_type, Ends, RowWriter};
 use super::layout::Plan;
 use super::reactions::JointReaction;
-use super::system::{ConstraintRow, EquationSource, LoadTerm, MultibodySystem};
+use super::system::{ConstraintRow, DriverOutput, EquationSource, LoadTerm, MultibodySystem};
 use crate::expr::Expr;
 use crate::scene::{LoadValue, Scene};
 
@@ -67,7 +67,8 @@ impl Geometry<'_> {
         }
         .name_table()?;
         self.load_terms(&names)?;
-        let (constraints, rows, reactions) = self.joints()?;
+        let (mut constraints, mut rows, reactions) = self.joints()?;
+        let drivers = self.drivers(&mut constraints, &mut rows)?;
         self.connectivity();
         let zero = self.g.zero();
         let mut sys = MultibodySystem {
@@ -88,6 +89,7 @@ impl Geometry<'_> {
             reaction_outputs: self.scene.outputs.iter().any(|o| o == "reactions"),
             reactions,
             events: Vec::new(),
+            drivers,
             energy_exchange: energy_exchange(self.scene),
             bodies: self
                 .scene
@@ -108,7 +110,20 @@ impl Geometry<'_> {
             bond_graph: None,
         };
         let joint_names: Vec<String> = self.scene.joints.iter().map(|j| j.name.clone()).collect();
-        for v in sys.initial_violation(&joint_names) {
+        for v in sys.initial_violation_at(self.scene.solve.t_start, &joint_names) {
+            if let Some(d) = sys.drivers.iter().find(|d| d.name == v.joint) {
+                if v.norm > INITIAL_VIOLATION_WARNING {
+                    sys.warnings.push(format!(
+                        "drivers[{}] '{}': the initial configuration is {:.3e} away from the prescribed {} at t = {}; the solver projects it onto the driver before starting",
+                        d.index,
+                        d.name,
+                        v.norm,
+                        self.scene.drivers[d.index].kind.key(),
+                        self.scene.solve.t_start
+                    ));
+                }
+                continue;
+            }
             if v.norm > INITIAL_VIOLATION_WARNING {
                 sys.warnings.push(format!(
                     "joints[{}] '{}': the initial configuration violates the joint by {:.3e} ({}); the solver projects it onto the joint before starting",
@@ -294,6 +309,223 @@ impl Geometry<'_> {
         Ok((g_rows, meta, reactions))
     }
 
+    /// Every driver's row `g = s(q) − s(t)` appended to the joints' rows (direction `angle`
+    /// or `displacement`, named after the driver), with its columns. The driven coordinate
+    /// `s(q)`: a planar pin's `α_b − α_a`; a prismatic joint's `(P_b − P_a)·(R_a â)`; a spatial
+    /// hinge's rotation `φ` about its axis from the initial relative pose, written
+    /// `g = atan2(sin(φ − s), cos(φ − s))` (smooth through every turn) with `cos φ =
+    /// (R_a c_1)·(R_b u)`, `sin φ = (R_a c_2)·(R_b u)`, `u = (R_aᵀ R_b)(0)ᵀ c_1`. A rate
+    /// driver `ṡ = w` (a constant) prescribes `s(t) = s(q₀) + w (t − t_start)`.
+    fn drivers(
+        &mut self,
+        g_rows: &mut Vec<Expr>,
+        meta: &mut Vec<ConstraintRow>,
+    ) -> Result<Vec<DriverOutput>, MechError> {
+        let mut out = Vec::new();
+        let x0 = {
+            let mut x = self.initial_slots();
+            x[0] = self.scene.solve.t_start;
+            x
+        };
+        for (di, d) in self.scene.drivers.iter().enumerate() {
+            let path = format!("drivers[{di}]");
+            let Some((ji, j)) = self
+                .scene
+                .joints
+                .iter()
+                .enumerate()
+                .find(|(_, j)| j.name == d.joint)
+            else {
+                return Err(MechError::at(
+                    &format!("{path}.joint"),
+                    format!("no joint named '{}'", d.joint),
+                ));
+            };
+            let jpath = format!("joints[{ji}]");
+            let ends = Ends {
+                pa: self.point(&j.bodies[0], &j.points[0], &format!("{jpath}.points[0]"))?,
+                pb: self.point(&j.bodies[1], &j.points[1], &format!("{jpath}.points[1]"))?,
+                ka: self.kin_of(&j.bodies[0], &jpath)?,
+                kb: self.kin_of(&j.bodies[1], &jpath)?,
+            };
+            let vpath = format!("{path}.{}", d.kind.key());
+            // the prescribed value, an expression of t alone
+            let tv = self.g.var(0);
+            let value = self
+                .g
+                .parse(&d.value, &mut |n: &str| (n == "t").then_some(tv))
+                .map_err(|e| {
+                    MechError::at(
+                        &vpath,
+                        format!(
+                            "{e} in {} (a driver's value is an expression of t and the scene's inputs)",
+                            crate::expr::excerpt(&d.value, e.pos())
+                        ),
+                    )
+                })?;
+            let spatial = self.spatial;
+            let g = &mut self.g;
+            // the driven coordinate s(q) (for a hinge: (cos φ, sin φ))
+            enum Coordinate {
+                Linear(Expr),
+                Turn(Expr, Expr),
+            }
+            let coordinate = match &j.kind {
+                crate::scene::JointKind::Revolute(k) => match &k.axis {
+                    None => {
+                        let modelled = |k: &BodyKinematics| {
+                            !matches!(
+                                k,
+                                BodyKinematics::PlanarInertial {
+                                    angle: super::body::AngleSlot::Fixed(_),
+                                    ..
+                                }
+                            )
+                        };
+                        for (b, k) in [(&j.bodies[0], &ends.ka), (&j.bodies[1], &ends.kb)] {
+                            if !modelled(k) {
+                                return Err(MechError::at(
+                                    &format!("{path}.joint"),
+                                    format!("joint '{}': body '{b}' has no modelled rotation (inertia 0 and nothing turns it), so its angle cannot be driven", j.name),
+                                ));
+                            }
+                        }
+                        let aa = ends.ka.planar_angle(g);
+                        let ab = ends.kb.planar_angle(g);
+                        Coordinate::Linear(g.sub(ab, aa))
+                    }
+                    Some(axis) => {
+                        let u = super::joints::unit_axis(axis, &jpath)?;
+                        let (c1, c2) = super::joints::perpendicular_pair(u);
+                        let ra = ends.ka.rotation3(g);
+                        let rb = ends.kb.rotation3(g);
+                        let ev = |g: &crate::expr::ExprGraph, r: &[[Expr; 3]; 3]| {
+                            let mut m = [[0.0; 3]; 3];
+                            for i in 0..3 {
+                                for k in 0..3 {
+                                    m[i][k] = g.eval(r[i][k], &x0);
+                                }
+                            }
+                            m
+                        };
+                        let (ra0, rb0) = (ev(g, &ra), ev(g, &rb));
+                        // u = R_b(0)ᵀ R_a(0) c_1
+                        let a0c1: Vec<f64> = (0..3)
+                            .map(|i| (0..3).map(|k| ra0[i][k] * c1[k]).sum())
+                            .collect();
+                        let uu: Vec<f64> = (0..3)
+                            .map(|k| (0..3).map(|i| rb0[i][k] * a0c1[i]).sum())
+                            .collect();
+                        let times = |g: &mut crate::expr::ExprGraph,
+                                         r: &[[Expr; 3]; 3],
+                                         c: &[f64]|
+                         -> Vec<Expr> {
+                            let ce: Vec<Expr> = c.iter().map(|&x| g.constant(x)).collect();
+                            (0..3).map(|i| g.dot(&r[i], &ce)).collect()
+                        };
+                        let bu = times(g, &rb, &uu);
+                        let ac1 = times(g, &ra, &c1);
+                        let ac2 = times(g, &ra, &c2);
+                        let cos = g.dot(&ac1, &bu);
+                        let sin = g.dot(&ac2, &bu);
+                        Coordinate::Turn(cos, sin)
+                    }
+                },
+                crate::scene::JointKind::Prismatic(k) => {
+                    let dim = ends.pa.position.len();
+                    let axis: Vec<Expr> = if spatial {
+                        let u = super::joints::unit_axis(&k.axis, &jpath)?;
+                        let ra = ends.ka.rotation3(g);
+                        let ue: Vec<Expr> = u.iter().map(|&x| g.constant(x)).collect();
+                        (0..3).map(|i| g.dot(&ra[i], &ue)).collect()
+                    } else {
+                        let n = (k.axis[0] * k.axis[0] + k.axis[1] * k.axis[1]).sqrt();
+                        let u = [k.axis[0] / n, k.axis[1] / n];
+                        if matches!(ends.ka, BodyKinematics::Ground) {
+                            vec![g.constant(u[0]), g.constant(u[1])]
+                        } else {
+                            let p = ends.ka.point(g, &u);
+                            let o = ends.ka.point(g, &[0.0, 0.0]);
+                            (0..2).map(|i| g.sub(p.position[i], o.position[i])).collect()
+                        }
+                    };
+                    let dvec: Vec<Expr> = (0..dim)
+                        .map(|i| g.sub(ends.pb.position[i], ends.pa.position[i]))
+                        .collect();
+                    Coordinate::Linear(g.dot(&axis, &dvec))
+                }
+                other => {
+                    return Err(MechError::at(
+                        &format!("{path}.joint"),
+                        format!(
+                            "joint '{}' is a {} joint: only revolute and prismatic joints take a driver",
+                            j.name,
+                            other.type_name()
+                        ),
+                    ))
+                }
+            };
+            // s(t): the value, or for a rate the coordinate at the start plus w (t − t_start)
+            let s_t = if d.kind.is_rate() {
+                if g.vars(value).contains(&0) {
+                    return Err(MechError::at(
+                        &vpath,
+                        format!(
+                            "a prescribed {} must be a constant here (got \"{}\"); give a time-varying motion as the {} (an expression of t)",
+                            d.kind.key(),
+                            d.value,
+                            if d.kind.is_rotation() { "angle" } else { "displacement" }
+                        ),
+                    ));
+                }
+                let s0 = match &coordinate {
+                    Coordinate::Linear(e) => g.eval(*e, &x0),
+                    Coordinate::Turn(..) => 0.0,
+                };
+                let t0 = g.constant(self.scene.solve.t_start);
+                let dt = g.sub(tv, t0);
+                let ramp = g.mul(value, dt);
+                let s0 = g.constant(s0);
+                g.add(s0, ramp)
+            } else {
+                value
+            };
+            let rate = g.diff(s_t, 0);
+            let row = match coordinate {
+                Coordinate::Linear(e) => g.sub(e, s_t),
+                Coordinate::Turn(cos, sin) => {
+                    let (cs, ss) = (g.cos(s_t), g.sin(s_t));
+                    let a = g.mul(sin, cs);
+                    let b = g.mul(cos, ss);
+                    let y = g.sub(a, b);
+                    let a = g.mul(cos, cs);
+                    let b = g.mul(sin, ss);
+                    let x = g.add(a, b);
+                    g.atan2(y, x)
+                }
+            };
+            let direction = if d.kind.is_rotation() {
+                "angle"
+            } else {
+                "displacement"
+            };
+            out.push(DriverOutput {
+                name: d.name.clone(),
+                index: di,
+                joint: d.joint.clone(),
+                row: g_rows.len(),
+                effort: d.kind.effort(),
+                rate,
+            });
+            g_rows.push(row);
+            meta.push(ConstraintRow {
+                joint: d.name.clone(),
+                direction: direction.to_string(),
+            });
+        }
+        Ok(out)
+    }
+
     /// How joint `j`'s reaction is read: the carrier body (second, or first when the second
     /// is ground), its velocities, `B = ∂(V_P, ω)/∂v_b` and the lever `P_1 − P_2`.
     fn joint_reaction(
@@ -351,6 +583,12 @@ impl Geometry<'_> {
 /// The first damper or load of `scene` that exchanges energy with the mechanism, named by its
 /// JSON path: the energy column (kinetic + gravity + springs) is conserved only without them.
 pub(super) fn energy_exchange(scene: &Scene) -> Option<String> {
+    if let Some((i, d)) = scene.drivers.iter().enumerate().next() {
+        return Some(format!(
+            "drivers[{i}] ('{}') prescribes joint '{}' and does work ({}.power)",
+            d.name, d.joint, d.name
+        ));
+    }
     if let Some((i, l)) = scene.loads.iter().enumerate().next() {
         return Some(format!("loads[{i}] ('{}') does work", l.name));
     }

@@ -30,6 +30,6 @@ pub use annotate::{build, scene_bond_graph, Variant};
 pub use error::MechError;
 pub use reactions::JointReaction;
 pub use system::{
-    ConstraintRow, Coordinate, EquationSource, EventFunction, JointViolation, LoadTerm,
-    MultibodySystem, NonFiniteValue, OutputColumn,
+    ConstraintRow, Coordinate, DriverOutput, EquationSource, EventFunction, JointViolation,
+    LoadTerm, MultibodySystem, NonFiniteValue, OutputColumn,
 };

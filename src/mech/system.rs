@@ -68,6 +68,37 @@ pub struct EventFunction {
     pub uses_reactions: bool,
 }
 
+/// A driver's row and columns: the driver prescribes a joint's coordinate `s(q) = s(t)`
+/// (its constraint row `g = s(q) − s(t)`, row [`DriverOutput::row`] of the system); its
+/// effort on the joint's second body is `−λ_row` (`M v' = Q − G_vᵀ λ` and `∂g/∂s = 1`), the
+/// torque (revolute) or force (prismatic) the actuator gives, and its power is that effort
+/// times the prescribed rate `ṡ(t)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DriverOutput {
+    /// The driver's name (as in the scene).
+    pub name: String,
+    /// Index of the driver in the scene's `drivers`.
+    pub index: usize,
+    /// The driven joint's name.
+    pub joint: String,
+    /// Index of its constraint row.
+    pub row: usize,
+    /// `torque` (a revolute joint) or `force` (a prismatic joint).
+    pub effort: &'static str,
+    /// The prescribed rate `ṡ(t)`.
+    pub rate: Expr,
+}
+
+impl DriverOutput {
+    /// Its columns: `<name>.torque` or `<name>.force`, then `<name>.power`.
+    pub fn columns(&self) -> [String; 2] {
+        [
+            format!("{}.{}", self.name, self.effort),
+            format!("{}.power", self.name),
+        ]
+    }
+}
+
 /// How far the user's initial configuration is from satisfying one joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointViolation {
@@ -152,6 +183,8 @@ pub struct MultibodySystem {
     pub reaction_outputs: bool,
     /// The scene's events.
     pub events: Vec<EventFunction>,
+    /// The scene's drivers (prescribed joint motion), in the scene's order.
+    pub drivers: Vec<DriverOutput>,
     /// Why the mechanical energy is not conserved (the first damper or load that exchanges
     /// energy with the mechanism, e.g. `loads[0] ('gas') does work`); `None` when it is.
     pub energy_exchange: Option<String>,
@@ -262,7 +295,12 @@ impl MultibodySystem {
     /// the projection onto `g(q) = 0` that the solvers do), in the order of the scene's joints;
     /// `joints` are the scene's joint names (to number them). Joints without rows are absent.
     pub fn initial_violation(&self, joints: &[String]) -> Vec<JointViolation> {
-        let mut x = vec![0.0];
+        self.initial_violation_at(0.0, joints)
+    }
+
+    /// [`Self::initial_violation`] at time `t` (a driver's row depends on it).
+    pub fn initial_violation_at(&self, t: f64, joints: &[String]) -> Vec<JointViolation> {
+        let mut x = vec![t];
         x.extend(self.initial_state());
         let mut out: Vec<JointViolation> = Vec::new();
         for (row, &g) in self.rows.iter().zip(&self.constraints) {
@@ -382,9 +420,19 @@ impl MultibodySystem {
         None
     }
 
-    /// Names of every joint's reaction columns, in order (the `r` part of the event layout).
+    /// Names of every joint's reaction columns, in order, then every driver's columns (the
+    /// `r` part of the event layout).
     pub fn reaction_columns(&self) -> Vec<String> {
-        self.reactions.iter().flat_map(|r| r.columns()).collect()
+        self.reactions
+            .iter()
+            .flat_map(|r| r.columns())
+            .chain(self.drivers.iter().flat_map(|d| d.columns()))
+            .collect()
+    }
+
+    /// Names of the driver columns alone (written whether or not reactions are asked for).
+    pub fn driver_columns(&self) -> Vec<String> {
+        self.drivers.iter().flat_map(|d| d.columns()).collect()
     }
 
     /// Index of the output column called `name`.

@@ -194,6 +194,11 @@ impl Scene {
                 }
             }
         }
+        for driver in &mut scene.drivers {
+            for (name, with) in &replacements {
+                driver.value = replace_name(&driver.value, name, with);
+            }
+        }
         scene
     }
 

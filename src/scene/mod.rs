@@ -39,6 +39,7 @@
 //! `joint_stiffness` 1e8, `joint_damping` 0, spring `damping` 0,
 //! `rest_length` = initial distance. `name` defaults to the file stem.
 
+pub mod drivers;
 mod error;
 mod fields;
 pub mod inputs;

@@ -6,6 +6,7 @@
 //! [`SolveSettings`]. The fixed body is the reserved name [`GROUND`]; it is
 //! never listed in [`Scene::bodies`].
 
+pub use super::drivers::{Driver, DriverKind};
 pub use super::joint_kind::JointKind;
 pub use super::space::{Dimension, GROUND};
 use crate::settings::{FormulationKind, Integrator, LinearSolverKind};
@@ -51,6 +52,8 @@ pub struct Scene {
     /// Named inputs load expressions may use (`"inputs"`), set from outside (an FMU's
     /// importer); a run holds each at its start value ([`Scene::with_inputs_at_start`]).
     pub inputs: Vec<Input>,
+    /// Prescribed joint motions (`"drivers"`, [`super::drivers`]).
+    pub drivers: Vec<Driver>,
     /// A raw bond graph given instead of bodies and joints (validated by `bond`).
     pub bond_graph: Option<serde_json::Value>,
     /// Free text, e.g. the seed figure the scene follows.
@@ -323,6 +326,10 @@ pub struct SolveSettings {
     /// the default) once its drift exceeds what the tolerance promises, `Some(true)`
     /// (`"always"`) from the start, `Some(false)` (`"never"`) not at all.
     pub energy_invariant: Option<bool>,
+    /// `"start": "equilibrium"`: the motion starts at rest from the static equilibrium nearest
+    /// the bodies' configuration ([`crate::Model::equilibrium`]); `false` (`"given"`, the
+    /// default): from the bodies' configuration.
+    pub start_at_equilibrium: bool,
 }
 
 impl SolveSettings {
@@ -353,6 +360,7 @@ impl SolveSettings {
             integrator: Integrator::Auto,
             switching_functions: true,
             energy_invariant: None,
+            start_at_equilibrium: false,
         }
     }
 }

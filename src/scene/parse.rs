@@ -128,6 +128,7 @@ pub(crate) const SCENE_KEYS: &[&str] = &[
     "outputs",
     "events",
     "inputs",
+    "drivers",
     "bond_graph",
 ];
 
@@ -146,7 +147,9 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
     // the size limits, before anything is read from a list (a scene of 200 000 bodies is
     // refused at once, not after minutes of parsing)
     let mut too_large = false;
-    for list in ["bodies", "joints", "springs", "loads", "outputs", "events"] {
+    for list in [
+        "bodies", "joints", "springs", "loads", "outputs", "events", "drivers",
+    ] {
         if let Some(Json::Array(items)) = f.get(list) {
             if let Err(e) = super::validate::check_entries(list, items.len()) {
                 p.push(list, e.to_string());
@@ -264,8 +267,15 @@ fn scene(p: &mut Problems, j: &Json, default_name: &str) -> Option<Scene> {
         .enumerate()
         .filter_map(|(i, e)| input(p, i, e))
         .collect();
+    let drivers = f
+        .array(p, "drivers")
+        .iter()
+        .enumerate()
+        .filter_map(|(i, d)| super::drivers::driver(p, i, d))
+        .collect();
     let bond_graph = f.get("bond_graph").map(Json::to_value);
     Some(Scene {
+        drivers,
         name,
         dimension,
         gravity,
@@ -707,6 +717,7 @@ pub(crate) const SOLVE_KEYS: &[&str] = &[
     "integrator",
     "switching_functions",
     "energy_invariant",
+    "start",
 ];
 
 fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
@@ -776,7 +787,19 @@ fn solve(p: &mut Problems, j: &Json) -> Option<SolveSettings> {
             None
         }
     };
+    let start_at_equilibrium = match f.string(p, "start").as_deref() {
+        None | Some("given") => false,
+        Some("equilibrium") => true,
+        Some(s) => {
+            p.push(
+                f.path("start"),
+                format!("unknown start \"{s}\" (expected \"given\" or \"equilibrium\")"),
+            );
+            false
+        }
+    };
     Some(SolveSettings {
+        start_at_equilibrium,
         formulation,
         t_start,
         t_end: t_end?,

@@ -201,6 +201,25 @@ struct Input {
     unit: Option<String>,
 }
 
+/// A driver: prescribed motion of a revolute or prismatic joint (give exactly one of
+/// `angle`, `angular_velocity`, `displacement`, `velocity`: a number or an expression of t).
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+#[allow(dead_code)]
+struct Driver {
+    name: Option<String>,
+    /// The driven joint's name.
+    joint: String,
+    /// Revolute: the relative angle (rad), a number or an expression of t.
+    angle: Option<serde_json::Value>,
+    /// Revolute: the relative angular velocity (rad/s), a constant.
+    angular_velocity: Option<serde_json::Value>,
+    /// Prismatic: the displacement along the axis (m), a number or an expression of t.
+    displacement: Option<serde_json::Value>,
+    /// Prismatic: the sliding velocity (m/s), a constant.
+    velocity: Option<serde_json::Value>,
+}
+
 /// How to solve.
 #[derive(JsonSchema)]
 #[schemars(deny_unknown_fields)]
@@ -227,6 +246,9 @@ struct Solve {
     switching_functions: Option<bool>,
     /// auto (kept once the energy drifts), always or never: the default DAE's energy invariant.
     energy_invariant: Option<String>,
+    /// "given" (the default: the bodies' configuration) or "equilibrium" (the static
+    /// equilibrium nearest it, at rest).
+    start: Option<String>,
 }
 
 /// A mechanism (bodies, joints, …) or a raw bond graph (`bond_graph`).
@@ -250,6 +272,8 @@ struct Scene {
     events: Option<Vec<Event>>,
     /// Inputs (`docs/fmu.md`): names usable in load expressions.
     inputs: Option<Vec<Input>>,
+    /// Prescribed joint motion (docs/scene-format.md, drivers).
+    drivers: Option<Vec<Driver>>,
     /// A raw bond graph: `{"elements": [...], "bonds": [...]}` (docs/scene-format.md).
     bond_graph: Option<serde_json::Map<String, serde_json::Value>>,
 }
@@ -312,6 +336,7 @@ mod tests {
             (Some("Load"), LOAD_KEYS),
             (Some("Event"), EVENT_KEYS),
             (Some("Input"), INPUT_KEYS),
+            (Some("Driver"), crate::scene::drivers::DRIVER_KEYS),
             (Some("Solve"), SOLVE_KEYS),
         ] {
             let mut want: Vec<String> = accepted.iter().map(|k| k.to_string()).collect();

@@ -128,6 +128,7 @@ pub fn check_text_length(bytes: usize) -> Result<(), SceneSizeError> {
 pub fn check_scene_size(scene: &Scene) -> Result<(), SceneSizeError> {
     check_entries("bodies", scene.bodies.len())?;
     check_entries("joints", scene.joints.len())?;
+    check_entries("drivers", scene.drivers.len())?;
     check_entries("springs", scene.springs.len())?;
     check_entries("loads", scene.loads.len())?;
     check_entries("events", scene.events.len())?;
@@ -267,6 +268,7 @@ pub fn validate(scene: &Scene) -> Vec<Problem> {
         }
     }
     super::inputs::validate(&mut p, scene);
+    super::drivers::validate(&mut p, scene);
     if scene.bond_graph.is_some() && scene.outputs.iter().any(|o| o == "reactions") {
         if let Some(i) = scene.outputs.iter().position(|o| o == "reactions") {
             p.push(

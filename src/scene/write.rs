@@ -187,6 +187,9 @@ fn solve(s: &SolveSettings) -> Json {
     if !s.switching_functions {
         e.push(("switching_functions", Json::Bool(false)));
     }
+    if s.start_at_equilibrium {
+        e.push(("start", text("equilibrium")));
+    }
     if let Some(k) = s.energy_invariant {
         e.push(("energy_invariant", text(if k { "always" } else { "never" })));
     }
@@ -246,6 +249,23 @@ pub(crate) fn scene_tree(s: &Scene) -> Json {
                             ("when", text(&ev.when)),
                             ("direction", text(ev.direction.as_str())),
                             ("action", text(ev.action.as_str())),
+                        ])
+                    })
+                    .collect(),
+            ),
+        ));
+    }
+    if !s.drivers.is_empty() {
+        e.push((
+            "drivers",
+            Json::Array(
+                s.drivers
+                    .iter()
+                    .map(|d| {
+                        obj(vec![
+                            ("name", text(&d.name)),
+                            ("joint", text(&d.joint)),
+                            (d.kind.key(), text(&d.value)),
                         ])
                     })
                     .collect(),

@@ -174,6 +174,9 @@ pub fn document() -> Value {
             "/v1/compare": post("Solve the DAE (IDA) and the decoupled twin (CVODE) and compare them (the compare --json document); each solve gets half of the budget.", solve_params(), json!({
                 "description": "The comparison.", "content": {"application/json": {"schema": {"type": "object"}}}
             })),
+            "/v1/equilibrium": post("The static equilibrium nearest the scene's configuration (Newton with a line search, the joints held) and its stability: the bondmech equilibrium --json document.", vec![], json!({
+                "description": "converged, iterations, residual, coordinates, reactions, drivers, stable, stiffness_eigenvalues.", "content": {"application/json": {"schema": {"type": "object"}}}
+            })),
             "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
                 query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
                 query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),

@@ -26,13 +26,14 @@ use crate::report::SweepConfig;
 use crate::scene::Scene;
 
 /// The routes, for metrics labels and the 404 answer.
-pub const ROUTES: [&str; 15] = [
+pub const ROUTES: [&str; 16] = [
     "/healthz",
     "/metrics",
     "/openapi.json",
     "/v1/run",
     "/v1/compare",
     "/v1/graph",
+    "/v1/equilibrium",
     "/v1/sweep",
     "/v1/animate",
     "/v1/validate",
@@ -487,6 +488,34 @@ async fn graph_inner(
             ),
             _ => with_type(g.dot(), "text/vnd.graphviz; charset=utf-8"),
         })
+    });
+    join(job).await
+}
+
+/// `POST /v1/equilibrium`: the static equilibrium nearest the scene's configuration, the
+/// `bondmech equilibrium --json` document ([`crate::solve::equilibrium::Equilibrium::to_json`]).
+pub async fn equilibrium(State(app): State<Arc<App>>, headers: HeaderMap, body: Body) -> Response {
+    let r = equilibrium_inner(&app, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn equilibrium_inner(
+    app: &Arc<App>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let scene = scene_from(app, headers, body).await?;
+    let slot = app.pool.acquire_for(0.0).await?;
+    let limits = app.limits.clone();
+    let job = app.pool.spawn(slot, move || {
+        let budget = Budget::of(&scene, &limits);
+        let model = Model::new(&scene).map_err(|e| library_problem(&e, budget))?;
+        let eq = model
+            .equilibrium()
+            .map_err(|e| library_problem(&e, budget))?;
+        let text = serde_json::to_string_pretty(&eq.to_json()).unwrap_or_default() + "\n";
+        Ok(with_type(text, JSON))
     });
     join(job).await
 }

@@ -345,6 +345,7 @@ impl Run<'_> {
             self.rows.energy_drift(),
             self.rows.energy_exchange().as_deref(),
         );
+        summary.driver_work = self.rows.driver_work();
         f.finish(summary, solver, self.sol.times.last().copied(), ending);
     }
 

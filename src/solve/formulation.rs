@@ -249,6 +249,11 @@ pub(crate) trait RowEval {
     fn energy_drift(&self) -> f64;
     /// Why energy is not conserved, if it is not.
     fn energy_exchange(&self) -> Option<String>;
+    /// The drivers' work `∫ Σ P_d dt` over the rows so far (trapezoidal rule on the rows'
+    /// `<driver>.power`), `None` without drivers.
+    fn driver_work(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// The scene's events: their functions over the row state and what each does.

@@ -7,6 +7,7 @@
 //! events, budgets, partial rows, statistics, energy drift, streaming. Errors: [`SolveError`].
 
 pub mod bond_run;
+pub mod equilibrium;
 pub mod error;
 pub(crate) mod executor;
 pub(crate) mod formulation;

@@ -109,6 +109,9 @@ impl StateMultipliers {
 #[derive(Clone, Debug)]
 pub(crate) struct ReactionEval {
     joints: Vec<JointReaction>,
+    /// Each driver's constraint row: its effort is `−λ_row`, its power the effort times the
+    /// prescribed rate `ṡ(t)` (the tape's outputs after the joints').
+    drivers: Vec<usize>,
     /// `B` then the lever of every joint, concatenated, over `[t, q, v]`.
     tape: Tape,
     gv: MatrixTape,
@@ -126,21 +129,39 @@ pub(crate) struct ReactionEval {
 }
 
 impl ReactionEval {
-    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`).
-    pub(crate) fn new(sys: &MultibodySystem, gv: &MatrixTape, source: Multipliers) -> Self {
-        let exprs: Vec<Expr> = sys
-            .reactions
+    /// Compiles the evaluator; `gv` is the tape of `G_v` (`nc × nv`); `joints`, `drivers`:
+    /// whether the joints' reaction columns and the drivers' columns (after them) are written.
+    pub(crate) fn new(
+        sys: &MultibodySystem,
+        gv: &MatrixTape,
+        source: Multipliers,
+        (joints, drivers): (bool, bool),
+    ) -> Self {
+        let driver_list: Vec<crate::mech::DriverOutput> = if drivers {
+            sys.drivers.clone()
+        } else {
+            Vec::new()
+        };
+        let reactions: Vec<JointReaction> = if joints {
+            sys.reactions.clone()
+        } else {
+            Vec::new()
+        };
+        let mut exprs: Vec<Expr> = reactions
             .iter()
             .flat_map(|r| r.basis.iter().chain(&r.lever).copied())
             .collect();
+        exprs.extend(driver_list.iter().map(|d| d.rate));
         let tape = sys.graph.compile(&exprs);
         let lambda_work = match &source {
             Multipliers::Springs(t) => t.workspace(),
             Multipliers::Unknowns(_) | Multipliers::FromState(_) => Vec::new(),
         };
         ReactionEval {
-            n_columns: sys.reactions.iter().map(|r| r.n_columns()).sum(),
-            joints: sys.reactions.clone(),
+            n_columns: reactions.iter().map(|r| r.n_columns()).sum::<usize>()
+                + 2 * driver_list.len(),
+            joints: reactions,
+            drivers: driver_list.iter().map(|d| d.row).collect(),
             work: tape.workspace(),
             vals: vec![0.0; tape.n_outputs()],
             gv_work: gv.workspace(),
@@ -188,6 +209,12 @@ impl ReactionEval {
             );
             at += nb + nl;
             col += n;
+        }
+        for (k, &row) in self.drivers.iter().enumerate() {
+            let effort = -self.lambda[row];
+            out[col] = effort;
+            out[col + 1] = effort * self.vals[at + k];
+            col += 2;
         }
     }
 }

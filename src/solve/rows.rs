@@ -3,17 +3,20 @@
 //! summary gathered on the way.
 
 use super::formulation::RowEval;
-use super::reactions::{Multipliers, ReactionEval};
+use super::reactions::{Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
 
 /// The columns of a mechanism's rows (without `t`): the standard and requested outputs, every
-/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), then
+/// joint's reaction columns when asked for (`"outputs": ["reactions"]`), every driver's
+/// columns (`<name>.torque|force`, `<name>.power`), then
 /// `constraint_error` (always written: cheap and always meaningful).
 pub fn output_columns(sys: &MultibodySystem) -> Vec<String> {
     let mut columns: Vec<String> = sys.outputs.iter().map(|o| o.name.clone()).collect();
     if sys.reaction_outputs {
         columns.extend(sys.reaction_columns());
+    } else {
+        columns.extend(sys.driver_columns());
     }
     columns.push("constraint_error".into());
     columns
@@ -29,6 +32,8 @@ pub(crate) struct OutputEval {
     want_constraint_error: bool,
     /// Joint reaction columns (`"outputs": ["reactions"]`), written before `constraint_error`.
     reactions: Option<ReactionEval>,
+    /// The drivers' columns, written after the reactions.
+    drivers: Option<ReactionEval>,
     vars: Vec<f64>,
     work: Vec<f64>,
     work_g: Vec<f64>,
@@ -41,6 +46,10 @@ pub(crate) struct OutputEval {
     prev: Option<Vec<f64>>,
     /// Why energy is not conserved (from the system), if it is not.
     energy_exchange: Option<String>,
+    /// The row positions of the drivers' `<name>.power` columns.
+    power_columns: Vec<usize>,
+    /// The drivers' work so far and the last row's `(t, Σ P)`.
+    driver_work: (f64, Option<(f64, f64)>),
 }
 
 impl OutputEval {
@@ -68,7 +77,22 @@ impl OutputEval {
             .collect();
         let reactions = sys
             .reaction_outputs
-            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone()));
+            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone(), (true, false)));
+        // the drivers' efforts always, from the multipliers solved at the row's state
+        // (`[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`: the dynamics of the motion the rows hold, not
+        // IDA's interpolant of λ, which its error test leaves out — a DOF-0 run's steps are
+        // long) or, in the twin, from its joint springs
+        let drivers = (!sys.drivers.is_empty()).then(|| {
+            let source = match multipliers {
+                Multipliers::Springs(_) => multipliers.clone(),
+                _ => Multipliers::FromState(Box::new(StateMultipliers::new(
+                    tapes.forces.clone(),
+                    tapes.gamma.clone(),
+                    sys.mass.clone(),
+                ))),
+            };
+            ReactionEval::new(sys, &tapes.gv, source, (false, true))
+        });
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
         OutputEval {
@@ -78,17 +102,24 @@ impl OutputEval {
             out: vec![0.0; n_out],
             g: vec![0.0; nc],
             tapes,
-            columns,
+            columns: columns.clone(),
             unwrap,
             cardan,
             want_constraint_error: true,
             reactions,
+            drivers,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
             max_g: 0.0,
             prev: None,
             energy_exchange: sys.energy_exchange.clone(),
+            power_columns: sys
+                .drivers
+                .iter()
+                .filter_map(|d| columns.iter().position(|c| *c == d.columns()[1]))
+                .collect(),
+            driver_work: (0.0, None),
         }
     }
 
@@ -149,8 +180,21 @@ impl OutputEval {
             row.resize(at + r.n_columns, 0.0);
             r.eval(t, x, &mut row[at..]);
         }
+        if let Some(r) = &mut self.drivers {
+            let at = row.len();
+            row.resize(at + r.n_columns, 0.0);
+            r.eval(t, x, &mut row[at..]);
+        }
         if self.want_constraint_error {
             row.push(ge);
+        }
+        if !self.power_columns.is_empty() {
+            let p: f64 = self.power_columns.iter().map(|&k| row[k]).sum();
+            let (w, last) = &mut self.driver_work;
+            if let Some((t0, p0)) = *last {
+                *w += 0.5 * (t - t0) * (p + p0);
+            }
+            *last = Some((t, p));
         }
         row
     }
@@ -180,5 +224,8 @@ impl RowEval for OutputEval {
     }
     fn energy_exchange(&self) -> Option<String> {
         self.energy_exchange.clone()
+    }
+    fn driver_work(&self) -> Option<f64> {
+        (!self.power_columns.is_empty()).then_some(self.driver_work.0)
     }
 }

@@ -53,6 +53,17 @@ pub struct Summary {
     /// Why energy is not conserved (the first damper, load, resistor or source that
     /// exchanges it), or empty.
     pub energy_note: String,
+    /// The drivers' work `∫ Σ P_d dt` (J) from the start to the last row, by the trapezoidal
+    /// rule on the rows' `<driver>.power` columns: the energy balance of a driven scene is
+    /// `E(t) − E(0) = W_drivers + W_loads − W_dampers`; `None` (JSON `null`) without drivers.
+    pub driver_work: Option<f64>,
+    /// Degrees of freedom left by the joints and drivers at the start (`n_v − rank G_v`).
+    pub dof: usize,
+    /// The drivers take every degree of freedom (`dof` 0): a kinematic analysis — positions by
+    /// Newton on the rows, velocities and accelerations from the rows' derivatives, efforts
+    /// (driver torques, reactions) from the dynamics (inverse dynamics): no integration error
+    /// beyond the Newton tolerance.
+    pub kinematic_analysis: bool,
     /// Whether the solve reached its last output time.
     pub completed: bool,
     /// The time the integration reached (the last output time when `completed`).

@@ -34,7 +34,9 @@ mod weld;
 use crate::mech::error::MechError;
 use crate::scene::JointKind;
 pub use joint::Glyph;
-pub(crate) use joint::{common_frame, Drawing, Ends, Joint, RowWriter};
+pub(crate) use joint::{
+    common_frame, perpendicular_pair, unit_axis, Drawing, Ends, Joint, RowWriter,
+};
 
 /// The one dispatch from a scene's joint kind to its type.
 pub(super) fn joint_type(kind: &JointKind) -> Box<dyn Joint + '_> {

@@ -186,7 +186,10 @@ fn compliant_velocities(
     let gv = tapes.gv.matrix(t, &y[..nq + nv]);
     let v = nalgebra::DVector::from_column_slice(&y[nq..nq + nv]);
     let lam = nalgebra::DVector::from_column_slice(&y[nq + nv..nq + nv + nc]);
-    let defect = &lam * eps - &gv * &v;
+    let mut defect = &lam * eps - &gv * &v;
+    if tapes.bias.is_some() {
+        defect -= nalgebra::DVector::from_vec(tapes.bias_at(t, &y[..nq + nv]));
+    }
     let svd = gv.svd(true, true);
     // directions of (nearly) lost rank are left alone: there the row residual is small anyway
     let tol = 1e-6 * svd.singular_values.max().max(1e-300);

@@ -99,11 +99,14 @@ fn complete_dependent(
     }
     let gv = rows_of(&tapes.gv.matrix(t, &y[..nq + nv]), rows);
     let block = DMatrix::from_fn(nc, nc, |r, k| gv[(r, dependent[k])]);
+    // G_D v_D = −(G_I v_I + b), b = ∂g/∂t (a driver's prescribed rate)
+    let bias = tapes.bias_at(t, &y[..nq + nv]);
     let rhs = nalgebra::DVector::from_fn(nc, |r, _| {
         -(0..nv)
             .filter(|j| !dependent.contains(j))
             .map(|j| gv[(r, j)] * y[nq + j])
             .sum::<f64>()
+            - bias[rows[r]]
     });
     if let Some(vd) = block.lu().solve(&rhs) {
         for (k, &j) in dependent.iter().enumerate() {
@@ -198,7 +201,11 @@ fn complete_dependent_sparse(
     for &j in dependent {
         in_d[j] = true;
     }
-    let mut vd = vec![0.0; nc];
+    let mut vd: Vec<f64> = tapes
+        .bias_at(t, &y[..nq + nv])
+        .into_iter()
+        .map(|b| -b)
+        .collect();
     for &(r, c, v) in &gv {
         if !in_d[c] {
             vd[r] -= v * y[nq + c];

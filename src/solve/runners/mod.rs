@@ -25,7 +25,7 @@ pub(crate) fn events(
     multipliers: &Multipliers,
 ) -> Option<Events> {
     let eval = EventEval::new(sys, || {
-        ReactionEval::new(sys, &tapes.gv, multipliers.clone())
+        ReactionEval::new(sys, &tapes.gv, multipliers.clone(), (true, true))
     });
     (eval.len() > 0).then(|| Events {
         eval,
@@ -45,7 +45,7 @@ pub(crate) fn solved_multipliers(sys: &MultibodySystem, tapes: &MechanicsTapes) 
 
 /// Whether a solve computes reactions at all (as output columns or inside an event).
 pub(crate) fn needs_reactions(sys: &MultibodySystem) -> bool {
-    sys.reaction_outputs || sys.events.iter().any(|e| e.uses_reactions)
+    sys.reaction_outputs || !sys.drivers.is_empty() || sys.events.iter().any(|e| e.uses_reactions)
 }
 
 /// The compliant GGL's `ε`: `solve.compliance`, or `1e-10 / M_max` (a joint force of 1 N moves

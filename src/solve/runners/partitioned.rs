@@ -685,7 +685,7 @@ pub(crate) fn job<'a>(
     }
     Job {
         formulation: Box::new(Partitioned {
-            with_multipliers: sys.reaction_outputs,
+            with_multipliers: sys.reaction_outputs || !sys.drivers.is_empty(),
             newton_tol: newton_tolerance(opts, qscale),
             sys,
             c,

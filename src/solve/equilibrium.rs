@@ -1,0 +1,348 @@
+//! Static equilibrium: the configuration where every flow and every momentum rate is zero —
+//! the efforts of the springs, the sources (loads, drivers' efforts) and gravity balance
+//! through the junction structure, with the joints' efforts as the multipliers.
+//!
+//! With `v = 0` the multibody system `M v' = Q(t, q, v) − G_vᵀ λ`, `g(q, t) = 0` at rest reads
+//!
+//! ```text
+//!   F(q, λ) = [ Q(t₀, q, 0) − G_v(q)ᵀ λ ]  = 0      (nv rows: the inertias' effort balance)
+//!             [ g(q, t₀)               ]          (nc rows: the joints and drivers held)
+//! ```
+//!
+//! solved by Newton from the scene's configuration (least-squares steps `J Δ = −F` through an
+//! SVD, so a quaternion's scale and redundant rows do no harm), globalised by a backtracking
+//! line search on `½‖F‖²` (Armijo). The Jacobian `J = ∂F/∂(q, λ)` is exact (the expression
+//! graph's derivatives). Stability: the tangent stiffness `K = −∂(Q − G_vᵀ λ)/∂q · ∂(K v)/∂v`
+//! reduced to the degrees of freedom, `K_r = Zᵀ K Z` with `Z` an orthonormal basis of the null
+//! space of `G_v` (the motions the joints and drivers allow), symmetrised; the equilibrium is
+//! stable when `K_r` is positive definite (every eigenvalue above a tolerance relative to the
+//! largest).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::reactions::{Multipliers, ReactionEval};
+use crate::dae::{ConstraintExprs, MechanicsTapes};
+use crate::expr::Expr;
+use crate::mech::MultibodySystem;
+
+/// Largest number of Newton iterations.
+pub const MAX_ITERATIONS: usize = 200;
+
+/// A static equilibrium (see the module documentation).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Equilibrium {
+    /// Whether Newton converged (`‖F‖∞` below the tolerance).
+    pub converged: bool,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// `‖F‖∞` at the solution (N, N·m; the joint rows in m or rad).
+    pub residual: f64,
+    /// The coordinates, keyed by the run CSV's position columns (`bar.x`, `bar.angle`, …).
+    pub coordinates: Vec<(String, f64)>,
+    /// The joints' reactions keyed by their columns (`pivot.Fx`: on the joint's second body,
+    /// global frame, as `run --reactions` writes them).
+    pub reactions: Vec<(String, f64)>,
+    /// The drivers' efforts keyed by their columns (`motor.torque`, `push.force`).
+    pub drivers: Vec<(String, f64)>,
+    /// `K_r` positive definite.
+    pub stable: bool,
+    /// Eigenvalues of the reduced tangent stiffness `K_r`, ascending.
+    pub stiffness_eigenvalues: Vec<f64>,
+    /// The multipliers λ (one per constraint row).
+    pub multipliers: Vec<f64>,
+}
+
+impl Equilibrium {
+    /// The value of coordinate `name` (`bar.angle`).
+    pub fn coordinate(&self, name: &str) -> Option<f64> {
+        self.coordinates
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| *v)
+    }
+
+    /// The JSON document `bondmech equilibrium --json` writes: `converged`, `iterations`,
+    /// `residual`, `coordinates`, `reactions`, `drivers` (objects keyed by column name),
+    /// `stable`, `stiffness_eigenvalues`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let obj = |v: &[(String, f64)]| {
+            serde_json::Value::Object(
+                v.iter()
+                    .map(|(k, x)| (k.clone(), serde_json::json!(x)))
+                    .collect(),
+            )
+        };
+        serde_json::json!({
+            "converged": self.converged,
+            "iterations": self.iterations,
+            "residual": self.residual,
+            "coordinates": obj(&self.coordinates),
+            "reactions": obj(&self.reactions),
+            "drivers": obj(&self.drivers),
+            "stable": self.stable,
+            "stiffness_eigenvalues": self.stiffness_eigenvalues,
+        })
+    }
+}
+
+/// Why no equilibrium was found.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EquilibriumError {
+    /// Newton did not converge within [`MAX_ITERATIONS`].
+    #[error("no equilibrium: Newton diverged ({iterations} iterations, residual {residual:.3e})")]
+    Diverged {
+        /// Iterations done.
+        iterations: usize,
+        /// `‖F‖∞` reached.
+        residual: f64,
+    },
+    /// The line search found no decrease: `‖F‖` has a minimum that is not zero.
+    #[error("no equilibrium: the loads never balance near the start (the residual stalls at {residual:.3e} after {iterations} iterations; worst row: {worst})")]
+    NoBalance {
+        /// Iterations done.
+        iterations: usize,
+        /// `‖F‖∞` reached.
+        residual: f64,
+        /// The row with the largest residual.
+        worst: String,
+    },
+    /// A value is not finite.
+    #[error("no equilibrium: {0} is not finite")]
+    NonFinite(String),
+    /// The scene is a raw bond graph.
+    #[error("equilibrium needs bodies and joints (a raw bond graph has no coordinates)")]
+    RawGraph,
+}
+
+/// The static equilibrium of `sys` nearest its initial configuration, with the loads, drivers
+/// and inputs at `t0` (see the module documentation).
+pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, EquilibriumError> {
+    let mut sys = sys.clone();
+    let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+    let c = ConstraintExprs::derive(&mut sys);
+    let tapes = MechanicsTapes::new(&mut sys, &c, None);
+    // λ in the slots after [t, q, v]
+    let lam_slot = |i: usize| (1 + nq + nv + i) as u32;
+    let g = &mut sys.graph;
+    let mut f: Vec<Expr> = Vec::with_capacity(nv + nc);
+    for j in 0..nv {
+        let mut terms = vec![sys.forces[j]];
+        for i in 0..nc {
+            if !g.is_zero(c.gv[i][j]) {
+                let l = g.var(lam_slot(i));
+                let p = g.mul(c.gv[i][j], l);
+                terms.push(g.neg(p));
+            }
+        }
+        f.push(g.sum(&terms));
+    }
+    f.extend(c.g.iter().copied());
+    let unknown_slots: Vec<u32> = (0..nq)
+        .map(|k| (1 + k) as u32)
+        .chain((0..nc).map(lam_slot))
+        .collect();
+    let mut jac = Vec::with_capacity(f.len() * unknown_slots.len());
+    for &fi in &f {
+        for &s in &unknown_slots {
+            jac.push(g.diff(fi, s));
+        }
+    }
+    // ∂(K v)/∂v: maps velocity directions to coordinate directions
+    let mut kmap = Vec::with_capacity(nq * nv);
+    for k in 0..nq {
+        for j in 0..nv {
+            kmap.push(g.diff(sys.kinematics[k], (1 + nq + j) as u32));
+        }
+    }
+    let f_tape = g.compile(&f);
+    let j_tape = g.compile(&jac);
+    let k_tape = g.compile(&kmap);
+    let n = nq + nc;
+    let m = nv + nc;
+    // the state vector [t, q, v = 0, λ]
+    let mut vars = vec![0.0; 1 + nq + nv + nc];
+    vars[0] = t0;
+    for (k, c0) in sys.coords.iter().enumerate() {
+        vars[1 + k] = c0.initial;
+    }
+    let eval = |tape: &crate::expr::Tape, vars: &[f64]| {
+        let mut out = vec![0.0; tape.n_outputs()];
+        tape.eval(vars, &mut tape.workspace(), &mut out);
+        out
+    };
+    let x_of = |vars: &[f64]| -> Vec<f64> {
+        vars[1..1 + nq]
+            .iter()
+            .chain(&vars[1 + nq + nv..])
+            .copied()
+            .collect()
+    };
+    let set_x = |vars: &mut [f64], x: &[f64]| {
+        vars[1..1 + nq].copy_from_slice(&x[..nq]);
+        vars[1 + nq + nv..].copy_from_slice(&x[nq..]);
+    };
+    let names: Vec<String> = sys
+        .velocities
+        .iter()
+        .map(|v| format!("the effort balance on {}", v.name))
+        .chain(
+            sys.rows
+                .iter()
+                .map(|r| format!("{} ({})", r.joint, r.direction)),
+        )
+        .collect();
+    let norm = |r: &[f64]| r.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let merit = |r: &[f64]| 0.5 * r.iter().map(|x| x * x).sum::<f64>();
+    // first, the joints held: the least change of q onto g = 0 (as a solve's start)
+    if nc > 0 {
+        let init = crate::dae::consistent_state_from(&sys, &tapes, t0, &{
+            let mut x0: Vec<f64> = vars[1..1 + nq].to_vec();
+            x0.extend(std::iter::repeat_n(0.0, nv));
+            x0
+        })
+        .map_err(|e| EquilibriumError::NonFinite(e.to_string()))?;
+        vars[1..1 + nq].copy_from_slice(&init.q);
+        vars[1 + nq + nv..].copy_from_slice(&init.lambda);
+    }
+    let scale = 1.0 + vars[1..1 + nq].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let mut r = eval(&f_tape, &vars);
+    let force_scale = 1.0 + r[..nv].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let tol = |r: &[f64]| {
+        let forces = r[..nv].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let rows = r[nv..].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        forces <= 1e-12 * force_scale && rows <= 1e-13 * scale
+    };
+    let mut iterations = 0;
+    while !tol(&r) {
+        if !r.iter().all(|x| x.is_finite()) {
+            return Err(EquilibriumError::NonFinite("the effort balance".into()));
+        }
+        if iterations >= MAX_ITERATIONS {
+            return Err(EquilibriumError::Diverged {
+                iterations,
+                residual: norm(&r),
+            });
+        }
+        let jv = eval(&j_tape, &vars);
+        let jm = DMatrix::from_row_slice(m, n, &jv);
+        let svd = jm.clone().svd(true, true);
+        let smax = svd.singular_values.max().max(1e-300);
+        let rhs = -DVector::from_column_slice(&r);
+        let step = svd
+            .solve(&rhs, 1e-12 * smax)
+            .map_err(|e| EquilibriumError::NonFinite(e.to_string()))?;
+        // backtracking line search on ½‖F‖² along the Newton step (a descent direction)
+        let x = x_of(&vars);
+        let phi0 = merit(&r);
+        let slope = -2.0 * phi0;
+        let mut alpha = 1.0;
+        let mut accepted = None;
+        while alpha > 1e-10 {
+            let trial: Vec<f64> = x
+                .iter()
+                .zip(step.iter())
+                .map(|(a, d)| a + alpha * d)
+                .collect();
+            let mut tv = vars.clone();
+            set_x(&mut tv, &trial);
+            let rt = eval(&f_tape, &tv);
+            if rt.iter().all(|v| v.is_finite()) && merit(&rt) <= phi0 + 1e-4 * alpha * slope {
+                accepted = Some((tv, rt));
+                break;
+            }
+            alpha *= 0.5;
+        }
+        iterations += 1;
+        match accepted {
+            Some((tv, rt)) => {
+                vars = tv;
+                r = rt;
+            }
+            None => {
+                if tol(&r) {
+                    break;
+                }
+                let worst = r
+                    .iter()
+                    .enumerate()
+                    .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                    .map(|(i, _)| names[i].clone())
+                    .unwrap_or_default();
+                return Err(EquilibriumError::NoBalance {
+                    iterations,
+                    residual: norm(&r),
+                    worst,
+                });
+            }
+        }
+    }
+    // the reduced tangent stiffness
+    let jv = eval(&j_tape, &vars);
+    let kv = eval(&k_tape, &vars);
+    let dq = DMatrix::from_fn(nv, nq, |j, k| -jv[j * n + k]);
+    let kmat = DMatrix::from_row_slice(nq, nv, &kv);
+    let stiffness = dq * kmat; // nv × nv
+    let state: Vec<f64> = vars[1..1 + nq + nv].to_vec();
+    let gvm = tapes.gv.matrix(t0, &state);
+    let z = null_space(&gvm, nv);
+    let kr = z.transpose() * &stiffness * &z;
+    let kr = (&kr + kr.transpose()) * 0.5;
+    let mut eig: Vec<f64> = if kr.nrows() > 0 {
+        kr.symmetric_eigen().eigenvalues.iter().copied().collect()
+    } else {
+        Vec::new()
+    };
+    eig.sort_by(f64::total_cmp);
+    let emax = eig.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let stable = eig.iter().all(|&e| e > 1e-9 * emax.max(1e-300));
+    // reactions and drivers from the multipliers
+    let mut y: Vec<f64> = vars[1..].to_vec();
+    y.truncate(nq + nv + nc);
+    let mut reval = ReactionEval::new(
+        &sys,
+        &tapes.gv,
+        Multipliers::Unknowns(nq + nv),
+        (true, true),
+    );
+    let mut out = vec![0.0; reval.n_columns];
+    reval.eval(t0, &y, &mut out);
+    let columns = sys.reaction_columns();
+    let nr: usize = sys.reactions.iter().map(|r| r.n_columns()).sum();
+    let pairs: Vec<(String, f64)> = columns.into_iter().zip(out).collect();
+    let (reactions, drivers) = pairs.split_at(nr);
+    Ok(Equilibrium {
+        converged: true,
+        iterations,
+        residual: norm(&r),
+        coordinates: sys
+            .coords
+            .iter()
+            .zip(&vars[1..1 + nq])
+            .map(|(c, &v)| (c.name.clone(), v))
+            .collect(),
+        reactions: reactions.to_vec(),
+        drivers: drivers
+            .iter()
+            .filter(|(k, _)| !k.ends_with(".power"))
+            .cloned()
+            .collect(),
+        stable,
+        stiffness_eigenvalues: eig,
+        multipliers: vars[1 + nq + nv..].to_vec(),
+    })
+}
+
+/// An orthonormal basis (columns) of the null space of `a` (`rows × cols`).
+fn null_space(a: &DMatrix<f64>, cols: usize) -> DMatrix<f64> {
+    if a.nrows() == 0 {
+        return DMatrix::identity(cols, cols);
+    }
+    // the eigenvectors of aᵀa with (relatively) zero eigenvalue
+    let ata = a.transpose() * a;
+    let e = ata.symmetric_eigen();
+    let lmax = e.eigenvalues.amax().max(1e-300);
+    let keep: Vec<usize> = (0..cols)
+        .filter(|&k| e.eigenvalues[k].abs() <= 1e-10 * lmax)
+        .collect();
+    DMatrix::from_fn(cols, keep.len(), |i, k| e.eigenvectors[(i, keep[k])])
+}
