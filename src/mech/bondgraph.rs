@@ -198,18 +198,7 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
         if open {
             break;
         }
-        let path = format!("drivers[{di}]");
-        let Some((ji, j)) = scene
-            .joints
-            .iter()
-            .enumerate()
-            .find(|(_, j)| j.name == d.joint)
-        else {
-            return Err(MechError::at(
-                &format!("{path}.joint"),
-                format!("no joint named '{}'", d.joint),
-            ));
-        };
+        let (ji, j) = super::geometry::driven_joint(scene, di)?;
         let terms: Vec<(crate::bond::model::ElementId, String)> = if d.kind.is_rotation() {
             [(1, "1"), (0, "-1")]
                 .into_iter()

@@ -329,18 +329,7 @@ impl Geometry<'_> {
         };
         for (di, d) in self.scene.drivers.iter().enumerate() {
             let path = format!("drivers[{di}]");
-            let Some((ji, j)) = self
-                .scene
-                .joints
-                .iter()
-                .enumerate()
-                .find(|(_, j)| j.name == d.joint)
-            else {
-                return Err(MechError::at(
-                    &format!("{path}.joint"),
-                    format!("no joint named '{}'", d.joint),
-                ));
-            };
+            let (ji, j) = driven_joint(self.scene, di)?;
             let jpath = format!("joints[{ji}]");
             let ends = Ends {
                 pa: self.point(&j.bodies[0], &j.points[0], &format!("{jpath}.points[0]"))?,
@@ -598,4 +587,23 @@ pub(super) fn energy_exchange(scene: &Scene) -> Option<String> {
         .enumerate()
         .find(|(_, s)| s.damping != 0.0)
         .map(|(i, s)| format!("springs[{i}] ('{}') has damping {}", s.name, s.damping))
+}
+
+/// The joint `scene.drivers[di]` drives and its index, or an error at `drivers[di].joint`.
+pub(crate) fn driven_joint(
+    scene: &crate::scene::Scene,
+    di: usize,
+) -> Result<(usize, &crate::scene::Joint), MechError> {
+    let d = &scene.drivers[di];
+    scene
+        .joints
+        .iter()
+        .enumerate()
+        .find(|(_, j)| j.name == d.joint)
+        .ok_or_else(|| {
+            MechError::at(
+                &format!("drivers[{di}].joint"),
+                format!("no joint named '{}'", d.joint),
+            )
+        })
 }

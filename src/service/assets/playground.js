@@ -519,9 +519,7 @@
         });
       });
     }
-    var q = new URLSearchParams(solveQuery().slice(1));
-    q.set('formulation', 'decoupled');
-    return post('/v1/animate?' + q.toString(), body, signal).then(function (r) {
+    return post(animateQuery('svg', 'decoupled'), body, signal).then(function (r) {
       if (!r.ok || state.anim !== a) return null;
       return r.text().then(function (text) {
         var svg = safeSvg(text);
