@@ -175,6 +175,13 @@ pub struct FmuConfig {
 
 /// The unit of an output column, in the FMI spelling (`None`: dimensionless or mixed).
 pub fn column_unit(column: &str) -> Option<&'static str> {
+    // a driver's effort and power (`motor.torque`, `feed.force`, `motor.power`)
+    match column.rsplit('.').next() {
+        Some("torque") => return Some("N.m"),
+        Some("force") => return Some("N"),
+        Some("power") => return Some("W"),
+        _ => {}
+    }
     match crate::report::timeplot::plot_group(column).unit {
         "m" => Some("m"),
         "rad" => Some("rad"),
@@ -224,6 +231,7 @@ fn base_units(unit: &str) -> Option<&'static [(&'static str, i32)]> {
         "rad/s" => &[("rad", 1), ("s", -1)],
         "J" | "N.m" => &[("kg", 1), ("m", 2), ("s", -2)],
         "N" => &[("kg", 1), ("m", 1), ("s", -2)],
+        "W" => &[("kg", 1), ("m", 2), ("s", -3)],
         "kg.m2" => &[("kg", 1), ("m", 2)],
         "N/m" => &[("kg", 1), ("s", -2)],
         "N.s/m" => &[("kg", 1), ("s", -1)],
@@ -249,7 +257,8 @@ fn value_at<'a>(root: &'a serde_json::Value, path: &ScenePath) -> Option<&'a ser
 
 /// The output columns an FMU has by default: every body's position and angle (`b.x`, `b.y`,
 /// `b.angle`; in space `b.x`, `b.y`, `b.z`, `b.psi`, `b.theta`, `b.phi`) and the coordinates of
-/// the requested points (`b.P.x`, …); every column for a raw bond graph.
+/// the requested points (`b.P.x`, …), and each driver's effort and power (`motor.torque`,
+/// `motor.power`); every column for a raw bond graph.
 pub fn default_outputs(scene: &Scene, columns: &[String]) -> Vec<String> {
     if scene.bond_graph.is_some() {
         return columns.to_vec();
@@ -272,6 +281,10 @@ pub fn default_outputs(scene: &Scene, columns: &[String]) -> Vec<String> {
                 wanted.extend(["x", "y", "z"].iter().map(|c| format!("{o}.{c}")));
             }
         }
+    }
+    for d in &scene.drivers {
+        wanted.push(format!("{}.{}", d.name, d.kind.effort()));
+        wanted.push(format!("{}.power", d.name));
     }
     columns
         .iter()

@@ -31,8 +31,8 @@ pub struct FmuArgs {
     /// A scene input to expose (default: all of the scene's `inputs`); repeatable.
     #[arg(long = "input", value_name = "NAME")]
     inputs: Vec<String>,
-    /// An output column (default: every body's position and angle and the requested
-    /// points); repeatable.
+    /// An output column (default: every body's position and angle, the requested points and
+    /// the drivers' effort and power); repeatable.
     #[arg(long = "output", value_name = "COLUMN")]
     outputs: Vec<String>,
     /// The FMU's shared library (default: `BONDMECH_FMU_LIBRARY`, else `libbondmech_fmu.so`

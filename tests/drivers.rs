@@ -46,9 +46,27 @@ struct Crank {
     mp: f64,
     th0: f64,
     w: f64,
+    /// Driven at `ω(t) = w (1 − e^{−2t}/2)` (an `angular_velocity` of t) instead of at `w`.
+    spin_up: bool,
 }
 
 impl Crank {
+    /// The crank angle `θ(t)`: `θ0 + w t`, or spinning up `θ0 + w (t + (e^{−2t} − 1)/4)`.
+    fn angle(&self, t: f64) -> f64 {
+        if self.spin_up {
+            self.th0 + self.w * (t + ((-2.0 * t).exp() - 1.0) / 4.0)
+        } else {
+            self.th0 + self.w * t
+        }
+    }
+    /// The crank speed `θ'(t)`.
+    fn speed(&self, t: f64) -> f64 {
+        if self.spin_up {
+            self.w * (1.0 - 0.5 * (-2.0 * t).exp())
+        } else {
+            self.w
+        }
+    }
     fn jc(&self) -> f64 {
         self.mc * self.r * self.r / 12.0
     }
@@ -57,7 +75,7 @@ impl Crank {
     }
     /// Exact kinematics at time `t`: crank angle, crank pin A, piston y, rod angle.
     fn pose(&self, t: f64) -> (f64, [f64; 2], f64, f64) {
-        let th = self.th0 + self.w * t;
+        let th = self.angle(t);
         let a = [self.r * th.cos(), self.r * th.sin()];
         let yb = a[1] + (self.l * self.l - a[0] * a[0]).sqrt();
         let phi = (yb - a[1]).atan2(-a[0]);
@@ -101,7 +119,7 @@ impl Crank {
         let (th, _, _, _) = self.pose(t);
         let vy = derivative(|t| vec![self.pose(t).2], t)[0];
         let f = -20.0 * (1.0 + th.cos());
-        (e - f * vy) / self.w
+        (e - f * vy) / self.speed(t)
     }
     fn scene(&self) -> Value {
         let (th, a, yb, phi) = self.pose(0.0);
@@ -130,8 +148,13 @@ impl Crank {
             ],
             "loads": [{"name": "gas", "type": "force", "body": "piston", "point": "P",
                        "value": ["0", "-20*(1 + cos(crank.angle))"]}],
-            "drivers": [{"name": "motor", "joint": "main_bearing",
-                         "angle": format!("{} + {}*t", self.th0, self.w)}],
+            "drivers": [if self.spin_up {
+                json!({"name": "motor", "joint": "main_bearing",
+                       "angular_velocity": format!("{}*(1 - 0.5*exp(-2*t))", self.w)})
+            } else {
+                json!({"name": "motor", "joint": "main_bearing",
+                       "angle": format!("{} + {}*t", self.th0, self.w)})
+            }],
             "solve": {"t_end": 0.7, "output_step": 0.01},
             "outputs": ["piston.P"]
         })
@@ -162,12 +185,28 @@ fn crank() -> Crank {
         mp: 0.3,
         th0: 1.0471975511965976,
         w: 10.0,
+        spin_up: false,
     }
 }
 
 #[test]
 fn slider_crank_driven_at_constant_speed_is_inverse_dynamics_with_the_power_balance_torque() {
-    let c = crank();
+    driven_slider_crank_matches_its_kinematics_and_power_balance(crank());
+}
+
+/// A rate driver whose speed is an expression of t (`angular_velocity`
+/// `10*(1 − 0.5 exp(−2t))`): the row is the integral of the rate in closed form, so the crank
+/// angle is `θ0 + 10 (t + (e^{−2t} − 1)/4)` to the Newton tolerance, and the torque closes the
+/// power balance as at constant speed.
+#[test]
+fn slider_crank_spun_up_by_a_rate_of_t_follows_the_integrated_angle_and_power_balance() {
+    driven_slider_crank_matches_its_kinematics_and_power_balance(Crank {
+        spin_up: true,
+        ..crank()
+    });
+}
+
+fn driven_slider_crank_matches_its_kinematics_and_power_balance(c: Crank) {
     let scene = c.scene();
     let model = Model::new(&Scene::from_json_str(&scene.to_string()).unwrap()).unwrap();
     assert_eq!(model.dof().unwrap().dof, 0, "the driver takes the one DOF");
@@ -180,12 +219,19 @@ fn slider_crank_driven_at_constant_speed_is_inverse_dynamics_with_the_power_bala
         let t = sol.times.clone();
         let y = col(&sol, "piston.P.y");
         let tau = col(&sol, "motor.torque");
+        let angle = col(&sol, "crank.angle");
         let power = col(&sol, "motor.power");
         let want: Vec<f64> = t.iter().map(|&t| c.torque(t)).collect();
         let peak = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         assert!(peak > 1.0, "a torque worth checking: peak {peak}");
         for k in 0..t.len() {
-            let (_, _, yb, _) = c.pose(t[k]);
+            let (th, _, yb, _) = c.pose(t[k]);
+            assert!(
+                (angle[k] - th).abs() < 1e-9,
+                "{f:?} t = {}: crank angle {} vs {th}",
+                t[k],
+                angle[k]
+            );
             assert!(
                 (y[k] - yb).abs() < 1e-9,
                 "{f:?} t = {}: piston {} vs exact {yb}",
@@ -199,7 +245,7 @@ fn slider_crank_driven_at_constant_speed_is_inverse_dynamics_with_the_power_bala
                 tau[k],
                 want[k]
             );
-            assert!((power[k] - want[k] * c.w).abs() < 1e-6 * peak * c.w);
+            assert!((power[k] - want[k] * c.speed(t[k])).abs() < 1e-6 * peak * c.w);
         }
         let worst = (0..t.len())
             .map(|k| (tau[k] - want[k]).abs())
@@ -391,6 +437,14 @@ fn bad_drivers_are_refused_naming_the_path() {
         json!([{"name": "m", "joint": "main_bearing", "angle": "t", "angular_velocity": 2}]),
     ));
     assert!(e.contains("drivers[0].angular_velocity"), "{e}");
+    // a rate with no closed-form integral: refused naming the path and the term
+    let e = refusal(&bad(
+        json!([{"name": "m", "joint": "main_bearing", "angular_velocity": "1 + sin(t^2)"}]),
+    ));
+    assert!(
+        e.contains("drivers[0].angular_velocity") && e.contains("sin(t^2)") && e.contains("angle"),
+        "{e}"
+    );
 }
 
 /// The bundled driven slider-crank: the bond graph draws the driver as `Sf motor`, causality

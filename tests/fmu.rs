@@ -70,6 +70,13 @@ fn stepped_input_equals_a_step_expression_of_t() {
     check("input");
 }
 
+/// A driver's speed given as an input and stepped by FMPy: the crank angle is the integral of
+/// the steps (closed form) to 1e-8 rad.
+#[test]
+fn a_driver_speed_input_stepped_by_the_importer_turns_the_crank_by_its_integral() {
+    check("driver_input");
+}
+
 /// `bodies[bar2].mass` set through the FMU equals `run --set`.
 #[test]
 fn parameter_set_through_the_fmu_equals_run_set() {

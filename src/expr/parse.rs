@@ -12,8 +12,9 @@
 //! ```
 //! A name in backquotes may hold any character but a backquote: `` `x_left-arm.omega` `` is the
 //! angle of a body called `left-arm` ([`quote_name`] writes a name so).
-//! Functions: `sin cos tan sqrt abs exp ln log(=ln)` (one argument), `atan2 min max pow`
-//! (two). The name `pi` is the constant π; every other name goes to the resolver.
+//! Functions: `sin cos tan sqrt abs exp ln log(=ln) sign` (one argument), `atan2 min max pow`
+//! (two), `select(c, a, b)` (`a` where `c > 0`, else `b`: what the derivative of `min`, `max`
+//! and `abs` is written with, so that every expression the graph displays reads back). The name `pi` is the constant π; every other name goes to the resolver.
 
 use super::graph::{Expr, ExprGraph};
 
@@ -133,10 +134,12 @@ pub const FUNCTIONS: &[(&str, usize)] = &[
     ("exp", 1),
     ("ln", 1),
     ("log", 1),
+    ("sign", 1),
     ("atan2", 2),
     ("min", 2),
     ("max", 2),
     ("pow", 2),
+    ("select", 3),
 ];
 
 /// Whether `name` is one of the [`FUNCTIONS`].
@@ -432,6 +435,8 @@ impl Parser<'_, '_> {
             "abs" => g.abs(args[0]),
             "exp" => g.exp(args[0]),
             "ln" | "log" => g.ln(args[0]),
+            "sign" => g.sign(args[0]),
+            "select" => g.select(args[0], args[1], args[2]),
             "atan2" => g.atan2(args[0], args[1]),
             "min" => g.min(args[0], args[1]),
             "max" => g.max(args[0], args[1]),

@@ -454,28 +454,29 @@ impl Geometry<'_> {
                     ))
                 }
             };
-            // s(t): the value, or for a rate the coordinate at the start plus w (t − t_start)
+            // s(t): the value, or for a rate the coordinate at the start plus ∫_{t_start}^{t} ṡ
+            // (the flow source integrated, in closed form: exact rows and derivatives)
             let s_t = if d.kind.is_rate() {
-                if g.vars(value).contains(&0) {
-                    return Err(MechError::at(
+                let prim = g.antiderivative(value, 0).map_err(|e| {
+                    MechError::at(
                         &vpath,
                         format!(
-                            "a prescribed {} must be a constant here (got \"{}\"); give a time-varying motion as the {} (an expression of t)",
+                            "the prescribed {} \"{}\" is integrated to the joint's coordinate, and {e}; give the motion as the {} instead",
                             d.kind.key(),
                             d.value,
                             if d.kind.is_rotation() { "angle" } else { "displacement" }
                         ),
-                    ));
-                }
+                    )
+                })?;
                 let s0 = match &coordinate {
                     Coordinate::Linear(e) => g.eval(*e, &x0),
                     Coordinate::Turn(..) => 0.0,
                 };
                 let t0 = g.constant(self.scene.solve.t_start);
-                let dt = g.sub(tv, t0);
-                let ramp = g.mul(value, dt);
+                let at_start = g.substitute(prim, &[(0, t0)]);
+                let swept = g.sub(prim, at_start);
                 let s0 = g.constant(s0);
-                g.add(s0, ramp)
+                g.add(s0, swept)
             } else {
                 value
             };

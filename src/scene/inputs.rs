@@ -26,7 +26,8 @@ use super::model::{LoadValue, Scene, SCALAR_OUTPUTS};
 
 /// Names an input may not take: the time, π and the expression functions.
 const RESERVED: &[&str] = &[
-    "t", "pi", "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "log", "atan2", "min", "max", "pow",
+    "t", "pi", "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "log", "atan2", "min", "max",
+    "pow", "sign", "select",
 ];
 
 /// Whether `name` is a plain identifier: letters, digits and `_`, not starting with a digit.
