@@ -285,6 +285,8 @@ pub struct PartitionedRhs {
     yd: Vec<f64>,
     /// `q_I` of the last converged call (for the tangent predictor).
     qi_prev: Vec<f64>,
+    /// The time of `qi_prev` (the last converged position solve).
+    t_prev: f64,
     have_prev: bool,
     /// `bv` holds `B = G_D⁻¹ G_I` of the last completed call (else the raw `G_v[:, I]`).
     b_ready: bool,
@@ -397,6 +399,7 @@ impl PartitionedRhs {
             with_multipliers: Vec::with_capacity(nq + nv + nc),
             yd: vec![0.0; niq + niv],
             qi_prev: vec![0.0; niq],
+            t_prev: f64::NAN,
             have_prev: false,
             b_ready: false,
             c_ready: false,
@@ -541,6 +544,18 @@ impl PartitionedRhs {
                     }
                     self.tmp[k] = s;
                 }
+                // rheonomic rows (drivers) move with time too: G_D Δq_D = −(G_I Δq_I + g_t Δt),
+                // `g_t` at the last solve (with no DOF left, that is the whole prediction)
+                if let Some(bias) = self.sys.bias.as_ref().filter(|_| self.t_prev.is_finite()) {
+                    let dt = t - self.t_prev;
+                    self.vars[0] = self.t_prev;
+                    let mut b = vec![0.0; nc];
+                    bias.eval(&self.vars, &mut bias.workspace(), &mut b);
+                    self.vars[0] = t;
+                    for k in 0..nc {
+                        self.tmp[k] += b[k] * dt;
+                    }
+                }
                 self.jq.solve(&mut self.tmp[..nc]);
             }
             for (k, &i) in dq.iter().enumerate() {
@@ -607,6 +622,7 @@ impl PartitionedRhs {
                     }
                 }
                 self.qi_prev.copy_from_slice(&y[..niq]);
+                self.t_prev = t;
                 self.have_prev = true;
                 return Ok(());
             }

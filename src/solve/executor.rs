@@ -107,6 +107,13 @@ fn reduced_integrator(
     opts: &SolveOptions,
 ) -> Result<Integ, SolveError> {
     let stop_time = opts.output_times.last().copied();
+    if p.y0.is_empty() {
+        // DOF 0: a kinematic analysis, nothing to integrate
+        let roots = p.roots.map(|(n, f, _)| (n, f));
+        return Ok(Integ::Kinematic(super::kinematic::KinematicSteps::new(
+            t, roots,
+        )?));
+    }
     if p.integrator == Integrator::Erk {
         let eo = ErkOptions {
             rtol: opts.rtol,

@@ -85,17 +85,10 @@ fn solve_from_first_output(
         ));
     }
     // the partitioned ODE's states are the degrees of freedom: with none there is nothing to
-    // integrate (it failed as "invalid input: y0 is empty")
+    // integrate, and its rows are the kinematic analysis (solve::kinematic steps to them)
     let dof = init.v.len().saturating_sub(init.rank);
     summary.dof = dof;
     summary.kinematic_analysis = dof == 0 && !sys.drivers.is_empty();
-    if opts.formulation == FormulationKind::Partitioned && dof == 0 {
-        return Err(SolveError::Options(format!(
-            "formulation 'partitioned': the mechanism has 0 degrees of freedom (its joints fix all {} velocity coordinates: G_v has rank {}), so the partitioned ODE has no state to integrate; solve it with 'dae' (the default), which holds it in place",
-            init.v.len(),
-            init.rank
-        )));
-    }
     let mut build = build_cpu_seconds + clock.elapsed().as_secs_f64();
     // the formulation's build (and the index-1 DAE's causality analysis) is model building,
     // not integration

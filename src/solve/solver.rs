@@ -4,6 +4,7 @@
 //! ([`super::executor`]).
 
 use super::error::SolveError;
+use super::kinematic::KinematicSteps;
 use crate::sundials::{Cvode, Erk, Ida, SolverError, SolverStats, Step};
 
 /// One integrator.
@@ -11,6 +12,8 @@ pub(super) enum Integ {
     Ida(Ida),
     Cvode(Cvode),
     Erk(Erk),
+    /// A reduced problem with no state (a kinematic analysis): straight to each time.
+    Kinematic(KinematicSteps),
 }
 
 /// The integrator of the current segment, with the counters of the earlier segments and of
@@ -26,6 +29,7 @@ macro_rules! each {
             Integ::Ida($i) => $e,
             Integ::Cvode($i) => $e,
             Integ::Erk($i) => $e,
+            Integ::Kinematic($i) => $e,
         }
     };
 }
@@ -76,6 +80,7 @@ impl Solver {
             Integ::Ida(i) => i.t(),
             Integ::Cvode(c) => c.last_step_time(),
             Integ::Erk(e) => e.last_step_time(),
+            Integ::Kinematic(k) => k.last_step_time(),
         }
     }
 
@@ -116,6 +121,7 @@ impl Solver {
                 e.reinit(t, y)?;
                 e.set_init_step(if h.is_finite() { h.abs() } else { 0.0 })?;
             }
+            Integ::Kinematic(k) => k.reinit(t)?,
         }
         Ok(())
     }

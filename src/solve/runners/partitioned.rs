@@ -384,6 +384,12 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         } else {
             "CVODE".into()
         };
+        if y0.is_empty() {
+            // DOF 0: nothing to integrate; each row is the dependent block's Newton solve
+            // (solve::kinematic steps to the output times)
+            summary.integrator = "none".into();
+            summary.solver = "none (kinematic analysis)".into();
+        }
         summary.unknowns = y0.len();
         let degraded = Arc::new(AtomicBool::new(false));
         let oc: SharedRhs = Arc::new(Mutex::new(core));
