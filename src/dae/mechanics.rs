@@ -126,6 +126,23 @@ impl ConstraintExprs {
     }
 }
 
+impl ConstraintExprs {
+    /// The quantities of the rows `kept` only (in that order): the independent rows of
+    /// redundant joints ([`crate::dae::independent_rows`]), which determine the motion alone.
+    pub fn keep_rows(&self, kept: &[usize]) -> ConstraintExprs {
+        let pick = |v: &[Expr]| kept.iter().map(|&k| v[k]).collect::<Vec<_>>();
+        let pick_rows = |v: &[Vec<Expr>]| kept.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
+        ConstraintExprs {
+            g: pick(&self.g),
+            gq: pick_rows(&self.gq),
+            gvv: pick(&self.gvv),
+            gv: pick_rows(&self.gv),
+            gamma: pick(&self.gamma),
+            bias: pick(&self.bias),
+        }
+    }
+}
+
 /// `(k, ∂e/∂x_{slots[k]})` for every `k` whose slot `e` mentions, `k` ascending (derivatives
 /// that simplify to zero included, as a dense loop over all `k` would give them). `slots` is
 /// ascending.

@@ -72,12 +72,32 @@ pub struct PartitionedSystem {
     gv_is_gq: bool,
     /// Coordinates preferred as dependent (translations, as the seed's causality picks them).
     preferred_q: Vec<bool>,
+    /// Redundant joints: the rows kept (an independent set, [`super::independent_rows`]) and
+    /// the number of all rows; the multipliers of the rows left out are reported as zero.
+    kept_rows: Option<(Vec<usize>, usize)>,
 }
 
 impl PartitionedSystem {
+    /// The system on the joint rows `kept` only, where the joints are redundant (`kept` an
+    /// independent set of rows, [`super::independent_rows`]): the rows left out follow from
+    /// the kept ones, so the dependent block is square on `kept`; the multipliers of the rows
+    /// left out are zero in [`PartitionedRhs::full_with_multipliers`] (their reactions are not
+    /// determined by the motion).
+    pub fn on_rows(sys: &mut MultibodySystem, c: &ConstraintExprs, kept: Vec<usize>) -> Self {
+        let full = c.g.len();
+        let mut s = Self::new(sys, &c.keep_rows(&kept));
+        s.kept_rows = Some((kept, full));
+        s
+    }
+
+    /// The joint rows kept and the number of all rows, where the joints are redundant.
+    pub fn kept_rows(&self) -> Option<&(Vec<usize>, usize)> {
+        self.kept_rows.as_ref()
+    }
+
     /// Compiles the tapes from the system and its constraint calculus.
     pub fn new(sys: &mut MultibodySystem, c: &ConstraintExprs) -> Self {
-        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), c.g.len());
         let identity_kinematics = nq == nv
             && (0..nq).all(|i| {
                 let s = sys.v_slot(i);
@@ -120,6 +140,7 @@ impl PartitionedSystem {
             identity_kinematics,
             gv_is_gq,
             preferred_q: super::partition::preferred_coordinates(sys),
+            kept_rows: None,
         }
     }
 
@@ -921,6 +942,14 @@ impl PartitionedRhs {
         if nc > 0 {
             let lu = if self.share { &self.jq } else { &self.jv };
             lu.solve_transposed(&mut out[nq + nv..]);
+        }
+        if let Some((kept, full)) = &self.sys.kept_rows {
+            // every joint row's multiplier, zero on the rows left out
+            let kept_lambda = out.split_off(nq + nv);
+            out.resize(nq + nv + full, 0.0);
+            for (&r, l) in kept.iter().zip(kept_lambda) {
+                out[nq + nv + r] = l;
+            }
         }
         Ok(&self.with_multipliers)
     }

@@ -72,13 +72,13 @@ fn solve_from_first_output(
             init.velocity_correction
         ));
     }
-    // the chapter's index-1 DAE leaves redundant rows out of its dependent block (and says so);
-    // the other IDA formulations take the compliant GGL
-    let index1 = matches!(
+    // the chapter's index-1 DAE and the partitioned ODE leave redundant rows out of their
+    // dependent block (and say so); the other IDA formulations take the compliant GGL
+    let own_rows = matches!(
         opts.formulation,
-        FormulationKind::Dae | FormulationKind::Index1
+        FormulationKind::Dae | FormulationKind::Index1 | FormulationKind::Partitioned
     );
-    if !init.redundant_joints.is_empty() && !index1 {
+    if !init.redundant_joints.is_empty() && !own_rows {
         summary.warnings.push(format!(
             "redundant constraints at t = {t0}: joints [{}] are linearly dependent; solved with the compliant GGL",
             init.redundant_joints.join(", ")

@@ -127,7 +127,7 @@ fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
 /// `λ` (a least-squares solution over all rows, as the consistent start gives it), with the
 /// other rows' held at zero: `λ_R = (G_R G_Rᵀ)⁻¹ G_R (G_vᵀ λ)`, exact where `G_R` spans the row
 /// space of `G_v`. `λ` itself when every row is independent.
-fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
+pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
     if rows.len() == gv.nrows() {
         return lambda.to_vec();
     }

@@ -280,6 +280,29 @@ impl<'a> Partitioned<'a> {
             .choose(t, x, &self.causal.preferred_at(t, &x[..nq]))
     }
 
+    /// Redundant joints whose kept rows lose their grip (the self-stress turns with the
+    /// mechanism): another independent set of rows at the last output, when one exists and
+    /// differs (the system is compiled again on it, as the index-1 DAE re-selects its rows).
+    fn fresh_rows(&mut self, summary: &mut Summary) -> Option<()> {
+        let (kept, full) = self.psys.kept_rows()?.clone();
+        let t = self.t_start;
+        let gv = self.tapes.gv.matrix(t, &self.x);
+        let redundant = full - kept.len();
+        let fresh = crate::dae::independent_rows(&gv, redundant, &[]).filter(|f| *f != kept)?;
+        summary.warnings.push(format!(
+            "partitioned: independent joint rows re-selected at t = {t:.6} (left out: {})",
+            (0..full)
+                .filter(|k| !fresh.contains(k))
+                .map(|k| format!("{}.{}", self.sys.rows[k].joint, self.sys.rows[k].direction))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        self.psys = Arc::new(PartitionedSystem::on_rows(&mut self.sys, self.c, fresh));
+        self.last_part = None;
+        self.stalls = 0;
+        Some(())
+    }
+
     /// A singular passage from `t_start`: the compliant GGL carries it.
     fn passage(&mut self, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
@@ -344,6 +367,15 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
                 (p, k)
             })
             .filter(|(_, k)| *k <= SINGULAR_PARTITION * self.scale && self.stalls < MAX_RETRIES);
+        let choice = match choice {
+            None => self.fresh_rows(summary).and_then(|()| {
+                self.choose(t_start, &self.x).and_then(|p| {
+                    let k = self.psys.condition(&p, t_start, &self.x);
+                    (k <= SINGULAR_PARTITION * self.scale).then_some((p, k))
+                })
+            }),
+            some => some,
+        };
         let Some((part, _)) = choice else {
             return self.passage(summary);
         };
@@ -649,16 +681,47 @@ pub(crate) fn job<'a>(
 ) -> Job<'a> {
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let t0 = opts.output_times[0];
-    if !init.redundant_joints.is_empty() {
-        // redundant everywhere: no partition exists at any time; the compliant GGL solves it
-        // (the caller has named the joints in a warning)
-        let eps = super::default_compliance(&sys, opts);
-        let ggl = GglFormulation::build(&mut sys, c, eps);
-        // the summary names what runs: no formulation silently becomes another
-        summary.formulation = "compliant_ggl".into();
-        return super::ggl::job(sys, ggl, tapes, init, (eps, eps), t0, opts);
-    }
-    let psys = Arc::new(PartitionedSystem::new(&mut sys, c));
+    let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+    let causal = CausalPartition::new(&sys, t0);
+    // redundant joints: the partition of the chapter's causality on an independent set of the
+    // joint rows, the one the index-1 DAE takes (the causality's redundant junctions left out
+    // first); the rows left out follow from the others
+    let mut first_lambda = init.lambda.clone();
+    let psys = if init.redundant_joints.is_empty() {
+        PartitionedSystem::new(&mut sys, c)
+    } else {
+        let full = tapes.gv.matrix(t0, &x);
+        let hint = causal.redundant_rows(&sys.rows);
+        let Some(kept) = crate::dae::independent_rows(&full, nc - init.rank.min(nc), &hint) else {
+            // no regular set of rows at the start: the compliant GGL solves it (the summary
+            // names what runs: no formulation silently becomes another)
+            let eps = super::default_compliance(&sys, opts);
+            let ggl = GglFormulation::build(&mut sys, c, eps);
+            summary.formulation = "compliant_ggl".into();
+            summary.warnings.push(format!(
+                "partitioned: redundant joints [{}] with no regular set of independent rows at t = {t0}; solved with the compliant GGL",
+                init.redundant_joints.join(", ")
+            ));
+            return super::ggl::job(sys, ggl, tapes, init, (eps, eps), t0, opts);
+        };
+        let left: Vec<String> = (0..nc)
+            .filter(|k| !kept.contains(k))
+            .map(|k| format!("{}.{}", sys.rows[k].joint, sys.rows[k].direction))
+            .collect();
+        summary.warnings.push(format!(
+            "partitioned: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
+            left.join(", "),
+            kept.len(),
+            init.redundant_joints.join(", ")
+        ));
+        let on_kept = super::index1::multipliers_on_rows(&full, &init.lambda, &kept);
+        first_lambda = vec![0.0; nc];
+        for (&r, l) in kept.iter().zip(on_kept) {
+            first_lambda[r] = l;
+        }
+        PartitionedSystem::on_rows(&mut sys, c, kept)
+    };
+    let psys = Arc::new(psys);
     let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let qscale = 1.0 + init.q.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     let multipliers = Multipliers::Unknowns(nq + nv);
@@ -666,11 +729,10 @@ pub(crate) fn job<'a>(
     let events = super::events(&sys, &tapes, &multipliers);
     summary.solver = "CVODE".into();
     let mut first = x.clone();
-    first.extend(&init.lambda);
+    first.extend(&first_lambda);
     // the chapter's partition at the start: the differential-causality inertias' flows as the
     // dependent velocities (kept unless its block is ill-conditioned there and the numeric
     // choice is much better conditioned)
-    let causal = CausalPartition::new(&sys, t0);
     let choose = |t: f64, x: &[f64]| psys.choose(t, x, &causal.preferred_at(t, &x[..nq]));
     let scale = choose(t0, &x).map_or(1.0, |p| {
         (psys.condition(&p, t0, &x) / TYPICAL_CONDITION).max(1.0)
