@@ -906,10 +906,37 @@ pub fn independent_rows(
     if redundant == 0 {
         return Some((0..m).collect());
     }
-    let nt = self_stress(gv, redundant)?;
+    independent_rows_of_stress(&self_stress(gv, redundant)?, prefer)
+}
+
+/// [`independent_rows`] from the self-stress `Nᵀ` ([`SelfStress`]).
+pub fn independent_rows_of_stress(nt: &DMatrix<f64>, prefer: &[usize]) -> Option<Vec<usize>> {
+    let m = nt.ncols();
     let mask: Vec<bool> = (0..m).map(|k| prefer.contains(&k)).collect();
-    let left = select_dependent(&nt, &mask)?;
+    let left = select_dependent(nt, &mask)?;
     Some((0..m).filter(|k| !left.contains(k)).collect())
+}
+
+/// The joints' self-stress at one configuration, `Nᵀ` (`redundant × rows`, the orthonormal
+/// left null space of `G_v`), computed once for the several questions asked of it
+/// ([`independent_rows_of_stress`], [`SelfStress::grip`]).
+pub struct SelfStress(DMatrix<f64>);
+
+impl SelfStress {
+    /// The self-stress of `gv` with `redundant` redundant rows (`None` when it has fewer rows).
+    pub fn new(gv: &DMatrix<f64>, redundant: usize) -> Option<Self> {
+        self_stress(gv, redundant).map(SelfStress)
+    }
+
+    /// [`independent_rows`] at this configuration.
+    pub fn independent_rows(&self, prefer: &[usize]) -> Option<Vec<usize>> {
+        independent_rows_of_stress(&self.0, prefer)
+    }
+
+    /// [`redundant_row_grip`] of the kept `rows` at this configuration.
+    pub fn grip(&self, rows: &[usize]) -> f64 {
+        grip_of_stress(&self.0, rows)
+    }
 }
 
 /// `Nᵀ` (`redundant × rows`): the orthonormal left null space of `gv`, `Nᵀ G_v = 0`, as the
@@ -944,10 +971,16 @@ pub fn redundant_row_grip(gv: &DMatrix<f64>, redundant: usize, rows: &[usize]) -
     if redundant == 0 {
         return 1.0;
     }
-    let Some(nt) = self_stress(gv, redundant) else {
-        return 0.0;
-    };
-    let left: Vec<usize> = (0..gv.nrows()).filter(|k| !rows.contains(k)).collect();
+    match self_stress(gv, redundant) {
+        Some(nt) => grip_of_stress(&nt, rows),
+        None => 0.0,
+    }
+}
+
+/// `σ_min(N[L, :])` of the self-stress `Nᵀ` with `L` the rows outside `rows`.
+fn grip_of_stress(nt: &DMatrix<f64>, rows: &[usize]) -> f64 {
+    let redundant = nt.nrows();
+    let left: Vec<usize> = (0..nt.ncols()).filter(|k| !rows.contains(k)).collect();
     if left.len() != redundant {
         return 0.0;
     }

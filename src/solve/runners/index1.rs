@@ -31,8 +31,8 @@ use nalgebra::DMatrix;
 use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
     consistent_state_from, dependent_condition, independent_rows, joint_conditioning,
-    redundant_row_grip, select_dependent, ConsistentState, ConstraintExprs, DaeFormulation,
-    GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
+    select_dependent, ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation,
+    Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::formulation::Job;
@@ -465,7 +465,17 @@ struct Index1<'a> {
     /// Where the mechanism conserves its energy and the invariant is not kept from the start:
     /// the watch that switches it on once the energy has drifted ([`EnergyWatch`]).
     energy_watch: Option<EnergyWatch>,
+    /// The formulations built for earlier segments, by `(dependent, coordinates, rows)`
+    /// (without the energy invariant): a mechanism that swings back and forth returns to the
+    /// partitions it had, and compiling one is most of a restart's cost (Bricard's).
+    built: Vec<(PartitionKey, Index1Formulation)>,
 }
+
+/// `(dependent velocities, dependent coordinates, joint rows)` of a segment.
+type PartitionKey = (Vec<usize>, Vec<usize>, Vec<usize>);
+
+/// How many built formulations a run keeps ([`Index1::built`]).
+const BUILT_KEPT: usize = 8;
 
 /// Fraction of the run after which the energy's drift is read as a trend
 /// ([`ENERGY_DRIFT_TRIGGER`]).
@@ -651,9 +661,12 @@ impl<'a> Index1<'a> {
     fn fresher_rows(&self, t: f64, x: &[f64]) -> Option<(f64, f64)> {
         let (d, _) = self.redundant.as_ref()?;
         let full = self.tapes.gv.matrix(t, x);
-        let grip = redundant_row_grip(&full, *d, &self.rows);
-        let fresh = independent_rows(&full, *d, &[]).filter(|f| *f != self.rows)?;
-        let fresh_grip = redundant_row_grip(&full, *d, &fresh);
+        // (the self-stress once for the three questions)
+        let stress = crate::dae::SelfStress::new(&full, *d);
+        let grip = stress.as_ref().map_or(0.0, |s| s.grip(&self.rows));
+        let stress = stress?;
+        let fresh = stress.independent_rows(&[]).filter(|f| *f != self.rows)?;
+        let fresh_grip = stress.grip(&fresh);
         (fresh_grip > REDUNDANT_ROWS_GAIN * grip).then_some((grip, fresh_grip))
     }
 
@@ -808,12 +821,31 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let e = MechanicsTapes::eval(&self.tapes.outputs, t_start, &x_start);
             self.energy_e0 = Some(e[e.len() - 2]);
         }
-        let f = Index1Formulation::build_with_energy(
-            &mut self.sys,
-            self.c,
-            (&dependent, &coordinates, &self.rows),
-            self.energy_e0,
-        )?;
+        let key = (dependent.clone(), coordinates.clone(), self.rows.clone());
+        let cached = self
+            .energy_e0
+            .is_none()
+            .then(|| self.built.iter().find(|(k, _)| *k == key))
+            .flatten()
+            .map(|(_, f)| f.clone());
+        let f = match cached {
+            Some(f) => f,
+            None => {
+                let f = Index1Formulation::build_with_energy(
+                    &mut self.sys,
+                    self.c,
+                    (&dependent, &coordinates, &self.rows),
+                    self.energy_e0,
+                )?;
+                if self.energy_e0.is_none() {
+                    if self.built.len() == BUILT_KEPT {
+                        self.built.remove(0);
+                    }
+                    self.built.push((key, f.clone()));
+                }
+                f
+            }
+        };
         summary.unknowns = f.dae.n;
         let split = f.schur_split(nq);
         let state = &self.state;
@@ -1325,6 +1357,7 @@ pub(crate) fn job<'a>(
     Job {
         formulation: Box::new(Index1 {
             hints: SpectralHints::default(),
+            built: Vec::new(),
             sys,
             c,
             tapes,
