@@ -12,6 +12,7 @@ pub mod error;
 pub(crate) mod executor;
 pub(crate) mod formulation;
 mod integrators;
+pub mod linearize;
 pub(crate) mod non_finite;
 pub mod options;
 pub(crate) mod partition;
