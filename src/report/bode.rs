@@ -1,7 +1,7 @@
 //! The Bode plot of a linear model (`bondmech linearize --bode OUT.svg`): magnitude
 //! `20 log₁₀ |H(iω)|` (dB) and phase `arg H(iω)` (degrees, unwrapped along the frequency) of
 //! every input → output pair of `H(iω) = C (iω I − A)⁻¹ B + D`, against the frequency
-//! `f = ω / 2π` (Hz, log axis) over two decades either side of the modes, with each
+//! `f = ω / 2π` (Hz, log axis) over a decade either side of the modes, with each
 //! oscillating mode's natural frequency marked. The axes, ticks and legend follow the plot
 //! rules of `plot` ([`super::timeplot`], [`super::plot`]): the legend beside the panels, every
 //! axis with its unit.
@@ -18,7 +18,7 @@ use crate::solve::linearize::LinearModel;
 /// Frequencies sampled per decade.
 const PER_DECADE: usize = 200;
 
-/// The frequency range (Hz) of the plot: two decades below the lowest and above the highest
+/// The frequency range (Hz) of the plot: a decade below the lowest and above the highest
 /// non-zero natural frequency, whole decades; `[0.01, 100]` without one.
 pub fn frequency_range(lm: &LinearModel) -> (f64, f64) {
     let f: Vec<f64> = lm
@@ -33,8 +33,8 @@ pub fn frequency_range(lm: &LinearModel) -> (f64, f64) {
     let lo = f.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = f.iter().copied().fold(0.0, f64::max);
     (
-        10f64.powf(lo.log10().floor() - 2.0),
-        10f64.powf(hi.log10().ceil() + 2.0),
+        10f64.powf(lo.log10().floor() - 1.0),
+        10f64.powf(hi.log10().ceil() + 1.0),
     )
 }
 
@@ -176,8 +176,8 @@ pub fn bode_svg(lm: &LinearModel, name: &str, path: &Path) -> Result<()> {
                     .draw(
                         &(EmptyElement::at((fr, y1))
                             + Text::new(
-                                format!("mode {k}: {}", frequency_label_hz(fr)),
-                                (4, 4),
+                                format!("mode {k}"),
+                                (4, 4 + 14 * ((k as i32 - 1) % 3)),
                                 ("sans-serif", 12).into_font().color(&grey),
                             )),
                     )
@@ -223,11 +223,6 @@ pub fn bode_svg(lm: &LinearModel, name: &str, path: &Path) -> Result<()> {
     }
     root.present().map_err(err)?;
     Ok(())
-}
-
-/// `0.6731 Hz`.
-fn frequency_label_hz(f: f64) -> String {
-    format!("{f:.4} Hz")
 }
 
 #[cfg(test)]

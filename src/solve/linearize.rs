@@ -191,7 +191,8 @@ pub struct Mode {
     pub frequency_hz: f64,
     /// `ζ = −Re λ / |λ|`; `None` for `λ = 0`.
     pub damping_ratio: Option<f64>,
-    /// The eigenvector on the states, scaled so that its largest component is `1 + 0i`.
+    /// The eigenvector on the states, scaled so that its largest displacement component is
+    /// `1 + 0i` (its largest component when no displacement moves).
     pub shape: Vec<(String, Complex<f64>)>,
 }
 
@@ -681,7 +682,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         .map(|&i| sys0.coords[i].name.clone())
         .chain(part.ind_v.iter().map(|&j| sys0.velocities[j].name.clone()))
         .collect();
-    let modes = modes_of(&a, &states);
+    let modes = modes_of(&a, &states, part.ind_q.len());
     Ok(LinearModel {
         at: options.at.to_string(),
         t,
@@ -936,8 +937,9 @@ fn solved_state(model: &Model, sys: &MultibodySystem, t: f64) -> Result<Vec<f64>
 
 /// The modes of `a`: one per conjugate pair (`Im λ > 0`) and per real eigenvalue, ascending by
 /// `|λ|`, each with its eigenvector (the null vector of `A − λI` by a complex SVD) scaled so
-/// that its largest component is 1.
-fn modes_of(a: &DMatrix<f64>, states: &[String]) -> Vec<Mode> {
+/// that its largest displacement component (of the first `n_coords` states) is 1, or its
+/// largest component where the displacements do not move.
+fn modes_of(a: &DMatrix<f64>, states: &[String], n_coords: usize) -> Vec<Mode> {
     let n = a.nrows();
     if n == 0 {
         return Vec::new();
@@ -960,11 +962,19 @@ fn modes_of(a: &DMatrix<f64>, states: &[String]) -> Vec<Mode> {
                 .map_or(0, |(k, _)| k);
             let vt = svd.v_t.expect("asked for");
             let mut shape: Vec<Complex<f64>> = (0..n).map(|i| vt[(k, i)].conj()).collect();
-            let big = shape
-                .iter()
-                .copied()
-                .max_by(|x, y| x.norm().total_cmp(&y.norm()))
-                .unwrap_or(Complex::new(1.0, 0.0));
+            let largest = |v: &[Complex<f64>]| {
+                v.iter()
+                    .copied()
+                    .max_by(|x, y| x.norm().total_cmp(&y.norm()))
+                    .unwrap_or(Complex::new(0.0, 0.0))
+            };
+            let overall = largest(&shape);
+            let coords = largest(&shape[..n_coords.min(n)]);
+            let big = if coords.norm() > 1e-9 * overall.norm() {
+                coords
+            } else {
+                overall
+            };
             if big.norm() > 0.0 {
                 for s in &mut shape {
                     *s /= big;
