@@ -441,7 +441,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
                 ))
             })?;
             if let Some(start) = causal.dependent() {
-                if start != p.dep_v && options.at != OperatingPoint::Equilibrium {
+                if start != p.dep_v {
                     let names = |d: &[usize]| {
                         d.iter()
                             .map(|&j| sys0.velocities[j].name.clone())
@@ -459,7 +459,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         }
     };
     let condition = psys.condition(&part, t, &x);
-    if !(condition < 1e10) {
+    if condition.is_nan() || condition >= 1e10 {
         return Err(singular(format!(
             "the dependent block of the joints' Jacobian has condition {condition:.1e} (joints {}): a singular configuration",
             joint_list(sys0)
@@ -635,7 +635,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let ex = DMatrix::from_fn(ne, nx, |r, k| ez[(r, x_z[k])]);
     let svd = ew.clone().svd(false, false);
     let (smax, smin) = (svd.singular_values.max(), svd.singular_values.min());
-    if !(smin > 1e-13 * smax) {
+    if smin.is_nan() || smin <= 1e-13 * smax {
         return Err(singular(format!(
             "the dependent unknowns are not fixed by the states (condition {:.1e}): a degree of freedom without inertia or a singular configuration",
             smax / smin
@@ -770,10 +770,6 @@ fn resolve_outputs(
             continue;
         }
         if let Some(o) = sys.outputs.iter().find(|o| o.name == *name) {
-            if ["energy", "kinetic_energy", "potential_energy"].contains(&name.as_str()) || o.unwrap
-            {
-                // fine: any expression of the state has a linearization
-            }
             out.push((name.clone(), Some(o.expr), 0));
             continue;
         }
@@ -840,12 +836,9 @@ fn named_partition(
         .into());
     }
     let (gq, gv) = psys.jacobians(t, x);
-    let identity = nq == nv
-        && (0..nq).all(|i| {
-            let mut g = sys.graph.clone();
-            let v = g.var(sys.v_slot(i));
-            sys.kinematics[i] == v
-        });
+    // q' = v: each coordinate's rate is its own velocity
+    let mut g = sys.graph.clone();
+    let identity = nq == nv && (0..nq).all(|i| sys.kinematics[i] == g.var(sys.v_slot(i)));
     if ind_v.is_empty() {
         if identity {
             ind_v = ind_q.clone();
@@ -872,7 +865,7 @@ fn named_partition(
         ind_v,
     };
     let cond = dependent_condition(&gq, &p.dep_q).max(dependent_condition(&gv, &p.dep_v));
-    if !(cond < 1e10) {
+    if cond.is_nan() || cond >= 1e10 {
         return Err(LinearizeError::States(format!(
             "the joints do not fix the other coordinates from these (dependent block condition {cond:.1e})"
         ))
