@@ -356,7 +356,15 @@ impl LinearModel {
 /// ```
 /// # fn main() -> bondmech::Result<()> {
 /// use bondmech::solve::linearize::{linearize, LinearizeOptions};
-/// let scene = bondmech::Scene::from_path("scenes/pendulum.json")?;
+/// // a uniform bar (1 kg, 1 m) on a pin at its end O, started 0.4 rad off hanging
+/// let scene = bondmech::Scene::from_json_str(r#"{
+///   "gravity": [0, -9.81],
+///   "bodies": [{"name": "bar", "mass": 1, "inertia": 0.08333333333333333,
+///               "points": {"O": [-0.5, 0], "A": [0.5, 0]},
+///               "position": [0.1947, -0.4605], "angle": -1.1708}],
+///   "joints": [{"name": "pivot", "type": "revolute", "bodies": ["ground", "bar"],
+///               "points": [[0, 0], "O"]}],
+///   "solve": {"t_end": 1}}"#)?;
 /// let lin = linearize(&scene, &LinearizeOptions::default())?;
 /// assert_eq!(lin.states, ["bar.angle", "bar.omega"]);
 /// // a uniform bar of length 1 on a pin at its end: ω² = m g (L/2) / (m L²/3)
