@@ -576,6 +576,43 @@ fn cli_writes_the_json_document_and_refuses_bad_flags() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains(expect), "{err}");
     }
+    // the Bode plot: refused without inputs, drawn with one (a resonance marked)
+    let bode = dir.join("bode.svg");
+    let out = std::process::Command::new(exe)
+        .args(["linearize", scene_path.to_str().unwrap(), "--bode"])
+        .arg(&bode)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("no inputs"), "{err}");
+    let damped = dir.join("damped.json");
+    std::fs::write(
+        &damped,
+        damped_pendulum(1.2, 0.9, 0.25, 0.0, -1.2).to_string(),
+    )
+    .unwrap();
+    let out = std::process::Command::new(exe)
+        .args([
+            "linearize",
+            damped.to_str().unwrap(),
+            "--output",
+            "bar.angle",
+            "--bode",
+        ])
+        .arg(&bode)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(&bode).unwrap();
+    assert!(
+        svg.contains("tau → bar.angle") && svg.contains("mode 1") && svg.contains("magnitude (dB)"),
+        "{}",
+        &svg[..svg.len().min(400)]
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -650,8 +650,13 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         )));
     }
     let lu = ew.lu();
-    let dwdx = -lu.solve(&ex).expect("regular");
-    let dwdu = -lu.solve(&eu).expect("regular");
+    let solve = |rhs: &DMatrix<f64>| {
+        lu.solve(rhs)
+            .map(|x| -x)
+            .ok_or_else(|| singular("the dependent unknowns' Jacobian has a zero pivot".into()))
+    };
+    let dwdx = solve(&ex)?;
+    let dwdu = solve(&eu)?;
     let mut zx = DMatrix::zeros(nz, nx);
     let mut zu = DMatrix::zeros(nz, ni);
     for (k, &z) in x_z.iter().enumerate() {
@@ -986,7 +991,8 @@ fn modes_of(a: &DMatrix<f64>, states: &[String], n_coords: usize) -> Vec<Mode> {
                 eigenvalue: (l.re, l.im),
                 omega_n: w,
                 frequency_hz: w / (2.0 * std::f64::consts::PI),
-                damping_ratio: (w > 0.0).then(|| -l.re / w),
+                // (+ 0.0: an undamped mode's ζ is 0, not −0)
+                damping_ratio: (w > 0.0).then(|| -l.re / w + 0.0),
                 shape: states.iter().cloned().zip(shape).collect(),
             }
         })
