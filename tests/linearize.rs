@@ -671,3 +671,38 @@ fn a_singular_configuration_is_refused_saying_so() {
         "{e}"
     );
 }
+
+/// A driver's effort column is an output: the double pendulum with its knee held straight by a
+/// driver (`angle` 0) swings as one compound pendulum, and the torque the knee's motor gives
+/// bar 2 follows bar 2's moment balance about the knee, `τ = (J2 + m2 (L2/2) d2) α + m2 g (L2/2) φ`
+/// with `d2 = L1 + L2/2` and `α = −ω² φ`, `ω² = g (m1 L1/2 + m2 d2) / (m1 L1²/3 + J2 + m2 d2²)`.
+#[test]
+fn a_drivers_torque_is_an_output() {
+    let (m1, l1, m2, l2) = (1.3, 0.8, 0.7, 1.1);
+    let mut s = double_pendulum(m1, l1, m2, l2, 0.0, "inertial");
+    s["bodies"][0]["angle"] = json!(-1.2);
+    s["bodies"][1]["angle"] = json!(-1.2);
+    s["drivers"] = json!([{"name": "motor", "joint": "knee", "angle": "0"}]);
+    let lm = lin(
+        &s,
+        &LinearizeOptions {
+            outputs: vec!["motor.torque".into(), "bar1.angle".into()],
+            ..LinearizeOptions::default()
+        },
+    );
+    assert_eq!(lm.states.len(), 2, "{:?}", lm.states);
+    let j2 = m2 * l2 * l2 / 12.0;
+    let d2 = l1 + l2 / 2.0;
+    let w2 = G * (m1 * l1 / 2.0 + m2 * d2) / (m1 * l1 * l1 / 3.0 + j2 + m2 * d2 * d2);
+    assert!(rel(lm.modes[0].omega_n, w2.sqrt()) < 1e-9, "{}", lm.table());
+    let want = -(j2 + m2 * l2 / 2.0 * d2) * w2 + m2 * G * l2 / 2.0;
+    // torque per unit of the swing angle (the state whose C row is the angle's)
+    let k = (0..lm.states.len())
+        .max_by(|&a, &b| lm.c[(1, a)].abs().total_cmp(&lm.c[(1, b)].abs()))
+        .unwrap();
+    let got = lm.c[(0, k)] / lm.c[(1, k)];
+    eprintln!("dτ/dφ {got} vs {want}");
+    // both counter-clockwise: the motor's torque on bar 2 and the angles
+    assert!(rel(got, want) < 1e-9, "{got} vs {want}");
+    assert_eq!((lm.d.nrows(), lm.d.ncols()), (2, 0));
+}

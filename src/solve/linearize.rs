@@ -509,7 +509,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let nz = nq + 2 * nv + nc;
     let a_slot = |j: usize| (1 + nq + nv + j) as u32;
     let l_slot = |i: usize| (1 + nq + 2 * nv + i) as u32;
-    let outputs = resolve_outputs(sys0, &part, &options.outputs)?;
+    let outputs = resolve_outputs(sys0, &mut sys.graph, &part, &options.outputs, l_slot(0))?;
     let g = &mut sys.graph;
     let mut e_rows: Vec<Expr> = c.g.clone();
     e_rows.extend(c.gvv.iter().copied());
@@ -757,11 +757,16 @@ fn joint_list(sys: &MultibodySystem) -> String {
     j.join(", ")
 }
 
-/// The outputs asked for: `(name, expression or None for a state, state index)`.
+/// The outputs asked for: `(name, expression or None for a state, state index)`. A column of
+/// the bodies' motion is its expression of `[t, q, v]`; a driver's effort column is `−λ_row`
+/// and its power `−λ_row ṡ(t)` ([`crate::mech::DriverOutput`]), with the multiplier of row
+/// `i` in slot `lambda0 + i` of `graph` (the system's graph, extended).
 fn resolve_outputs(
     sys: &MultibodySystem,
+    graph: &mut crate::expr::ExprGraph,
     part: &crate::dae::Partition,
     asked: &[String],
+    lambda0: u32,
 ) -> Result<Vec<(String, Option<Expr>, usize)>> {
     let states: Vec<String> = part
         .ind_q
@@ -786,8 +791,19 @@ fn resolve_outputs(
             out.push((name.clone(), Some(o.expr), 0));
             continue;
         }
-        let why = if sys.reaction_columns().contains(name) || sys.driver_columns().contains(name) {
-            "a reaction or driver column is computed from the multipliers, not a function of the state; give a column of the bodies' motion".to_string()
+        if let Some(d) = sys.drivers.iter().find(|d| d.columns().contains(name)) {
+            let l = graph.var(lambda0 + d.row as u32);
+            let effort = graph.neg(l);
+            let e = if *name == d.columns()[0] {
+                effort
+            } else {
+                graph.mul(effort, d.rate)
+            };
+            out.push((name.clone(), Some(e), 0));
+            continue;
+        }
+        let why = if sys.reaction_columns().contains(name) {
+            "a joint's reaction column is not linearized yet (its wrench solves the carrier body's virtual-power balance); give a column of the bodies' motion or a driver's effort".to_string()
         } else if name == "constraint_error" {
             "constraint_error is zero on the joints; it has no linearization".to_string()
         } else {
