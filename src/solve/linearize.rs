@@ -399,111 +399,14 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let tapes = crate::dae::MechanicsTapes::new(&mut sys, &c, None);
 
     // the operating point (t, q, v)
-    let (t, x) = match options.at {
-        OperatingPoint::Equilibrium => {
-            let eq = model.equilibrium()?;
-            let mut x: Vec<f64> = eq.coordinates.iter().map(|(_, v)| *v).collect();
-            x.extend(std::iter::repeat_n(0.0, nv));
-            (t_start, x)
-        }
-        OperatingPoint::Time(tt) => {
-            if tt < t_start {
-                return Err(LinearizeError::BeforeStart { t: tt, t_start }.into());
-            }
-            let x0 = if tt == t_start {
-                sys0.initial_state()
-            } else {
-                solved_state(&model, sys0, tt)?
-            };
-            let init = crate::dae::consistent_state_from(sys0, &tapes, tt, &x0)?;
-            let mut x = init.q;
-            x.extend(init.v);
-            (tt, x)
-        }
-    };
-    if let Some(k) = x.iter().position(|v| !v.is_finite()) {
-        let name = sys0
-            .coords
-            .iter()
-            .chain(&sys0.velocities)
-            .nth(k)
-            .map_or(String::new(), |c| c.name.clone());
-        return Err(LinearizeError::NonFinite(name).into());
-    }
+    let (t, x) = operating_point(&model, sys0, &tapes, options.at, t_start)?;
     let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
 
     // the partition at the operating point
-    let mut sp = sys0.clone();
-    let cp = ConstraintExprs::derive(&mut sp);
-    let psys = PartitionedSystem::new(&mut sp, &cp);
-    let causal = super::partition::CausalPartition::new(sys0, t_start);
-    let mut notes = Vec::new();
-    let part = match &options.states {
-        Some(names) => named_partition(sys0, &psys, t, &x, names)?,
-        None => {
-            let preferred = causal.preferred_at(t, &x[..nq]);
-            let p = psys.choose(t, &x, &preferred).ok_or_else(|| {
-                singular(format!(
-                    "the joints' Jacobian loses rank (joints {}): a singular configuration",
-                    joint_list(sys0)
-                ))
-            })?;
-            if let Some(start) = causal.dependent() {
-                if start != p.dep_v {
-                    let names = |d: &[usize]| {
-                        d.iter()
-                            .map(|&j| sys0.velocities[j].name.clone())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    };
-                    notes.push(format!(
-                        "the partition is re-chosen at the operating point: dependent velocities [{}] (at the start [{}])",
-                        names(&p.dep_v),
-                        names(&start)
-                    ));
-                }
-            }
-            p
-        }
-    };
-    let condition = psys.condition(&part, t, &x);
-    if condition.is_nan() || condition >= 1e10 {
-        return Err(singular(format!(
-            "the dependent block of the joints' Jacobian has condition {condition:.1e} (joints {}): a singular configuration",
-            joint_list(sys0)
-        )));
-    }
+    let (part, notes) = choose_partition(sys0, options.states.as_deref(), t_start, t, &x)?;
 
     // accelerations and multipliers there: [M G_vᵀ; G_v 0][v'; λ] = [Q; −γ]
-    let q_vals = MechTapeEval::new(&tapes, t, &x);
-    let (acc, lambda) = {
-        let n = nv + nc;
-        let mut k = DMatrix::zeros(n, n);
-        for j in 0..nv {
-            k[(j, j)] = sys0.mass[j];
-        }
-        for i in 0..nc {
-            for j in 0..nv {
-                let gv = q_vals.gv[(i, j)];
-                k[(nv + i, j)] = gv;
-                k[(j, nv + i)] = gv;
-            }
-        }
-        let mut rhs = DVector::zeros(n);
-        for j in 0..nv {
-            rhs[j] = q_vals.forces[j];
-        }
-        for i in 0..nc {
-            rhs[nv + i] = -q_vals.gamma[i];
-        }
-        let sol = k.lu().solve(&rhs).ok_or_else(|| {
-            singular("the saddle matrix [M G_vᵀ; G_v 0] is singular (a degree of freedom without inertia)".into())
-        })?;
-        (
-            sol.rows(0, nv).iter().copied().collect::<Vec<_>>(),
-            sol.rows(nv, nc).iter().copied().collect::<Vec<_>>(),
-        )
-    };
+    let (acc, lambda) = accelerations_and_multipliers(sys0, &tapes, t, &x)?;
 
     // symbolic E(z), f(z), y(z) and their derivatives by z = [q, v, v', λ]
     let nz = nq + 2 * nv + nc;
@@ -590,30 +493,14 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         }
     }
 
-    // ∂Q/∂u_k: the scene with input k moving with t
+    // ∂E3/∂u = −∂Q/∂u (E3 = M v' − Q + G_vᵀλ)
     let base_dqdt = eval_tape(&dqdt_tape, &vars);
+    let dq_du = input_forces(scene, (nq, nv), &vars[..1 + nq + nv], &base_dqdt)?;
     let ni = scene.inputs.len();
     let mut eu = DMatrix::zeros(ne, ni);
-    for (k, u) in scene.inputs.iter().enumerate() {
-        let moving = format!("{} + (t - ({:e}))", number(u.start), t);
-        let sk = scene.with_input_expressions(&[(u.name.clone(), moving)]);
-        let mk = Model::new(&sk)?;
-        let Some(sysk) = mk.mechanism() else {
-            return Err(LinearizeError::RawGraph.into());
-        };
-        if sysk.nq() != nq || sysk.nv() != nv {
-            return Err(Error::Options(format!(
-                "inputs '{}': the scene with the input moving has other coordinates",
-                u.name
-            )));
-        }
-        let mut gk = sysk.graph.clone();
-        let dk: Vec<Expr> = sysk.forces.iter().map(|&f| gk.diff(f, 0)).collect();
-        let tk = gk.compile(&dk);
-        let vk = eval_tape(&tk, &vars[..1 + nq + nv]);
+    for k in 0..ni {
         for j in 0..nv {
-            // E3 = M v' − Q + …: ∂E3/∂u = −∂Q/∂u
-            eu[(2 * nc + j, k)] = -(vk[j] - base_dqdt[j]);
+            eu[(2 * nc + j, k)] = -dq_du[(j, k)];
         }
     }
 
@@ -716,6 +603,179 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         modes,
         notes,
     })
+}
+
+/// The operating point `(t, [q, v])`: the static equilibrium at `t_start`, at rest, or the
+/// scene's solved state at `T` projected onto the joints (the least change).
+fn operating_point(
+    model: &Model,
+    sys: &MultibodySystem,
+    tapes: &crate::dae::MechanicsTapes,
+    at: OperatingPoint,
+    t_start: f64,
+) -> Result<(f64, Vec<f64>)> {
+    let nv = sys.nv();
+    let (t, x) = match at {
+        OperatingPoint::Equilibrium => {
+            let eq = model.equilibrium()?;
+            let mut x: Vec<f64> = eq.coordinates.iter().map(|(_, v)| *v).collect();
+            x.extend(std::iter::repeat_n(0.0, nv));
+            (t_start, x)
+        }
+        OperatingPoint::Time(tt) => {
+            if tt < t_start {
+                return Err(LinearizeError::BeforeStart { t: tt, t_start }.into());
+            }
+            let x0 = if tt == t_start {
+                sys.initial_state()
+            } else {
+                solved_state(model, sys, tt)?
+            };
+            let init = crate::dae::consistent_state_from(sys, tapes, tt, &x0)?;
+            let mut x = init.q;
+            x.extend(init.v);
+            (tt, x)
+        }
+    };
+    if let Some(k) = x.iter().position(|v| !v.is_finite()) {
+        let name = sys
+            .coords
+            .iter()
+            .chain(&sys.velocities)
+            .nth(k)
+            .map_or(String::new(), |c| c.name.clone());
+        return Err(LinearizeError::NonFinite(name).into());
+    }
+    Ok((t, x))
+}
+
+/// The partition at the operating point `(t, x)`: the causality's there (with a note when it
+/// is not the start's), or the one whose independent coordinates are named; refused where the
+/// joints' Jacobian loses rank or its dependent block is nearly singular.
+fn choose_partition(
+    sys0: &MultibodySystem,
+    states: Option<&[String]>,
+    t_start: f64,
+    t: f64,
+    x: &[f64],
+) -> Result<(crate::dae::Partition, Vec<String>)> {
+    let nq = sys0.nq();
+    let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
+    let mut sp = sys0.clone();
+    let cp = ConstraintExprs::derive(&mut sp);
+    let psys = PartitionedSystem::new(&mut sp, &cp);
+    let causal = super::partition::CausalPartition::new(sys0, t_start);
+    let mut notes = Vec::new();
+    let part = match states {
+        Some(names) => named_partition(sys0, &psys, t, x, names)?,
+        None => {
+            let preferred = causal.preferred_at(t, &x[..nq]);
+            let p = psys.choose(t, x, &preferred).ok_or_else(|| {
+                singular(format!(
+                    "the joints' Jacobian loses rank (joints {}): a singular configuration",
+                    joint_list(sys0)
+                ))
+            })?;
+            if let Some(start) = causal.dependent() {
+                if start != p.dep_v {
+                    let names = |d: &[usize]| {
+                        d.iter()
+                            .map(|&j| sys0.velocities[j].name.clone())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    notes.push(format!(
+                        "the partition is re-chosen at the operating point: dependent velocities [{}] (at the start [{}])",
+                        names(&p.dep_v),
+                        names(&start)
+                    ));
+                }
+            }
+            p
+        }
+    };
+    let condition = psys.condition(&part, t, x);
+    if condition.is_nan() || condition >= 1e10 {
+        return Err(singular(format!(
+            "the dependent block of the joints' Jacobian has condition {condition:.1e} (joints {}): a singular configuration",
+            joint_list(sys0)
+        )));
+    }
+
+    Ok((part, notes))
+}
+
+/// The accelerations and multipliers at `(t, x)`: `[M G_vᵀ; G_v 0][v'; λ] = [Q; −γ]`.
+fn accelerations_and_multipliers(
+    sys: &MultibodySystem,
+    tapes: &crate::dae::MechanicsTapes,
+    t: f64,
+    x: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    let (nv, nc) = (sys.nv(), sys.nc());
+    let q_vals = MechTapeEval::new(tapes, t, x);
+    let n = nv + nc;
+    let mut k = DMatrix::zeros(n, n);
+    for j in 0..nv {
+        k[(j, j)] = sys.mass[j];
+    }
+    for i in 0..nc {
+        for j in 0..nv {
+            let gv = q_vals.gv[(i, j)];
+            k[(nv + i, j)] = gv;
+            k[(j, nv + i)] = gv;
+        }
+    }
+    let mut rhs = DVector::zeros(n);
+    for j in 0..nv {
+        rhs[j] = q_vals.forces[j];
+    }
+    for i in 0..nc {
+        rhs[nv + i] = -q_vals.gamma[i];
+    }
+    let why = "the saddle matrix [M G_vᵀ; G_v 0] is singular (a degree of freedom without inertia)";
+    let sol = k
+        .lu()
+        .solve(&rhs)
+        .ok_or_else(|| LinearizeError::Singular { t, why: why.into() })?;
+    Ok((
+        sol.rows(0, nv).iter().copied().collect::<Vec<_>>(),
+        sol.rows(nv, nc).iter().copied().collect::<Vec<_>>(),
+    ))
+}
+
+/// `∂Q/∂u` (`nv × inputs`) at the state slots `vars = [t, q, v]`: for each input, the scene
+/// built once more with the input replaced by `u⁰ + (t − t*)`, whose `∂Q/∂t` at `t*` is
+/// `∂Q/∂t + ∂Q/∂u_k` (symbolic derivatives), less the scene's own `∂Q/∂t` (`base_dqdt`).
+fn input_forces(
+    scene: &Scene,
+    (nq, nv): (usize, usize),
+    vars: &[f64],
+    base_dqdt: &[f64],
+) -> Result<DMatrix<f64>> {
+    let t = vars[0];
+    let mut out = DMatrix::zeros(nv, scene.inputs.len());
+    for (k, u) in scene.inputs.iter().enumerate() {
+        let moving = format!("{} + (t - ({:e}))", number(u.start), t);
+        let sk = scene.with_input_expressions(&[(u.name.clone(), moving)]);
+        let mk = Model::new(&sk)?;
+        let Some(sysk) = mk.mechanism() else {
+            return Err(LinearizeError::RawGraph.into());
+        };
+        if sysk.nq() != nq || sysk.nv() != nv {
+            return Err(Error::Options(format!(
+                "inputs '{}': the scene with the input moving has other coordinates",
+                u.name
+            )));
+        }
+        let mut gk = sysk.graph.clone();
+        let dk: Vec<Expr> = sysk.forces.iter().map(|&f| gk.diff(f, 0)).collect();
+        let vk = eval_tape(&gk.compile(&dk), vars);
+        for j in 0..nv {
+            out[(j, k)] = vk[j] - base_dqdt[j];
+        }
+    }
+    Ok(out)
 }
 
 /// A number as the expression parser reads it (negative ones in parentheses).
