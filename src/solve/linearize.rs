@@ -671,10 +671,22 @@ fn choose_partition(
         None => {
             let preferred = causal.preferred_at(t, &x[..nq]);
             let p = psys.choose(t, x, &preferred).ok_or_else(|| {
-                singular(format!(
-                    "the joints' Jacobian loses rank (joints {}): a singular configuration",
-                    joint_list(sys0)
-                ))
+                let redundant = causal.redundant_rows(&sys0.rows);
+                if redundant.is_empty() {
+                    singular(format!(
+                        "the joints' Jacobian loses rank (joints {}): a singular configuration",
+                        joint_list(sys0)
+                    ))
+                } else {
+                    let rows: Vec<String> = redundant
+                        .iter()
+                        .map(|&i| format!("{}.{}", sys0.rows[i].joint, sys0.rows[i].direction))
+                        .collect();
+                    singular(format!(
+                        "the joints' Jacobian loses rank (rows {} depend on the others): a singular configuration, or redundant joints",
+                        rows.join(", ")
+                    ))
+                }
             })?;
             if let Some(start) = causal.dependent() {
                 if start != p.dep_v {
