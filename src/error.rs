@@ -67,6 +67,9 @@ pub enum Error {
     /// No static equilibrium was found (why in the message).
     #[error("{0}")]
     Equilibrium(#[from] crate::solve::equilibrium::EquilibriumError),
+    /// No linear model at the operating point, or a bad request for one (what in the message).
+    #[error("{0}")]
+    Linearize(#[from] crate::solve::linearize::LinearizeError),
     /// An output path refused before anything is computed (an input, given twice, not
     /// writable).
     #[error("{0}")]

@@ -95,5 +95,6 @@ pub use model::Model;
 pub use model_inspect::{DofReport, Equations};
 pub use report::Comparison;
 pub use scene::Scene;
+pub use solve::linearize::{linearize, LinearModel, LinearizeOptions, OperatingPoint};
 pub use solve::{FormulationKind, Integrator, LinearSolverKind, Solution, SolveOptions, Summary};
 pub use trajectory::{BodyTrajectory, PlanarTrajectory, PointTrajectory, SpatialTrajectory};

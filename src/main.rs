@@ -149,6 +149,36 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// The linear model about an operating point, x' = A x + B u, y = C x + D u, in the
+    /// chapter's states (the integral-causality inertias' displacements and flows), with its
+    /// modes (eigenvalues of A: natural frequency, damping ratio, shape) and, with --bode,
+    /// its frequency response.
+    Linearize {
+        /// Scene file (JSON; `-` reads standard input).
+        scene: PathBuf,
+        /// Change one scene field first: PATH=JSON (as `run --set`).
+        #[arg(long = "set", value_name = "PATH=JSON")]
+        set: Vec<String>,
+        /// The operating point: `equilibrium` (the static equilibrium nearest the scene's
+        /// configuration) or `t=T` (the solved state at time T, s).
+        #[arg(long, default_value = "equilibrium")]
+        at: String,
+        /// An output column y (a run CSV column of the bodies' motion, or a state); repeat for
+        /// several. Default: the states.
+        #[arg(long = "output", value_name = "COLUMN")]
+        output: Vec<String>,
+        /// The independent coordinates (and velocities) by name, comma-separated, instead of
+        /// the causality's choice (e.g. `bar1.x,bar2.x`).
+        #[arg(long, value_delimiter = ',')]
+        states: Option<Vec<String>>,
+        /// Write the linear model as JSON to this file (at, operating_point, states, inputs,
+        /// outputs, A, B, C, D, modes).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Draw the Bode plot (magnitude and phase of every input → output pair) to this SVG.
+        #[arg(long)]
+        bode: Option<PathBuf>,
+    },
     /// Solve the DAE (IDA) and the decoupled twin (CVODE) side by side.
     Compare {
         #[command(flatten)]
@@ -775,6 +805,44 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 eq.stiffness_eigenvalues
             ));
             Ok(stdout_write(&t)?)
+        }
+        Command::Linearize {
+            scene,
+            set,
+            at,
+            output,
+            states,
+            json,
+            bode,
+        } => {
+            let at: bondmech::OperatingPoint = at.parse().map_err(Error::from)?;
+            if let Some(p) = &bode {
+                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if !ext.eq_ignore_ascii_case("svg") {
+                    return Err(options_error(format!(
+                        "--bode {}: the Bode plot is an SVG file (give a .svg path)",
+                        p.display()
+                    )));
+                }
+            }
+            let scene = read_scene_with(&scene, &set)?;
+            let options = bondmech::LinearizeOptions {
+                at,
+                outputs: output,
+                states,
+            };
+            let lm = bondmech::linearize(&scene, &options)?;
+            if let Some(path) = json {
+                let text = serde_json::to_string_pretty(&lm.to_json())
+                    .map_err(|e| options_error(e.to_string()))?;
+                std::fs::write(&path, text + "\n")
+                    .map_err(|e| options_error(format!("cannot write {}: {e}", path.display())))?;
+            }
+            if let Some(path) = bode {
+                bondmech::report::bode::bode_svg(&lm, &scene.name, &path)
+                    .map_err(|e| Error::Report(Box::new(e)))?;
+            }
+            Ok(stdout_write(&lm.table())?)
         }
         Command::Equations { scene } => {
             let model = Model::new(&read_scene(&scene)?)?;

@@ -729,6 +729,8 @@ fn healthz_metrics_openapi_and_unknown_routes() {
         ("/v1/run", "post"),
         ("/v1/compare", "post"),
         ("/v1/graph", "post"),
+        ("/v1/equilibrium", "post"),
+        ("/v1/linearize", "post"),
         ("/v1/sweep", "post"),
     ] {
         assert!(o["paths"][path][method].is_object(), "{path} {method}");
@@ -887,4 +889,55 @@ fn equilibrium_route_equals_the_cli_json_and_run_carries_driver_columns() {
         names.contains(&"motor.torque") && names.contains(&"motor.power"),
         "{names:?}"
     );
+}
+
+/// `POST /v1/linearize` is `bondmech linearize --json` (same document, value for value); a
+/// malformed `at` is a 400 naming the parameter, an unknown output a 422 naming it.
+#[test]
+fn linearize_route_equals_the_cli_json_and_names_bad_parameters() {
+    let server = start(Config::default());
+    let scene = scene_text("four_bar.json");
+    let r = post(
+        server.addr(),
+        "/v1/linearize?output=rocker.angle,coupler.B.y",
+        scene.as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", r.text());
+    let j = r.json();
+    let out = std::env::temp_dir().join(format!("bondmech-lin-{}.json", std::process::id()));
+    let path = scene_path("four_bar.json");
+    let (ok, _, err) = cli(&[
+        "linearize",
+        &path,
+        "--output",
+        "rocker.angle",
+        "--output",
+        "coupler.B.y",
+        "--json",
+        &out.display().to_string(),
+    ]);
+    assert!(ok, "{err}");
+    let want: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    std::fs::remove_file(&out).ok();
+    assert_eq!(j, want);
+    assert_eq!(
+        j["outputs"],
+        serde_json::json!(["rocker.angle", "coupler.B.y"])
+    );
+    let p = post(server.addr(), "/v1/linearize?at=t%3Dsoon", scene.as_bytes()).problem(400);
+    assert_eq!(p["parameter"], "at", "{p}");
+    assert!(
+        p["detail"]
+            .as_str()
+            .unwrap()
+            .contains("'soon' is not a number"),
+        "{p}"
+    );
+    let p = post(server.addr(), "/v1/linearize?output=nope", scene.as_bytes()).problem(422);
+    assert_eq!(p["parameter"], "output", "{p}");
+    assert!(
+        p["detail"].as_str().unwrap().contains("--output 'nope'"),
+        "{p}"
+    );
+    server.shutdown().unwrap();
 }

@@ -69,6 +69,16 @@ class Scene:
         """The static equilibrium nearest the scene's configuration (the ``bondmech
         equilibrium --json`` document): converged, iterations, residual, coordinates,
         reactions, drivers, stable, stiffness_eigenvalues."""
+    def linearize(
+        self,
+        at: str = "equilibrium",
+        outputs: Optional[List[str]] = None,
+        states: Optional[List[str]] = None,
+    ) -> Dict[str, Any]:
+        """The linear model x' = A x + B u, y = C x + D u about an operating point
+        ("equilibrium" or "t=T"), the ``bondmech linearize --json`` document with A, B, C, D
+        as 2-D numpy arrays: at, t, operating_point, states, inputs, outputs, A, B, C, D,
+        modes (eigenvalue, omega_n, frequency_hz, damping_ratio, shape), notes."""
 
 def compare(
     scene: Scene,

@@ -85,7 +85,9 @@ fn to_py_err(py: Python<'_>, e: Error) -> PyErr {
         Error::Mechanism(me) => scene_error(py, message, vec![(me.path, me.message)]),
         Error::BondGraph(m) => scene_error(py, message, vec![("bond_graph".into(), m)]),
         Error::TooLarge(_) => scene_error(py, message.clone(), vec![(String::new(), message)]),
-        Error::Options(_) | Error::Report(_) => py_error(py, "OptionsError", (message,)),
+        Error::Options(_) | Error::Report(_) | Error::Linearize(_) => {
+            py_error(py, "OptionsError", (message,))
+        }
         Error::Io { path, source } => {
             pyo3::exceptions::PyOSError::new_err(format!("{path}: {source}"))
         }
@@ -597,6 +599,43 @@ impl Scene {
         let model = bondmech::Model::new(&self.scene).py(py)?;
         let eq = model.equilibrium().py(py)?;
         from_json(py, &eq.to_json().to_string())
+    }
+
+    /// The linear model x' = A x + B u, y = C x + D u about an operating point (`bondmech
+    /// linearize --json`) as a dict: `at`, `t`, `operating_point`, `states`, `inputs`,
+    /// `outputs`, `A`, `B`, `C`, `D` (2-D float64 numpy arrays; `B` and `D` have no columns
+    /// without inputs), `modes` (`eigenvalue` `[re, im]`, `omega_n`, `frequency_hz`,
+    /// `damping_ratio`, `shape`), `notes`. `at` is `"equilibrium"` or `"t=T"`; `outputs` run CSV
+    /// columns (default: the states); `states` the independent coordinates by name. Raises
+    /// `OptionsError` (a bad `at`, output or state; a singular operating point), `SceneError`
+    /// or `SolveError`.
+    #[pyo3(signature = (at = "equilibrium", outputs = None, states = None))]
+    fn linearize<'py>(
+        &self,
+        py: Python<'py>,
+        at: &str,
+        outputs: Option<Vec<String>>,
+        states: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let at: bondmech::OperatingPoint = at.parse().map_err(Error::from).py(py)?;
+        let options = bondmech::LinearizeOptions {
+            at,
+            outputs: outputs.unwrap_or_default(),
+            states,
+        };
+        let scene = self.scene.clone();
+        let lm = py
+            .detach(move || bondmech::linearize(&scene, &options))
+            .py(py)?;
+        let doc = from_json(py, &lm.to_json().to_string())?;
+        for (key, m) in [("A", &lm.a), ("B", &lm.b), ("C", &lm.c), ("D", &lm.d)] {
+            let flat: Vec<f64> = (0..m.nrows())
+                .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
+                .collect();
+            let arr = PyArray1::from_vec(py, flat).reshape([m.nrows(), m.ncols()])?;
+            doc.set_item(key, arr)?;
+        }
+        Ok(doc)
     }
 
     fn __repr__(&self) -> String {

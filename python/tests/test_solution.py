@@ -130,3 +130,36 @@ def test_equilibrium_is_the_cli_document_and_a_driven_run_has_driver_columns(tmp
     assert eq == json.loads(out.read_text())
     sol = bondmech.load(SCENES / "slider_crank_driven.json").run(t_end=0.1)
     assert "motor.torque" in sol and "motor.power" in sol
+
+
+def test_linearize_returns_numpy_matrices_and_the_cli_modes(tmp_path, cli):
+    # the damped pendulum with an input torque: J θ'' + c θ' + K θ = u about hanging
+    m, length, c, g = 1.2, 0.9, 0.25, 9.81
+    scene = {
+        "gravity": [0.0, -g],
+        "inputs": [{"name": "tau", "start": 0.0}],
+        "bodies": [{"name": "bar", "mass": m, "inertia": m * length**2 / 12,
+                    "points": {"O": [-length / 2, 0.0], "A": [length / 2, 0.0]},
+                    "position": [0.0, -length / 2], "angle": -np.pi / 2}],
+        "joints": [{"name": "pivot", "type": "revolute", "bodies": ["ground", "bar"],
+                    "points": [[0.0, 0.0], "O"]}],
+        "loads": [{"type": "torque", "body": "bar", "value": f"-{c}*bar.omega + tau"}],
+        "solve": {"t_end": 1.0},
+    }
+    path = tmp_path / "damped.json"
+    path.write_text(json.dumps(scene))
+    lin = bondmech.load(path).linearize(outputs=["bar.angle"])
+    assert lin["states"] == ["bar.angle", "bar.omega"] and lin["inputs"] == ["tau"]
+    for key, shape in [("A", (2, 2)), ("B", (2, 1)), ("C", (1, 2)), ("D", (1, 1))]:
+        assert isinstance(lin[key], np.ndarray) and lin[key].shape == shape, key
+    j, k = m * length**2 / 3, m * g * length / 2
+    # A = [[0, 1], [-K/J, -c/J]], B = [0, 1/J] (the hand-derived model)
+    assert np.allclose(lin["A"], [[0, 1], [-k / j, -c / j]], rtol=1e-10, atol=1e-12)
+    assert np.allclose(lin["B"][:, 0], [0, 1 / j], rtol=1e-10, atol=1e-12)
+    out = tmp_path / "lin.json"
+    cli("linearize", str(path), "--output", "bar.angle", "--json", str(out))
+    doc = json.loads(out.read_text())
+    assert doc["modes"] == lin["modes"]
+    assert np.array_equal(np.array(doc["A"]), lin["A"])
+    with pytest.raises(bondmech.OptionsError, match="--at 'later'"):
+        bondmech.load(path).linearize(at="later")

@@ -4,6 +4,7 @@
 //! that produce a sweep's solutions are [`crate::study`]'s.
 
 pub mod animate;
+pub mod bode;
 pub mod compare;
 pub mod error;
 pub mod generate;

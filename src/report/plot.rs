@@ -45,13 +45,13 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Width of the legend column right of the plots.
-const LEGEND_WIDTH: u32 = 230;
+pub(crate) const LEGEND_WIDTH: u32 = 230;
 
 /// A line sample and its name, drawn as a legend entry.
-type LegendEntry = (String, ShapeStyle);
+pub(crate) type LegendEntry = (String, ShapeStyle);
 
 /// Draws `entries` in the legend column `area`, from `top` down.
-fn draw_legend<DB: DrawingBackend>(
+pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     entries: &[LegendEntry],
     top: i32,

@@ -205,7 +205,7 @@ pub fn plot_solution_with(
 }
 
 /// `[lo, hi]` of the finite values, padded; a constant gets a band around it.
-fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+pub(crate) fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && (!log || *v > 0.0))
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
@@ -275,7 +275,7 @@ impl OffsetScale {
 }
 
 /// A tick label with as many decimals as the ticks' spacing needs (never `-0.0`).
-fn tick_label(v: f64, lo: f64, hi: f64) -> String {
+pub(crate) fn tick_label(v: f64, lo: f64, hi: f64) -> String {
     // plotters draws about ten ticks
     let step = (hi - lo).abs() / 10.0;
     let decimals = if step > 0.0 && step.is_finite() {

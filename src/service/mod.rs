@@ -8,6 +8,7 @@
 //! | `POST /v1/compare` | the `compare --json` document |
 //! | `POST /v1/graph?format=dot\|svg\|causality` | the bond graph drawing or causality report |
 //! | `POST /v1/equilibrium` | the static equilibrium (`bondmech equilibrium --json`) |
+//! | `POST /v1/linearize?at=&output=&states=` | the linear model and its modes (`bondmech linearize --json`) |
 //! | `POST /v1/sweep?quick=true` | NDJSON progress, then the sweep report |
 //! | `POST /v1/animate?view=&speed=&format=svg\|frames` | the `animate` SVG (SMIL) or its frames |
 //! | `POST /v1/validate` | `{valid, errors: [{path, message}]}`, the command line's problems (always 200) |
@@ -248,6 +249,7 @@ fn router(app: Arc<App>) -> Router {
         .route("/v1/compare", post(routes::compare))
         .route("/v1/graph", post(routes::graph))
         .route("/v1/equilibrium", post(routes::equilibrium))
+        .route("/v1/linearize", post(routes::linearize))
         .route("/v1/sweep", post(routes::sweep))
         .route("/v1/animate", post(routes::animate))
         .route("/v1/validate", post(page::validate))

@@ -177,6 +177,13 @@ pub fn document() -> Value {
             "/v1/equilibrium": post("The static equilibrium nearest the scene's configuration (Newton with a line search, the joints held) and its stability: the bondmech equilibrium --json document.", vec![], json!({
                 "description": "converged, iterations, residual, coordinates, reactions, drivers, stable, stiffness_eigenvalues.", "content": {"application/json": {"schema": {"type": "object"}}}
             })),
+            "/v1/linearize": post("The linear model x' = A x + B u, y = C x + D u about an operating point in the chapter's states, with its modes: the bondmech linearize --json document.", vec![
+                query("at", "The operating point: equilibrium (default) or t=T (the solved state at time T, s).", json!({"type": "string", "default": "equilibrium"})),
+                query("output", "Output columns y, comma-separated (default: the states).", json!({"type": "string"})),
+                query("states", "The independent coordinates (and velocities), comma-separated, instead of the causality's choice.", json!({"type": "string"})),
+            ], json!({
+                "description": "at, t, operating_point, states, inputs, outputs, A, B, C, D, modes (eigenvalue, omega_n, frequency_hz, damping_ratio, shape), notes.", "content": {"application/json": {"schema": {"type": "object"}}}
+            })),
             "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
                 query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
                 query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),

@@ -26,7 +26,7 @@ use crate::report::SweepConfig;
 use crate::scene::Scene;
 
 /// The routes, for metrics labels and the 404 answer.
-pub const ROUTES: [&str; 16] = [
+pub const ROUTES: [&str; 17] = [
     "/healthz",
     "/metrics",
     "/openapi.json",
@@ -34,6 +34,7 @@ pub const ROUTES: [&str; 16] = [
     "/v1/compare",
     "/v1/graph",
     "/v1/equilibrium",
+    "/v1/linearize",
     "/v1/sweep",
     "/v1/animate",
     "/v1/validate",
@@ -515,6 +516,73 @@ async fn equilibrium_inner(
             .equilibrium()
             .map_err(|e| library_problem(&e, budget))?;
         let text = serde_json::to_string_pretty(&eq.to_json()).unwrap_or_default() + "\n";
+        Ok(with_type(text, JSON))
+    });
+    join(job).await
+}
+
+/// `POST /v1/linearize?at=&output=&states=`: the linear model about the operating point, the
+/// `bondmech linearize --json` document ([`crate::solve::linearize::LinearModel::to_json`]);
+/// `output` and `states` are comma-separated column names.
+pub async fn linearize(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = linearize_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn linearize_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &["at", "output", "states"])?;
+    let at: crate::solve::linearize::OperatingPoint =
+        params.text("at").unwrap_or("equilibrium").parse().map_err(
+            |e: crate::solve::linearize::LinearizeError| {
+                Problem::bad_parameter("at", e.to_string())
+            },
+        )?;
+    let list = |key: &str| -> Vec<String> {
+        params
+            .text(key)
+            .map(|s| {
+                s.split(',')
+                    .map(|c| c.trim().to_string())
+                    .filter(|c| !c.is_empty())
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let options = crate::solve::linearize::LinearizeOptions {
+        at,
+        outputs: list("output"),
+        states: params.text("states").map(|_| list("states")),
+    };
+    let scene = scene_from(app, headers, body).await?;
+    let slot = app.pool.acquire_for(0.0).await?;
+    let limits = app.limits.clone();
+    let job = app.pool.spawn(slot, move || {
+        let budget = Budget::of(&scene, &limits);
+        use crate::solve::linearize::LinearizeError as L;
+        let lm = crate::solve::linearize::linearize(&scene, &options).map_err(|e| match &e {
+            crate::Error::Linearize(L::UnknownOutput { .. }) => {
+                super::solve::invalid_value("output", e.to_string())
+            }
+            crate::Error::Linearize(L::States(_)) => {
+                super::solve::invalid_value("states", e.to_string())
+            }
+            crate::Error::Linearize(L::BeforeStart { .. }) => {
+                super::solve::invalid_value("at", e.to_string())
+            }
+            _ => library_problem(&e, budget),
+        })?;
+        let text = serde_json::to_string_pretty(&lm.to_json()).unwrap_or_default() + "\n";
         Ok(with_type(text, JSON))
     });
     join(job).await

@@ -13,6 +13,7 @@ pub(crate) mod executor;
 pub(crate) mod formulation;
 mod integrators;
 pub(crate) mod kinematic;
+pub mod linearize;
 pub(crate) mod non_finite;
 pub mod options;
 pub(crate) mod partition;
