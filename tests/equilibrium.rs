@@ -233,3 +233,51 @@ fn a_load_that_never_balances_is_refused_naming_why() {
         .to_string();
     assert!(e.contains("no equilibrium"), "{e}");
 }
+
+/// Regression: released horizontal, a pinned bar's gravity stiffness is zero (`d²V/dθ² =
+/// −m g a sin θ = 0` at θ = 0), Newton's step has no component along the one DOF, and the search
+/// stalled there ("the loads never balance") on the bundled pendulum and double pendulum. The
+/// damped steps along the loads go down to the hanging equilibrium: θ = −π/2, centre at
+/// `−a`, the pin carrying the weight, stable with `d²V/dθ² = m g a` (the bar of 1 kg and 1 m,
+/// `a = 0.5`); the double pendulum's two bars hang straight.
+#[test]
+fn regression_a_bar_released_horizontal_stalled_and_now_hangs_down() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let read = |name: &str| -> Value {
+        serde_json::from_str(
+            &std::fs::read_to_string(format!("{root}/scenes/{name}.json")).unwrap(),
+        )
+        .unwrap()
+    };
+    let pendulum = read("pendulum");
+    assert_eq!(
+        pendulum["bodies"][0]["angle"],
+        json!(0.0),
+        "released horizontal"
+    );
+    let e = equilibrium(&pendulum);
+    assert!(e.converged && e.stable, "{e:?}");
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    assert!(
+        (e.coordinate("bar.angle").unwrap() + half_pi).abs() < 1e-10,
+        "{e:?}"
+    );
+    assert!(
+        (e.coordinate("bar.y").unwrap() + 0.5).abs() < 1e-10,
+        "{e:?}"
+    );
+    assert!(e.coordinate("bar.x").unwrap().abs() < 1e-10, "{e:?}");
+    let fy = e.reactions.iter().find(|(k, _)| k == "pivot.Fy").unwrap().1;
+    assert!((fy - G).abs() < 1e-9, "the pin carries the weight: {fy}");
+    // one DOF: the reduced stiffness on the unit velocity direction (v_x, v_y, ω) ∝ (a, 0, 1)
+    // is m g a / (1 + a²)
+    let k = e.stiffness_eigenvalues[0];
+    assert!((k - G * 0.5 / 1.25).abs() < 1e-9, "{k}");
+
+    let e = equilibrium(&read("double_pendulum"));
+    assert!(e.converged && e.stable, "{e:?}");
+    for bar in ["bar1", "bar2"] {
+        let a = e.coordinate(&format!("{bar}.angle")).unwrap();
+        assert!((a + half_pi).abs() < 1e-10, "{bar} at {a}");
+    }
+}

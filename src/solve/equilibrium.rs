@@ -11,7 +11,10 @@
 //!
 //! solved by Newton from the scene's configuration (least-squares steps `J Δ = −F` through an
 //! SVD, so a quaternion's scale and redundant rows do no harm), globalised by a backtracking
-//! line search on `½‖F‖²` (Armijo). The Jacobian `J = ∂F/∂(q, λ)` is exact (the expression
+//! line search on `½‖F‖²` (Armijo); where the Newton step does not lower it (a stiffness that
+//! vanishes or is indefinite along a degree of freedom, as gravity's on a pendulum released
+//! horizontal), damped steps `(K_r + μ I) Δ = Zᵀ f` along the loads (Levenberg–Marquardt on
+//! the degrees of freedom, in a shrinking trust radius), the joints held again after each. The Jacobian `J = ∂F/∂(q, λ)` is exact (the expression
 //! graph's derivatives). Stability: the tangent stiffness `K = −∂(Q − G_vᵀ λ)/∂q · ∂(K v)/∂v`
 //! reduced to the degrees of freedom, `K_r = Zᵀ K Z` with `Z` an orthonormal basis of the null
 //! space of `G_v` (the motions the joints and drivers allow), symmetrised; the equilibrium is
@@ -212,6 +215,54 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
         let rows = r[nv..].iter().fold(0.0f64, |a, b| a.max(b.abs()));
         forces <= 1e-12 * force_scale && rows <= 1e-13 * scale
     };
+    // the tangent stiffness reduced to the degrees of freedom at `vars`: `(K_r, Z, ∂(K v)/∂v)`
+    let reduced = |vars: &[f64]| {
+        let jv = eval(&j_tape, vars);
+        let kv = eval(&k_tape, vars);
+        let dq = DMatrix::from_fn(nv, nq, |j, k| -jv[j * n + k]);
+        let kmat = DMatrix::from_row_slice(nq, nv, &kv);
+        let stiffness = dq * &kmat; // nv × nv
+        let state: Vec<f64> = vars[1..1 + nq + nv].to_vec();
+        let z = null_space(&tapes.gv.matrix(t0, &state), nv);
+        let kr = z.transpose() * &stiffness * &z;
+        ((&kr + kr.transpose()) * 0.5, z, kmat)
+    };
+    // Where Newton's step does not lower ½‖F‖² (the stiffness vanishes or is indefinite along
+    // a DOF: a pendulum released horizontal, where gravity's stiffness is zero), a damped step
+    // along the loads: `(K_r + μ I) Δ = Zᵀ f` on the DOF (Levenberg–Marquardt; with `K_r = 0`
+    // it is the load's direction, down the potential), `μ` large enough that `K_r + μ I` is
+    // positive definite and the step within a trust radius, the joints then held again.
+    let damped = |vars: &[f64], r: &[f64], radius: f64| -> Option<(Vec<f64>, Vec<f64>)> {
+        let (kr, z, kmat) = reduced(vars);
+        if kr.nrows() == 0 {
+            return None;
+        }
+        let fr = z.transpose() * DVector::from_column_slice(&r[..nv]);
+        let lmin = kr.symmetric_eigenvalues().min();
+        let mu = (2.0 * (-lmin).max(0.0)).max(fr.norm() / radius).max(1e-300);
+        let a = &kr + DMatrix::identity(kr.nrows(), kr.nrows()) * mu;
+        let dr = a.cholesky()?.solve(&fr);
+        let dq = kmat * (z * dr);
+        let mut x0: Vec<f64> = vars[1..1 + nq]
+            .iter()
+            .zip(dq.iter())
+            .map(|(a, d)| a + d)
+            .collect();
+        x0.extend(std::iter::repeat_n(0.0, nv));
+        let held = crate::dae::consistent_state_from(&sys, &tapes, t0, &x0).ok()?;
+        let mut tv = vars.to_vec();
+        tv[1..1 + nq].copy_from_slice(&held.q);
+        // the static multipliers there: λ = argmin ‖Q − G_vᵀ λ‖ (the loads the joints carry)
+        tv[1 + nq + nv..].fill(0.0);
+        let loads = DVector::from_column_slice(&eval(&f_tape, &tv)[..nv]);
+        let state: Vec<f64> = tv[1..1 + nq + nv].to_vec();
+        let gvt = tapes.gv.matrix(t0, &state).transpose();
+        let lambda = gvt.svd(true, true).solve(&loads, 1e-12).ok()?;
+        tv[1 + nq + nv..].copy_from_slice(lambda.as_slice());
+        let rt = eval(&f_tape, &tv);
+        rt.iter().all(|v| v.is_finite()).then_some((tv, rt))
+    };
+    let mut radius = 0.5 * scale;
     let mut iterations = 0;
     while !tol(&r) {
         if !r.iter().all(|x| x.is_finite()) {
@@ -253,6 +304,19 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
             alpha *= 0.5;
         }
         iterations += 1;
+        // Newton stalled: damped steps along the loads, the trust radius shrinking until one
+        // lowers ½‖F‖²
+        if accepted.is_none() && nv > 0 {
+            while radius > 1e-12 * scale {
+                if let Some((tv, rt)) = damped(&vars, &r, radius) {
+                    if merit(&rt) < phi0 {
+                        accepted = Some((tv, rt));
+                        break;
+                    }
+                }
+                radius *= 0.25;
+            }
+        }
         match accepted {
             Some((tv, rt)) => {
                 vars = tv;
@@ -277,16 +341,7 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
         }
     }
     // the reduced tangent stiffness
-    let jv = eval(&j_tape, &vars);
-    let kv = eval(&k_tape, &vars);
-    let dq = DMatrix::from_fn(nv, nq, |j, k| -jv[j * n + k]);
-    let kmat = DMatrix::from_row_slice(nq, nv, &kv);
-    let stiffness = dq * kmat; // nv × nv
-    let state: Vec<f64> = vars[1..1 + nq + nv].to_vec();
-    let gvm = tapes.gv.matrix(t0, &state);
-    let z = null_space(&gvm, nv);
-    let kr = z.transpose() * &stiffness * &z;
-    let kr = (&kr + kr.transpose()) * 0.5;
+    let (kr, _, _) = reduced(&vars);
     let mut eig: Vec<f64> = if kr.nrows() > 0 {
         kr.symmetric_eigen().eigenvalues.iter().copied().collect()
     } else {
