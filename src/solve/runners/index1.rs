@@ -469,16 +469,7 @@ struct Index1<'a> {
     /// (without the energy invariant): a mechanism that swings back and forth returns to the
     /// partitions it had, and compiling one is most of a restart's cost (Bricard's).
     built: Vec<(PartitionKey, Index1Formulation)>,
-    /// The coordinates at the last output whose partition checks ran ([`CHECK_MOTION`]).
-    checked_q: Option<Vec<f64>>,
 }
-
-/// How far the coordinates (largest change, m or rad) move between two outputs whose partition
-/// checks run: the checks (the blocks' conditions, the redundant rows' grip) depend on the
-/// configuration alone, and where outputs are denser than the motion (Bricard's 1000 outputs
-/// in 1240 steps) most of them would repeat the last answer. The step watch
-/// ([`BlockGrip`]) keeps examining the running block between them.
-const CHECK_MOTION: f64 = 0.02;
 
 /// `(dependent velocities, dependent coordinates, joint rows)` of a segment.
 type PartitionKey = (Vec<usize>, Vec<usize>, Vec<usize>);
@@ -763,7 +754,6 @@ impl<'a> Formulation<'a> for Index1<'a> {
     }
 
     fn segment(&mut self, t_start: f64, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
-        self.checked_q = None;
         let (nq, nv, nc) = self.tapes.dims;
         if let Some((d, hint)) = &self.redundant {
             // the causality's choice at the start, the best-held rows at a re-selection
@@ -1036,15 +1026,6 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let n = self.x.len();
         self.x.copy_from_slice(&full[..n]);
         self.t_last = t;
-        let moved = self.checked_q.as_ref().map_or(f64::INFINITY, |q0| {
-            q0.iter()
-                .zip(&self.x[..nq])
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-        });
-        if moved < CHECK_MOTION && more {
-            return Ok(self.energy_check(t, summary)?.unwrap_or(Next::Continue));
-        }
-        self.checked_q = Some(self.x[..nq].to_vec());
         // G_v at this output, evaluated once for every check below (dense, or by its
         // non-zeros at scale: every measure then linear in the size of a chain)
         let mut gv = self
@@ -1377,7 +1358,6 @@ pub(crate) fn job<'a>(
         formulation: Box::new(Index1 {
             hints: SpectralHints::default(),
             built: Vec::new(),
-            checked_q: None,
             sys,
             c,
             tapes,
