@@ -299,6 +299,11 @@ pub struct PartitionedRhs {
     dep_inverse: Vec<f64>,
     /// Scratch of `nc` values for the products.
     scratch: Vec<f64>,
+    /// `b = ∂g/∂t` of the rheonomic rows at the last [`eval_bias`], and the
+    /// workspace of its tape (empty without rheonomic rows): no allocation in the right-hand
+    /// side.
+    bias_out: Vec<f64>,
+    bias_work: Vec<f64>,
     /// Workspace of the switching functions' tape.
     w_switch: Vec<f64>,
     /// `[q, v, λ]` of [`Self::full_with_multipliers`], and its right-hand side's buffer.
@@ -417,6 +422,8 @@ impl PartitionedRhs {
             linear,
             dep_inverse: Vec::new(),
             scratch: vec![0.0; nc],
+            bias_out: vec![0.0; if sys.bias.is_some() { nc } else { 0 }],
+            bias_work: sys.bias.as_ref().map_or_else(Vec::new, |b| b.workspace()),
             with_multipliers: Vec::with_capacity(nq + nv + nc),
             yd: vec![0.0; niq + niv],
             qi_prev: vec![0.0; niq],
@@ -567,15 +574,20 @@ impl PartitionedRhs {
                 }
                 // rheonomic rows (drivers) move with time too: G_D Δq_D = −(G_I Δq_I + g_t Δt),
                 // `g_t` at the last solve (with no DOF left, that is the whole prediction)
-                if let Some(bias) = self.sys.bias.as_ref().filter(|_| self.t_prev.is_finite()) {
+                if self.t_prev.is_finite() {
                     let dt = t - self.t_prev;
                     self.vars[0] = self.t_prev;
-                    let mut b = vec![0.0; nc];
-                    bias.eval(&self.vars, &mut bias.workspace(), &mut b);
-                    self.vars[0] = t;
-                    for k in 0..nc {
-                        self.tmp[k] += b[k] * dt;
+                    if eval_bias(
+                        &self.sys,
+                        &self.vars,
+                        &mut self.bias_work,
+                        &mut self.bias_out,
+                    ) {
+                        for k in 0..nc {
+                            self.tmp[k] += self.bias_out[k] * dt;
+                        }
                     }
+                    self.vars[0] = t;
                 }
                 self.jq.solve(&mut self.tmp[..nc]);
             }
@@ -868,12 +880,16 @@ impl PartitionedRhs {
             self.tmp[k] = -s;
         }
         // v_D = −G_D⁻¹ (G_I v_I + b): a driver's prescribed rate
-        if let Some(bias) = &self.sys.bias {
-            let mut b = vec![0.0; nc];
-            bias.eval(&self.vars, &mut bias.workspace(), &mut b);
-            dep_solve(lu, &self.dep_inverse, &mut b, &mut self.scratch);
+        if eval_bias(
+            &self.sys,
+            &self.vars,
+            &mut self.bias_work,
+            &mut self.bias_out,
+        ) {
+            let lu = if self.share { &self.jq } else { &self.jv };
+            dep_solve(lu, &self.dep_inverse, &mut self.bias_out, &mut self.scratch);
             for k in 0..nc {
-                self.tmp[k] -= b[k];
+                self.tmp[k] -= self.bias_out[k];
             }
         }
         for (k, &j) in dv.iter().enumerate() {
@@ -944,14 +960,31 @@ impl PartitionedRhs {
             lu.solve_transposed(&mut out[nq + nv..]);
         }
         if let Some((kept, full)) = &self.sys.kept_rows {
-            // every joint row's multiplier, zero on the rows left out
-            let kept_lambda = out.split_off(nq + nv);
+            // every joint row's multiplier, zero on the rows left out: spread in place from the
+            // back (`kept` ascends, so row `kept[k] ≥ k` is written after slot `k` is read)
             out.resize(nq + nv + full, 0.0);
-            for (&r, l) in kept.iter().zip(kept_lambda) {
-                out[nq + nv + r] = l;
+            let lam = &mut out[nq + nv..];
+            let mut next = *full;
+            for (k, &r) in kept.iter().enumerate().rev() {
+                lam[r + 1..next].fill(0.0);
+                lam[r] = lam[k];
+                next = r;
             }
+            lam[..next].fill(0.0);
         }
         Ok(&self.with_multipliers)
+    }
+}
+
+/// `b = ∂g/∂t` of the rheonomic rows at `vars` into `out` (with the tape's workspace `work`);
+/// `false` without rheonomic rows.
+fn eval_bias(sys: &PartitionedSystem, vars: &[f64], work: &mut [f64], out: &mut [f64]) -> bool {
+    match &sys.bias {
+        Some(bias) => {
+            bias.eval(vars, work, out);
+            true
+        }
+        None => false,
     }
 }
 

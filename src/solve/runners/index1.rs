@@ -123,6 +123,27 @@ fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
     DMatrix::from_fn(rows.len(), m.ncols(), |r, j| m[(rows[r], j)])
 }
 
+/// The warning of a formulation that solves redundant joints from the independent rows `kept`:
+/// which rows are left out, and that the joints' reactions are not unique.
+pub(super) fn redundant_rows_warning(
+    formulation: &str,
+    sys: &MultibodySystem,
+    kept: &[usize],
+    t0: f64,
+    init: &ConsistentState,
+) -> String {
+    let left: Vec<String> = (0..sys.rows.len())
+        .filter(|k| !kept.contains(k))
+        .map(|k| format!("{}.{}", sys.rows[k].joint, sys.rows[k].direction))
+        .collect();
+    format!(
+        "{formulation}: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
+        left.join(", "),
+        kept.len(),
+        init.redundant_joints.join(", ")
+    )
+}
+
 /// The multipliers of the independent rows `rows` that exert the same generalized forces as
 /// `λ` (a least-squares solution over all rows, as the consistent start gives it), with the
 /// other rows' held at zero: `λ_R = (G_R G_Rᵀ)⁻¹ G_R (G_vᵀ λ)`, exact where `G_R` spans the row
@@ -1266,16 +1287,8 @@ pub(crate) fn job<'a>(
     };
     let r = joint_rows.len();
     if redundant.is_some() {
-        let left: Vec<String> = (0..nc)
-            .filter(|k| !joint_rows.contains(k))
-            .map(|k| format!("{}.{}", sys.rows[k].joint, sys.rows[k].direction))
-            .collect();
-        summary.warnings.push(format!(
-            "{}: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {r} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
-            summary.formulation,
-            left.join(", "),
-            init.redundant_joints.join(", ")
-        ));
+        let w = redundant_rows_warning(&summary.formulation, &sys, &joint_rows, t0, init);
+        summary.warnings.push(w);
     }
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + r);

@@ -704,15 +704,12 @@ pub(crate) fn job<'a>(
             ));
             return super::ggl::job(sys, ggl, tapes, init, (eps, eps), t0, opts);
         };
-        let left: Vec<String> = (0..nc)
-            .filter(|k| !kept.contains(k))
-            .map(|k| format!("{}.{}", sys.rows[k].joint, sys.rows[k].direction))
-            .collect();
-        summary.warnings.push(format!(
-            "partitioned: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
-            left.join(", "),
-            kept.len(),
-            init.redundant_joints.join(", ")
+        summary.warnings.push(super::index1::redundant_rows_warning(
+            "partitioned",
+            &sys,
+            &kept,
+            t0,
+            init,
         ));
         let on_kept = super::index1::multipliers_on_rows(&full, &init.lambda, &kept);
         first_lambda = vec![0.0; nc];
