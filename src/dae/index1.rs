@@ -463,7 +463,7 @@ impl JointRows {
     /// with `G_vᵀ`: `κ(G_v)² = λ_max / λ_min(G_v G_vᵀ) ≥ θ / ‖G_vᵀ u‖²`, with `θ` the Lanczos
     /// value of `λ_max` (a lower bound) and `u` any vector: the last dependent block's
     /// singular vector for `σ_min(G_D)` (`‖G_vᵀ u‖² = σ_min(G_D)² + ‖G_Iᵀ u‖²`), or the hint,
-    /// `λ_min`'s eigenvector at an earlier output ([`Self::with_hint`]) — a Rayleigh quotient
+    /// `λ_min`'s eigenvector at an earlier output ([`Self::with_hints`]) — a Rayleigh quotient
     /// bounds `λ_min` from above. Where the motion is smooth the hint's bound is nearly sharp
     /// and no Gram matrix is factored; otherwise `κ(G_v)` itself decides.
     pub fn no_block_much_better(&mut self, cond: f64, gain: f64) -> bool {
