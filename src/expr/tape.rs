@@ -81,7 +81,7 @@ impl ExprGraph {
         n_stages: usize,
     ) -> StagedTape {
         let n_stages = n_stages.max(1);
-        let order = self.reachable(outputs);
+        let order = self.reachable_marked(outputs);
         let n_vars = order
             .iter()
             .filter_map(|&i| match self.nodes[i as usize] {
@@ -91,12 +91,16 @@ impl ExprGraph {
             .max()
             .unwrap_or(0);
 
-        // Dense per-reachable-node tables, indexed by position in `order` (found by binary
-        // search: `order` is sorted), so compiling costs no hashing.
+        // Dense per-reachable-node tables, indexed by position in `order` (found through a
+        // table over the arena: compiling costs no hashing and no search)
+        let mut position = vec![u32::MAX; order.last().map_or(0, |&i| i as usize + 1)];
+        for (p, &i) in order.iter().enumerate() {
+            position[i as usize] = p as u32;
+        }
         let pos_of = |e: Expr| {
-            order
-                .binary_search(&e.0)
-                .expect("child of a reachable node is reachable")
+            let p = position[e.0 as usize];
+            debug_assert!(p != u32::MAX, "child of a reachable node is reachable");
+            p as usize
         };
         const NONE: u32 = u32::MAX;
         const LIVE_TO_END: u32 = u32::MAX - 1;

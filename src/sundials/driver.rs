@@ -165,10 +165,11 @@ pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverE
     result
 }
 
-/// [`solve_to`] with a check of every internal step that lands at or before `tout`: when
-/// `watch` returns `true` the solve returns at that step, `Step { t: t_n, event: Reached }`
-/// with `t_n < tout` and the state vectors holding the step's own `y(t_n)` (not an
-/// interpolation).
+/// [`solve_to`] with a check of every internal step: when `watch` returns `true` the solve
+/// returns at that step, `Step { t: t_n, event: Reached }` with the state vectors holding the
+/// step's own `y(t_n)` — at once where `t_n < tout`, after the output at `tout` otherwise (a
+/// pending stop, its state interpolated at `t_n`), so that which steps the watch sees does
+/// not depend on the output times.
 pub(crate) fn solve_to_watched<S: Stepper>(
     s: &mut S,
     tout: f64,
@@ -229,15 +230,19 @@ fn solve_to_inner<S: Stepper>(
         check_progress(s.driver(), tn, after)?;
         let event = match raw {
             RawEvent::Success => {
-                if tret < tout {
-                    if let Some(w) = watch.as_deref_mut() {
-                        if w(tret, s.state()) {
+                // every accepted step is watched, the one that passes `tout` too (after the
+                // output at `tout`, as a pending stop), so that what the watch sees does not
+                // depend on the output times
+                if let Some(w) = watch.as_deref_mut() {
+                    if w(tret, s.state()) {
+                        if tret < tout {
                             s.driver().t = tret;
                             return Ok(Step {
                                 t: tret,
                                 event: StepEvent::Reached,
                             });
                         }
+                        s.driver().pending = Some((tret, StepEvent::Reached));
                     }
                 }
                 continue;

@@ -326,6 +326,17 @@ const GRIP_RECHECK: f64 = 1.5;
 /// GGL's 1e-7.
 const STEP_RESELECT_GAIN: f64 = 3.0;
 
+/// How far any coordinate moves (rad, m; the largest change of `q` over its entries) between
+/// two examinations of the partition: the dependent block's grip `μ(D)`, the dependent
+/// coordinates' block, the redundant rows' and the approach of a singular configuration,
+/// which all depend on the configuration only. The examinations run at IDA's accepted steps
+/// (the watch, [`Formulation::watch_step`]), so when they happen no longer follows the
+/// output times asked for, and their cost follows the motion, not the outputs: Bricard's
+/// mechanism (10 s, outputs every 0.01 s, about 1200 steps) examined its partition at each of
+/// its 1000 outputs, two thirds of its integration's CPU (dense singular values and a
+/// causality assignment each time).
+const EXAMINE_MOTION: f64 = 0.02;
+
 /// Joint rows up to which the step watch factors `G_v[:, D]` at every internal step (an LU of
 /// at most 16 × 16: a few hundred flops, against the residuals and Newton solves of a step);
 /// above, every `⌈nc / 16⌉²`-th step, so that the watch costs `O(nc)` per step on average.
@@ -478,6 +489,16 @@ struct Index1<'a> {
     /// The time of the last restart at a step (a failure there again is not answered by
     /// another restart at the same time).
     restarted_at: Option<f64>,
+    /// The configuration `q` at the last examination of the partition ([`EXAMINE_MOTION`]).
+    examined_q: Vec<f64>,
+    /// The IDA step the watch asked to examine: its time, whether the configuration has moved
+    /// [`EXAMINE_MOTION`] since the last examination, whether the block's grip alert fired.
+    watched: Option<(f64, bool, bool)>,
+    /// The grip `μ` of the running dependent velocities' and coordinates' blocks at the last
+    /// examination that looked for a better choice and kept them: the search (a causality
+    /// assignment and a greedy selection) is made again only once the block has degraded
+    /// [`GRIP_RECHECK`] times further (0: not yet searched in this segment).
+    kept_grip: (f64, f64),
     /// The blocks' sparse LUs at scale (reset with the partition).
     block_lus: BlockLus,
     /// The energy kept as an invariant, where the run keeps it
@@ -603,6 +624,183 @@ impl<'a> Index1<'a> {
             &mut BlockLus::default(),
         );
         x
+    }
+
+    /// The examination of the partition at the IDA step `(t, x)`, `x = [q, v]` completed, that
+    /// the watch asked for ([`Formulation::watch_step`]): `scheduled`, the configuration has
+    /// moved [`EXAMINE_MOTION`] since the last examination — the redundant rows, the approach
+    /// of a singular configuration (hand-over), the dependent velocities' and coordinates'
+    /// blocks, each re-chosen where a fresh choice is [`INDEX1_RESELECT_GAIN`] times better;
+    /// `alert`, the step watch's grip estimate rose ([`Self::rechoose_at_step`]).
+    fn examine_step(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        (scheduled, alert): (bool, bool),
+        summary: &mut Summary,
+    ) -> Result<Option<Next<'a>>, SolveError> {
+        if scheduled {
+            self.examined_q.clear();
+            self.examined_q.extend_from_slice(&x[..self.nq()]);
+            if let Some(next) = self.examine(t, x, summary)? {
+                return Ok(Some(next));
+            }
+        }
+        if alert {
+            if let Some(next) = self.rechoose_at_step(t, x, "the block's grip degraded", summary)? {
+                return Ok(Some(next));
+            }
+            // the block holds (no better one yet): look again when it has degraded further
+            self.grip.alert *= GRIP_RECHECK;
+        }
+        Ok(None)
+    }
+
+    /// The step watch's grip estimate at `(t, y)` ([`BlockGrip`]), on its schedule: whether it
+    /// rose above the alert.
+    fn grip_alert(&mut self, t: f64, y: &[f64]) -> bool {
+        if self.grip.constant {
+            return false;
+        }
+        self.grip.since += 1;
+        if self.grip.since < self.grip.next {
+            return false;
+        }
+        self.grip.since = 0;
+        let rho = self
+            .grip
+            .estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
+        // far below the alert the block cannot reach it in a few steps of a smooth motion
+        let margin = if 2.0 * rho < self.grip.alert {
+            4
+        } else if 1.25 * rho < self.grip.alert {
+            2
+        } else {
+            1
+        };
+        self.grip.next = self.grip.every * margin;
+        rho > self.grip.alert
+    }
+
+    /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
+    fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
+        self.reselections += 1;
+        self.state = consistent_state_from(&self.sys, &self.tapes, t, x)?;
+        let xs = self.state_x();
+        self.x.copy_from_slice(&xs);
+        self.restarted_at = Some(t);
+        Ok(())
+    }
+
+    /// The partition's checks at `(t, x)` ([`Self::examine_step`], `scheduled`).
+    fn examine(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        summary: &mut Summary,
+    ) -> Result<Option<Next<'a>>, SolveError> {
+        let nq = self.nq();
+        // G_v at this step, evaluated once for every check below (dense, or by its
+        // non-zeros at scale: every measure then linear in the size of a chain)
+        let mut gv = self.gv_at(t, x).with_hints(std::mem::take(&mut self.hints));
+        // (at scale, with the LU of G_v[:, D] the completion of this row factored)
+        let lu = self
+            .block_lus
+            .last
+            .take()
+            .filter(|(tl, xl, _)| *tl == t && xl[..] == x[..]);
+        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
+        // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
+        // allows, no fresh choice (a causality assignment) can replace this one
+        let possible = (cond > INDEX1_CHECK_CONDITION && cond > GRIP_RECHECK * self.kept_grip.0)
+            .then(|| !gv.no_block_much_better(cond, INDEX1_RESELECT_GAIN));
+        self.hints = gv.hints();
+        // the causality's preference at this step (a graph assignment), assigned at most once
+        let mut preferred: Option<Vec<bool>> = None;
+        // redundant joints: the rows left out must keep holding the rank (the self-stress
+        // turns with the mechanism: a parallel third crank's rows trade places as it passes
+        // the horizontal)
+        if let Some((grip, fresh)) = self.fresher_rows(t, x) {
+            self.restart_from(t, x)?;
+            summary.warnings.push(format!(
+                "{}: independent joint rows re-selected at t = {t:.6} (grip {grip:.1e}, fresh {fresh:.1e})",
+                summary.formulation
+            ));
+            return Ok(Some(Next::Restart(t)));
+        }
+        if self.hands_over && cond > 2.0 * self.watch.block {
+            // the partition degrades: are the joints approaching a singular configuration?
+            let kappa = gv.joint_condition_number(&self.sys.mass);
+            // best ≤ cond: a fresh choice only matters above the hand-over's threshold
+            let best = if cond > DAE_HANDOVER_CONDITION {
+                let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &x[..nq]));
+                select_dependent(gv.dense(), p)
+                    .map_or(f64::INFINITY, |b| gv.dependent_condition(&b))
+                    .min(cond)
+            } else {
+                cond
+            };
+            // (with redundant joints κ is that of the independent rows chosen, which varies as
+            // the self-stress turns — Bricard's rises 37× in its first second while every
+            // block stays regular —: there the blocks alone decide)
+            let rise = self.redundant.is_none() && kappa > DAE_HANDOVER_RISE * self.watch.joints;
+            if rise || best > DAE_HANDOVER_CONDITION {
+                let why = format!(
+                    "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {}), the best dependent block's condition {best:.1e}",
+                    self.watch.joints, self.watch.t0
+                );
+                return Ok(Some(Next::HandOver(self.hand_over_from(t, x, &why)?)));
+            }
+        }
+        if let Some(possible) = possible {
+            let better = possible
+                .then(|| {
+                    let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &x[..nq]));
+                    select_dependent(gv.dense(), p)
+                })
+                .flatten();
+            if let Some(b) = better {
+                if b != self.dependent && gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond {
+                    self.restart_from(t, x)?;
+                    summary.warnings.push(format!(
+                        "index1: dependent velocities re-selected at t = {t:.6} (condition {cond:.1e})"
+                    ));
+                    return Ok(Some(Next::Restart(t)));
+                }
+            }
+            self.kept_grip.0 = cond;
+        }
+        // the dependent coordinates, where they are chosen apart from the velocities
+        if self.coordinates != self.dependent {
+            let mut gq = if self.rows.len() == self.tapes.dims.2 {
+                JointRows::new(&self.tapes.gq, t, x)
+            } else {
+                JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, x), &self.rows))
+            };
+            let cond_q = gq.dependent_condition(&self.coordinates);
+            let search =
+                cond_q > INDEX1_CHECK_CONDITION && cond_q > GRIP_RECHECK * self.kept_grip.1;
+            let better = search
+                .then(|| {
+                    select_dependent(
+                        gq.dense(),
+                        &crate::dae::partition::preferred_coordinates(&self.sys),
+                    )
+                })
+                .flatten()
+                .filter(|b| gq.dependent_condition(b) * INDEX1_RESELECT_GAIN < cond_q);
+            if better.is_some() {
+                self.restart_from(t, x)?;
+                summary.warnings.push(format!(
+                    "index1: dependent coordinates re-selected at t = {t:.6} (condition {cond_q:.1e})"
+                ));
+                return Ok(Some(Next::Restart(t)));
+            }
+            if search {
+                self.kept_grip.1 = cond_q;
+            }
+        }
+        Ok(None)
     }
 
     /// The energy watch at the output `(t, self.x)`: where the energy's drift, projected to the
@@ -780,7 +978,22 @@ impl<'a> Formulation<'a> for Index1<'a> {
             // the causality's choice at the start, the best-held rows at a re-selection
             let hint: &[usize] = if self.reselections == 0 { hint } else { &[] };
             let full = self.tapes.gv.matrix(t_start, &self.x);
-            match independent_rows(&full, *d, hint) {
+            // a restart for another cause (the dependent coordinates or velocities) keeps the
+            // running rows while they hold the rank within REDUNDANT_ROWS_GAIN of the best set,
+            // as the outputs' check does ([`Self::fresher_rows`]): the rows are then the same
+            // from segment to segment, and a partition met before is taken from `built`
+            // (Bricard re-chooses its coordinates twice a period; a fresh set of rows at every
+            // restart made every segment's partition new)
+            let stress = crate::dae::SelfStress::new(&full, *d);
+            let fresh = stress.as_ref().and_then(|s| s.independent_rows(hint));
+            let keep = self.reselections > 0
+                && self.rows.len() + *d == nc
+                && stress
+                    .as_ref()
+                    .zip(fresh.as_ref())
+                    .is_some_and(|(s, f)| REDUNDANT_ROWS_GAIN * s.grip(&self.rows) >= s.grip(f));
+            match fresh {
+                _ if keep => {}
                 Some(rows) => self.rows = rows,
                 None if self.hands_over => {
                     let h = self.hand_over(t_start, "no regular set of independent joint rows")?;
@@ -926,6 +1139,10 @@ impl<'a> Formulation<'a> for Index1<'a> {
             &x_start,
         );
         self.grip.alert = (GRIP_GROWTH * start).max(GRIP_ALERT);
+        self.examined_q.clear();
+        self.examined_q.extend_from_slice(&x_start[..nq]);
+        self.watched = None;
+        self.kept_grip = (0.0, 0.0);
         self.grip.since = 0;
         self.grip.next = self.grip.every;
         self.grip.constant = self.c.gv.iter().all(|row| {
@@ -961,27 +1178,21 @@ impl<'a> Formulation<'a> for Index1<'a> {
     }
 
     fn watch_step(&mut self, t: f64, y: &[f64]) -> bool {
-        if self.grip.constant {
+        // no re-choice at or after the last output
+        if self.opts.output_times.last().is_none_or(|&end| t >= end) {
             return false;
         }
-        self.grip.since += 1;
-        if self.grip.since < self.grip.next {
-            return false;
+        let nq = self.nq();
+        let scheduled = self.examined_q.len() == nq
+            && y[..nq]
+                .iter()
+                .zip(&self.examined_q)
+                .any(|(a, b)| (a - b).abs() > EXAMINE_MOTION);
+        let alert = self.grip_alert(t, y);
+        if scheduled || alert {
+            self.watched = Some((t, scheduled, alert));
         }
-        self.grip.since = 0;
-        let rho = self
-            .grip
-            .estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
-        // far below the alert the block cannot reach it in a few steps of a smooth motion
-        let margin = if 2.0 * rho < self.grip.alert {
-            4
-        } else if 1.25 * rho < self.grip.alert {
-            2
-        } else {
-            1
-        };
-        self.grip.next = self.grip.every * margin;
-        rho > self.grip.alert
+        scheduled || alert
     }
 
     fn at_step(
@@ -991,13 +1202,13 @@ impl<'a> Formulation<'a> for Index1<'a> {
         _solver: &mut Solver,
         summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
+        let Some((_, scheduled, alert)) = self.watched.take() else {
+            return Ok(Next::Continue);
+        };
         let x = self.completed(t, y);
-        if let Some(next) = self.rechoose_at_step(t, &x, "the block's grip degraded", summary)? {
-            return Ok(next);
-        }
-        // the block holds (no better one yet): look again when it has degraded further
-        self.grip.alert *= GRIP_RECHECK;
-        Ok(Next::Continue)
+        Ok(self
+            .examine_step(t, &x, (scheduled, alert), summary)?
+            .unwrap_or(Next::Continue))
     }
 
     fn recover(
@@ -1043,108 +1254,15 @@ impl<'a> Formulation<'a> for Index1<'a> {
         more: bool,
         summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
-        let nq = self.nq();
         let n = self.x.len();
         self.x.copy_from_slice(&full[..n]);
         self.t_last = t;
-        // G_v at this output, evaluated once for every check below (dense, or by its
-        // non-zeros at scale: every measure then linear in the size of a chain)
-        let mut gv = self
-            .gv_at(t, &self.x)
-            .with_hints(std::mem::take(&mut self.hints));
-        // (at scale, with the LU of G_v[:, D] the completion of this row factored)
-        let lu = self
-            .block_lus
-            .last
-            .take()
-            .filter(|(tl, xl, _)| *tl == t && xl[..] == self.x[..]);
-        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
-        // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
-        // allows, no fresh choice (a causality assignment) can replace this one
-        let possible = (cond > INDEX1_CHECK_CONDITION && more)
-            .then(|| !gv.no_block_much_better(cond, INDEX1_RESELECT_GAIN));
-        self.hints = gv.hints();
-        // the causality's preference at this output (a graph assignment), assigned at most once
-        let mut preferred: Option<Vec<bool>> = None;
-        // redundant joints: the rows left out must keep holding the rank (the self-stress
-        // turns with the mechanism: a parallel third crank's rows trade places as it passes
-        // the horizontal)
-        if let Some((grip, fresh)) = self.fresher_rows(t, &self.x).filter(|_| more) {
-            self.reselections += 1;
-            self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
-            summary.warnings.push(format!(
-                "{}: independent joint rows re-selected at t = {t:.6} (grip {grip:.1e}, fresh {fresh:.1e})",
-                summary.formulation
-            ));
-            return Ok(Next::Restart(t));
-        }
-        if self.hands_over && cond > 2.0 * self.watch.block && more {
-            // the partition degrades: are the joints approaching a singular configuration?
-            let kappa = gv.joint_condition_number(&self.sys.mass);
-            // best ≤ cond: a fresh choice only matters above the hand-over's threshold
-            let best = if cond > DAE_HANDOVER_CONDITION {
-                let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &self.x[..nq]));
-                select_dependent(gv.dense(), p)
-                    .map_or(f64::INFINITY, |b| gv.dependent_condition(&b))
-                    .min(cond)
-            } else {
-                cond
-            };
-            // (with redundant joints κ is that of the independent rows chosen, which varies as
-            // the self-stress turns — Bricard's rises 37× in its first second while every
-            // block stays regular —: there the blocks alone decide)
-            let rise = self.redundant.is_none() && kappa > DAE_HANDOVER_RISE * self.watch.joints;
-            if rise || best > DAE_HANDOVER_CONDITION {
-                let why = format!(
-                    "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {}), the best dependent block's condition {best:.1e}",
-                    self.watch.joints, self.watch.t0
-                );
-                return Ok(Next::HandOver(self.hand_over(t, &why)?));
-            }
-        }
-        if let Some(possible) = possible {
-            let better = possible
-                .then(|| {
-                    let p =
-                        preferred.get_or_insert_with(|| self.causal.preferred_at(t, &self.x[..nq]));
-                    select_dependent(gv.dense(), p)
-                })
-                .flatten();
-            if let Some(b) = better {
-                if b != self.dependent && gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond {
-                    self.reselections += 1;
-                    self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
-                    summary.warnings.push(format!(
-                        "index1: dependent velocities re-selected at t = {t:.6} (condition {cond:.1e})"
-                    ));
-                    return Ok(Next::Restart(t));
-                }
-            }
-        }
-        // the dependent coordinates, where they are chosen apart from the velocities
-        if self.coordinates != self.dependent && more {
-            let mut gq = if self.rows.len() == self.tapes.dims.2 {
-                JointRows::new(&self.tapes.gq, t, &self.x)
-            } else {
-                JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, &self.x), &self.rows))
-            };
-            let cond_q = gq.dependent_condition(&self.coordinates);
-            let better = (cond_q > INDEX1_CHECK_CONDITION)
-                .then(|| {
-                    select_dependent(
-                        gq.dense(),
-                        &crate::dae::partition::preferred_coordinates(&self.sys),
-                    )
-                })
-                .flatten()
-                .filter(|b| gq.dependent_condition(b) * INDEX1_RESELECT_GAIN < cond_q);
-            if better.is_some() {
-                self.reselections += 1;
-                self.state = consistent_state_from(&self.sys, &self.tapes, t, &self.x)?;
-                summary.warnings.push(format!(
-                    "index1: dependent coordinates re-selected at t = {t:.6} (condition {cond_q:.1e})"
-                ));
-                return Ok(Next::Restart(t));
+        // the step the watch asked to examine ended exactly on this output
+        if let Some((_, scheduled, alert)) = self.watched.filter(|w| w.0 == t && more) {
+            self.watched = None;
+            let x = self.x.clone();
+            if let Some(next) = self.examine_step(t, &x, (scheduled, alert), summary)? {
+                return Ok(next);
             }
         }
         if more {
@@ -1390,6 +1508,9 @@ pub(crate) fn job<'a>(
             y_first,
             grip,
             restarted_at: None,
+            examined_q: Vec::new(),
+            watched: None,
+            kept_grip: (0.0, 0.0),
             block_lus: BlockLus::default(),
             energy_e0,
             energy_watch,
