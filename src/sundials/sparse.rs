@@ -5,10 +5,11 @@
 //! mechanism has a few entries per row, so it is stored as CSC (`colptr`, `rowidx`, values)
 //! and factored `P J Q = L U` by a sparse LU:
 //!
-//! * [`SparseSolver::Faer`]: faer's sparse LU (COLAMD column ordering, partial pivoting by
-//!   rows), wrapped here as a custom *matrix-direct* `SUNLinearSolver`: the symbolic analysis
-//!   runs once per pattern (again only if the pattern seen at a setup differs), and every
-//!   `setup` refactors numerically with the current values;
+//! * [`SparseSolver::Faer`]: faer's sparse LU (COLAMD column ordering, or the cheapest of
+//!   three orders, [`ColumnOrdering`]; partial pivoting by rows), wrapped here as a custom
+//!   *matrix-direct* `SUNLinearSolver`: the symbolic analysis runs once per pattern (again
+//!   only if the pattern seen at a setup differs), and every `setup` refactors numerically
+//!   with the current values;
 //! * [`SparseSolver::Klu`]: SUNDIALS' own `SUNLinSol_KLU` (SuiteSparse KLU, from Debian's
 //!   `libsundials-dev`), which likewise analyses once and refactors.
 //!
