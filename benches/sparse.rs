@@ -20,8 +20,10 @@
 //! 4. The default `dae` (the index-1 DAE: faer's sparse LU from
 //!    `LinearSolverKind::AUTO_SCHUR_UNKNOWNS` unknowns, the output checks on the non-zeros from
 //!    `SPARSE_GRIP_ROWS` joint rows) against `ggl` on the N-link pendulum as in 1. (outputs
-//!    every 0.01 s), N = 32 … 256: `cpu_seconds / steps` (median of 5 solves), the ratio
-//!    dae / ggl and each one's growth against N = 32 (linear: 2×, 4×, 8×); and where `auto`
+//!    every 0.01 s), N = 32 … 256: `cpu_seconds / steps` (median of 5 solves, alternating),
+//!    the ratio dae / ggl per step and per solve, the same for `dae` with faer's LU in COLAMD's
+//!    column order (the index-1 DAE's before `ColumnOrdering::Cheapest`), and each one's growth
+//!    against N = 32 (linear: 2×, 4×, 8×); and where `auto`
 //!    stops eliminating the dependent blocks (`dae_crossover`: the Schur elimination against
 //!    faer below the threshold).
 //!
@@ -38,6 +40,7 @@ mod common;
 use std::time::Duration;
 
 use bondmech::report::generate::n_link_pendulum;
+use bondmech::sundials::ColumnOrdering;
 use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
 use common::four_bar_chain::{chain_json, chain_json_at, simulate_four_bar_chain, FourBarChain};
 use criterion::Criterion;
@@ -336,11 +339,24 @@ fn per_step(
     ls: LinearSolverKind,
     runs: usize,
 ) -> (f64, Solution) {
+    per_step_ordered(model, formulation, ls, None, runs)
+}
+
+/// [`per_step`] with faer's column ordering of the Newton matrix given (`None`: the
+/// formulation's own, `SolveOptions::sparse_ordering`).
+fn per_step_ordered(
+    model: &Model,
+    formulation: FormulationKind,
+    ls: LinearSolverKind,
+    ordering: Option<ColumnOrdering>,
+    runs: usize,
+) -> (f64, Solution) {
     let mut o = model.default_options();
     o.formulation = formulation;
     o.rtol = 1e-6;
     o.atol = 1e-8;
     o.linear_solver = ls;
+    o.sparse_ordering = ordering;
     let mut last = None;
     let mut cells: Vec<f64> = (0..runs)
         .map(|_| {
@@ -354,33 +370,81 @@ fn per_step(
     (cells[runs / 2], last.expect("at least one run"))
 }
 
-/// The default at scale: `dae` against `ggl`, µs per step (median of 5 solves).
+/// The default at scale: `dae` against `ggl`, µs per step (median of 5 solves, the three
+/// columns alternating), and `dae` with
+/// faer ordering its Newton matrix by COLAMD (before `ColumnOrdering::Cheapest`, the index-1
+/// DAE's own choice since 2026-11-27): each one's ratio to `ggl` per step and per solve
+/// (µs per step × steps).
 fn dae_table() {
     println!(
         "\nThe default at scale: N-link pendulum, rtol 1e-6, atol 1e-8, 1 s, outputs every 0.01 s, \
-         µs per step (median of 5 solves)"
+         µs per step (median of 5 solves); colamd: dae with faer's LU in COLAMD's column order"
     );
     println!(
-        "{:>4} {:>8} {:>6} {:>10} {:>6} {:>10} {:>9} {:>8} {:>8}",
-        "N", "unknowns", "steps", "dae", "steps", "ggl", "dae/ggl", "dae ×", "ggl ×"
+        "{:>4} {:>8} {:>6} {:>9} {:>6} {:>9} {:>6} {:>9} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7}",
+        "N",
+        "unknowns",
+        "steps",
+        "dae",
+        "steps",
+        "colamd",
+        "steps",
+        "ggl",
+        "dae/ggl",
+        "(solve)",
+        "col/ggl",
+        "(solve)",
+        "dae ×",
+        "ggl ×"
     );
     let mut base = None;
     for n in [32usize, 64, 128, 256] {
         let scene = n_link_pendulum(n, 1.0, 0.01).expect("generated scene is valid");
         let model = Model::new(&scene).expect("model builds");
-        let (dae, sd) = per_step(&model, FormulationKind::Dae, LinearSolverKind::Auto, 5);
-        let (ggl, sg) = per_step(&model, FormulationKind::Ggl, LinearSolverKind::Auto, 5);
+        // the three alternating (a load that changes during the run weighs on each alike)
+        let cases = [
+            (FormulationKind::Dae, None),
+            (FormulationKind::Dae, Some(ColumnOrdering::Colamd)),
+            (FormulationKind::Ggl, None),
+        ];
+        let mut cells: Vec<Vec<f64>> = vec![Vec::new(); cases.len()];
+        let mut last: Vec<Option<Solution>> = vec![None, None, None];
+        for _ in 0..5 {
+            for (k, &(f, ordering)) in cases.iter().enumerate() {
+                let (c, s) = per_step_ordered(&model, f, LinearSolverKind::Auto, ordering, 1);
+                cells[k].push(c);
+                last[k] = Some(s);
+            }
+        }
+        let median = |c: &mut Vec<f64>| {
+            c.sort_by(f64::total_cmp);
+            c[c.len() / 2]
+        };
+        let (dae, col, ggl) = (
+            median(&mut cells[0]),
+            median(&mut cells[1]),
+            median(&mut cells[2]),
+        );
+        let [Some(sd), Some(sc), Some(sg)] = [&last[0], &last[1], &last[2]] else {
+            unreachable!("five runs of each");
+        };
         assert_eq!(sd.summary.formulation, "dae", "the default ran its own DAE");
         let (b_dae, b_ggl) = *base.get_or_insert((dae, ggl));
+        let solve = |c: f64, s: &Solution| c * s.summary.steps as f64;
         println!(
-            "{:>4} {:>8} {:>6} {:>10.1} {:>6} {:>10.1} {:>9.2} {:>7.2}× {:>7.2}×  ({}, {})",
+            "{:>4} {:>8} {:>6} {:>9.1} {:>6} {:>9.1} {:>6} {:>9.1} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>6.2}× {:>6.2}×  ({}, {})",
             n,
             sd.summary.unknowns,
             sd.summary.steps,
             dae * 1e6,
+            sc.summary.steps,
+            col * 1e6,
             sg.summary.steps,
             ggl * 1e6,
             dae / ggl,
+            solve(dae, sd) / solve(ggl, sg),
+            col / ggl,
+            solve(col, sc) / solve(ggl, sg),
             dae / b_dae,
             ggl / b_ggl,
             sd.summary.linear_solver,

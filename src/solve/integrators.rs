@@ -24,7 +24,8 @@ pub(crate) fn make_ida(
     yp0: &[f64],
     opts: &SolveOptions,
 ) -> Result<Ida, SolveError> {
-    let ida_opts = ida_options(atol, f.id().to_vec(), opts);
+    let mut ida_opts = ida_options(atol, f.id().to_vec(), opts);
+    ida_opts.sparse_ordering = opts.sparse_ordering.unwrap_or_else(|| f.sparse_ordering());
     let (f1, f2) = (f.clone(), f.clone());
     let mut ws1 = f1.workspace();
     let mut ws2 = f2.workspace();

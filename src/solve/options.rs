@@ -73,6 +73,10 @@ pub struct SolveOptions {
     /// (`IDASetDeltaCjLSetup`); `None` takes bondmech's 0 (a new Jacobian at every change of
     /// `c_j`, see `solve::integrators::IDA_DELTA_CJ`; SUNDIALS' own default is 0.25).
     pub ida_delta_cj: Option<f64>,
+    /// IDA formulations on faer's sparse LU: how it orders the Newton matrix's columns;
+    /// `None` takes the formulation's own choice ([`crate::dae::DaeFormulation::sparse_ordering`]:
+    /// the cheapest of three orders for the index-1 DAE, COLAMD for the others).
+    pub sparse_ordering: Option<crate::sundials::ColumnOrdering>,
     /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
     pub linear_solver: LinearSolverKind,
     /// Integrator of the partitioned formulation (ignored by the others).
@@ -110,6 +114,7 @@ impl Default for SolveOptions {
             twin_stab_lim_det: false,
             ggl_dependent_velocity_error_test: true,
             ida_delta_cj: None,
+            sparse_ordering: None,
             linear_solver: LinearSolverKind::Auto,
             integrator: Integrator::Auto,
             switching_functions: true,

@@ -257,7 +257,7 @@ impl Cvode {
         let (mat, smat, ls) = match &sparse_jac {
             Some((_, p, kind)) => {
                 let sm = SparseMatrix::new(&ctx, p)?;
-                let ls = sparse::new_sparse_solver(&ctx, &y, &sm, *kind)?;
+                let ls = sparse::new_sparse_solver(&ctx, &y, &sm, *kind, Default::default())?;
                 (None, Some(sm), ls)
             }
             None => {

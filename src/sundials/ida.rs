@@ -353,7 +353,10 @@ impl Ida {
             roots: None,
         });
         let (mat, mut ls) = match (custom, &smat, sparse_kind) {
-            (_, Some(sm), Some(kind)) => (None, sparse::new_sparse_solver(&ctx, &y, sm, kind)?),
+            (_, Some(sm), Some(kind)) => (
+                None,
+                sparse::new_sparse_solver(&ctx, &y, sm, kind, opts.sparse_ordering)?,
+            ),
             (None, _, _) => {
                 let mat = DenseMatrix::square(&ctx, n)?;
                 let ls = match schur {

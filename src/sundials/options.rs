@@ -46,6 +46,9 @@ pub struct IdaOptions {
     /// `IDASetNonlinConvCoef`: the Newton iteration stops when its WRMS error estimate is below
     /// this fraction of the local error test's bound (SUNDIALS default 0.33).
     pub nonlin_conv_coef: Option<f64>,
+    /// How faer's sparse LU orders the Newton matrix's columns (with a sparse Jacobian and
+    /// [`super::SparseSolver::Faer`]).
+    pub sparse_ordering: super::ColumnOrdering,
 }
 
 impl Default for IdaOptions {
@@ -68,6 +71,7 @@ impl Default for IdaOptions {
             max_err_test_fails: None,
             delta_cj_lsetup: None,
             nonlin_conv_coef: None,
+            sparse_ordering: super::ColumnOrdering::Colamd,
         }
     }
 }
