@@ -65,28 +65,67 @@ pub fn modulus_value(graph: &BondGraph, e: ElementId, t: f64, values: Valuation)
             let x = eg.table(ts, v, time);
             Some(eg.eval(x, &[t]))
         }
-        Parameter::Expr(s) => {
-            let mut eg = ExprGraph::new();
-            let time = eg.var(0);
-            let mut nodes: BTreeMap<String, crate::expr::Expr> = BTreeMap::new();
-            for n in crate::bond::identifiers::variables(s).ok()? {
-                if n != "t" {
-                    let v = values(&n)?;
-                    nodes.insert(n, eg.constant(v));
-                }
+        Parameter::Expr(s) => PARSED_MODULI.with(|cache| {
+            let mut cache = cache.borrow_mut();
+            if cache.len() >= PARSED_MODULI_KEPT && !cache.contains_key(s) {
+                cache.clear();
             }
-            let x = eg
-                .parse(s, &mut |n| {
-                    if n == "t" {
-                        Some(time)
-                    } else {
-                        nodes.get(n).copied()
-                    }
-                })
-                .ok()?;
-            Some(eg.eval(x, &[t]))
-        }
+            let parsed = cache
+                .entry(s.clone())
+                .or_insert_with(|| ParsedModulus::parse(s))
+                .as_ref()?;
+            let mut vars = Vec::with_capacity(1 + parsed.names.len());
+            vars.push(t);
+            for n in &parsed.names {
+                vars.push(values(n)?);
+            }
+            Some(parsed.graph.eval(parsed.root, &vars))
+        }),
     }
+}
+
+/// A modulus expression parsed once, its variables (other than `t`) as the graph's variables
+/// `1, 2, …` in the order of `names` (`t` is variable 0).
+struct ParsedModulus {
+    graph: ExprGraph,
+    root: crate::expr::Expr,
+    names: Vec<String>,
+}
+
+impl ParsedModulus {
+    fn parse(s: &str) -> Option<ParsedModulus> {
+        let mut graph = ExprGraph::new();
+        let time = graph.var(0);
+        let mut nodes: BTreeMap<String, crate::expr::Expr> = BTreeMap::new();
+        let mut names = Vec::new();
+        for n in crate::bond::identifiers::variables(s).ok()? {
+            if n != "t" && !nodes.contains_key(&n) {
+                nodes.insert(n.clone(), graph.var((1 + names.len()) as u32));
+                names.push(n);
+            }
+        }
+        let root = graph
+            .parse(s, &mut |n| {
+                if n == "t" {
+                    Some(time)
+                } else {
+                    nodes.get(n).copied()
+                }
+            })
+            .ok()?;
+        Some(ParsedModulus { graph, root, names })
+    }
+}
+
+/// Modulus expressions parsed so far on this thread, by their text: the causality's ranked
+/// assignment evaluates every modulated transformer's modulus at each configuration it is
+/// asked about (at every restart of the index-1 DAE, at every examination of its partition),
+/// and lexing and parsing them again each time was 8 % of Bricard's run (perf).
+const PARSED_MODULI_KEPT: usize = 4096;
+
+thread_local! {
+    static PARSED_MODULI: std::cell::RefCell<std::collections::HashMap<String, Option<ParsedModulus>>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
 }
 
 /// Canonical order of bonds: by (tail name, head name, bond name), independent of file order.
