@@ -233,13 +233,22 @@ pub(crate) fn execute<'a>(
             summary,
         )?);
         let watching = formulation.watches_steps();
+        // the wall-clock budget bounds the whole run: the time between two calls of the
+        // integrator (the formulation's examinations at steps and outputs, the rows written)
+        // is charged to it too (examined at every step, a run spent most of its time there
+        // and outlived its budget several times over)
+        let mut outside: Option<Instant> = None;
         while k < times.len() {
+            if let Some(since) = outside.take() {
+                s.charge_wall_clock(since.elapsed());
+            }
             let result = if watching {
                 let f = &mut *formulation;
                 s.solve_to_watched(times[k], &mut |t, y| f.watch_step(t, y))
             } else {
                 s.solve_to(times[k])
             };
+            outside = Some(Instant::now());
             let step = match result {
                 Ok(step) => step,
                 Err(e) => {

@@ -138,6 +138,12 @@ impl Solver {
         }
     }
 
+    /// Counts `spent` (time of the run outside the integrator: the formulation's checks, the
+    /// rows written) against the wall-clock budget.
+    pub(super) fn charge_wall_clock(&mut self, spent: std::time::Duration) {
+        each!(&mut self.integ, i => i.charge_wall_clock(spent));
+    }
+
     /// Moves the current integrator's counters to the earlier ones (before a re-init).
     pub(super) fn bank(&mut self) {
         self.earlier = self.stats();
