@@ -30,9 +30,8 @@ use nalgebra::DMatrix;
 
 use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    consistent_state_from, dependent_condition, independent_rows, joint_conditioning,
-    select_dependent, ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation,
-    Index1Formulation, JointRows, MechanicsTapes,
+    consistent_state_from, independent_rows, joint_conditioning, select_dependent, ConsistentState,
+    ConstraintExprs, DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::formulation::Job;
@@ -682,6 +681,33 @@ impl<'a> Index1<'a> {
         rho > self.grip.alert
     }
 
+    /// The dependent coordinates' block at `(t, x)` where they are chosen apart from the
+    /// velocities (`None` otherwise): its grip `μ(D_q)`, and whether a fresh choice is
+    /// [`INDEX1_RESELECT_GAIN`] times better gripped (looked for only where `search(μ)`).
+    fn coordinates_grip(
+        &self,
+        t: f64,
+        x: &[f64],
+        search: impl Fn(f64) -> bool,
+    ) -> Option<(f64, bool)> {
+        if self.coordinates == self.dependent {
+            return None;
+        }
+        let mut gq = if self.rows.len() == self.tapes.dims.2 {
+            JointRows::new(&self.tapes.gq, t, x)
+        } else {
+            JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, x), &self.rows))
+        };
+        let cond_q = gq.dependent_condition(&self.coordinates);
+        let better = search(cond_q)
+            && select_dependent(
+                gq.dense(),
+                &crate::dae::partition::preferred_coordinates(&self.sys),
+            )
+            .is_some_and(|b| gq.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond_q);
+        Some((cond_q, better))
+    }
+
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
     fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
         self.reselections += 1;
@@ -771,32 +797,17 @@ impl<'a> Index1<'a> {
             self.kept_grip.0 = cond;
         }
         // the dependent coordinates, where they are chosen apart from the velocities
-        if self.coordinates != self.dependent {
-            let mut gq = if self.rows.len() == self.tapes.dims.2 {
-                JointRows::new(&self.tapes.gq, t, x)
-            } else {
-                JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, x), &self.rows))
-            };
-            let cond_q = gq.dependent_condition(&self.coordinates);
-            let search =
-                cond_q > INDEX1_CHECK_CONDITION && cond_q > GRIP_RECHECK * self.kept_grip.1;
-            let better = search
-                .then(|| {
-                    select_dependent(
-                        gq.dense(),
-                        &crate::dae::partition::preferred_coordinates(&self.sys),
-                    )
-                })
-                .flatten()
-                .filter(|b| gq.dependent_condition(b) * INDEX1_RESELECT_GAIN < cond_q);
-            if better.is_some() {
+        if let Some((cond_q, better)) = self.coordinates_grip(t, x, |c| {
+            c > INDEX1_CHECK_CONDITION && c > GRIP_RECHECK * self.kept_grip.1
+        }) {
+            if better {
                 self.restart_from(t, x)?;
                 summary.warnings.push(format!(
                     "index1: dependent coordinates re-selected at t = {t:.6} (condition {cond_q:.1e})"
                 ));
                 return Ok(Some(Next::Restart(t)));
             }
-            if search {
+            if cond_q > INDEX1_CHECK_CONDITION && cond_q > GRIP_RECHECK * self.kept_grip.1 {
                 self.kept_grip.1 = cond_q;
             }
         }
@@ -930,17 +941,8 @@ impl<'a> Index1<'a> {
             return restart(self, "velocities", cond).map(Some);
         }
         // the dependent coordinates, where they are chosen apart from the velocities
-        if self.coordinates != self.dependent {
-            let gq = rows_of(&self.tapes.gq.matrix(t, x), &self.rows);
-            let cond_q = dependent_condition(&gq, &self.coordinates);
-            let better = select_dependent(
-                &gq,
-                &crate::dae::partition::preferred_coordinates(&self.sys),
-            )
-            .filter(|b| dependent_condition(&gq, b) * INDEX1_RESELECT_GAIN < cond_q);
-            if better.is_some() {
-                return restart(self, "coordinates", cond_q).map(Some);
-            }
+        if let Some((cond_q, true)) = self.coordinates_grip(t, x, |_| true) {
+            return restart(self, "coordinates", cond_q).map(Some);
         }
         let best_cond = best_cond.min(cond);
         if self.hands_over && best_cond > DAE_HANDOVER_CONDITION {
