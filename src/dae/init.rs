@@ -326,6 +326,69 @@ pub fn consistent_state_from(
     })
 }
 
+/// Whether the joints' loss of rank at `(t0, x)` holds along the motion — redundant joints
+/// (Bricard's loop, a parallel third crank: `rank G_v < nc` at every configuration the
+/// mechanism moves through) — rather than at this configuration only (a four-bar started on
+/// its aligned configuration: a singular configuration, `rank G_v = nc` once it moves).
+///
+/// The configuration is moved a small step `ε = 1e-3 (1 + max |q|)` along a generic direction
+/// `d = (I − G_q[K, :]⁺ G_q[K, :]) z` of the null space of `G_q[K, :]`, the Jacobian of the independent rows `kept`, and
+/// brought back onto `g_K(q) = 0` (Gauss–Newton, minimum-norm steps). Where the rows left out
+/// are redundant, the manifold `g_K = 0` is the mechanism's own and `G_v` keeps its rank
+/// `rank` there; at a singular configuration the manifold `g_K = 0` is wider than the
+/// mechanism's, and `G_v` regains rank (its smallest singular value grows like `ε`, far above
+/// the rank tolerance).
+///
+/// ```text
+///   q₁ = q₀ + ε d,  G_q[K, :] d = 0;   q₁ ← q₁ − G_q[K, :]⁺ g_K(q₁)   (until g_K ≈ 0)
+///   persists  ⇔  rank G_v(q₁) ≤ rank
+/// ```
+pub fn rank_loss_persists(
+    tapes: &MechanicsTapes,
+    t0: f64,
+    x: &[f64],
+    kept: &[usize],
+    rank: usize,
+) -> bool {
+    let (nq, nv, _) = tapes.dims;
+    let mut y = x[..nq + nv].to_vec();
+    let scale = 1.0 + y[..nq].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let rows_of =
+        |m: &DMatrix<f64>| DMatrix::from_fn(kept.len(), m.ncols(), |i, j| m[(kept[i], j)]);
+    let gq = rows_of(&tapes.gq.matrix(t0, &y));
+    // d = (I − G⁺G) z: a generic z (fixed, so that the same run gives the same answer)
+    // projected onto the null space of the independent rows
+    let z = DVector::from_fn(nq, |i, _| (1.0 + 0.754_877_666 * (i as f64 + 1.0)).sin());
+    let (back, _) = pinv_apply(&gq, &(&gq * &z));
+    let mut d = z - back;
+    if d.norm() == 0.0 {
+        return true;
+    }
+    d /= d.norm();
+    let eps = 1e-3 * scale;
+    for i in 0..nq {
+        y[i] += eps * d[i];
+    }
+    for _ in 0..20 {
+        let g_all = MechanicsTapes::eval(&tapes.g, t0, &y);
+        let g = DVector::from_iterator(kept.len(), kept.iter().map(|&i| g_all[i]));
+        if !g.iter().all(|v| v.is_finite()) {
+            return true;
+        }
+        if g.amax() <= 1e-13 * scale {
+            break;
+        }
+        let jq = rows_of(&tapes.gq.matrix(t0, &y));
+        let (dq, _) = pinv_apply(&jq, &g);
+        for i in 0..nq {
+            y[i] -= dq[i];
+        }
+    }
+    let gv = tapes.gv.matrix(t0, &y);
+    let (_, moved_rank) = pinv_apply(&gv, &DVector::zeros(gv.nrows()));
+    moved_rank <= rank
+}
+
 /// The accelerations' and multipliers' system of a state (`M` diagonal, `G_v` given entry by
 /// entry, `nc = γ.len()` rows):
 ///

@@ -36,7 +36,9 @@ pub use index1::{
     redundant_row_grip, select_dependent, EnergyInvariant, Index1Formulation, JointRows,
     SelfStress,
 };
-pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
+pub use init::{
+    consistent_state, consistent_state_from, rank_loss_persists, ConsistentState, InitError,
+};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};
 pub use partitioned::{Partition, PartitionError, PartitionedRhs, PartitionedSystem};
 pub use singular::{

@@ -30,8 +30,9 @@ use nalgebra::DMatrix;
 
 use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    consistent_state_from, independent_rows, joint_conditioning, select_dependent, ConsistentState,
-    ConstraintExprs, DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
+    consistent_state_from, independent_rows, joint_conditioning, rank_loss_persists,
+    select_dependent, ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation,
+    Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::formulation::Job;
@@ -1396,15 +1397,28 @@ pub(crate) fn job<'a>(
     let causal = CausalPartition::new(&sys, t0);
     // redundant joints: the rows the causality names redundant are left out of the dependent
     // block (the others, a maximal independent set, determine the motion)
-    let redundant = (!init.redundant_joints.is_empty())
+    let mut redundant = (!init.redundant_joints.is_empty())
         .then(|| (nc - init.rank.min(nc), causal.redundant_rows(&sys.rows)));
-    let full = redundant.as_ref().map(|_| tapes.gv.matrix(t0, &x));
-    let joint_rows: Vec<usize> = match (&redundant, &full) {
+    let mut full = redundant.as_ref().map(|_| tapes.gv.matrix(t0, &x));
+    let mut joint_rows: Vec<usize> = match (&redundant, &full) {
         (Some((d, hint)), Some(full)) => {
             independent_rows(full, *d, hint).unwrap_or_else(|| (0..nc).collect())
         }
         _ => (0..nc).collect(),
     };
+    // a loss of rank at the start's configuration only (a four-bar started on its aligned
+    // configuration) is a singular configuration, not redundant joints: the rows left out
+    // would be violated as soon as the mechanism moves (issue 34: 0.31 m on such a four-bar)
+    let singular_start =
+        redundant.is_some() && !rank_loss_persists(&tapes, t0, &x, &joint_rows, init.rank);
+    if singular_start {
+        summary.warnings.push(format!(
+            "{}: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
+            summary.formulation,
+            init.redundant_joints.join(", ")
+        ));
+        (redundant, full, joint_rows) = (None, None, (0..nc).collect());
+    }
     let r = joint_rows.len();
     if redundant.is_some() {
         let w = redundant_rows_warning(&summary.formulation, &sys, &joint_rows, t0, init);
@@ -1429,7 +1443,7 @@ pub(crate) fn job<'a>(
     // (kept unless its block is ill-conditioned there and a numeric choice is much better;
     // no choice can be INDEX1_RESELECT_GAIN times better when the causality's block is within
     // that factor of the bound κ(G_v) ≤ μ(D) of every block: then no numeric choice is made)
-    let causality_block = causal.dependent().map(|d| {
+    let causality_block = causal.dependent().filter(|_| !singular_start).map(|d| {
         let cond = gv.dependent_condition(&d);
         (d, cond)
     });
@@ -1458,7 +1472,7 @@ pub(crate) fn job<'a>(
             t0,
         }
     };
-    if from_causality.is_none() && !sys.inertias.is_empty() {
+    if from_causality.is_none() && !sys.inertias.is_empty() && !singular_start {
         summary.warnings.push(format!(
             "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",
             summary.formulation

@@ -687,12 +687,28 @@ pub(crate) fn job<'a>(
     // joint rows, the one the index-1 DAE takes (the causality's redundant junctions left out
     // first); the rows left out follow from the others
     let mut first_lambda = init.lambda.clone();
-    let psys = if init.redundant_joints.is_empty() {
+    let full = (!init.redundant_joints.is_empty()).then(|| tapes.gv.matrix(t0, &x));
+    let hint = causal.redundant_rows(&sys.rows);
+    let kept = full
+        .as_ref()
+        .and_then(|full| crate::dae::independent_rows(full, nc - init.rank.min(nc), &hint));
+    // a loss of rank at the start's configuration only (a four-bar started on its aligned
+    // configuration): a singular configuration, passed as every other (the rows left out would
+    // be violated as soon as the mechanism moves: 3.0 m on such a four-bar, issue 34)
+    let singular_start = kept
+        .as_ref()
+        .is_some_and(|k| !crate::dae::rank_loss_persists(&tapes, t0, &x, k, init.rank));
+    if singular_start {
+        summary.warnings.push(format!(
+            "partitioned: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
+            init.redundant_joints.join(", ")
+        ));
+    }
+    let psys = if init.redundant_joints.is_empty() || singular_start {
         PartitionedSystem::new(&mut sys, c)
     } else {
-        let full = tapes.gv.matrix(t0, &x);
-        let hint = causal.redundant_rows(&sys.rows);
-        let Some(kept) = crate::dae::independent_rows(&full, nc - init.rank.min(nc), &hint) else {
+        let full = full.expect("G_v where the joints are redundant");
+        let Some(kept) = kept else {
             // no regular set of rows at the start: the compliant GGL solves it (the summary
             // names what runs: no formulation silently becomes another)
             let eps = super::default_compliance(&sys, opts);
@@ -743,7 +759,7 @@ pub(crate) fn job<'a>(
                 || choose(t0, &x)
                     .is_none_or(|b| psys.condition(&b, t0, &x) * CAUSALITY_KEPT_GAIN >= k)
         });
-    if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() {
+    if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() && !singular_start {
         summary.warnings.push(format!(
             "partitioned: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
         ));
