@@ -506,14 +506,15 @@ struct Index1<'a> {
     /// Where the mechanism conserves its energy and the invariant is not kept from the start:
     /// the watch that switches it on once the energy has drifted ([`EnergyWatch`]).
     energy_watch: Option<EnergyWatch>,
-    /// The formulations built for earlier segments, by `(dependent, coordinates, rows)`
+    /// The formulations built for earlier segments, by `(dependent, rows)`
     /// (without the energy invariant): a mechanism that swings back and forth returns to the
     /// partitions it had, and compiling one is most of a restart's cost (Bricard's).
     built: Vec<(PartitionKey, Index1Formulation)>,
 }
 
-/// `(dependent velocities, dependent coordinates, joint rows)` of a segment.
-type PartitionKey = (Vec<usize>, Vec<usize>, Vec<usize>);
+/// `(dependent velocities, joint rows)` of a segment: the formulation built for them serves
+/// every choice of dependent coordinates ([`Index1Formulation::with_coordinates`]).
+type PartitionKey = (Vec<usize>, Vec<usize>);
 
 /// How many built formulations a run keeps ([`Index1::built`]).
 const BUILT_KEPT: usize = 8;
@@ -1057,13 +1058,15 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let e = MechanicsTapes::eval(&self.tapes.outputs, t_start, &x_start);
             self.energy_e0 = Some(e[e.len() - 2]);
         }
-        let key = (dependent.clone(), coordinates.clone(), self.rows.clone());
+        // a partition met before, or one that differs from it in the dependent coordinates
+        // only (their rows are selected among the compiled candidates)
+        let key = (dependent.clone(), self.rows.clone());
         let cached = self
             .energy_e0
             .is_none()
             .then(|| self.built.iter().find(|(k, _)| *k == key))
             .flatten()
-            .map(|(_, f)| f.clone());
+            .and_then(|(_, f)| f.with_coordinates(nq, &coordinates));
         let f = match cached {
             Some(f) => f,
             None => {
