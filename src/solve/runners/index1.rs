@@ -579,7 +579,7 @@ impl<'a> Index1<'a> {
         x: &[f64],
         why: &str,
     ) -> Result<Box<HandOver<'a>>, SolveError> {
-        let init = consistent_state_from(&self.sys, &self.tapes, t_h, x)?;
+        let init = self.restart_state(t_h, x)?;
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
@@ -712,10 +712,28 @@ impl<'a> Index1<'a> {
         Some((cond_q, better))
     }
 
+    /// Whether the blocks are read by their non-zeros ([`SPARSE_GRIP_ROWS`] joint rows or more,
+    /// every row): an examination at an IDA step then reads the step's row uncompleted.
+    fn at_scale(&self) -> bool {
+        let nc = self.tapes.dims.2;
+        nc >= SPARSE_GRIP_ROWS && self.rows.len() == nc
+    }
+
+    /// The consistent state a run restarts or hands over from at `(t, x)`: at scale `x`'s
+    /// dependent coordinates and velocities completed first (an examination at a step reads
+    /// IDA's row as it is), then projected ([`consistent_state_from`]).
+    fn restart_state(&mut self, t: f64, x: &[f64]) -> Result<ConsistentState, SolveError> {
+        if self.at_scale() {
+            let xc = self.completed(t, x);
+            return Ok(consistent_state_from(&self.sys, &self.tapes, t, &xc)?);
+        }
+        Ok(consistent_state_from(&self.sys, &self.tapes, t, x)?)
+    }
+
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
     fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
         self.reselections += 1;
-        self.state = consistent_state_from(&self.sys, &self.tapes, t, x)?;
+        self.state = self.restart_state(t, x)?;
         let xs = self.state_x();
         self.x.copy_from_slice(&xs);
         self.restarted_at = Some(t);
@@ -925,7 +943,7 @@ impl<'a> Index1<'a> {
             .map_or(f64::INFINITY, |b| gv.dependent_condition(b));
         let mut restart = |me: &mut Self, what: &str, c: f64| -> Result<Next<'a>, SolveError> {
             me.reselections += 1;
-            me.state = consistent_state_from(&me.sys, &me.tapes, t, x)?;
+            me.state = me.restart_state(t, x)?;
             let xs = me.state_x();
             me.x.copy_from_slice(&xs);
             me.restarted_at = Some(t);
@@ -1213,7 +1231,19 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let Some((_, scheduled, alert)) = self.watched.take() else {
             return Ok(Next::Continue);
         };
-        let x = self.completed(t, y);
+        let x = if self.at_scale() {
+            // the checks read IDA's step as it is (its dependent coordinates and velocities
+            // hold the joints to the Newton tolerance), with the LU of G_v[:, D] there; a
+            // restart or hand-over completes the row first ([`Self::restart_state`])
+            let (nq, nv, nc) = self.tapes.dims;
+            let x = y[..nq + nv].to_vec();
+            let gv = self.tapes.gv.entries(t, &x);
+            let lu = block_lu((nc, nv), &gv, &self.dependent, &mut self.block_lus.v);
+            self.block_lus.last = lu.map(|lu| (t, x.clone(), lu));
+            x
+        } else {
+            self.completed(t, y)
+        };
         Ok(self
             .examine_step(t, &x, (scheduled, alert), summary)?
             .unwrap_or(Next::Continue))
