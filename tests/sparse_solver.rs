@@ -44,7 +44,9 @@ use bondmech::dae::{
     consistent_state, select_dependent, ConstraintExprs, DecoupledFormulation, GglFormulation,
     Index1Formulation, MechanicsTapes,
 };
-use bondmech::sundials::{solve_direct, CscPattern, DirectSolver, Ida, IdaOptions, SparseSolver};
+use bondmech::sundials::{
+    solve_direct, solve_faer_sequence, CscPattern, DirectSolver, Ida, IdaOptions, SparseSolver,
+};
 use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution, SolveOptions};
 use nalgebra::DMatrix;
 
@@ -119,6 +121,14 @@ fn inf_norm_mat(a: &DMatrix<f64>) -> f64 {
 /// Solves one Newton system with the dense LU, faer and KLU and checks the bounds of the
 /// module documentation. Returns the largest `‖x̂_s − x̂_dense‖ / bound` seen (≤ 1).
 fn check_system(scene: &str, m: &NewtonMatrix) -> f64 {
+    check_system_with(scene, m, None)
+}
+
+/// [`check_system`], and where `refactored` is given (the solution of `A x = b`, `b` as
+/// [`rhs_of`] makes it, by faer's LU in the cheapest column order refactored in an earlier
+/// matrix's row order: [`bondmech::sundials::solve_faer_sequence`]), that solution checked by
+/// the same bounds.
+fn check_system_with(scene: &str, m: &NewtonMatrix, refactored: Option<&[f64]>) -> f64 {
     let n = m.pattern.n();
     let a = m.dense();
     let abs_a = a.abs();
@@ -132,16 +142,16 @@ fn check_system(scene: &str, m: &NewtonMatrix) -> f64 {
     // Skeel's condition ‖ |A⁻¹| |A| ‖∞, invariant under row scaling (the Newton matrices mix
     // units: metres, radians, newtons, and cj or γ k scale rows by many orders of magnitude)
     let skeel = inf_norm_mat(&(&abs_inv * &abs_a));
-    // a right-hand side with every unknown in play: b = A x*, x*_i = cos(i) + 2
-    let xs: Vec<f64> = (0..n).map(|i| (i as f64).cos() + 2.0).collect();
-    let b: Vec<f64> = (0..n)
-        .map(|i| (0..n).map(|j| a[(i, j)] * xs[j]).sum())
-        .collect();
+    let b = rhs_of(&a);
     let norm_b = inf_norm_vec(&b);
     // (x̂, normwise η, componentwise ω, relative forward-error bound f)
-    let solve = |kind: DirectSolver| -> (Vec<f64>, f64, f64, f64) {
-        let x = solve_direct(kind, &m.pattern, &m.values, &b)
-            .unwrap_or_else(|e| panic!("{scene} {} {kind:?}: {e}", m.label));
+    let solve = |kind: Option<DirectSolver>| -> (Vec<f64>, f64, f64, f64) {
+        let x = match (kind, refactored) {
+            (Some(kind), _) => solve_direct(kind, &m.pattern, &m.values, &b)
+                .unwrap_or_else(|e| panic!("{scene} {} {kind:?}: {e}", m.label)),
+            (None, Some(x)) => x.to_vec(),
+            (None, None) => unreachable!("a solver or a solution"),
+        };
         let r: Vec<f64> = (0..n)
             .map(|i| b[i] - (0..n).map(|j| a[(i, j)] * x[j]).sum::<f64>())
             .collect();
@@ -187,30 +197,48 @@ fn check_system(scene: &str, m: &NewtonMatrix) -> f64 {
         );
         (x, eta, omega, f)
     };
-    let (xd, eta_d, _, f_d) = solve(DirectSolver::Dense);
+    let (xd, eta_d, _, f_d) = solve(Some(DirectSolver::Dense));
     assert!(
         eta_d <= ETA_MAX,
         "{scene} {}: dense backward error {eta_d:.2e}",
         m.label
     );
     let mut worst = 0.0f64;
-    for s in [SparseSolver::Faer, SparseSolver::Klu] {
-        let (x, eta, omega, f) = solve(DirectSolver::Sparse(s));
+    let kinds = [
+        Some(DirectSolver::Sparse(SparseSolver::Faer)),
+        Some(DirectSolver::Sparse(SparseSolver::Klu)),
+        None,
+    ];
+    for s in kinds
+        .into_iter()
+        .filter(|k| k.is_some() || refactored.is_some())
+    {
+        let (x, eta, omega, f) = solve(s);
+        let s = s.map_or("faer refactored".to_string(), |k| format!("{k:?}"));
         assert!(
             eta <= ETA_MAX,
-            "{scene} {} {s:?}: backward error {eta:.2e} > {ETA_MAX:e} (dense {eta_d:.2e})",
+            "{scene} {} {s}: backward error {eta:.2e} > {ETA_MAX:e} (dense {eta_d:.2e})",
             m.label
         );
         let bound = (f + f_d) / (1.0 - f_d) * inf_norm_vec(&xd);
         let diff = inf_norm_vec(&x.iter().zip(&xd).map(|(p, q)| p - q).collect::<Vec<_>>());
         assert!(
             diff <= bound,
-            "{scene} {} {s:?}: ‖x − x_dense‖ = {diff:.2e} > {bound:.2e} (κ = {kappa:.2e}, Skeel {skeel:.2e}, η = {eta:.2e}, ω = {omega:.2e})",
+            "{scene} {} {s}: ‖x − x_dense‖ = {diff:.2e} > {bound:.2e} (κ = {kappa:.2e}, Skeel {skeel:.2e}, η = {eta:.2e}, ω = {omega:.2e})",
             m.label
         );
         worst = worst.max(diff / bound);
     }
     worst
+}
+
+/// A right-hand side with every unknown in play: `b = A x*`, `x*_i = cos(i) + 2`.
+fn rhs_of(a: &DMatrix<f64>) -> Vec<f64> {
+    let n = a.nrows();
+    let xs: Vec<f64> = (0..n).map(|i| (i as f64).cos() + 2.0).collect();
+    (0..n)
+        .map(|i| (0..n).map(|j| a[(i, j)] * xs[j]).sum())
+        .collect()
 }
 
 /// `(t, y, y', h)` of the GGL unknowns at the consistent start and at three times along a
@@ -396,6 +424,56 @@ fn dense_faer_and_klu_solve_every_bundled_scenes_newton_systems_alike_to_roundin
     assert!(scenes >= 10, "only {scenes} mechanism scenes");
     let kinds: Vec<_> = kinds.into_iter().collect();
     assert_eq!(kinds, ["compliant ggl", "decoupled", "ggl", "index1"]);
+}
+
+/// The index-1 DAE's Newton matrices of each scene at its four states (one pattern) factored
+/// in sequence by one faer solver in the cheapest column order, as IDA's setups do along a run:
+/// the first with row pivoting, the later ones refactored in its row order while their pivots
+/// pass the threshold test. Each solution meets the bounds of the module documentation against
+/// SUNDIALS' dense LU of the same matrix.
+#[test]
+fn refactored_index1_newton_systems_solve_as_the_dense_lu_does() {
+    let mut refactored = 0;
+    for (name, scene) in mechanism_scenes() {
+        let model = Model::new(&scene).unwrap();
+        let matrices: Vec<NewtonMatrix> = newton_matrices(&name, &model)
+            .into_iter()
+            .filter(|m| m.label.starts_with("index1 "))
+            .collect();
+        let Some(first) = matrices.first() else {
+            continue;
+        };
+        assert!(
+            matrices.iter().all(|m| m.pattern == first.pattern),
+            "{name}: one pattern"
+        );
+        // one right-hand side per matrix, as check_system makes it: solve each matrix's own
+        // system with a solver that has factored the earlier ones
+        let mut xs = Vec::new();
+        for k in 0..matrices.len() {
+            let values: Vec<Vec<f64>> = matrices[..=k].iter().map(|m| m.values.clone()).collect();
+            let b = rhs_of(&matrices[k].dense());
+            let (x, counters) = solve_faer_sequence(
+                bondmech::sundials::ColumnOrdering::Cheapest,
+                &first.pattern,
+                &values,
+                &b,
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(counters.numeric as usize, k + 1, "{name}");
+            assert_eq!(
+                counters.refactored + counters.repivoted,
+                k as u64,
+                "{name}: every factorisation after the first tries the kept row order"
+            );
+            refactored += counters.refactored;
+            xs.push(x[k].clone());
+        }
+        for (m, x) in matrices.iter().zip(&xs) {
+            check_system_with(&name, m, Some(x));
+        }
+    }
+    assert!(refactored > 0, "no refactorisation was exercised");
 }
 
 fn solve(m: &Model, f: FormulationKind, ls: LinearSolverKind, rtol: f64, end: f64) -> Solution {

@@ -5,6 +5,8 @@
 //! `J = ∂F/∂y + c_j ∂F/∂y'`. An [`ExplicitOde`] holds `y' = f(t, y)` and `∂f/∂y` for CVODE.
 //! Variable slots: `0 = t`, `1..=n` the unknowns `y`, `n+1..=2n` their derivatives `y'`.
 
+use std::sync::Arc;
+
 use crate::expr::{Expr, ExprGraph, Tape};
 
 /// One structural non-zero of a Jacobian.
@@ -17,14 +19,31 @@ pub struct Entry {
 }
 
 /// A fully implicit DAE `F(t, y, y') = 0` with exact derivatives.
+///
+/// The tapes may compute more rows than the DAE has (candidate rows `R(t, y, y')`); the DAE's
+/// rows are then a selection of them, `F_i = R_{s(i)}` ([`ImplicitDae::build_selected`]), which
+/// [`ImplicitDae::with_selection`] changes without compiling anything again (the index-1
+/// DAE's dependent coordinates: a coordinate's row is its kinematics `q_i' = K_i v` or a
+/// position constraint). The Jacobian's entries are the candidate rows' exact derivatives,
+/// selected the same way.
 #[derive(Clone, Debug)]
 pub struct ImplicitDae {
     /// Number of unknowns (and equations).
     pub n: usize,
-    residual: Tape,
-    jacobian: Tape,
+    residual: Arc<Tape>,
+    jacobian: Arc<Tape>,
+    /// The entries of `∂R/∂y` and `∂R/∂y'` (candidate rows), in the Jacobian tape's order.
+    all_dy: Arc<Vec<Entry>>,
+    all_dyp: Arc<Vec<Entry>>,
+    /// `s`: the candidate row of each of the DAE's rows (`None`: the candidate rows are the
+    /// rows).
+    selection: Option<Vec<usize>>,
+    /// The selected entries (rows numbered as the DAE's) and their places in the Jacobian
+    /// tape's output.
     dy: Vec<Entry>,
+    dy_at: Vec<usize>,
     dyp: Vec<Entry>,
+    dyp_at: Vec<usize>,
 }
 
 /// Preallocated buffers for evaluating a compiled system without allocating.
@@ -34,17 +53,31 @@ pub struct Workspace {
     work_r: Vec<f64>,
     work_j: Vec<f64>,
     jac: Vec<f64>,
+    /// The candidate rows of a selecting DAE (empty otherwise).
+    rows: Vec<f64>,
 }
 
 impl ImplicitDae {
     /// Differentiates `residual` (expressions over slots `[t, y, y']`) and compiles everything.
     pub fn build(g: &mut ExprGraph, residual: &[Expr], n: usize) -> Self {
         assert_eq!(residual.len(), n, "one residual per unknown");
+        Self::build_selected(g, residual, n, None)
+    }
+
+    /// Differentiates the candidate rows `candidates` (expressions over slots `[t, y, y']`,
+    /// `y` of length `n`) and compiles them; the DAE's row `i` is candidate `selection[i]`
+    /// (every candidate in order when `None`).
+    pub fn build_selected(
+        g: &mut ExprGraph,
+        candidates: &[Expr],
+        n: usize,
+        selection: Option<Vec<usize>>,
+    ) -> Self {
         let mut dy = Vec::new();
         let mut dyp = Vec::new();
         let mut dy_e = Vec::new();
         let mut dyp_e = Vec::new();
-        for (row, &f) in residual.iter().enumerate() {
+        for (row, &f) in candidates.iter().enumerate() {
             for v in g.vars(f) {
                 let v = v as usize;
                 if v == 0 {
@@ -68,13 +101,71 @@ impl ImplicitDae {
         }
         let mut outs = dy_e;
         outs.extend(dyp_e);
-        ImplicitDae {
+        let mut dae = ImplicitDae {
             n,
-            residual: g.compile(residual),
-            jacobian: g.compile(&outs),
-            dy,
-            dyp,
-        }
+            residual: Arc::new(g.compile(candidates)),
+            jacobian: Arc::new(g.compile(&outs)),
+            all_dy: Arc::new(dy),
+            all_dyp: Arc::new(dyp),
+            selection: None,
+            dy: Vec::new(),
+            dy_at: Vec::new(),
+            dyp: Vec::new(),
+            dyp_at: Vec::new(),
+        };
+        dae.select(selection);
+        dae
+    }
+
+    /// The same candidate rows and tapes with the DAE's rows `selection` (one candidate row
+    /// per unknown, each at most once).
+    pub fn with_selection(&self, selection: Vec<usize>) -> Self {
+        let mut dae = ImplicitDae {
+            n: self.n,
+            residual: Arc::clone(&self.residual),
+            jacobian: Arc::clone(&self.jacobian),
+            all_dy: Arc::clone(&self.all_dy),
+            all_dyp: Arc::clone(&self.all_dyp),
+            selection: None,
+            dy: Vec::new(),
+            dy_at: Vec::new(),
+            dyp: Vec::new(),
+            dyp_at: Vec::new(),
+        };
+        dae.select(Some(selection));
+        dae
+    }
+
+    /// Number of candidate rows the tapes compute.
+    pub fn candidates(&self) -> usize {
+        self.residual.n_outputs()
+    }
+
+    fn select(&mut self, selection: Option<Vec<usize>>) {
+        let m = self.residual.n_outputs();
+        let row_of: Vec<Option<usize>> = match &selection {
+            None => (0..m).map(Some).collect(),
+            Some(s) => {
+                assert_eq!(s.len(), self.n, "one candidate row per unknown");
+                let mut r = vec![None; m];
+                for (i, &c) in s.iter().enumerate() {
+                    assert!(r[c].is_none(), "candidate row {c} selected twice");
+                    r[c] = Some(i);
+                }
+                r
+            }
+        };
+        let pick = |all: &[Entry], offset: usize| -> (Vec<Entry>, Vec<usize>) {
+            all.iter()
+                .enumerate()
+                .filter_map(|(k, e)| {
+                    row_of[e.row].map(|row| (Entry { row, col: e.col }, offset + k))
+                })
+                .unzip()
+        };
+        (self.dy, self.dy_at) = pick(&self.all_dy, 0);
+        (self.dyp, self.dyp_at) = pick(&self.all_dyp, self.all_dy.len());
+        self.selection = selection;
     }
 
     /// Buffers for [`Self::residual`] and [`Self::jacobian`].
@@ -83,7 +174,15 @@ impl ImplicitDae {
             vars: vec![0.0; 1 + 2 * self.n],
             work_r: self.residual.workspace(),
             work_j: self.jacobian.workspace(),
-            jac: vec![0.0; self.dy.len() + self.dyp.len()],
+            jac: vec![0.0; self.all_dy.len() + self.all_dyp.len()],
+            rows: vec![
+                0.0;
+                if self.selection.is_some() {
+                    self.candidates()
+                } else {
+                    0
+                }
+            ],
         }
     }
 
@@ -101,7 +200,15 @@ impl ImplicitDae {
     /// Evaluates `F(t, y, y')` into `r`.
     pub fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
         fill_vars(&mut ws.vars, t, y, Some(yp));
-        self.residual.eval(&ws.vars, &mut ws.work_r, r);
+        match &self.selection {
+            None => self.residual.eval(&ws.vars, &mut ws.work_r, r),
+            Some(s) => {
+                self.residual.eval(&ws.vars, &mut ws.work_r, &mut ws.rows);
+                for (ri, &c) in r.iter_mut().zip(s) {
+                    *ri = ws.rows[c];
+                }
+            }
+        }
     }
 
     /// Calls `put(row, col, value)` for every entry of `∂F/∂y + cj ∂F/∂y'` (entries may repeat:
@@ -117,12 +224,11 @@ impl ImplicitDae {
     ) {
         fill_vars(&mut ws.vars, t, y, Some(yp));
         self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
-        let (a, b) = ws.jac.split_at(self.dy.len());
-        for (e, v) in self.dy.iter().zip(a) {
-            put(e.row, e.col, *v);
+        for (e, &k) in self.dy.iter().zip(&self.dy_at) {
+            put(e.row, e.col, ws.jac[k]);
         }
-        for (e, v) in self.dyp.iter().zip(b) {
-            put(e.row, e.col, cj * v);
+        for (e, &k) in self.dyp.iter().zip(&self.dyp_at) {
+            put(e.row, e.col, cj * ws.jac[k]);
         }
     }
 }
@@ -172,6 +278,7 @@ impl ExplicitOde {
             work_r: self.rhs.workspace(),
             work_j: self.jacobian.workspace(),
             jac: vec![0.0; self.dy.len()],
+            rows: Vec::new(),
         }
     }
 

@@ -684,6 +684,37 @@ impl Index1Formulation {
         Self::build_with_energy(sys, c, (dependent, coordinates, rows), None)
     }
 
+    /// The same formulation (dependent velocities, joint rows, compiled tapes) with the
+    /// dependent coordinates `coordinates` (`r` sorted indices, `G_q[R, D_q]` nonsingular): the
+    /// coordinates' rows are selected again among the candidates the tapes compute (the
+    /// kinematic row of each coordinate, each position row), nothing is compiled. `None` for a
+    /// formulation that keeps the energy invariant (its rows depend on `D_q` otherwise).
+    pub fn with_coordinates(&self, nq: usize, coordinates: &[usize]) -> Option<Self> {
+        let r = self.rows.len();
+        if self.energy.is_some()
+            || coordinates.len() != r
+            || coordinates.iter().any(|&i| i >= nq)
+            || self.dae.candidates() != self.dae.n + r
+        {
+            return None;
+        }
+        let mut id = self.id.clone();
+        for (i, d) in id.iter_mut().enumerate().take(nq) {
+            *d = if coordinates.contains(&i) { 0.0 } else { 1.0 };
+        }
+        Some(Index1Formulation {
+            dae: self
+                .dae
+                .with_selection(coordinate_rows(nq, self.dae.n, coordinates)),
+            dependent: self.dependent.clone(),
+            coordinates: coordinates.to_vec(),
+            rows: self.rows.clone(),
+            multipliers: self.multipliers,
+            energy: None,
+            id,
+        })
+    }
+
     /// [`Index1Formulation::build_partitioned`] with, where `e0` is given, the system's energy
     /// kept at `e0` as an invariant ([`EnergyInvariant`]): `y = [q, v, a_D, λ, η, κ, μ]`.
     pub fn build_with_energy(
@@ -751,8 +782,20 @@ impl Index1Formulation {
         };
         let mu = g.var(mu_slot);
         let mut res: Vec<Expr> = Vec::with_capacity(n);
+        // without the invariant, every coordinate's kinematic row and every position row are
+        // candidates, the dependent coordinates' choice a selection among them
+        // ([`Index1Formulation::with_coordinates`]): q_i' − K_i v for i ∉ D_q, g_{R_k} for the
+        // k-th dependent coordinate
+        let selectable = e0.is_none();
+        if selectable {
+            for i in 0..nq {
+                let a = g.var(qp(i));
+                res.push(g.sub(a, sys.kinematics[i]));
+            }
+            res.extend(rows.iter().map(|&k| c.g[k]));
+        }
         // q rows
-        for i in 0..nq {
+        for i in (0..nq).filter(|_| !selectable) {
             match qpos(i) {
                 Some(k) => res.push(c.g[rows[k]]),
                 None => {
@@ -863,8 +906,13 @@ impl Index1Formulation {
             id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
         }
         id.resize(n, 0.0);
+        let dae = if selectable {
+            ImplicitDae::build_selected(g, &res, n, Some(coordinate_rows(nq, n, coordinates)))
+        } else {
+            ImplicitDae::build(g, &res, n)
+        };
         Ok(Index1Formulation {
-            dae: ImplicitDae::build(g, &res, n),
+            dae,
             dependent: dependent.to_vec(),
             coordinates: coordinates.to_vec(),
             rows: rows.to_vec(),
@@ -876,6 +924,21 @@ impl Index1Formulation {
             id,
         })
     }
+}
+
+/// The candidate row of each row of the index-1 DAE without the energy invariant (`n` rows,
+/// the candidates `[q_i' − K_i v (nq), g_{R_k} (r), the other n − nq rows]`): coordinate `i`'s
+/// row is its kinematic row, or the `k`-th position row where `i` is the `k`-th dependent
+/// coordinate; the other rows follow in order.
+fn coordinate_rows(nq: usize, n: usize, coordinates: &[usize]) -> Vec<usize> {
+    let r = coordinates.len();
+    (0..nq)
+        .map(|i| match coordinates.iter().position(|&d| d == i) {
+            Some(k) => nq + k,
+            None => i,
+        })
+        .chain((nq..n).map(|j| j + r))
+        .collect()
 }
 
 /// The rows of `gv` that determine the motion where `redundant` of its rows are redundant

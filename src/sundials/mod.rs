@@ -58,8 +58,8 @@ pub use ida::Ida;
 pub use matrix::DenseMatrixMut;
 pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
 pub use sparse::{
-    solve_direct, solve_direct_ordered, ColumnOrdering, CscPattern, DirectSolver, FaerCounters,
-    SparseMatrixMut, SparseSolver,
+    solve_direct, solve_direct_ordered, solve_faer_sequence, ColumnOrdering, CscPattern,
+    DirectSolver, FaerCounters, SparseMatrixMut, SparseSolver, REFACTOR_PIVOT_TOLERANCE,
 };
 pub use stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
 pub use version::{header_version, version};

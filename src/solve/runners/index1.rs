@@ -507,14 +507,15 @@ struct Index1<'a> {
     /// Where the mechanism conserves its energy and the invariant is not kept from the start:
     /// the watch that switches it on once the energy has drifted ([`EnergyWatch`]).
     energy_watch: Option<EnergyWatch>,
-    /// The formulations built for earlier segments, by `(dependent, coordinates, rows)`
+    /// The formulations built for earlier segments, by `(dependent, rows)`
     /// (without the energy invariant): a mechanism that swings back and forth returns to the
     /// partitions it had, and compiling one is most of a restart's cost (Bricard's).
     built: Vec<(PartitionKey, Index1Formulation)>,
 }
 
-/// `(dependent velocities, dependent coordinates, joint rows)` of a segment.
-type PartitionKey = (Vec<usize>, Vec<usize>, Vec<usize>);
+/// `(dependent velocities, joint rows)` of a segment: the formulation built for them serves
+/// every choice of dependent coordinates ([`Index1Formulation::with_coordinates`]).
+type PartitionKey = (Vec<usize>, Vec<usize>);
 
 /// How many built formulations a run keeps ([`Index1::built`]).
 const BUILT_KEPT: usize = 8;
@@ -579,7 +580,7 @@ impl<'a> Index1<'a> {
         x: &[f64],
         why: &str,
     ) -> Result<Box<HandOver<'a>>, SolveError> {
-        let init = consistent_state_from(&self.sys, &self.tapes, t_h, x)?;
+        let init = self.restart_state(t_h, x)?;
         let eps_default = super::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
@@ -612,8 +613,11 @@ impl<'a> Index1<'a> {
 }
 
 impl<'a> Index1<'a> {
-    /// `[q, v]` of IDA's state `y` at `t`, the dependent coordinates and velocities completed.
-    fn completed(&self, t: f64, y: &[f64]) -> Vec<f64> {
+    /// `[q, v]` of IDA's state `y` at `t`, the dependent coordinates and velocities completed
+    /// (at scale with the running partition's symbolic block LUs, and the numeric LU of
+    /// `G_v[:, D]` left for the examination of the same row: a fresh symbolic analysis of each
+    /// block at every examined step was 7 % of the 128-link pendulum's run).
+    fn completed(&mut self, t: f64, y: &[f64]) -> Vec<f64> {
         let (nq, nv, _) = self.tapes.dims;
         let mut x = y[..nq + nv].to_vec();
         complete_dependent(
@@ -621,7 +625,7 @@ impl<'a> Index1<'a> {
             (&self.dependent, &self.coordinates, &self.rows),
             t,
             &mut x,
-            &mut BlockLus::default(),
+            &mut self.block_lus,
         );
         x
     }
@@ -709,10 +713,28 @@ impl<'a> Index1<'a> {
         Some((cond_q, better))
     }
 
+    /// Whether the blocks are read by their non-zeros ([`SPARSE_GRIP_ROWS`] joint rows or more,
+    /// every row): an examination at an IDA step then reads the step's row uncompleted.
+    fn at_scale(&self) -> bool {
+        let nc = self.tapes.dims.2;
+        nc >= SPARSE_GRIP_ROWS && self.rows.len() == nc
+    }
+
+    /// The consistent state a run restarts or hands over from at `(t, x)`: at scale `x`'s
+    /// dependent coordinates and velocities completed first (an examination at a step reads
+    /// IDA's row as it is), then projected ([`consistent_state_from`]).
+    fn restart_state(&mut self, t: f64, x: &[f64]) -> Result<ConsistentState, SolveError> {
+        if self.at_scale() {
+            let xc = self.completed(t, x);
+            return Ok(consistent_state_from(&self.sys, &self.tapes, t, &xc)?);
+        }
+        Ok(consistent_state_from(&self.sys, &self.tapes, t, x)?)
+    }
+
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
     fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
         self.reselections += 1;
-        self.state = consistent_state_from(&self.sys, &self.tapes, t, x)?;
+        self.state = self.restart_state(t, x)?;
         let xs = self.state_x();
         self.x.copy_from_slice(&xs);
         self.restarted_at = Some(t);
@@ -922,7 +944,7 @@ impl<'a> Index1<'a> {
             .map_or(f64::INFINITY, |b| gv.dependent_condition(b));
         let mut restart = |me: &mut Self, what: &str, c: f64| -> Result<Next<'a>, SolveError> {
             me.reselections += 1;
-            me.state = consistent_state_from(&me.sys, &me.tapes, t, x)?;
+            me.state = me.restart_state(t, x)?;
             let xs = me.state_x();
             me.x.copy_from_slice(&xs);
             me.restarted_at = Some(t);
@@ -1058,13 +1080,15 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let e = MechanicsTapes::eval(&self.tapes.outputs, t_start, &x_start);
             self.energy_e0 = Some(e[e.len() - 2]);
         }
-        let key = (dependent.clone(), coordinates.clone(), self.rows.clone());
+        // a partition met before, or one that differs from it in the dependent coordinates
+        // only (their rows are selected among the compiled candidates)
+        let key = (dependent.clone(), self.rows.clone());
         let cached = self
             .energy_e0
             .is_none()
             .then(|| self.built.iter().find(|(k, _)| *k == key))
             .flatten()
-            .map(|(_, f)| f.clone());
+            .and_then(|(_, f)| f.with_coordinates(nq, &coordinates));
         let f = match cached {
             Some(f) => f,
             None => {
@@ -1208,7 +1232,19 @@ impl<'a> Formulation<'a> for Index1<'a> {
         let Some((_, scheduled, alert)) = self.watched.take() else {
             return Ok(Next::Continue);
         };
-        let x = self.completed(t, y);
+        let x = if self.at_scale() {
+            // the checks read IDA's step as it is (its dependent coordinates and velocities
+            // hold the joints to the Newton tolerance), with the LU of G_v[:, D] there; a
+            // restart or hand-over completes the row first ([`Self::restart_state`])
+            let (nq, nv, nc) = self.tapes.dims;
+            let x = y[..nq + nv].to_vec();
+            let gv = self.tapes.gv.entries(t, &x);
+            let lu = block_lu((nc, nv), &gv, &self.dependent, &mut self.block_lus.v);
+            self.block_lus.last = lu.map(|lu| (t, x.clone(), lu));
+            x
+        } else {
+            self.completed(t, y)
+        };
         Ok(self
             .examine_step(t, &x, (scheduled, alert), summary)?
             .unwrap_or(Next::Continue))
