@@ -634,7 +634,15 @@ fn faer_setup_ordered(lu: &mut FaerLu, n: usize, vals: &[f64]) -> c_int {
         };
     }
     // the first factorisation: each candidate order, the one of fewest multiply-adds kept
-    let mut best: Option<(usize, usize)> = None;
+    // (its factors are this setup's: the same factorisation done once more gave the same)
+    type Probe = (
+        usize,
+        usize,
+        Vec<usize>,
+        Vec<usize>,
+        SimplicialLu<usize, f64>,
+    );
+    let mut best: Option<Probe> = None;
     for (k, fwd) in ordered.candidates.iter().enumerate() {
         let inv = inverse(fwd);
         let (mut probe_fwd, mut probe_inv) = (vec![0; n], vec![0; n]);
@@ -652,27 +660,24 @@ fn faer_setup_ordered(lu: &mut FaerLu, n: usize, vals: &[f64]) -> c_int {
         .is_ok()
         {
             let flops = lu_flops(n, probe.l_factor_unsorted(), probe.u_factor_unsorted());
-            if best.is_none_or(|(_, f)| flops < f) {
-                best = Some((k, flops));
+            if best.as_ref().is_none_or(|b| flops < b.1) {
+                best = Some((k, flops, probe_fwd, probe_inv, probe));
             }
         }
     }
-    let Some((k, _)) = best else {
+    let Some((k, _, row_fwd, row_inv, probe)) = best else {
         lu.factored = false;
         return sys::SUNLS_LUFACT_FAIL as c_int;
     };
     let fwd = ordered.candidates.swap_remove(k);
     ordered.candidates.clear();
     let inv = inverse(&fwd);
-    let ok = factor_ordered(ordered, a, &fwd, &inv, &mut lu.factor_mem);
     (ordered.col_fwd, ordered.col_inv) = (fwd, inv);
-    ordered.fixed = ok.then(|| StaticLu::from_simplicial(&ordered.lu, n));
-    lu.factored = ok;
-    if ok {
-        0
-    } else {
-        sys::SUNLS_LUFACT_FAIL as c_int
-    }
+    (ordered.row_fwd, ordered.row_inv) = (row_fwd, row_inv);
+    ordered.fixed = Some(StaticLu::from_simplicial(&probe, n));
+    ordered.lu = probe;
+    lu.factored = true;
+    0
 }
 
 /// Reads the pattern of the CSC matrix `a` into `lu`, redoing the symbolic analysis if it
