@@ -188,33 +188,28 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
 /// assert!(mu <= bound && bound <= 2f64.powf(0.125) * mu * (1.0 + 1e-12));
 /// ```
 pub fn dependent_condition_bound(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
-    let (m, n) = gv.shape();
+    let m = gv.nrows();
     if m == 0 {
         return 1.0;
     }
     if dependent.len() != m {
         return f64::INFINITY;
     }
-    // G_v row-major; the block's inverse (Gauss–Jordan), whose columns are the rows of G_D⁻ᵀ
-    // (the same singular values)
-    let mut rows = vec![0.0; m * n];
-    for (i, row) in rows.chunks_exact_mut(n).enumerate() {
-        for (j, r) in row.iter_mut().enumerate() {
-            *r = gv[(i, j)];
-        }
-    }
+    // G_v column-major (nalgebra's storage); the block's inverse (Gauss–Jordan)
+    let mut rows = gv.as_slice().to_vec();
     let mut block = vec![0.0; m * m];
     for (k, col) in block.chunks_exact_mut(m).enumerate() {
         for (i, c) in col.iter_mut().enumerate() {
             *c = gv[(i, dependent[k])];
         }
     }
-    // `block` holds G_Dᵀ row-major (G_D column-major): its inverse is G_D⁻ᵀ
+    // `block` holds G_D column-major, i.e. G_Dᵀ row-major: its inverse is G_D⁻ᵀ row-major,
+    // G_D⁻¹ column-major
     if !invert_row_major(&mut block, m) {
         return f64::INFINITY;
     }
-    let bound = largest_singular_value_bound(&mut rows, m, n)
-        * largest_singular_value_bound(&mut block, m, m);
+    let bound =
+        largest_singular_value_bound(&mut rows, m) * largest_singular_value_bound(&mut block, m);
     if bound.is_finite() {
         bound
     } else {
@@ -222,10 +217,10 @@ pub fn dependent_condition_bound(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 
     }
 }
 
-/// `‖(A Aᵀ)⁴‖_F^(1/8) ≥ σ_max(A)` for the row-major `m × n` matrix `a` (overwritten: scaled
-/// by its largest entry `s` first, `A = s B`, so that the powers of `B Bᵀ` neither overflow
-/// nor underflow). The three symmetric products take their upper triangles only.
-fn largest_singular_value_bound(a: &mut [f64], m: usize, n: usize) -> f64 {
+/// `‖(A Aᵀ)⁴‖_F^(1/8) ≥ σ_max(A)` for the column-major `m × (a.len() / m)` matrix `a`
+/// (overwritten: scaled by its largest entry `s` first, `A = s B`, so that the powers of
+/// `B Bᵀ` neither overflow nor underflow).
+fn largest_singular_value_bound(a: &mut [f64], m: usize) -> f64 {
     let s = a.iter().fold(0.0f64, |acc, v| acc.max(v.abs()));
     if s == 0.0 || !s.is_finite() {
         return if s == 0.0 { 0.0 } else { f64::INFINITY };
@@ -234,21 +229,25 @@ fn largest_singular_value_bound(a: &mut [f64], m: usize, n: usize) -> f64 {
     a.iter_mut().for_each(|v| *v *= inv_s);
     let mut p = vec![0.0; m * m];
     let mut p2 = vec![0.0; m * m];
-    gram_into(a, n, &mut p); // P = B Bᵀ
+    gram_into(a, m, &mut p); // P = B Bᵀ
     gram_into(&p, m, &mut p2); // P² = P Pᵀ (P symmetric)
     gram_into(&p2, m, &mut p); // P⁴
     let frobenius = p.iter().map(|v| v * v).sum::<f64>().sqrt();
     s * frobenius.powf(0.125)
 }
 
-/// `g = X Xᵀ` for the row-major matrix `x` with rows of length `k` (`g`: `m × m`, `m` rows).
-fn gram_into(x: &[f64], k: usize, g: &mut [f64]) {
-    let m = x.len() / k;
-    for (i, ri) in x.chunks_exact(k).enumerate() {
-        for (j, rj) in x.chunks_exact(k).enumerate().skip(i) {
-            let d: f64 = ri.iter().zip(rj).map(|(p, q)| p * q).sum();
-            g[i * m + j] = d;
-            g[j * m + i] = d;
+/// `g = X Xᵀ = Σ_c x_c x_cᵀ` for the column-major matrix `x` with columns `x_c` of length `m`
+/// (`g`: `m × m`, column-major), column by column as updates `g_j += x_jc x_c` (no
+/// reductions: the compiler vectorises them).
+fn gram_into(x: &[f64], m: usize, g: &mut [f64]) {
+    g.fill(0.0);
+    for xc in x.chunks_exact(m) {
+        for (gj, &s) in g.chunks_exact_mut(m).zip(xc) {
+            if s != 0.0 {
+                for (gi, &xi) in gj.iter_mut().zip(xc) {
+                    *gi += s * xi;
+                }
+            }
         }
     }
 }
