@@ -338,8 +338,9 @@ const STEP_RESELECT_GAIN: f64 = 3.0;
 const EXAMINE_MOTION: f64 = 0.02;
 
 /// The margin by which [`Index1::examination_moot`]'s bound on `μ(D)` at IDA's step must stay
-/// below [`INDEX1_CHECK_CONDITION`]: IDA's dependent unknowns satisfy the joints' rows to its
-/// Newton tolerance, which moves `μ` by a relative amount of that order, far below 1 %.
+/// below the examination's thresholds (at least [`INDEX1_CHECK_CONDITION`]): IDA's dependent
+/// unknowns satisfy the joints' rows to its Newton tolerance, which moves `μ` by a relative
+/// amount of that order, far below 1 %.
 const MOOT_MARGIN: f64 = 1.01;
 
 /// Joint rows up to which the step watch factors `G_v[:, D]` at every internal step (an LU of
