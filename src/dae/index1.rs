@@ -188,12 +188,30 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
 /// assert!(mu <= bound && bound <= 2f64.powf(0.125) * mu * (1.0 + 1e-12));
 /// ```
 pub fn dependent_condition_bound(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
-    let m = gv.nrows();
-    if m == 0 {
+    if gv.nrows() == 0 {
         return 1.0;
     }
-    if dependent.len() != m {
-        return f64::INFINITY;
+    match dependent_condition_bound_factors(gv, dependent) {
+        Some((top, inverse)) if (top * inverse).is_finite() => top * inverse,
+        _ => f64::INFINITY,
+    }
+}
+
+/// The two factors of [`dependent_condition_bound`]: `(a, b)` with `a ≥ σ_max(G_v)` and `b ≥
+/// σ_max(G_D⁻¹) = 1 / σ_min(G_D)`; `None` for a singular or non-square block (or no rows).
+/// With them, at a nearby `G_v + Δ` (Weyl: singular values move by at most `‖Δ‖₂ ≤ ‖Δ‖_F`,
+/// and `Δ_D` is a block of `Δ`),
+///
+/// ```text
+///   μ(D) ≤ (a + ‖Δ‖_F) / (1/b − ‖Δ‖_F)        where ‖Δ‖_F < 1/b.
+/// ```
+pub fn dependent_condition_bound_factors(
+    gv: &DMatrix<f64>,
+    dependent: &[usize],
+) -> Option<(f64, f64)> {
+    let m = gv.nrows();
+    if m == 0 || dependent.len() != m {
+        return None;
     }
     // G_v column-major (nalgebra's storage); the block's inverse (Gauss–Jordan)
     let mut rows = gv.as_slice().to_vec();
@@ -206,15 +224,12 @@ pub fn dependent_condition_bound(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 
     // `block` holds G_D column-major, i.e. G_Dᵀ row-major: its inverse is G_D⁻ᵀ row-major,
     // G_D⁻¹ column-major
     if !invert_row_major(&mut block, m) {
-        return f64::INFINITY;
+        return None;
     }
-    let bound =
-        largest_singular_value_bound(&mut rows, m) * largest_singular_value_bound(&mut block, m);
-    if bound.is_finite() {
-        bound
-    } else {
-        f64::INFINITY
-    }
+    Some((
+        largest_singular_value_bound(&mut rows, m),
+        largest_singular_value_bound(&mut block, m),
+    ))
 }
 
 /// `‖(A Aᵀ)⁴‖_F^(1/8) ≥ σ_max(A)` for the column-major `m × (a.len() / m)` matrix `a`

@@ -32,9 +32,10 @@ pub use decoupled::DecoupledFormulation;
 pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{
-    block_condition_bound, dependent_condition, dependent_condition_bound, independent_rows,
-    independent_rows_of_stress, redundant_row_grip, select_dependent, EnergyInvariant,
-    Index1Formulation, JointRows, SelfStress,
+    block_condition_bound, dependent_condition, dependent_condition_bound,
+    dependent_condition_bound_factors, independent_rows, independent_rows_of_stress,
+    redundant_row_grip, select_dependent, EnergyInvariant, Index1Formulation, JointRows,
+    SelfStress,
 };
 pub use init::{consistent_state, consistent_state_from, ConsistentState, InitError};
 pub use mechanics::{ConstraintExprs, MatrixTape, MechanicsTapes};

@@ -30,9 +30,9 @@ use nalgebra::DMatrix;
 
 use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    consistent_state_from, dependent_condition_bound, independent_rows, joint_conditioning,
-    select_dependent, ConsistentState, ConstraintExprs, DaeFormulation, GglFormulation,
-    Index1Formulation, JointRows, MechanicsTapes,
+    consistent_state_from, dependent_condition_bound, dependent_condition_bound_factors,
+    independent_rows, joint_conditioning, select_dependent, ConsistentState, ConstraintExprs,
+    DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
 use crate::solve::formulation::Job;
@@ -504,6 +504,10 @@ struct Index1<'a> {
     /// examination that looked for a better choice and kept them: the search (a causality
     /// assignment and a greedy selection) is made again only once the block has degraded
     /// [`GRIP_RECHECK`] times further (0: not yet searched in this segment).
+    /// `G_v` where [`Index1::examination_moot`] last bounded the velocities' block in full, and
+    /// that bound's factors `(a, b)` ([`dependent_condition_bound_factors`]); cleared at each
+    /// segment's start (a new block).
+    moot_reference: Option<(DMatrix<f64>, f64, f64)>,
     kept_grip: (f64, f64),
     /// The blocks' sparse LUs at scale (reset with the partition).
     block_lus: BlockLus,
@@ -728,8 +732,11 @@ impl<'a> Index1<'a> {
     /// smooth mechanism far from any singular configuration is examined every
     /// [`EXAMINE_MOTION`] of motion, up to every other step (the peers' slider-crank, `μ ≈
     /// 10–13`, 361 times in 912 steps at rtol 1e-8; two singular value decompositions and a
-    /// completion each took as much as IDA's whole step).
-    fn examination_moot(&self, t: f64, y: &[f64]) -> bool {
+    /// completion each took as much as IDA's whole step). Between full bounds, the velocities'
+    /// block is bounded from the last one's factors and how far `G_v` has moved since
+    /// ([`dependent_condition_bound_factors`]: Weyl's perturbation bound), a tape evaluation
+    /// and a norm.
+    fn examination_moot(&mut self, t: f64, y: &[f64]) -> bool {
         let (nq, nv, nc) = self.tapes.dims;
         if self.redundant.is_some() || nc >= SPARSE_GRIP_ROWS || self.rows.len() != nc {
             return false;
@@ -738,6 +745,33 @@ impl<'a> Index1<'a> {
         let below = |tape: &crate::dae::MatrixTape, block: &[usize], threshold: f64| {
             MOOT_MARGIN * dependent_condition_bound(&tape.matrix(t, x), block) <= threshold
         };
+        // the velocities' block: from the factors at the last full bound where G_v has moved
+        // little since ([`dependent_condition_bound_factors`]), else a full bound (its factors
+        // kept for the next steps)
+        let (tapes, dependent, reference) =
+            (&self.tapes, &self.dependent, &mut self.moot_reference);
+        let mut velocities_below = |threshold: f64| {
+            let gv = tapes.gv.matrix(t, x);
+            if let Some((g0, a, b)) = reference.as_ref() {
+                let moved = gv
+                    .iter()
+                    .zip(g0.iter())
+                    .map(|(p, q)| (p - q) * (p - q))
+                    .sum::<f64>()
+                    .sqrt();
+                if moved * b < 1.0 && MOOT_MARGIN * (a + moved) / (1.0 / b - moved) <= threshold {
+                    return true;
+                }
+            }
+            match dependent_condition_bound_factors(&gv, dependent) {
+                Some((a, b)) => {
+                    let holds = MOOT_MARGIN * a * b <= threshold;
+                    *reference = Some((gv, a, b));
+                    holds
+                }
+                None => false,
+            }
+        };
         let fresh = INDEX1_CHECK_CONDITION.max(GRIP_RECHECK * self.kept_grip.0);
         let velocities = if self.hands_over {
             fresh.min(2.0 * self.watch.block)
@@ -745,7 +779,7 @@ impl<'a> Index1<'a> {
             fresh
         };
         let coordinates = INDEX1_CHECK_CONDITION.max(GRIP_RECHECK * self.kept_grip.1);
-        below(&self.tapes.gv, &self.dependent, velocities)
+        velocities_below(velocities)
             && (self.coordinates == self.dependent
                 || below(&self.tapes.gq, &self.coordinates, coordinates))
     }
@@ -1187,6 +1221,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         self.examined_q.extend_from_slice(&x_start[..nq]);
         self.watched = None;
         self.kept_grip = (0.0, 0.0);
+        self.moot_reference = None;
         self.grip.since = 0;
         self.grip.next = self.grip.every;
         self.grip.constant = self.c.gv.iter().all(|row| {
@@ -1561,6 +1596,7 @@ pub(crate) fn job<'a>(
             examined_q: Vec::new(),
             watched: None,
             kept_grip: (0.0, 0.0),
+            moot_reference: None,
             block_lus: BlockLus::default(),
             energy_e0,
             energy_watch,
