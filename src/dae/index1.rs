@@ -1203,6 +1203,40 @@ mod tests {
     }
 
     #[test]
+    fn the_grip_at_a_nearby_configuration_is_bounded_by_the_factors_and_the_move() {
+        // μ(G + Δ) ≤ (a + ‖Δ‖_F) / (1/b − ‖Δ‖_F), μ from nalgebra's SVD, for moves up to
+        // where the bound stops (‖Δ‖_F → 1/b)
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for m in [1, 2, 4, 7, 12] {
+            let n = m + 2;
+            let g = DMatrix::from_fn(m, n, |_, _| next());
+            let d: Vec<usize> = (0..m).collect();
+            let (a, b) = dependent_condition_bound_factors(&g, &d).expect("a regular block");
+            for size in [1e-6, 1e-3, 0.1, 0.5, 0.9] {
+                let mut delta = DMatrix::from_fn(m, n, |_, _| next());
+                delta *= size / (b * delta.norm());
+                let moved = delta.norm();
+                let bound = (a + moved) / (1.0 / b - moved);
+                let mu = dependent_condition(&(&g + &delta), &d);
+                assert!(
+                    mu <= bound * (1.0 + 1e-12),
+                    "m = {m}, ‖Δ‖ b = {size}: μ = {mu:e} > {bound:e}"
+                );
+            }
+        }
+        assert_eq!(
+            dependent_condition_bound_factors(&DMatrix::zeros(0, 3), &[]),
+            None
+        );
+    }
+
+    #[test]
     fn grip_of_the_dependent_block_is_the_rows_largest_over_the_blocks_smallest_singular_value() {
         // G_v = [[1, 0, 5], [0, 1e-3, 7]], block D = {0, 1} = diag(1, 1e-3): σ_min = 1e-3;
         // σ_max(G_v)² is the larger eigenvalue of G_v G_vᵀ = [[26, 35], [35, 49 + 1e-6]]
