@@ -32,7 +32,8 @@ pub use decoupled::DecoupledFormulation;
 pub use formulation::{DaeFormulation, GglDae, IdDae};
 pub use ggl::GglFormulation;
 pub use index1::{
-    block_condition_bound, dependent_condition, independent_rows, independent_rows_of_stress,
+    block_condition_bound, dependent_condition, dependent_condition_bound,
+    dependent_condition_bound_factors, independent_rows, independent_rows_of_stress,
     redundant_row_grip, select_dependent, EnergyInvariant, Index1Formulation, JointRows,
     SelfStress,
 };

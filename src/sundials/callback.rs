@@ -111,6 +111,12 @@ impl CallbackStatus {
         if code != 0 {
             return code;
         }
+        // the common case first: one pass without early exit, which the compiler vectorises
+        // (the search for the first non-finite entry cost ~9 instructions per entry: 8k per
+        // 30 × 30 Newton matrix)
+        if !out.iter().fold(false, |bad, v| bad | !v.is_finite()) {
+            return 0;
+        }
         let Some((index, &value)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) else {
             return 0;
         };

@@ -127,7 +127,7 @@ unsafe extern "C" fn jacobian_trampoline(
             DenseMatrixMut::from_raw(jac),
         )
     };
-    j.fill_zero();
+    // IDA zeroes the matrix before it calls this function (idaLsSetup: SUNMatZero, then jac)
     let IdaData {
         status, jacobian, ..
     } = data;
