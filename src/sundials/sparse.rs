@@ -302,7 +302,7 @@ pub struct FaerCounters {
     /// Numeric factorisations.
     pub numeric: u64,
     /// Of the numeric factorisations, those that kept the row pivot order of the last full one
-    /// ([`ColumnOrdering::Cheapest`]: [`StaticLu::refactor`], no pivot search).
+    /// ([`ColumnOrdering::Cheapest`]: `StaticLu::refactor`, no pivot search).
     pub refactored: u64,
     /// Refactorisations given up on a pivot below [`REFACTOR_PIVOT_TOLERANCE`] times its
     /// column (a full factorisation with row pivoting followed).
