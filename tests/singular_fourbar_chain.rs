@@ -37,21 +37,7 @@ fn solve_chain_with(m: &Model, rtol: f64, atol: f64, ls: LinearSolverKind) -> So
 
 /// Largest distance of the first crank's top from the 1-DOF reference over the run.
 fn first_crank_top_error(n: usize, s: &Solution) -> f64 {
-    let p = FourBarChain {
-        loops: n,
-        m: 1.0,
-        l: 1.0,
-        g: G,
-    };
-    let r = simulate_four_bar_chain(&p, [std::f64::consts::FRAC_PI_2, 1.0], &s.times);
-    r.iter()
-        .enumerate()
-        .map(|(k, rk)| {
-            let x = s.value(k, "crank0.A.x").unwrap();
-            let y = s.value(k, "crank0.A.y").unwrap();
-            (x - rk.first_crank_top[0]).hypot(y - rk.first_crank_top[1])
-        })
-        .fold(0.0, f64::max)
+    first_crank_top_error_from(n, s, std::f64::consts::FRAC_PI_2, 1.0)
 }
 
 /// Alignments of the reference chain (sign changes of sin φ) over the output times.

@@ -1228,17 +1228,21 @@ mod tests {
         assert_eq!(select_dependent(&g, &[true, true, true]), None);
     }
 
-    #[test]
-    fn the_grip_bound_lies_between_the_grip_and_the_rows_eighth_root_times_it() {
-        // μ(D) ≤ bound ≤ m^(1/8) μ(D), μ from the singular values (nalgebra's SVD), on
-        // pseudo-random rows of every size up to 16 and blocks from well to badly gripped
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
+    /// Pseudo-random numbers in [−0.5, 0.5) (xorshift64) from `seed`.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        }
+    }
+
+    #[test]
+    fn the_grip_bound_lies_between_the_grip_and_the_rows_eighth_root_times_it() {
+        // μ(D) ≤ bound ≤ m^(1/8) μ(D), μ from the singular values (nalgebra's SVD), on
+        // pseudo-random rows of every size up to 16 and blocks from well to badly gripped
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         for m in 1..=16 {
             for weak in [1.0, 1e-2, 1e-5] {
                 let n = m + 1 + m % 3;
@@ -1269,13 +1273,7 @@ mod tests {
     fn the_grip_at_a_nearby_configuration_is_bounded_by_the_factors_and_the_move() {
         // μ(G + Δ) ≤ (a + ‖Δ‖_F) / (1/b − ‖Δ‖_F), μ from nalgebra's SVD, for moves up to
         // where the bound stops (‖Δ‖_F → 1/b)
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         for m in [1, 2, 4, 7, 12] {
             let n = m + 2;
             let g = DMatrix::from_fn(m, n, |_, _| next());

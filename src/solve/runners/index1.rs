@@ -123,6 +123,29 @@ fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
     DMatrix::from_fn(rows.len(), m.ncols(), |r, j| m[(rows[r], j)])
 }
 
+/// Whether the joints' loss of rank at the start, `init.rank` with the independent rows `kept`,
+/// is that of a singular configuration the mechanism leaves as it moves (a four-bar started on
+/// its aligned configuration) rather than redundant joints ([`rank_loss_persists`]); where it is,
+/// `summary` gets a warning naming the joints. The formulations then keep every joint row and
+/// pass the start as any singular passage.
+pub(super) fn starts_singular(
+    formulation: &str,
+    tapes: &MechanicsTapes,
+    (t0, x): (f64, &[f64]),
+    kept: &[usize],
+    init: &ConsistentState,
+    summary: &mut Summary,
+) -> bool {
+    if init.redundant_joints.is_empty() || rank_loss_persists(tapes, t0, x, kept, init.rank) {
+        return false;
+    }
+    summary.warnings.push(format!(
+        "{formulation}: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
+        init.redundant_joints.join(", ")
+    ));
+    true
+}
+
 /// The warning of a formulation that solves redundant joints from the independent rows `kept`:
 /// which rows are left out, and that the joints' reactions are not unique.
 pub(super) fn redundant_rows_warning(
@@ -1527,14 +1550,16 @@ pub(crate) fn job<'a>(
     // a loss of rank at the start's configuration only (a four-bar started on its aligned
     // configuration) is a singular configuration, not redundant joints: the rows left out
     // would be violated as soon as the mechanism moves (issue 34: 0.31 m on such a four-bar)
-    let singular_start =
-        redundant.is_some() && !rank_loss_persists(&tapes, t0, &x, &joint_rows, init.rank);
+    let singular_start = redundant.is_some()
+        && starts_singular(
+            &summary.formulation.clone(),
+            &tapes,
+            (t0, &x),
+            &joint_rows,
+            init,
+            summary,
+        );
     if singular_start {
-        summary.warnings.push(format!(
-            "{}: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
-            summary.formulation,
-            init.redundant_joints.join(", ")
-        ));
         (redundant, full, joint_rows) = (None, None, (0..nc).collect());
     }
     let r = joint_rows.len();

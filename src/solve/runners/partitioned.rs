@@ -695,15 +695,9 @@ pub(crate) fn job<'a>(
     // a loss of rank at the start's configuration only (a four-bar started on its aligned
     // configuration): a singular configuration, passed as every other (the rows left out would
     // be violated as soon as the mechanism moves: 3.0 m on such a four-bar, issue 34)
-    let singular_start = kept
-        .as_ref()
-        .is_some_and(|k| !crate::dae::rank_loss_persists(&tapes, t0, &x, k, init.rank));
-    if singular_start {
-        summary.warnings.push(format!(
-            "partitioned: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
-            init.redundant_joints.join(", ")
-        ));
-    }
+    let singular_start = kept.as_ref().is_some_and(|k| {
+        super::index1::starts_singular("partitioned", &tapes, (t0, &x), k, init, summary)
+    });
     let psys = if init.redundant_joints.is_empty() || singular_start {
         PartitionedSystem::new(&mut sys, c)
     } else {
