@@ -24,13 +24,14 @@ fn check_scene(path: &str) {
     let dependent = select_dependent(&gv, &preferred).expect("a dependent set");
     let f = Index1Formulation::build(&mut sys, &c, &dependent).expect("index-1");
     let n = f.len();
-    let (outer, blocks) = f.schur_split(nq);
+    let split = f.schur_split(nq);
+    let blocks = split.blocks.clone();
     assert_eq!(
-        outer.len(),
+        split.outer.len(),
         2 * (nv - dependent.len()),
         "{path}: the DOF block"
     );
-    let partition = SchurPartition::new(n, outer, &blocks, f.structure()).expect("structure");
+    let partition = SchurPartition::from_split(n, &split, f.structure()).expect("structure");
     eprintln!(
         "{path}: n = {n}, blocks {:?}, non-zeros of B, C, D below its diagonal {:?}",
         blocks.iter().map(Vec::len).collect::<Vec<_>>(),

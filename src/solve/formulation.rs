@@ -57,10 +57,10 @@ pub(crate) struct ImplicitProblem {
     pub y0: Vec<f64>,
     /// Consistent `y₀'`.
     pub yp0: Vec<f64>,
-    /// `(outer, blocks)`: solve the Newton matrix by eliminating the dependent `blocks` and
-    /// factoring the Schur complement on `outer`, where the structure allows (else the linear
-    /// solver of the options).
-    pub schur: Option<(Vec<usize>, Vec<Vec<usize>>)>,
+    /// Solve the Newton matrix by eliminating the split's dependent blocks and factoring the
+    /// Schur complement on its outer set, where the structure allows (else the linear solver of
+    /// the options).
+    pub schur: Option<crate::sundials::schur::SchurSplit>,
 }
 
 /// The explicit ODE of a segment, on CVODE BDF with Newton and the exact Jacobian.

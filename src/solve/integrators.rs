@@ -10,7 +10,7 @@ use std::sync::Arc;
 use crate::dae::{DaeFormulation, ExplicitOde};
 use crate::solve::SolveError;
 use crate::solve::SolveOptions;
-use crate::sundials::schur::SchurPartition;
+use crate::sundials::schur::{SchurPartition, SchurSplit};
 use crate::sundials::{
     CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SparseMatrixMut,
 };
@@ -56,18 +56,18 @@ pub(crate) fn make_ida(
 }
 
 /// IDA on formulation `f` as [`make_ida`], its Newton matrix solved by eliminating the
-/// dependent `blocks` (block lower triangular in that order) and factoring the Schur complement
-/// on `outer` ([`crate::sundials::schur`]). `None` when the Jacobian's structure does not have
+/// dependent blocks of `split` (block lower triangular in that order) and factoring the Schur
+/// complement on its outer set ([`crate::sundials::schur`]). `None` when the Jacobian's structure does not have
 /// that shape (the caller then uses [`make_ida`]).
 pub(crate) fn make_ida_schur(
     f: Arc<dyn DaeFormulation>,
-    (outer, blocks): (Vec<usize>, Vec<Vec<usize>>),
+    split: SchurSplit,
     atol: Vec<f64>,
     t0: f64,
     (y0, yp0): (&[f64], &[f64]),
     opts: &SolveOptions,
 ) -> Option<Result<Ida, SolveError>> {
-    let partition = SchurPartition::new(f.len(), outer, &blocks, f.structure()).ok()?;
+    let partition = SchurPartition::from_split(f.len(), &split, f.structure()).ok()?;
     let ida_opts = ida_options(atol, f.id().to_vec(), opts);
     let (f1, f2) = (f.clone(), f.clone());
     let mut ws1 = f1.workspace();

@@ -17,13 +17,20 @@
 //! are regular; a singular `D_kk` or `S` is reported as a recoverable failure, as a zero pivot
 //! of the dense LU is, so the integrator cuts its step (and its caller may change formulation).
 //!
+//! A block pairs a set of unknowns (columns) with a set of residual rows of the same size; the
+//! rows need not be the unknowns' own ([`SchurPartition::with_row_blocks`]), so a saddle
+//! `[M G_Dᵀ; G_D 0]` with square `G_D` splits into two triangular blocks: the constraint rows
+//! against the first unknowns (`G_D`), then the first rows against the second unknowns
+//! (`G_Dᵀ`), with `M` below the block diagonal.
+//!
 //! For the index-1 DAE of a mechanism (`crate::dae::index1`), `x` is the independent
 //! coordinates and velocities, and the blocks are `G_qD` (the position rows in the dependent
-//! coordinates), `G_vD` (the velocity rows in the dependent velocities) and the saddle
-//! `[M_D G_Dᵀ; G_D 0]` (the dummy accelerations and the multipliers): the Newton step then
-//! costs three small factorisations and one of the size of the degrees of freedom instead of
-//! one LU of the full matrix. Only the structural non-zeros of `B`, `C` and the off-diagonal
-//! blocks of `D` are visited.
+//! coordinates), `G_vD` (the velocity rows in the dependent velocities), `G_D` (the
+//! acceleration constraints in the dummy accelerations) and `G_Dᵀ` (the dependent inertias'
+//! dynamics in the multipliers): the Newton step then costs four factorisations of the size of
+//! the joint rows and one of the size of the degrees of freedom instead of one LU of the full
+//! matrix. Only the structural non-zeros of `B`, `C` and the off-diagonal blocks of `D` are
+//! visited.
 //!
 //! It reads the dense `SUNMatrix` the integrator fills with the user's Jacobian (so IDA keeps
 //! its own decisions on when to re-evaluate and re-factor the Newton matrix).
@@ -57,8 +64,31 @@ pub enum PartitionError {
     },
 }
 
-/// The split of the unknowns (rows and columns alike: a symmetric permutation) and the
-/// structural non-zeros the solver visits.
+/// Which unknowns a Schur elimination keeps (`outer`) and which it eliminates, block by block
+/// (`blocks`, block lower triangular in that order), each block with the residual rows it is
+/// solved from (`row_blocks`: the same sizes; the outer set keeps its own rows).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SchurSplit {
+    /// The unknowns of the Schur complement (and their rows).
+    pub outer: Vec<usize>,
+    /// The eliminated unknowns, block by block.
+    pub blocks: Vec<Vec<usize>>,
+    /// The rows each block is solved from.
+    pub row_blocks: Vec<Vec<usize>>,
+}
+
+impl SchurSplit {
+    /// A split whose blocks are solved from their unknowns' own rows.
+    pub fn symmetric(outer: Vec<usize>, blocks: Vec<Vec<usize>>) -> Self {
+        SchurSplit {
+            outer,
+            row_blocks: blocks.clone(),
+            blocks,
+        }
+    }
+}
+
+/// The split of the unknowns and rows and the structural non-zeros the solver visits.
 #[derive(Clone, Debug)]
 pub struct SchurPartition {
     n: usize,
@@ -66,6 +96,9 @@ pub struct SchurPartition {
     outer: Vec<usize>,
     /// The unknowns of the dependent blocks (`z`), concatenated in block order.
     inner: Vec<usize>,
+    /// The residual rows of the dependent blocks, in the same order (`inner` itself for a
+    /// symmetric split).
+    inner_rows: Vec<usize>,
     /// `inner[starts[k]..starts[k + 1]]`: block `k`.
     starts: Vec<usize>,
     /// `(local z row, local z column, dense index)` of `D` below the block diagonal, by row block:
@@ -81,11 +114,40 @@ pub struct SchurPartition {
 
 impl SchurPartition {
     /// The partition of `0..n` into `outer` and the ordered `blocks`, for a matrix whose
-    /// structural non-zeros are `pattern` (`(row, column)`, repeats allowed).
+    /// structural non-zeros are `pattern` (`(row, column)`, repeats allowed); each block's rows
+    /// are its unknowns' own.
     pub fn new(
         n: usize,
         outer: Vec<usize>,
         blocks: &[Vec<usize>],
+        pattern: impl IntoIterator<Item = (usize, usize)>,
+    ) -> Result<Self, PartitionError> {
+        Self::with_row_blocks(n, outer, blocks, blocks, pattern)
+    }
+
+    /// The partition of [`SchurSplit`] `split` (see [`SchurPartition::with_row_blocks`]).
+    pub fn from_split(
+        n: usize,
+        split: &SchurSplit,
+        pattern: impl IntoIterator<Item = (usize, usize)>,
+    ) -> Result<Self, PartitionError> {
+        Self::with_row_blocks(
+            n,
+            split.outer.clone(),
+            &split.blocks,
+            &split.row_blocks,
+            pattern,
+        )
+    }
+
+    /// As [`SchurPartition::new`], with block `k`'s unknowns `blocks[k]` paired with the
+    /// residual rows `row_blocks[k]` (the same size): `D_kk = J[row_blocks[k], blocks[k]]`. The
+    /// outer set keeps its own rows; the row sets and the outer set must split `0..n` too.
+    pub fn with_row_blocks(
+        n: usize,
+        outer: Vec<usize>,
+        blocks: &[Vec<usize>],
+        row_blocks: &[Vec<usize>],
         pattern: impl IntoIterator<Item = (usize, usize)>,
     ) -> Result<Self, PartitionError> {
         // where each unknown sits: Outer(local) or Inner(block, local)
@@ -95,28 +157,43 @@ impl SchurPartition {
             Outer(usize),
             Inner(usize, usize),
         }
-        let mut at = vec![At::None; n];
-        for (i, &u) in outer.iter().enumerate() {
-            if u >= n || at[u] != At::None {
-                return Err(PartitionError::NotASplit { n });
-            }
-            at[u] = At::Outer(i);
-        }
-        let mut inner = Vec::new();
-        let mut starts = vec![0];
-        for (k, blk) in blocks.iter().enumerate() {
-            for &u in blk {
+        type Placed = (Vec<At>, Vec<usize>, Vec<usize>);
+        // where each unknown (or row) sits, the sets concatenated, and where each set starts
+        let place = |sets: &[Vec<usize>]| -> Result<Placed, PartitionError> {
+            let mut at = vec![At::None; n];
+            for (i, &u) in outer.iter().enumerate() {
                 if u >= n || at[u] != At::None {
                     return Err(PartitionError::NotASplit { n });
                 }
-                at[u] = At::Inner(k, inner.len());
-                inner.push(u);
+                at[u] = At::Outer(i);
             }
-            starts.push(inner.len());
-        }
-        if at.contains(&At::None) {
+            let mut inner = Vec::new();
+            let mut starts = vec![0];
+            for (k, blk) in sets.iter().enumerate() {
+                for &u in blk {
+                    if u >= n || at[u] != At::None {
+                        return Err(PartitionError::NotASplit { n });
+                    }
+                    at[u] = At::Inner(k, inner.len());
+                    inner.push(u);
+                }
+                starts.push(inner.len());
+            }
+            if at.contains(&At::None) {
+                return Err(PartitionError::NotASplit { n });
+            }
+            Ok((at, inner, starts))
+        };
+        if row_blocks.len() != blocks.len()
+            || row_blocks
+                .iter()
+                .zip(blocks)
+                .any(|(r, c)| r.len() != c.len())
+        {
             return Err(PartitionError::NotASplit { n });
         }
+        let (at, inner, starts) = place(blocks)?;
+        let (at_row, inner_rows, _) = place(row_blocks)?;
         let mut entries: Vec<(usize, usize)> = pattern.into_iter().collect();
         entries.sort_unstable();
         entries.dedup();
@@ -129,7 +206,7 @@ impl SchurPartition {
                 return Err(PartitionError::NotASplit { n });
             }
             let dense = col * n + row;
-            match (at[row], at[col]) {
+            match (at_row[row], at[col]) {
                 (At::Inner(kr, r), At::Inner(kc, c)) => {
                     if kc > kr {
                         return Err(PartitionError::NotLowerTriangular { row, col });
@@ -149,6 +226,7 @@ impl SchurPartition {
             n,
             outer,
             inner,
+            inner_rows,
             starts,
             lower,
             lower_at,
@@ -270,7 +348,7 @@ impl SchurLu {
             let m = s1 - s0;
             let blk = &mut self.diag[self.diag_at[k]..self.diag_at[k + 1]];
             for (jc, &cj) in p.inner[s0..s1].iter().enumerate() {
-                for (ir, &ri) in p.inner[s0..s1].iter().enumerate() {
+                for (ir, &ri) in p.inner_rows[s0..s1].iter().enumerate() {
                     blk[jc * m + ir] = a[cj * n + ri];
                 }
             }
@@ -332,7 +410,7 @@ impl SchurLu {
         let p = &self.p;
         let nx = p.outer.len();
         let nz = p.inner.len();
-        for (z, &u) in self.z.iter_mut().zip(&p.inner) {
+        for (z, &u) in self.z.iter_mut().zip(&p.inner_rows) {
             *z = b[u];
         }
         forward(
@@ -672,6 +750,75 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn blocks_solved_from_other_rows_solve_as_the_full_lu() {
+        // J' = P J with the blocks' rows exchanged among themselves: block k of J' is solved
+        // from rows π(blocks[k]), and J' x = P b has J's solution x
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        for (nx, sizes) in [
+            (1, vec![2, 2, 2, 2]),
+            (2, vec![7, 7, 7, 7]),
+            (3, vec![1, 3]),
+        ] {
+            for trial in 0..4 {
+                let (n, outer, blocks, a) = structured(&mut rng, nx, &sizes, trial % 2 == 0);
+                let inner: Vec<usize> = blocks.concat();
+                let mut shuffled = inner.clone();
+                for i in (1..shuffled.len()).rev() {
+                    let j = ((rng.next() + 0.5) * (i + 1) as f64) as usize % (i + 1);
+                    shuffled.swap(i, j);
+                }
+                // π: inner[i] ↦ shuffled[i]; outer rows stay
+                let mut pi: Vec<usize> = (0..n).collect();
+                for (&from, &to) in inner.iter().zip(&shuffled) {
+                    pi[from] = to;
+                }
+                let row_blocks: Vec<Vec<usize>> = blocks
+                    .iter()
+                    .map(|b| b.iter().map(|&u| pi[u]).collect())
+                    .collect();
+                let permuted = DMatrix::from_fn(n, n, |i, j| {
+                    let src = pi.iter().position(|&t| t == i).unwrap();
+                    a[(src, j)]
+                });
+                let p = SchurPartition::with_row_blocks(
+                    n,
+                    outer,
+                    &blocks,
+                    &row_blocks,
+                    pattern(&permuted),
+                )
+                .expect("partition");
+                let mut lu = SchurLu::new(p);
+                lu.factor(permuted.as_slice()).expect("regular");
+                let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+                let reference = a
+                    .clone()
+                    .lu()
+                    .solve(&DVector::from_column_slice(&b))
+                    .unwrap();
+                let mut x = vec![0.0; n];
+                for i in 0..n {
+                    x[pi[i]] = b[i];
+                }
+                lu.solve(&mut x);
+                let xv = DVector::from_column_slice(&x);
+                let forward = (&xv - &reference).amax() / reference.amax();
+                let s = a.clone().singular_values();
+                assert!(
+                    forward <= 1e-13 * (s.max() / s.min()).max(1.0),
+                    "nx {nx} sizes {sizes:?}: forward error {forward:.1e}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn row_blocks_of_other_sizes_are_refused() {
+        let e = SchurPartition::with_row_blocks(3, vec![0], &[vec![1, 2]], &[vec![1]], [(0, 0)]);
+        assert!(matches!(e, Err(PartitionError::NotASplit { n: 3 })));
     }
 
     #[test]
