@@ -5,8 +5,8 @@
 //! rtol = atol = 1e-13, whose energy, angular momentum about the vertical and spin are checked
 //! to be conserved and whose tolerance is checked not to matter.
 //!
-//! Issue 25 asks the default formulation to stay within 100 × rtol of it at rtol 1e-10, and
-//! the GGL within 1000 × rtol.
+//! Issue 34 asks the default formulation and the GGL to stay within 1000 × rtol of it at rtol
+//! 1e-10 (issue 25 had asked 100 × of the default).
 
 mod common;
 
@@ -122,17 +122,23 @@ fn reference_conserves_energy_vertical_momentum_and_spin() {
         .map(|(a, b)| (a.rotation - b.rotation).abs().max())
         .fold(0.0, f64::max);
     // measured 5.0e-10: the 1e-13 reference is good to about a tenth of that, well under the
-    // 1e-8 (100 × rtol) the default is held to
+    // 1e-7 (1000 × rtol) the formulations are held to
     assert!(diff < 1e-9, "reference at 1e-12 vs 1e-13: {diff:e}");
 }
 
 /// The default runs the chapter's index-1 DAE on IDA on a 3D body (its quaternion rows
 /// `e' = ½ e ⊗ (0, ω)` among the differential ones, the centre of mass dependent), without the
-/// Newton convergence failures the stale-`c_j` Newton matrix caused (1726 before), and with the
-/// global error it has today: measured 1.9e-7 = 1.9e3 × rtol (25 143 steps). Issue 25 asks
-/// 100 × rtol: [`default_formulation_follows_the_heavy_top_within_100_rtol`].
+/// Newton convergence failures the stale-`c_j` Newton matrix caused (1726 before), within
+/// issue 34's 1000 × rtol (issue 25's 100 × re-scoped).
+///
+/// Measured 6.0e-8 = 598 × rtol in 25 081 steps, with `γ` built by one forward sweep
+/// (`ExprGraph::tangents`); 1314 × with the earlier term-by-term `γ`, the same mathematics
+/// rounded otherwise. The global error of BDF over these 25 000 steps scatters by about 2× with
+/// such rounding and with the tolerance: at rtol 5e-11, 7e-11, 1.4e-10 and 2e-10 the default is
+/// 1519, 877, 1530 and 931 × rtol, the GGL 473, 485, 1397 and 1009 × (its 511 × here). This
+/// test pins the issue's point, rtol 1e-10.
 #[test]
-fn default_formulation_runs_the_index1_dae_on_the_top() {
+fn default_formulation_follows_the_heavy_top_within_1000_rtol() {
     let sol = solve(None);
     let err = error(&sol);
     let s = &sol.summary;
@@ -155,20 +161,7 @@ fn default_formulation_runs_the_index1_dae_on_the_top() {
     assert_eq!(s.dependent.len(), 3, "{s:?}");
     assert_eq!(s.states.len(), 3, "{s:?}");
     assert!(s.nonlinear_conv_failures < 20, "{s:?}");
-    assert!(err < 4000.0 * RTOL, "error {err:e} = {} rtol", err / RTOL);
-}
-
-/// Issue 25's target for the default. Not met: BDF with IDA's per-step error control
-/// accumulates its local errors coherently on this undamped fast rotation (the global error is
-/// about the number of steps × rtol: 25 143 steps, 1.9e3 × rtol; CVODE's BDF on the partitioned
-/// ODE does the same, 3.1e4 × rtol in 9 213 steps), so 100 × rtol would take an internal
-/// tolerance about 1000 times tighter than asked.
-#[test]
-#[ignore = "issue 25 target not met: the default's error is 1.9e3 x rtol (see the test's doc)"]
-fn default_formulation_follows_the_heavy_top_within_100_rtol() {
-    let sol = solve(None);
-    let err = error(&sol);
-    assert!(err < 100.0 * RTOL, "error {err:e} = {} rtol", err / RTOL);
+    assert!(err < 1000.0 * RTOL, "error {err:e} = {} rtol", err / RTOL);
 }
 
 /// Measured 6.1e-8 = 6.1e2 × rtol in 27 453 steps (3.9e3 × rtol and 303 Newton convergence

@@ -66,18 +66,30 @@ impl ConstraintExprs {
         };
         let gv = dense_rows(&mut sys.graph, &gvv, &v_slots);
         let gq = dense_rows(&mut sys.graph, &g, &q_slots);
-        // γ = Σ_k ∂(G_v v)/∂q_k · (K v)_k (+ ∂(G_v v)/∂t for a rheonomic row)
+        // γ = Σ_k ∂(G_v v)/∂q_k · (K v)_k (+ ∂(G_v v)/∂t for a rheonomic row): the tangent
+        // of G_v v along q̇ = K(q) v, one forward sweep for all rows (linear in their size)
+        let mut coordinate_of = vec![None; 1 + nq + nv];
+        for (k, &s) in q_slots.iter().enumerate() {
+            coordinate_of[s as usize] = Some(k);
+        }
+        let kinematics = sys.kinematics.clone();
+        let along = sys.graph.tangents(&gvv, &|s| {
+            coordinate_of
+                .get(s as usize)
+                .copied()
+                .flatten()
+                .map(|k| kinematics[k])
+        });
         let gamma = gvv
             .iter()
-            .map(|&e| {
-                let mut terms: Vec<Expr> = sparse_row(&mut sys.graph, e, &q_slots)
-                    .into_iter()
-                    .map(|(k, d)| sys.graph.mul(d, sys.kinematics[k]))
-                    .collect();
+            .zip(along)
+            .map(|(&e, t)| {
                 if sys.graph.depends_on(e, 0) {
-                    terms.push(sys.graph.diff(e, 0));
+                    let dt = sys.graph.diff(e, 0);
+                    sys.graph.add(t, dt)
+                } else {
+                    t
                 }
-                sys.graph.sum(&terms)
             })
             .collect();
         // b = G_v v − Σ_j G_v[i][j] v_j: the part of the flow row free of v (∂g/∂t, `−ṡ(t)`)
