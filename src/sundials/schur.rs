@@ -535,12 +535,22 @@ fn invert(a: &mut [f64], m: usize, piv: &mut [usize], work: &mut [f64]) -> bool 
 /// `v ← M v` for the column-major `m × m` matrix `minv` (`tmp`: scratch of length `m`).
 #[inline]
 fn apply(minv: &[f64], m: usize, v: &mut [f64], tmp: &mut [f64]) {
+    if m == 0 {
+        return;
+    }
+    let v = &mut v[..m];
     let t = &mut tmp[..m];
-    t.copy_from_slice(&v[..m]);
-    v[..m].fill(0.0);
-    for (j, &tj) in t.iter().enumerate() {
-        for (vi, mij) in v[..m].iter_mut().zip(&minv[j * m..(j + 1) * m]) {
-            *vi += mij * tj;
+    t.copy_from_slice(v);
+    // column by column, the first one assigning (0 + x = x: the same sums as from zero)
+    let mut cols = minv[..m * m].chunks_exact(m);
+    if let Some(first) = cols.next() {
+        for (vi, &c) in v.iter_mut().zip(first) {
+            *vi = c * t[0];
+        }
+    }
+    for (col, &tj) in cols.zip(&t[1..]) {
+        for (vi, &c) in v.iter_mut().zip(col) {
+            *vi += c * tj;
         }
     }
 }
