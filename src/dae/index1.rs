@@ -686,8 +686,6 @@ pub fn block_lu(
     dependent: &[usize],
     symbolic: &mut Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
 ) -> Option<faer::sparse::linalg::solvers::Lu<usize, f64>> {
-    use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
-    use faer::sparse::{SparseColMat, Triplet};
     if dependent.len() != nc {
         return None;
     }
@@ -695,12 +693,28 @@ pub fn block_lu(
     for (k, &j) in dependent.iter().enumerate() {
         *local.get_mut(j)? = k;
     }
-    let block: Vec<Triplet<usize, usize, f64>> = entries
+    let block: Vec<(usize, usize, f64)> = entries
         .iter()
         .filter(|e| local[e.1] != usize::MAX)
-        .map(|&(i, j, v)| Triplet::new(i, local[j], v))
+        .map(|&(i, j, v)| (i, local[j], v))
         .collect();
-    let b = SparseColMat::<usize, f64>::try_new_from_triplets(nc, nc, &block).ok()?;
+    factor_block(nc, &block, symbolic)
+}
+
+/// faer's sparse LU of the `nc × nc` matrix with the non-zeros `block` (`(row, column, value)`),
+/// the symbolic factorisation kept in `symbolic` as in [`block_lu`].
+fn factor_block(
+    nc: usize,
+    block: &[(usize, usize, f64)],
+    symbolic: &mut Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
+) -> Option<faer::sparse::linalg::solvers::Lu<usize, f64>> {
+    use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+    use faer::sparse::{SparseColMat, Triplet};
+    let triplets: Vec<Triplet<usize, usize, f64>> = block
+        .iter()
+        .map(|&(i, k, v)| Triplet::new(i, k, v))
+        .collect();
+    let b = SparseColMat::<usize, f64>::try_new_from_triplets(nc, nc, &triplets).ok()?;
     let symbolic = match symbolic {
         Some(s) => s.clone(),
         None => symbolic
@@ -708,6 +722,83 @@ pub fn block_lu(
             .clone(),
     };
     Lu::try_new_with_symbolic(symbolic, b.as_ref()).ok()
+}
+
+/// [`block_lu`] for a partition's block, its factors kept with the block's entries they
+/// factor: where the block's entries are the same again, bit for bit, the kept factors are the
+/// block's (a pinned chain's dependent translations: rows of constant ±1, the same block at
+/// every step), and nothing is factored. The symbolic factorisation is kept as [`block_lu`]
+/// keeps it (the pattern of a partition's block is fixed).
+#[derive(Default)]
+pub struct KeptBlockLu {
+    symbolic: Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
+    /// The dependent columns and each column's place in the block (`usize::MAX`: not in it).
+    dependent: Vec<usize>,
+    local: Vec<usize>,
+    /// The block's entries `(row, place, value)` the kept factors are of.
+    block: Vec<(usize, usize, f64)>,
+    lu: Option<std::sync::Arc<faer::sparse::linalg::solvers::Lu<usize, f64>>>,
+    /// Factorisations done.
+    pub factored: u64,
+    /// Calls the kept factors answered.
+    pub kept: u64,
+}
+
+impl KeptBlockLu {
+    /// The LU of `G[:, D]` ([`block_lu`]) for the `nc × nv` matrix with the non-zeros
+    /// `entries` and `D = dependent`: the kept factors where the block's entries are those
+    /// they factor.
+    pub fn lu(
+        &mut self,
+        (nc, nv): (usize, usize),
+        entries: &[(usize, usize, f64)],
+        dependent: &[usize],
+    ) -> Option<std::sync::Arc<faer::sparse::linalg::solvers::Lu<usize, f64>>> {
+        if dependent.len() != nc || dependent.iter().any(|&j| j >= nv) {
+            return None;
+        }
+        if self.dependent != dependent || self.local.len() != nv {
+            *self = KeptBlockLu {
+                factored: self.factored,
+                kept: self.kept,
+                ..KeptBlockLu::default()
+            };
+            self.dependent = dependent.to_vec();
+            self.local = vec![usize::MAX; nv];
+            for (k, &j) in dependent.iter().enumerate() {
+                self.local[j] = k;
+            }
+        }
+        let local = &self.local;
+        let mut in_block = entries
+            .iter()
+            .filter(|e| local[e.1] != usize::MAX)
+            .map(|&(i, j, v)| (i, local[j], v));
+        let same = self.lu.is_some() && {
+            let mut kept = self.block.iter();
+            in_block.by_ref().all(|(i, k, v)| {
+                kept.next()
+                    .is_some_and(|&(i0, k0, v0)| i0 == i && k0 == k && v0.to_bits() == v.to_bits())
+            }) && kept.next().is_none()
+        };
+        if same {
+            self.kept += 1;
+            return self.lu.clone();
+        }
+        self.block.clear();
+        self.block.extend(
+            entries
+                .iter()
+                .filter(|e| local[e.1] != usize::MAX)
+                .map(|&(i, j, v)| (i, local[j], v)),
+        );
+        self.factored += 1;
+        self.lu = factor_block(nc, &self.block, &mut self.symbolic).map(std::sync::Arc::new);
+        if self.lu.is_none() {
+            self.block.clear();
+        }
+        self.lu.clone()
+    }
 }
 
 /// `σ_min(B)² = λ_min(B Bᵀ) = 1 / λ_max(B⁻ᵀ B⁻¹)` of the `n × n` matrix `B` factored as `lu`:

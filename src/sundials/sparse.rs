@@ -161,6 +161,13 @@ impl<'a> SparseMatrixMut<'a> {
         }
     }
 
+    /// `A[i, j] += v` for the entry stored at `slot` of the values ([`CscPattern::position`]
+    /// of `(i, j)`, looked up once: no search). Panics if `slot` is not below the pattern's
+    /// number of entries.
+    pub fn add_at(&mut self, slot: usize, v: f64) {
+        self.data[slot] += v;
+    }
+
     /// `A[i, j]` (0 outside the pattern).
     pub fn get(&self, i: usize, j: usize) -> f64 {
         self.pattern.position(i, j).map_or(0.0, |k| self.data[k])

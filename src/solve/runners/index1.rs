@@ -24,11 +24,11 @@ use std::sync::Arc;
 
 use cpu_time::ThreadTime;
 use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::sparse::linalg::solvers::Lu;
 use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
-use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
+use crate::dae::index1::{KeptBlockLu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
     consistent_state_from, dependent_condition_bound, dependent_condition_bound_factors,
     independent_rows, joint_conditioning, rank_loss_persists, select_dependent, ConsistentState,
@@ -190,15 +190,18 @@ pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usi
     out
 }
 
-/// At scale: faer's symbolic LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]` (their patterns
-/// are fixed while the partition is), and the numeric LU of `G_v[:, D]` at the last completed
-/// row, which the output's grip check ([`JointRows::dependent_condition_with`]) reuses.
+/// At scale: faer's LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]`, symbolic (their patterns
+/// are fixed while the partition is) and numeric, kept with the entries they factor
+/// ([`KeptBlockLu`]: a pinned chain's blocks, rows of constant ±1, are factored once per
+/// segment; a fresh LU at every output and examined step was 9 % of the 128-link pendulum's
+/// run), and the LU of `G_v[:, D]` at the last completed row, which the output's grip check
+/// ([`JointRows::dependent_condition_with`]) reuses.
 #[derive(Default)]
 struct BlockLus {
-    q: Option<SymbolicLu<usize>>,
-    v: Option<SymbolicLu<usize>>,
+    q: KeptBlockLu,
+    v: KeptBlockLu,
     /// `(t, [q, v])` of the completed row and the LU of `G_v[:, D]` there.
-    last: Option<(f64, Vec<f64>, Lu<usize, f64>)>,
+    last: Option<(f64, Vec<f64>, Arc<Lu<usize, f64>>)>,
 }
 
 /// [`complete_dependent`] with the blocks `G_q[:, D_q]` and `G_v[:, D]` read by their
@@ -222,7 +225,7 @@ fn complete_dependent_sparse(
             break;
         }
         let gq = tapes.gq.entries(t, &y[..nq + nv]);
-        let Some(lu) = block_lu((nc, nq), &gq, coordinates, &mut lus.q) else {
+        let Some(lu) = lus.q.lu((nc, nq), &gq, coordinates) else {
             return;
         };
         let mut dq: Vec<f64> = g.iter().map(|v| -v).collect();
@@ -238,7 +241,7 @@ fn complete_dependent_sparse(
         }
     }
     let gv = tapes.gv.entries(t, &y[..nq + nv]);
-    let Some(lu) = block_lu((nc, nv), &gv, dependent, &mut lus.v) else {
+    let Some(lu) = lus.v.lu((nc, nv), &gv, dependent) else {
         return;
     };
     let mut in_d = vec![false; nv];
@@ -856,7 +859,7 @@ impl<'a> Index1<'a> {
             .last
             .take()
             .filter(|(tl, xl, _)| *tl == t && xl[..] == x[..]);
-        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
+        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &*l.2));
         // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
         // allows, no fresh choice (a causality assignment) can replace this one
         let possible = (cond > INDEX1_CHECK_CONDITION && cond > GRIP_RECHECK * self.kept_grip.0)
@@ -1344,7 +1347,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let (nq, nv, nc) = self.tapes.dims;
             let x = y[..nq + nv].to_vec();
             let gv = self.tapes.gv.entries(t, &x);
-            let lu = block_lu((nc, nv), &gv, &self.dependent, &mut self.block_lus.v);
+            let lu = self.block_lus.v.lu((nc, nv), &gv, &self.dependent);
             self.block_lus.last = lu.map(|lu| (t, x.clone(), lu));
             x
         } else {
