@@ -422,6 +422,12 @@ impl StaticLu {
             s.u_vals.extend(col.iter().map(|e| e.1));
             s.u_colptr.push(s.u_rows.len());
         }
+        // the solves and refactorisations index their work vector of n entries by these rows
+        // unchecked: a factor of an n × n matrix has none beyond it
+        assert!(
+            s.l_rows.iter().chain(&s.u_rows).all(|&i| i < n),
+            "faer's LU factors of an {n} x {n} matrix have a row index beyond it"
+        );
         s
     }
 
@@ -435,7 +441,7 @@ impl StaticLu {
         row_inv: &[usize],
     ) -> bool {
         let n = self.diag.len();
-        let x = &mut self.work;
+        let x = &mut self.work[..n];
         for j in 0..n {
             let c = col_fwd[j];
             for (&i, &v) in a.row_idx_of_col_raw(c).iter().zip(a.val_of_col(c)) {
@@ -450,7 +456,9 @@ impl StaticLu {
                 if ukj != 0.0 {
                     let (l0, l1) = (self.l_colptr[k], self.l_colptr[k + 1]);
                     for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                        x[i] -= l * ukj;
+                        // SAFETY: every row index of L is below n (checked in
+                        // `from_simplicial`, the only constructor), and `x` has n entries.
+                        unsafe { *x.get_unchecked_mut(i) -= l * ukj };
                     }
                 }
             }
@@ -483,12 +491,15 @@ impl StaticLu {
         for k in 0..n {
             z[k] = b[row_fwd[k]];
         }
+        let z = &mut z[..n];
         for j in 0..n {
             let zj = z[j];
             if zj != 0.0 {
                 let (l0, l1) = (self.l_colptr[j], self.l_colptr[j + 1]);
                 for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                    z[i] -= l * zj;
+                    // SAFETY: every row index of L is below n (checked in `from_simplicial`,
+                    // the only constructor), and `z` has n entries.
+                    unsafe { *z.get_unchecked_mut(i) -= l * zj };
                 }
             }
         }
@@ -498,7 +509,8 @@ impl StaticLu {
             if zj != 0.0 {
                 let (u0, u1) = (self.u_colptr[j], self.u_colptr[j + 1]);
                 for (&k, &u) in self.u_rows[u0..u1].iter().zip(&self.u_vals[u0..u1]) {
-                    z[k] -= u * zj;
+                    // SAFETY: every row index of U is below n, as for L above.
+                    unsafe { *z.get_unchecked_mut(k) -= u * zj };
                 }
             }
         }
