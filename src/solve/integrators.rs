@@ -44,8 +44,14 @@ pub(crate) fn make_ida(
             .iter()
             .map(|&(r, c)| (r, c, pattern.position(r, c).unwrap_or(usize::MAX)))
             .collect();
+        // the formulations that write their entries at the slots themselves (no call per
+        // entry: the index-1 DAE's, a third of its assembly at N = 256)
+        let places: Vec<usize> = slots.iter().map(|s| s.2).collect();
         let jacobian = Box::new(
             move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
+                if f2.jacobian_into_slots(&mut ws2, t, cj, y, yp, &places, jm.values_mut()) {
+                    return Ok(());
+                }
                 let mut k = 0;
                 f2.jacobian(&mut ws2, t, cj, y, yp, &mut |r, c, v| {
                     match slots.get(k) {
