@@ -590,6 +590,24 @@ pub fn lu_flops(
         .sum()
 }
 
+/// COLAMD's column order of the `n × n` pattern with faer's default controls (the order
+/// `factorize_symbolic_lu` takes); `None` where it fails (out of memory).
+fn colamd_order(n: usize, pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<Vec<usize>> {
+    use faer::sparse::linalg::colamd;
+    let mut mem = MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, pattern.compute_nnz()))
+        .ok()?;
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    colamd::order(
+        &mut fwd,
+        &mut inv,
+        pattern,
+        colamd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .ok()?;
+    Some(fwd)
+}
+
 /// Factors `a` in the column order `fwd` into `ordered` (its row permutation and LU).
 fn factor_ordered(
     ordered: &mut OrderedLu,
@@ -716,13 +734,17 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
         lu.rowidx = rows.iter().map(|&r| r as usize).collect();
         let pattern =
             SymbolicSparseColMatRef::new_unsorted_checked(n, n, &lu.colptr, None, &lu.rowidx);
-        let symbolic = match factorize_symbolic_lu(pattern, Default::default()) {
-            Ok(s) => s,
-            Err(_) => return -1,
-        };
         lu.counters.symbolic += 1;
         lu.factored = false;
         if lu.ordering == ColumnOrdering::Cheapest {
+            // COLAMD's order alone (faer's symbolic LU, which starts with the same call with
+            // the same defaults, also analyses the supernodes: a quarter of the first setup's
+            // cost at N = 256, unused here); Cuthill–McKee's once, reversed for RCM
+            let Some(colamd) = colamd_order(n, pattern) else {
+                return -1;
+            };
+            let cm = cuthill_mckee(n, &lu.colptr, &lu.rowidx, false);
+            let rcm: Vec<usize> = cm.iter().rev().copied().collect();
             lu.factor_mem =
                 MemBuffer::new(factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n));
             lu.solve_mem = MemBuffer::new(simplicial::solve_in_place_scratch::<usize, f64>(
@@ -731,11 +753,7 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
                 Par::Seq,
             ));
             lu.ordered = Some(OrderedLu {
-                candidates: vec![
-                    symbolic.col_perm().arrays().0.to_vec(),
-                    cuthill_mckee(n, &lu.colptr, &lu.rowidx, false),
-                    cuthill_mckee(n, &lu.colptr, &lu.rowidx, true),
-                ],
+                candidates: vec![colamd, cm, rcm],
                 col_fwd: Vec::new(),
                 col_inv: Vec::new(),
                 row_fwd: vec![0; n],
@@ -744,6 +762,10 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
                 fixed: None,
             });
         } else {
+            let symbolic = match factorize_symbolic_lu(pattern, Default::default()) {
+                Ok(s) => s,
+                Err(_) => return -1,
+            };
             lu.factor_mem = MemBuffer::new(
                 symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
             );
