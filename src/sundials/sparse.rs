@@ -594,8 +594,8 @@ pub fn lu_flops(
 /// `factorize_symbolic_lu` takes); `None` where it fails (out of memory).
 fn colamd_order(n: usize, pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<Vec<usize>> {
     use faer::sparse::linalg::colamd;
-    let mut mem = MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, pattern.compute_nnz()))
-        .ok()?;
+    let mut mem =
+        MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, pattern.compute_nnz())).ok()?;
     let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
     colamd::order(
         &mut fwd,
