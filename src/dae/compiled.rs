@@ -235,6 +235,39 @@ impl ImplicitDae {
     }
 }
 
+impl ImplicitDae {
+    /// `values[slots[k]] += J_k` for the `k`-th entry of `J = ∂F/∂y + cj ∂F/∂y'` in the order
+    /// of [`Self::structure`] (`∂F/∂y`'s entries, then `∂F/∂y'`'s times `cj`); `false`
+    /// (nothing written) when `slots` does not hold one place per entry, or a place lies
+    /// outside `values`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn jacobian_into_slots(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        cj: f64,
+        y: &[f64],
+        yp: &[f64],
+        slots: &[usize],
+        values: &mut [f64],
+    ) -> bool {
+        let (n_dy, n_dyp) = (self.dy_at.len(), self.dyp_at.len());
+        if slots.len() != n_dy + n_dyp || slots.iter().any(|&s| s >= values.len()) {
+            return false;
+        }
+        fill_vars(&mut ws.vars, t, y, Some(yp));
+        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
+        let (s_dy, s_dyp) = slots.split_at(n_dy);
+        for (&slot, &k) in s_dy.iter().zip(&self.dy_at) {
+            values[slot] += ws.jac[k];
+        }
+        for (&slot, &k) in s_dyp.iter().zip(&self.dyp_at) {
+            values[slot] += cj * ws.jac[k];
+        }
+        true
+    }
+}
+
 /// An explicit ODE `y' = f(t, y)` with its exact Jacobian `∂f/∂y`.
 #[derive(Clone, Debug)]
 pub struct ExplicitOde {

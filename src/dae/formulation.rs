@@ -49,6 +49,23 @@ pub trait DaeFormulation: Send + Sync {
         yp: &[f64],
         put: &mut dyn FnMut(usize, usize, f64),
     );
+    /// `values[slots[k]] += J_k` for the `k`-th entry `J_k` of `J` in the order of
+    /// [`Self::structure`] (`slots`: each entry's place among a sparse matrix's values, one per
+    /// entry), without a call per entry; `false` (nothing written) where the formulation does
+    /// not do so, and the caller puts the entries one by one ([`Self::jacobian`]).
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian_into_slots(
+        &self,
+        _ws: &mut Workspace,
+        _t: f64,
+        _cj: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _slots: &[usize],
+        _values: &mut [f64],
+    ) -> bool {
+        false
+    }
     /// The structural non-zeros `(row, col)` of `J` (the sparsity pattern of the Newton matrix).
     fn structure(&self) -> Vec<(usize, usize)>;
     /// How faer's sparse LU orders the columns of `J` (where the Newton matrix is sparse):
@@ -148,6 +165,19 @@ macro_rules! compiled_with_id {
                 put: &mut dyn FnMut(usize, usize, f64),
             ) {
                 self.dae.jacobian(ws, t, cj, y, yp, put);
+            }
+            fn jacobian_into_slots(
+                &self,
+                ws: &mut Workspace,
+                t: f64,
+                cj: f64,
+                y: &[f64],
+                yp: &[f64],
+                slots: &[usize],
+                values: &mut [f64],
+            ) -> bool {
+                self.dae
+                    .jacobian_into_slots(ws, t, cj, y, yp, slots, values)
             }
             fn structure(&self) -> Vec<(usize, usize)> {
                 self.dae.structure().collect()

@@ -415,6 +415,9 @@ pub struct JointRows {
     block_vector: Vec<f64>,
     hint: Vec<f64>,
     bottom_vector: Vec<f64>,
+    /// `σ_min(G_D)²` of a block `D`, computed here or known to the caller
+    /// ([`Self::with_block_smallest`]).
+    block_known: Option<(Vec<usize>, f64)>,
     /// Start vectors for the Lanczos iterations, from an earlier state of the same rows
     /// ([`Self::with_hints`]): `λ_max(G_v G_vᵀ)`'s eigenvector and the dependent block's
     /// singular vector; replaced by this state's once computed.
@@ -443,6 +446,7 @@ impl JointRows {
             block_vector: Vec::new(),
             hint: Vec::new(),
             bottom_vector: Vec::new(),
+            block_known: None,
             top_vector: Vec::new(),
         }
     }
@@ -460,6 +464,7 @@ impl JointRows {
             block_vector: Vec::new(),
             hint: Vec::new(),
             bottom_vector: Vec::new(),
+            block_known: None,
             top_vector: Vec::new(),
         }
     }
@@ -555,6 +560,24 @@ impl JointRows {
         self
     }
 
+    /// `G_v` whose block `G_v[:, D]` (`D = dependent`) has `σ_min(G_D)² = smallest`, as the
+    /// caller knows it from an earlier state with the very same block (bit for bit: a pinned
+    /// chain's dependent translations): [`Self::dependent_condition_with`] then takes it
+    /// instead of its Lanczos iteration on the block's LU.
+    pub fn with_block_smallest(mut self, dependent: &[usize], smallest: f64) -> Self {
+        self.block_known = Some((dependent.to_vec(), smallest));
+        self
+    }
+
+    /// `σ_min(G_D)²` of the block `D` ([`Self::dependent_condition_with`] computed it, or it
+    /// was given), if known.
+    pub fn block_smallest(&self, dependent: &[usize]) -> Option<f64> {
+        self.block_known
+            .as_ref()
+            .filter(|(d, _)| d[..] == dependent[..])
+            .map(|k| k.1)
+    }
+
     /// The best vectors known at this state, for the next state's [`Self::with_hints`]: each
     /// one computed here, or else the one given.
     pub fn hints(&mut self) -> SpectralHints {
@@ -585,18 +608,32 @@ impl JointRows {
         let (m, _) = self.shape;
         if self.is_sparse() && m > 0 && dependent.len() == m {
             let lmax = self.top_eigenvalue();
-            let own = match lu {
-                Some(_) => None,
-                None => block_lu(self.shape, &self.entries, dependent, &mut None),
-            };
-            let start = std::mem::take(&mut self.block_vector);
-            let lmin_d = lu
-                .or(own.as_ref())
-                .and_then(|lu| block_smallest_squared(lu, m, &start))
-                .map(|(l, u)| {
-                    self.block_vector = u;
+            let known = self
+                .block_known
+                .as_ref()
+                .filter(|(d, _)| d[..] == dependent[..])
+                .map(|k| k.1);
+            let lmin_d = match known {
+                Some(l) => Some(l),
+                None => {
+                    let own = match lu {
+                        Some(_) => None,
+                        None => block_lu(self.shape, &self.entries, dependent, &mut None),
+                    };
+                    let start = std::mem::take(&mut self.block_vector);
+                    let l = lu
+                        .or(own.as_ref())
+                        .and_then(|lu| block_smallest_squared(lu, m, &start))
+                        .map(|(l, u)| {
+                            self.block_vector = u;
+                            l
+                        });
+                    if let Some(l) = l {
+                        self.block_known = Some((dependent.to_vec(), l));
+                    }
                     l
-                });
+                }
+            };
             if let Some((lmax, lmin_d)) = lmax.zip(lmin_d) {
                 return if lmin_d <= 0.0 {
                     f64::INFINITY
@@ -687,8 +724,6 @@ pub fn block_lu(
     dependent: &[usize],
     symbolic: &mut Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
 ) -> Option<faer::sparse::linalg::solvers::Lu<usize, f64>> {
-    use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
-    use faer::sparse::{SparseColMat, Triplet};
     if dependent.len() != nc {
         return None;
     }
@@ -696,12 +731,28 @@ pub fn block_lu(
     for (k, &j) in dependent.iter().enumerate() {
         *local.get_mut(j)? = k;
     }
-    let block: Vec<Triplet<usize, usize, f64>> = entries
+    let block: Vec<(usize, usize, f64)> = entries
         .iter()
         .filter(|e| local[e.1] != usize::MAX)
-        .map(|&(i, j, v)| Triplet::new(i, local[j], v))
+        .map(|&(i, j, v)| (i, local[j], v))
         .collect();
-    let b = SparseColMat::<usize, f64>::try_new_from_triplets(nc, nc, &block).ok()?;
+    factor_block(nc, &block, symbolic)
+}
+
+/// faer's sparse LU of the `nc × nc` matrix with the non-zeros `block` (`(row, column, value)`),
+/// the symbolic factorisation kept in `symbolic` as in [`block_lu`].
+fn factor_block(
+    nc: usize,
+    block: &[(usize, usize, f64)],
+    symbolic: &mut Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
+) -> Option<faer::sparse::linalg::solvers::Lu<usize, f64>> {
+    use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+    use faer::sparse::{SparseColMat, Triplet};
+    let triplets: Vec<Triplet<usize, usize, f64>> = block
+        .iter()
+        .map(|&(i, k, v)| Triplet::new(i, k, v))
+        .collect();
+    let b = SparseColMat::<usize, f64>::try_new_from_triplets(nc, nc, &triplets).ok()?;
     let symbolic = match symbolic {
         Some(s) => s.clone(),
         None => symbolic
@@ -709,6 +760,83 @@ pub fn block_lu(
             .clone(),
     };
     Lu::try_new_with_symbolic(symbolic, b.as_ref()).ok()
+}
+
+/// [`block_lu`] for a partition's block, its factors kept with the block's entries they
+/// factor: where the block's entries are the same again, bit for bit, the kept factors are the
+/// block's (a pinned chain's dependent translations: rows of constant ±1, the same block at
+/// every step), and nothing is factored. The symbolic factorisation is kept as [`block_lu`]
+/// keeps it (the pattern of a partition's block is fixed).
+#[derive(Default)]
+pub struct KeptBlockLu {
+    symbolic: Option<faer::sparse::linalg::solvers::SymbolicLu<usize>>,
+    /// The dependent columns and each column's place in the block (`usize::MAX`: not in it).
+    dependent: Vec<usize>,
+    local: Vec<usize>,
+    /// The block's entries `(row, place, value)` the kept factors are of.
+    block: Vec<(usize, usize, f64)>,
+    lu: Option<std::sync::Arc<faer::sparse::linalg::solvers::Lu<usize, f64>>>,
+    /// Factorisations done.
+    pub factored: u64,
+    /// Calls the kept factors answered.
+    pub kept: u64,
+}
+
+impl KeptBlockLu {
+    /// The LU of `G[:, D]` ([`block_lu`]) for the `nc × nv` matrix with the non-zeros
+    /// `entries` and `D = dependent`: the kept factors where the block's entries are those
+    /// they factor.
+    pub fn lu(
+        &mut self,
+        (nc, nv): (usize, usize),
+        entries: &[(usize, usize, f64)],
+        dependent: &[usize],
+    ) -> Option<std::sync::Arc<faer::sparse::linalg::solvers::Lu<usize, f64>>> {
+        if dependent.len() != nc || dependent.iter().any(|&j| j >= nv) {
+            return None;
+        }
+        if self.dependent != dependent || self.local.len() != nv {
+            *self = KeptBlockLu {
+                factored: self.factored,
+                kept: self.kept,
+                ..KeptBlockLu::default()
+            };
+            self.dependent = dependent.to_vec();
+            self.local = vec![usize::MAX; nv];
+            for (k, &j) in dependent.iter().enumerate() {
+                self.local[j] = k;
+            }
+        }
+        let local = &self.local;
+        let mut in_block = entries
+            .iter()
+            .filter(|e| local[e.1] != usize::MAX)
+            .map(|&(i, j, v)| (i, local[j], v));
+        let same = self.lu.is_some() && {
+            let mut kept = self.block.iter();
+            in_block.by_ref().all(|(i, k, v)| {
+                kept.next()
+                    .is_some_and(|&(i0, k0, v0)| i0 == i && k0 == k && v0.to_bits() == v.to_bits())
+            }) && kept.next().is_none()
+        };
+        if same {
+            self.kept += 1;
+            return self.lu.clone();
+        }
+        self.block.clear();
+        self.block.extend(
+            entries
+                .iter()
+                .filter(|e| local[e.1] != usize::MAX)
+                .map(|&(i, j, v)| (i, local[j], v)),
+        );
+        self.factored += 1;
+        self.lu = factor_block(nc, &self.block, &mut self.symbolic).map(std::sync::Arc::new);
+        if self.lu.is_none() {
+            self.block.clear();
+        }
+        self.lu.clone()
+    }
 }
 
 /// `σ_min(B)² = λ_min(B Bᵀ) = 1 / λ_max(B⁻ᵀ B⁻¹)` of the `n × n` matrix `B` factored as `lu`:
@@ -1267,6 +1395,72 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         }
+    }
+
+    /// `G_D x` for the block `D` of the matrix with the non-zeros `entries`.
+    fn block_times(entries: &[(usize, usize, f64)], dependent: &[usize], x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; dependent.len()];
+        for &(i, j, v) in entries {
+            if let Some(k) = dependent.iter().position(|&d| d == j) {
+                y[i] += v * x[k];
+            }
+        }
+        y
+    }
+
+    #[test]
+    fn a_kept_block_lu_is_factored_again_only_when_the_blocks_entries_change() {
+        use faer::linalg::solvers::SolveCore;
+        use faer::{Conj, MatMut};
+        // a 4 × 6 chain-like matrix: the block of columns 0, 2, 3, 5 is bidiagonal, columns
+        // 1 and 4 change between the calls (as a pinned chain's rotations do)
+        let at = |c1: f64, c4: f64| {
+            vec![
+                (0, 0, 1.0),
+                (0, 1, c1),
+                (1, 0, -1.0),
+                (1, 2, 1.0),
+                (1, 4, c4),
+                (2, 2, -1.0),
+                (2, 3, 2.0),
+                (3, 3, -1.0),
+                (3, 4, 0.5 * c4),
+                (3, 5, 3.0),
+            ]
+        };
+        let dependent = [0, 2, 3, 5];
+        let b = [1.0, -2.0, 0.5, 4.0];
+        let solve = |lu: &faer::sparse::linalg::solvers::Lu<usize, f64>| {
+            let mut x = b.to_vec();
+            lu.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut x, 4, 1),
+            );
+            x
+        };
+        let mut kept = KeptBlockLu::default();
+        let first = kept.lu((4, 6), &at(0.3, -0.7), &dependent).unwrap();
+        let again = kept.lu((4, 6), &at(1.9, 0.2), &dependent).unwrap();
+        assert_eq!((kept.factored, kept.kept), (1, 1));
+        assert!(std::sync::Arc::ptr_eq(&first, &again));
+        // the block changes: factored again, and its solution solves the new block
+        let mut changed = at(1.9, 0.2);
+        changed[6].2 = 5.0;
+        let fresh = kept.lu((4, 6), &changed, &dependent).unwrap();
+        assert_eq!((kept.factored, kept.kept), (2, 1));
+        for (entries, lu) in [(at(0.3, -0.7), &first), (changed, &fresh)] {
+            let x = solve(lu);
+            let r = block_times(&entries, &dependent, &x);
+            for (ri, bi) in r.iter().zip(&b) {
+                assert!((ri - bi).abs() < 1e-13, "G_D x = {r:?}, b = {b:?}");
+            }
+        }
+        // another set of dependent columns is a new block
+        let other = kept.lu((4, 6), &at(0.3, -0.7), &[0, 2, 4, 5]).unwrap();
+        assert_eq!(kept.factored, 3);
+        let x = solve(&other);
+        let r = block_times(&at(0.3, -0.7), &[0, 2, 4, 5], &x);
+        assert!(r.iter().zip(&b).all(|(ri, bi)| (ri - bi).abs() < 1e-13));
     }
 
     #[test]

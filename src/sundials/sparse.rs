@@ -161,6 +161,13 @@ impl<'a> SparseMatrixMut<'a> {
         }
     }
 
+    /// `A[i, j] += v` for the entry stored at `slot` of the values ([`CscPattern::position`]
+    /// of `(i, j)`, looked up once: no search). Panics if `slot` is not below the pattern's
+    /// number of entries.
+    pub fn add_at(&mut self, slot: usize, v: f64) {
+        self.data[slot] += v;
+    }
+
     /// `A[i, j]` (0 outside the pattern).
     pub fn get(&self, i: usize, j: usize) -> f64 {
         self.pattern.position(i, j).map_or(0.0, |k| self.data[k])
@@ -415,6 +422,12 @@ impl StaticLu {
             s.u_vals.extend(col.iter().map(|e| e.1));
             s.u_colptr.push(s.u_rows.len());
         }
+        // the solves and refactorisations index their work vector of n entries by these rows
+        // unchecked: a factor of an n × n matrix has none beyond it
+        assert!(
+            s.l_rows.iter().chain(&s.u_rows).all(|&i| i < n),
+            "faer's LU factors of an {n} x {n} matrix have a row index beyond it"
+        );
         s
     }
 
@@ -428,7 +441,7 @@ impl StaticLu {
         row_inv: &[usize],
     ) -> bool {
         let n = self.diag.len();
-        let x = &mut self.work;
+        let x = &mut self.work[..n];
         for j in 0..n {
             let c = col_fwd[j];
             for (&i, &v) in a.row_idx_of_col_raw(c).iter().zip(a.val_of_col(c)) {
@@ -443,7 +456,9 @@ impl StaticLu {
                 if ukj != 0.0 {
                     let (l0, l1) = (self.l_colptr[k], self.l_colptr[k + 1]);
                     for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                        x[i] -= l * ukj;
+                        // SAFETY: every row index of L is below n (checked in
+                        // `from_simplicial`, the only constructor), and `x` has n entries.
+                        unsafe { *x.get_unchecked_mut(i) -= l * ukj };
                     }
                 }
             }
@@ -476,12 +491,15 @@ impl StaticLu {
         for k in 0..n {
             z[k] = b[row_fwd[k]];
         }
+        let z = &mut z[..n];
         for j in 0..n {
             let zj = z[j];
             if zj != 0.0 {
                 let (l0, l1) = (self.l_colptr[j], self.l_colptr[j + 1]);
                 for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                    z[i] -= l * zj;
+                    // SAFETY: every row index of L is below n (checked in `from_simplicial`,
+                    // the only constructor), and `z` has n entries.
+                    unsafe { *z.get_unchecked_mut(i) -= l * zj };
                 }
             }
         }
@@ -491,7 +509,8 @@ impl StaticLu {
             if zj != 0.0 {
                 let (u0, u1) = (self.u_colptr[j], self.u_colptr[j + 1]);
                 for (&k, &u) in self.u_rows[u0..u1].iter().zip(&self.u_vals[u0..u1]) {
-                    z[k] -= u * zj;
+                    // SAFETY: every row index of U is below n, as for L above.
+                    unsafe { *z.get_unchecked_mut(k) -= u * zj };
                 }
             }
         }
@@ -569,6 +588,24 @@ pub fn lu_flops(
                 .sum::<usize>()
         })
         .sum()
+}
+
+/// COLAMD's column order of the `n × n` pattern with faer's default controls (the order
+/// `factorize_symbolic_lu` takes); `None` where it fails (out of memory).
+fn colamd_order(n: usize, pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<Vec<usize>> {
+    use faer::sparse::linalg::colamd;
+    let mut mem =
+        MemBuffer::try_new(colamd::order_scratch::<usize>(n, n, pattern.compute_nnz())).ok()?;
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    colamd::order(
+        &mut fwd,
+        &mut inv,
+        pattern,
+        colamd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .ok()?;
+    Some(fwd)
 }
 
 /// Factors `a` in the column order `fwd` into `ordered` (its row permutation and LU).
@@ -697,13 +734,17 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
         lu.rowidx = rows.iter().map(|&r| r as usize).collect();
         let pattern =
             SymbolicSparseColMatRef::new_unsorted_checked(n, n, &lu.colptr, None, &lu.rowidx);
-        let symbolic = match factorize_symbolic_lu(pattern, Default::default()) {
-            Ok(s) => s,
-            Err(_) => return -1,
-        };
         lu.counters.symbolic += 1;
         lu.factored = false;
         if lu.ordering == ColumnOrdering::Cheapest {
+            // COLAMD's order alone (faer's symbolic LU, which starts with the same call with
+            // the same defaults, also analyses the supernodes: a quarter of the first setup's
+            // cost at N = 256, unused here); Cuthill–McKee's once, reversed for RCM
+            let Some(colamd) = colamd_order(n, pattern) else {
+                return -1;
+            };
+            let cm = cuthill_mckee(n, &lu.colptr, &lu.rowidx, false);
+            let rcm: Vec<usize> = cm.iter().rev().copied().collect();
             lu.factor_mem =
                 MemBuffer::new(factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n));
             lu.solve_mem = MemBuffer::new(simplicial::solve_in_place_scratch::<usize, f64>(
@@ -712,11 +753,7 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
                 Par::Seq,
             ));
             lu.ordered = Some(OrderedLu {
-                candidates: vec![
-                    symbolic.col_perm().arrays().0.to_vec(),
-                    cuthill_mckee(n, &lu.colptr, &lu.rowidx, false),
-                    cuthill_mckee(n, &lu.colptr, &lu.rowidx, true),
-                ],
+                candidates: vec![colamd, cm, rcm],
                 col_fwd: Vec::new(),
                 col_inv: Vec::new(),
                 row_fwd: vec![0; n],
@@ -725,6 +762,10 @@ fn faer_setup(lu: &mut FaerLu, n: usize, ptrs: &[i64], rows: &[i64], vals: &[f64
                 fixed: None,
             });
         } else {
+            let symbolic = match factorize_symbolic_lu(pattern, Default::default()) {
+                Ok(s) => s,
+                Err(_) => return -1,
+            };
             lu.factor_mem = MemBuffer::new(
                 symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
             );

@@ -24,11 +24,11 @@ use std::sync::Arc;
 
 use cpu_time::ThreadTime;
 use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::sparse::linalg::solvers::Lu;
 use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
-use crate::dae::index1::{block_lu, SpectralHints, SPARSE_GRIP_ROWS};
+use crate::dae::index1::{KeptBlockLu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
     consistent_state_from, dependent_condition_bound, dependent_condition_bound_factors,
     independent_rows, joint_conditioning, rank_loss_persists, select_dependent, ConsistentState,
@@ -190,20 +190,33 @@ pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usi
     out
 }
 
-/// At scale: faer's symbolic LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]` (their patterns
-/// are fixed while the partition is), and the numeric LU of `G_v[:, D]` at the last completed
-/// row, which the output's grip check ([`JointRows::dependent_condition_with`]) reuses.
+/// `(t, [q, v])` of a row and the LU of `G_v[:, D]` there.
+type FactoredRow = (f64, Vec<f64>, Arc<Lu<usize, f64>>);
+
+/// At scale: faer's LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]`, symbolic (their patterns
+/// are fixed while the partition is) and numeric, kept with the entries they factor
+/// ([`KeptBlockLu`]: a pinned chain's blocks, rows of constant ±1, are factored once per
+/// segment; a fresh LU at every output and examined step was 9 % of the 128-link pendulum's
+/// run), and the LU of `G_v[:, D]` at the last completed row, which the output's grip check
+/// ([`JointRows::dependent_condition_with`]) reuses.
 #[derive(Default)]
 struct BlockLus {
-    q: Option<SymbolicLu<usize>>,
-    v: Option<SymbolicLu<usize>>,
+    q: KeptBlockLu,
+    v: KeptBlockLu,
     /// `(t, [q, v])` of the completed row and the LU of `G_v[:, D]` there.
-    last: Option<(f64, Vec<f64>, Lu<usize, f64>)>,
+    last: Option<FactoredRow>,
+    /// `G_v`'s non-zeros at `last`'s state where the step watch's examination evaluated them
+    /// (the examination reads them instead of evaluating them again).
+    last_gv: Option<Vec<(usize, usize, f64)>>,
+    /// `σ_min(G_D)²` of the block `v` factored in its factorisation number `.0`
+    /// (`KeptBlockLu::factored`): while the kept factors answer, the block is the same and so
+    /// is its smallest singular value (the pinned chain's, at every examination).
+    smallest: Option<(u64, f64)>,
 }
 
 /// [`complete_dependent`] with the blocks `G_q[:, D_q]` and `G_v[:, D]` read by their
 /// non-zeros ([`crate::dae::MatrixTape::entries`]) and solved by faer's sparse LU
-/// ([`crate::dae::index1::block_lu`], the symbolic factorisations kept in `lus`):
+/// ([`KeptBlockLu`], the factors kept in `lus`):
 /// `G_q[:, D_q] Δq_D = −g` (up to four Newton steps), then
 /// `G_v[:, D] v_D = −Σ_{j ∉ D} G_v[:, j] v_j`. A singular block leaves the row as it is.
 fn complete_dependent_sparse(
@@ -215,6 +228,7 @@ fn complete_dependent_sparse(
 ) {
     let (nq, nv, nc) = tapes.dims;
     lus.last = None;
+    lus.last_gv = None;
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for _ in 0..4 {
         let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
@@ -222,7 +236,7 @@ fn complete_dependent_sparse(
             break;
         }
         let gq = tapes.gq.entries(t, &y[..nq + nv]);
-        let Some(lu) = block_lu((nc, nq), &gq, coordinates, &mut lus.q) else {
+        let Some(lu) = lus.q.lu((nc, nq), &gq, coordinates) else {
             return;
         };
         let mut dq: Vec<f64> = g.iter().map(|v| -v).collect();
@@ -238,7 +252,7 @@ fn complete_dependent_sparse(
         }
     }
     let gv = tapes.gv.entries(t, &y[..nq + nv]);
-    let Some(lu) = block_lu((nc, nv), &gv, dependent, &mut lus.v) else {
+    let Some(lu) = lus.v.lu((nc, nv), &gv, dependent) else {
         return;
     };
     let mut in_d = vec![false; nv];
@@ -849,14 +863,36 @@ impl<'a> Index1<'a> {
         let nq = self.nq();
         // G_v at this step, evaluated once for every check below (dense, or by its
         // non-zeros at scale: every measure then linear in the size of a chain)
-        let mut gv = self.gv_at(t, x).with_hints(std::mem::take(&mut self.hints));
-        // (at scale, with the LU of G_v[:, D] the completion of this row factored)
+        // (at scale, with the LU of G_v[:, D] the completion of this row factored, and G_v's
+        // non-zeros where the step watch evaluated them for it)
         let lu = self
             .block_lus
             .last
             .take()
             .filter(|(tl, xl, _)| *tl == t && xl[..] == x[..]);
-        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &l.2));
+        let step_gv = self.block_lus.last_gv.take().filter(|_| lu.is_some());
+        let gv = match step_gv {
+            Some(entries) if self.at_scale() => {
+                let (_, nv, nc) = self.tapes.dims;
+                JointRows::from_entries((nc, nv), entries)
+            }
+            _ => self.gv_at(t, x),
+        };
+        let mut gv = gv.with_hints(std::mem::take(&mut self.hints));
+        // the block's smallest singular value where its kept factors answered since it was
+        // computed (the block is then the same, bit for bit)
+        let generation = self.block_lus.v.factored;
+        if let (Some(_), Some((g, smallest))) = (&lu, self.block_lus.smallest) {
+            if g == generation {
+                gv = gv.with_block_smallest(&self.dependent, smallest);
+            }
+        }
+        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &*l.2));
+        if lu.is_some() {
+            self.block_lus.smallest = gv
+                .block_smallest(&self.dependent)
+                .map(|smallest| (generation, smallest));
+        }
         // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
         // allows, no fresh choice (a causality assignment) can replace this one
         let possible = (cond > INDEX1_CHECK_CONDITION && cond > GRIP_RECHECK * self.kept_grip.0)
@@ -1344,8 +1380,9 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let (nq, nv, nc) = self.tapes.dims;
             let x = y[..nq + nv].to_vec();
             let gv = self.tapes.gv.entries(t, &x);
-            let lu = block_lu((nc, nv), &gv, &self.dependent, &mut self.block_lus.v);
+            let lu = self.block_lus.v.lu((nc, nv), &gv, &self.dependent);
             self.block_lus.last = lu.map(|lu| (t, x.clone(), lu));
+            self.block_lus.last_gv = Some(gv);
             x
         } else {
             self.completed(t, y)
