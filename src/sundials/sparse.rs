@@ -456,9 +456,7 @@ impl StaticLu {
                 if ukj != 0.0 {
                     let (l0, l1) = (self.l_colptr[k], self.l_colptr[k + 1]);
                     for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                        // SAFETY: every row index of L is below n (checked in
-                        // `from_simplicial`, the only constructor), and `x` has n entries.
-                        unsafe { *x.get_unchecked_mut(i) -= l * ukj };
+                        x[i] -= l * ukj;
                     }
                 }
             }
@@ -497,9 +495,7 @@ impl StaticLu {
             if zj != 0.0 {
                 let (l0, l1) = (self.l_colptr[j], self.l_colptr[j + 1]);
                 for (&i, &l) in self.l_rows[l0..l1].iter().zip(&self.l_vals[l0..l1]) {
-                    // SAFETY: every row index of L is below n (checked in `from_simplicial`,
-                    // the only constructor), and `z` has n entries.
-                    unsafe { *z.get_unchecked_mut(i) -= l * zj };
+                    z[i] -= l * zj;
                 }
             }
         }
@@ -509,8 +505,7 @@ impl StaticLu {
             if zj != 0.0 {
                 let (u0, u1) = (self.u_colptr[j], self.u_colptr[j + 1]);
                 for (&k, &u) in self.u_rows[u0..u1].iter().zip(&self.u_vals[u0..u1]) {
-                    // SAFETY: every row index of U is below n, as for L above.
-                    unsafe { *z.get_unchecked_mut(k) -= u * zj };
+                    z[k] -= u * zj;
                 }
             }
         }
