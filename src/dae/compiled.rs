@@ -58,8 +58,7 @@ pub struct Workspace {
 }
 
 impl ImplicitDae {
-    /// Differentiates `residual` (expressions over slots `[t, y, y']`; each row by one reverse
-    /// sweep) and compiles everything.
+    /// Differentiates `residual` (expressions over slots `[t, y, y']`) and compiles everything.
     pub fn build(g: &mut ExprGraph, residual: &[Expr], n: usize) -> Self {
         assert_eq!(residual.len(), n, "one residual per unknown");
         Self::build_selected(g, residual, n, None)
@@ -79,13 +78,12 @@ impl ImplicitDae {
         let mut dy_e = Vec::new();
         let mut dyp_e = Vec::new();
         for (row, &f) in candidates.iter().enumerate() {
-            // the row's gradient by one reverse sweep (ExprGraph::gradient): linear in the row's
-            // size for all its variables, where a derivative per variable repeats the row's
-            // shared subexpressions in each (a 3D body's γ row: 4012 → 1714 operations)
-            let vars: Vec<u32> = g.vars(f).into_iter().filter(|&v| v != 0).collect();
-            let grad = g.gradient(f, &vars);
-            for (v, d) in vars.into_iter().zip(grad) {
+            for v in g.vars(f) {
                 let v = v as usize;
+                if v == 0 {
+                    continue;
+                }
+                let d = g.diff(f, v as u32);
                 if g.is_zero(d) {
                     continue;
                 }
