@@ -3,23 +3,15 @@
 //! built term by term from the symbolic partial derivatives (the construction it replaced), at
 //! random states of every bundled scene with joints: the two agree to rounding.
 
+mod common;
+
 use bondmech::dae::ConstraintExprs;
 use bondmech::Scene;
-
-fn scenes() -> Vec<std::path::PathBuf> {
-    let mut v: Vec<_> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes"))
-        .expect("scenes")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    v.sort();
-    v
-}
 
 #[test]
 fn gamma_by_one_forward_sweep_equals_the_sum_of_its_partial_derivatives_on_every_scene() {
     let mut checked = 0;
-    for path in scenes() {
+    for path in common::bundled_scene_paths() {
         let scene = Scene::from_path(&path).expect("scene");
         let Ok(mut sys) = bondmech::mech::build(&scene) else {
             continue;
@@ -45,16 +37,10 @@ fn gamma_by_one_forward_sweep_equals_the_sum_of_its_partial_derivatives_on_every
                 sys.graph.sum(&terms)
             })
             .collect();
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = common::uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..5 {
             // t, then coordinates and velocities of order one
-            let x: Vec<f64> = (0..1 + nq + nv).map(|_| 2.0 * next()).collect();
+            let x: Vec<f64> = (0..1 + nq + nv).map(|_| next()).collect();
             for (k, (&a, &b)) in c.gamma.iter().zip(&reference).enumerate() {
                 let (u, w) = (sys.graph.eval(a, &x), sys.graph.eval(b, &x));
                 assert!(

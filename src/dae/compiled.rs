@@ -222,14 +222,19 @@ impl ImplicitDae {
         yp: &[f64],
         mut put: impl FnMut(usize, usize, f64),
     ) {
-        fill_vars(&mut ws.vars, t, y, Some(yp));
-        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
+        self.eval_jacobian(ws, t, y, yp);
         for (e, &k) in self.dy.iter().zip(&self.dy_at) {
             put(e.row, e.col, ws.jac[k]);
         }
         for (e, &k) in self.dyp.iter().zip(&self.dyp_at) {
             put(e.row, e.col, cj * ws.jac[k]);
         }
+    }
+
+    /// The Jacobian tape's outputs at `(t, y, y')` into `ws.jac`.
+    fn eval_jacobian(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64]) {
+        fill_vars(&mut ws.vars, t, y, Some(yp));
+        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
     }
 }
 
@@ -253,8 +258,7 @@ impl ImplicitDae {
         if slots.len() != n_dy + n_dyp || slots.iter().any(|&s| s >= values.len()) {
             return false;
         }
-        fill_vars(&mut ws.vars, t, y, Some(yp));
-        self.jacobian.eval(&ws.vars, &mut ws.work_j, &mut ws.jac);
+        self.eval_jacobian(ws, t, y, yp);
         let (s_dy, s_dyp) = slots.split_at(n_dy);
         for (&slot, &k) in s_dy.iter().zip(&self.dy_at) {
             values[slot] += ws.jac[k];

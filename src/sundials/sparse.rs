@@ -940,6 +940,41 @@ pub enum DirectSolver {
     Sparse(SparseSolver),
 }
 
+/// `Err` naming `function` for a non-zero `SUNLinearSolver` return `flag`.
+fn ls_call(function: &'static str, flag: c_int) -> Result<(), SolverError> {
+    if flag == 0 {
+        Ok(())
+    } else {
+        Err(SolverError::Flag {
+            function,
+            flag,
+            name: format!("SUNLS flag {flag}"),
+            t: f64::NAN,
+        })
+    }
+}
+
+/// `SUNLinSolSetup` on `a`, then `SUNLinSolSolve` of `a x = rhs`, as the integrators call them.
+///
+/// # Safety
+/// `solver` is initialised, `a` is a live matrix of the solver's kind and size, `x` and `rhs`
+/// are distinct live vectors of that size, all built on one context.
+unsafe fn setup_and_solve(
+    solver: &LinearSolver,
+    a: sys::SUNMatrix,
+    x: &NVector,
+    rhs: &NVector,
+) -> Result<(), SolverError> {
+    // SAFETY: guaranteed by the caller.
+    unsafe {
+        ls_call("SUNLinSolSetup", sys::SUNLinSolSetup(solver.raw(), a))?;
+        ls_call(
+            "SUNLinSolSolve",
+            sys::SUNLinSolSolve(solver.raw(), a, x.raw(), rhs.raw(), 0.0),
+        )
+    }
+}
+
 /// Solves `A x = b` once with the same `SUNLinearSolver` the integrators use for `kind`
 /// (`SUNLinSol_Dense`, our faer wrapper or `SUNLinSol_KLU`), calling its `initialize`,
 /// `setup` (the factorisation `P A Q = L U`) and `solve` ops as IDA and CVODE do. `A` has the
@@ -999,27 +1034,14 @@ pub fn solve_direct_ordered(
             (Box::new(a), ls)
         }
     };
-    let flag_error = |function: &'static str, flag: c_int| SolverError::Flag {
-        function,
-        flag,
-        name: format!("SUNLS flag {flag}"),
-        t: f64::NAN,
-    };
     // SAFETY: solver, matrix and vectors are live, of size n and built on `ctx`; `x` and
     // `rhs` are distinct vectors; the ops are called in the order the integrators use.
     unsafe {
-        let flag = sys::SUNLinSolInitialize(solver.raw());
-        if flag != 0 {
-            return Err(flag_error("SUNLinSolInitialize", flag));
-        }
-        let flag = sys::SUNLinSolSetup(solver.raw(), matrix.raw_matrix());
-        if flag != 0 {
-            return Err(flag_error("SUNLinSolSetup", flag));
-        }
-        let flag = sys::SUNLinSolSolve(solver.raw(), matrix.raw_matrix(), x.raw(), rhs.raw(), 0.0);
-        if flag != 0 {
-            return Err(flag_error("SUNLinSolSolve", flag));
-        }
+        ls_call(
+            "SUNLinSolInitialize",
+            sys::SUNLinSolInitialize(solver.raw()),
+        )?;
+        setup_and_solve(&solver, matrix.raw_matrix(), &x, &rhs)?;
     }
     let out = x.as_mut_slice().to_vec();
     drop(solver);
@@ -1053,30 +1075,17 @@ pub fn solve_faer_sequence(
     let mut x = NVector::from_slice(&ctx, b)?;
     let a = SparseMatrix::new(&ctx, pattern)?;
     let solver = new_sparse_solver(&ctx, &rhs, &a, SparseSolver::Faer, ordering)?;
-    let flag_error = |function: &'static str, flag: c_int| SolverError::Flag {
-        function,
-        flag,
-        name: format!("SUNLS flag {flag}"),
-        t: f64::NAN,
-    };
     let mut out = Vec::with_capacity(values.len());
     // SAFETY: solver, matrix and vectors are live, of size n and built on `ctx`; `x` and
     // `rhs` are distinct vectors; the values view of `a` ends before the ops read `a`.
     unsafe {
-        let flag = sys::SUNLinSolInitialize(solver.raw());
-        if flag != 0 {
-            return Err(flag_error("SUNLinSolInitialize", flag));
-        }
+        ls_call(
+            "SUNLinSolInitialize",
+            sys::SUNLinSolInitialize(solver.raw()),
+        )?;
         for v in values {
             values_of(a.raw(), pattern).copy_from_slice(v);
-            let flag = sys::SUNLinSolSetup(solver.raw(), a.raw());
-            if flag != 0 {
-                return Err(flag_error("SUNLinSolSetup", flag));
-            }
-            let flag = sys::SUNLinSolSolve(solver.raw(), a.raw(), x.raw(), rhs.raw(), 0.0);
-            if flag != 0 {
-                return Err(flag_error("SUNLinSolSolve", flag));
-            }
+            setup_and_solve(&solver, a.raw(), &x, &rhs)?;
             out.push(x.as_mut_slice().to_vec());
         }
     }
