@@ -323,6 +323,30 @@ impl MatrixTape {
         }
     }
 
+    /// The matrix at `(t, x)`, `x = [q, v]`, into `out` (`rows × cols`; zero where the matrix
+    /// is structurally zero), with the buffers `work` ([`MatrixTape::workspace`]) and `vars`
+    /// (the slots `[t, q, v]`): allocates nothing once they have their sizes. For the checks
+    /// made at every step.
+    pub fn matrix_into(
+        &self,
+        t: f64,
+        x: &[f64],
+        (vars, work): (&mut Vec<f64>, &mut (Vec<f64>, Vec<f64>)),
+        out: &mut nalgebra::DMatrix<f64>,
+    ) {
+        vars.clear();
+        vars.push(t);
+        vars.extend_from_slice(x);
+        if out.shape() != (self.rows, self.cols) {
+            *out = nalgebra::DMatrix::zeros(self.rows, self.cols);
+        } else {
+            out.fill(0.0);
+        }
+        for (&k, &v) in self.position.iter().zip(self.eval_nonzeros(vars, work)) {
+            out[(k / self.cols, k % self.cols)] = v;
+        }
+    }
+
     /// The matrix at `(t, x)`, `x = [q, v]` (allocating; for one-off use).
     pub fn matrix(&self, t: f64, x: &[f64]) -> nalgebra::DMatrix<f64> {
         nalgebra::DMatrix::from_row_slice(self.rows, self.cols, &self.eval(t, x))

@@ -9,27 +9,27 @@
 use super::graph::{Expr, ExprGraph, Node};
 use super::ops::{apply_bin, apply_un, select, BinOp, TableData, UnOp};
 
-#[derive(Clone, Debug)]
-enum Instr {
+#[derive(Clone, Copy, Debug)]
+enum Instr<I> {
     // the common operations get their own variants (one dispatch per instruction instead of
     // two: measured 1.3x faster on the partitioned right-hand sides); the rest go through
     // `apply_un` / `apply_bin`, which define every operation's semantics
-    Neg { dst: u32, a: u32 },
-    Sin { dst: u32, a: u32 },
-    Cos { dst: u32, a: u32 },
-    Add { dst: u32, a: u32, b: u32 },
-    Sub { dst: u32, a: u32, b: u32 },
-    Mul { dst: u32, a: u32, b: u32 },
-    Div { dst: u32, a: u32, b: u32 },
-    Un { op: UnOp, dst: u32, a: u32 },
-    Bin { op: BinOp, dst: u32, a: u32, b: u32 },
-    Select { dst: u32, c: u32, a: u32, b: u32 },
-    Table { dst: u32, table: u32, a: u32 },
-    TableSlope { dst: u32, table: u32, a: u32 },
+    Neg { dst: I, a: I },
+    Sin { dst: I, a: I },
+    Cos { dst: I, a: I },
+    Add { dst: I, a: I, b: I },
+    Sub { dst: I, a: I, b: I },
+    Mul { dst: I, a: I, b: I },
+    Div { dst: I, a: I, b: I },
+    Un { op: UnOp, dst: I, a: I },
+    Bin { op: BinOp, dst: I, a: I, b: I },
+    Select { dst: I, c: I, a: I, b: I },
+    Table { dst: I, table: I, a: I },
+    TableSlope { dst: I, table: I, a: I },
 }
 
-impl Instr {
-    fn un(op: UnOp, dst: u32, a: u32) -> Instr {
+impl<I: Copy> Instr<I> {
+    fn un(op: UnOp, dst: I, a: I) -> Self {
         match op {
             UnOp::Neg => Instr::Neg { dst, a },
             UnOp::Sin => Instr::Sin { dst, a },
@@ -38,13 +38,172 @@ impl Instr {
         }
     }
 
-    fn bin(op: BinOp, dst: u32, a: u32, b: u32) -> Instr {
+    fn bin(op: BinOp, dst: I, a: I, b: I) -> Self {
         match op {
             BinOp::Add => Instr::Add { dst, a, b },
             BinOp::Sub => Instr::Sub { dst, a, b },
             BinOp::Mul => Instr::Mul { dst, a, b },
             BinOp::Div => Instr::Div { dst, a, b },
             _ => Instr::Bin { op, dst, a, b },
+        }
+    }
+
+    /// The same instruction with every index mapped by `f` (`None` if one does not fit).
+    fn map<J>(self, f: impl Fn(I) -> Option<J>) -> Option<Instr<J>> {
+        Some(match self {
+            Instr::Neg { dst, a } => Instr::Neg {
+                dst: f(dst)?,
+                a: f(a)?,
+            },
+            Instr::Sin { dst, a } => Instr::Sin {
+                dst: f(dst)?,
+                a: f(a)?,
+            },
+            Instr::Cos { dst, a } => Instr::Cos {
+                dst: f(dst)?,
+                a: f(a)?,
+            },
+            Instr::Add { dst, a, b } => Instr::Add {
+                dst: f(dst)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Sub { dst, a, b } => Instr::Sub {
+                dst: f(dst)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Mul { dst, a, b } => Instr::Mul {
+                dst: f(dst)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Div { dst, a, b } => Instr::Div {
+                dst: f(dst)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Un { op, dst, a } => Instr::Un {
+                op,
+                dst: f(dst)?,
+                a: f(a)?,
+            },
+            Instr::Bin { op, dst, a, b } => Instr::Bin {
+                op,
+                dst: f(dst)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Select { dst, c, a, b } => Instr::Select {
+                dst: f(dst)?,
+                c: f(c)?,
+                a: f(a)?,
+                b: f(b)?,
+            },
+            Instr::Table { dst, table, a } => Instr::Table {
+                dst: f(dst)?,
+                table: f(table)?,
+                a: f(a)?,
+            },
+            Instr::TableSlope { dst, table, a } => Instr::TableSlope {
+                dst: f(dst)?,
+                table: f(table)?,
+                a: f(a)?,
+            },
+        })
+    }
+}
+
+/// Slots a compact tape addresses: every `u8` index is one of them, so reading and writing a
+/// register needs no bounds check.
+const COMPACT_SLOTS: usize = 256;
+
+/// A tape's instructions: one-byte indices into a fixed block of [`COMPACT_SLOTS`] registers
+/// where the whole work (variables, constants, registers) and the tables fit in it (every
+/// residual of a planar mechanism of a few bodies), else four-byte indices into the caller's
+/// slice. Both run through the one interpreter, [`execute`].
+#[derive(Clone, Debug)]
+enum Code {
+    Compact(Vec<Instr<u8>>),
+    Wide(Vec<Instr<u32>>),
+}
+
+impl Code {
+    fn new(instrs: Vec<Instr<u32>>, work_len: usize, n_tables: usize) -> Code {
+        if work_len <= COMPACT_SLOTS && n_tables <= COMPACT_SLOTS {
+            let narrow = |i: u32| u8::try_from(i).ok();
+            if let Some(c) = instrs.iter().map(|ins| ins.map(narrow)).collect() {
+                return Code::Compact(c);
+            }
+        }
+        Code::Wide(instrs)
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            Code::Compact(c) => c.len(),
+            Code::Wide(c) => c.len(),
+        }
+    }
+}
+
+/// Registers read and written through indices of type `Ix`.
+trait Registers {
+    type Ix: Copy;
+    fn get(&self, i: Self::Ix) -> f64;
+    fn set(&mut self, i: Self::Ix, v: f64);
+}
+
+impl Registers for [f64; COMPACT_SLOTS] {
+    type Ix = u8;
+    #[inline(always)]
+    fn get(&self, i: u8) -> f64 {
+        self[i as usize]
+    }
+    #[inline(always)]
+    fn set(&mut self, i: u8, v: f64) {
+        self[i as usize] = v;
+    }
+}
+
+impl Registers for [f64] {
+    type Ix = u32;
+    #[inline(always)]
+    fn get(&self, i: u32) -> f64 {
+        self[i as usize]
+    }
+    #[inline(always)]
+    fn set(&mut self, i: u32, v: f64) {
+        self[i as usize] = v;
+    }
+}
+
+/// Runs `code` over the registers `r`: each instruction reads its operands and writes `dst`.
+fn execute<R, I>(code: &[Instr<I>], tables: &[TableData], r: &mut R)
+where
+    R: Registers<Ix = I> + ?Sized,
+    I: Copy + Into<u32>,
+{
+    for ins in code {
+        match *ins {
+            // a constant operation: `apply_*` (the one definition of each operation's
+            // semantics) folds to the operation itself
+            Instr::Neg { dst, a } => r.set(dst, apply_un(UnOp::Neg, r.get(a))),
+            Instr::Sin { dst, a } => r.set(dst, apply_un(UnOp::Sin, r.get(a))),
+            Instr::Cos { dst, a } => r.set(dst, apply_un(UnOp::Cos, r.get(a))),
+            Instr::Add { dst, a, b } => r.set(dst, apply_bin(BinOp::Add, r.get(a), r.get(b))),
+            Instr::Sub { dst, a, b } => r.set(dst, apply_bin(BinOp::Sub, r.get(a), r.get(b))),
+            Instr::Mul { dst, a, b } => r.set(dst, apply_bin(BinOp::Mul, r.get(a), r.get(b))),
+            Instr::Div { dst, a, b } => r.set(dst, apply_bin(BinOp::Div, r.get(a), r.get(b))),
+            Instr::Un { op, dst, a } => r.set(dst, apply_un(op, r.get(a))),
+            Instr::Bin { op, dst, a, b } => r.set(dst, apply_bin(op, r.get(a), r.get(b))),
+            Instr::Select { dst, c, a, b } => r.set(dst, select(r.get(c), r.get(a), r.get(b))),
+            Instr::Table { dst, table, a } => {
+                r.set(dst, tables[table.into() as usize].value(r.get(a)))
+            }
+            Instr::TableSlope { dst, table, a } => {
+                r.set(dst, tables[table.into() as usize].slope(r.get(a)))
+            }
         }
     }
 }
@@ -54,7 +213,7 @@ impl Instr {
 pub struct Tape {
     n_vars: usize,
     consts: Vec<f64>,
-    instrs: Vec<Instr>,
+    code: Code,
     outputs: Vec<u32>,
     work_len: usize,
     tables: Vec<TableData>,
@@ -217,12 +376,18 @@ impl ExprGraph {
             *b = instrs.len();
         }
         let outputs = outputs.iter().map(|o| slot[pos_of(*o)]).collect();
+        let work_len = base as usize + n_regs as usize;
+        let code = Code::new(instrs, work_len, tables.len());
         StagedTape {
             tape: Tape {
                 n_vars,
-                work_len: base as usize + n_regs as usize,
+                // a compact tape's work is the whole block its indices can address
+                work_len: match code {
+                    Code::Compact(_) => COMPACT_SLOTS,
+                    Code::Wide(_) => work_len,
+                },
                 consts,
-                instrs,
+                code,
                 outputs,
                 tables,
             },
@@ -305,12 +470,12 @@ impl Tape {
 
     /// Number of instructions (computed nodes; variables and constants are free).
     pub fn len(&self) -> usize {
-        self.instrs.len()
+        self.code.len()
     }
 
     /// The tape computes nothing (every output is a variable or a constant).
     pub fn is_empty(&self) -> bool {
-        self.instrs.is_empty()
+        self.code.len() == 0
     }
 
     /// Number of distinct constants.
@@ -409,7 +574,7 @@ impl Tape {
     }
 
     fn run_prepared(&self, work: &mut [f64], out: &mut [f64]) {
-        self.run_instrs(0..self.instrs.len(), work);
+        self.run_instrs(0..self.code.len(), work);
         self.write_outputs(work, out);
     }
 
@@ -420,40 +585,14 @@ impl Tape {
     }
 
     fn run_instrs(&self, range: std::ops::Range<usize>, work: &mut [f64]) {
-        for ins in &self.instrs[range] {
-            match *ins {
-                // a constant operation: `apply_*` (the one definition of each operation's
-                // semantics) folds to the operation itself
-                Instr::Neg { dst, a } => work[dst as usize] = apply_un(UnOp::Neg, work[a as usize]),
-                Instr::Sin { dst, a } => work[dst as usize] = apply_un(UnOp::Sin, work[a as usize]),
-                Instr::Cos { dst, a } => work[dst as usize] = apply_un(UnOp::Cos, work[a as usize]),
-                Instr::Add { dst, a, b } => {
-                    work[dst as usize] = apply_bin(BinOp::Add, work[a as usize], work[b as usize])
-                }
-                Instr::Sub { dst, a, b } => {
-                    work[dst as usize] = apply_bin(BinOp::Sub, work[a as usize], work[b as usize])
-                }
-                Instr::Mul { dst, a, b } => {
-                    work[dst as usize] = apply_bin(BinOp::Mul, work[a as usize], work[b as usize])
-                }
-                Instr::Div { dst, a, b } => {
-                    work[dst as usize] = apply_bin(BinOp::Div, work[a as usize], work[b as usize])
-                }
-                Instr::Un { op, dst, a } => work[dst as usize] = apply_un(op, work[a as usize]),
-                Instr::Bin { op, dst, a, b } => {
-                    work[dst as usize] = apply_bin(op, work[a as usize], work[b as usize])
-                }
-                Instr::Select { dst, c, a, b } => {
-                    work[dst as usize] =
-                        select(work[c as usize], work[a as usize], work[b as usize])
-                }
-                Instr::Table { dst, table, a } => {
-                    work[dst as usize] = self.tables[table as usize].value(work[a as usize])
-                }
-                Instr::TableSlope { dst, table, a } => {
-                    work[dst as usize] = self.tables[table as usize].slope(work[a as usize])
-                }
+        match &self.code {
+            Code::Compact(code) => {
+                let regs: &mut [f64; COMPACT_SLOTS] = (&mut work[..COMPACT_SLOTS])
+                    .try_into()
+                    .expect("a compact tape's work holds its register block");
+                execute(&code[range], &self.tables, regs)
             }
+            Code::Wide(code) => execute(&code[range], &self.tables, work),
         }
     }
 }

@@ -193,6 +193,29 @@ pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usi
 /// `(t, [q, v])` of a row and the LU of `G_v[:, D]` there.
 type FactoredRow = (f64, Vec<f64>, Arc<Lu<usize, f64>>);
 
+/// The buffers [`Index1::examination_moot`] evaluates `G_v` and `G_q` with: the slots, the
+/// tapes' work and the dense matrices, sized at the first check and kept.
+#[derive(Debug)]
+struct MootBuffers {
+    vars: Vec<f64>,
+    gv_work: (Vec<f64>, Vec<f64>),
+    gq_work: (Vec<f64>, Vec<f64>),
+    gv: DMatrix<f64>,
+    gq: DMatrix<f64>,
+}
+
+impl Default for MootBuffers {
+    fn default() -> Self {
+        MootBuffers {
+            vars: Vec::new(),
+            gv_work: (Vec::new(), Vec::new()),
+            gq_work: (Vec::new(), Vec::new()),
+            gv: DMatrix::zeros(0, 0),
+            gq: DMatrix::zeros(0, 0),
+        }
+    }
+}
+
 /// At scale: faer's LUs of the blocks `G_q[:, D_q]` and `G_v[:, D]`, symbolic (their patterns
 /// are fixed while the partition is) and numeric, kept with the entries they factor
 /// ([`KeptBlockLu`]: a pinned chain's blocks, rows of constant ±1, are factored once per
@@ -545,6 +568,8 @@ struct Index1<'a> {
     /// that bound's factors `(a, b)` ([`dependent_condition_bound_factors`]); cleared at each
     /// segment's start (a new block).
     moot_reference: Option<(DMatrix<f64>, f64, f64)>,
+    /// Buffers of [`Index1::examination_moot`] (kept: the check runs at every other step).
+    moot_buffers: MootBuffers,
     kept_grip: (f64, f64),
     /// The blocks' sparse LUs at scale (reset with the partition).
     block_lus: BlockLus,
@@ -801,16 +826,21 @@ impl<'a> Index1<'a> {
             return false;
         }
         let x = &y[..nq + nv];
-        let below = |tape: &crate::dae::MatrixTape, block: &[usize], threshold: f64| {
-            MOOT_MARGIN * dependent_condition_bound(&tape.matrix(t, x), block) <= threshold
-        };
+        let b = &mut self.moot_buffers;
+        if b.gv_work.0.is_empty() {
+            b.gv_work = self.tapes.gv.workspace();
+            b.gq_work = self.tapes.gq.workspace();
+        }
         // the velocities' block: from the factors at the last full bound where G_v has moved
         // little since ([`dependent_condition_bound_factors`]), else a full bound (its factors
         // kept for the next steps)
         let (tapes, dependent, reference) =
             (&self.tapes, &self.dependent, &mut self.moot_reference);
         let mut velocities_below = |threshold: f64| {
-            let gv = tapes.gv.matrix(t, x);
+            tapes
+                .gv
+                .matrix_into(t, x, (&mut b.vars, &mut b.gv_work), &mut b.gv);
+            let gv = &b.gv;
             if let Some((g0, a, b)) = reference.as_ref() {
                 let moved = gv
                     .iter()
@@ -822,10 +852,10 @@ impl<'a> Index1<'a> {
                     return true;
                 }
             }
-            match dependent_condition_bound_factors(&gv, dependent) {
+            match dependent_condition_bound_factors(gv, dependent) {
                 Some((a, b)) => {
                     let holds = MOOT_MARGIN * a * b <= threshold;
-                    *reference = Some((gv, a, b));
+                    *reference = Some((gv.clone(), a, b));
                     holds
                 }
                 None => false,
@@ -838,9 +868,17 @@ impl<'a> Index1<'a> {
             fresh
         };
         let coordinates = INDEX1_CHECK_CONDITION.max(GRIP_RECHECK * self.kept_grip.1);
-        velocities_below(velocities)
-            && (self.coordinates == self.dependent
-                || below(&self.tapes.gq, &self.coordinates, coordinates))
+        if !velocities_below(velocities) {
+            return false;
+        }
+        if self.coordinates == self.dependent {
+            return true;
+        }
+        let b = &mut self.moot_buffers;
+        self.tapes
+            .gq
+            .matrix_into(t, x, (&mut b.vars, &mut b.gq_work), &mut b.gq);
+        MOOT_MARGIN * dependent_condition_bound(&b.gq, &self.coordinates) <= coordinates
     }
 
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
@@ -1708,6 +1746,7 @@ pub(crate) fn job<'a>(
             watched: None,
             kept_grip: (0.0, 0.0),
             moot_reference: None,
+            moot_buffers: MootBuffers::default(),
             block_lus: BlockLus::default(),
             energy_e0,
             energy_watch,
