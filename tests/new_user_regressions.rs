@@ -519,3 +519,30 @@ fn integration_times_start_at_t_start() {
     };
     assert!(o.integration_times().is_err());
 }
+
+/// Andrews' squeezer from rest at rtol 1e-11, atol 1e-13 on the index-1 formulation alone:
+/// IDA's Newton iteration fails at t ≈ 9e-7 (the crank's kinematic row keeps a residual of
+/// c_j times its angle's rounding through every iteration), at a configuration far from any
+/// singular one (κ(G_v M⁺ G_vᵀ) ≈ 7e2). The stop's message blamed "a singular configuration"
+/// there; it now says the joints are regularly placed and names the remedies. Where κ is large
+/// the message still names the singular joints (not exercised here).
+#[test]
+fn regression_index1_newton_failure_at_a_regular_configuration_was_blamed_on_a_singular_one() {
+    let out = bondmech(&[
+        "run",
+        &scene("andrews_squeezer.json"),
+        "--formulation",
+        "index1",
+        "--rtol",
+        "1e-11",
+        "--atol",
+        "1e-13",
+    ]);
+    let err = stderr(&out);
+    // the failure itself is a known limitation (the default hands over to the GGL here and
+    // completes): a build that passes should say so in this test
+    assert!(!out.status.success(), "index1 now passes: update this test");
+    assert!(err.contains("IDA_CONV_FAIL"), "{err}");
+    assert!(err.contains("regularly placed"), "{err}");
+    assert!(!err.contains("near a singular configuration"), "{err}");
+}
