@@ -42,7 +42,8 @@ class Planar:
             J = p.jacobian(self.q)
             D = sp.diag(m, m, I)
             M += J.T * D * J
-            Jdot_qd = (J * qd).jacobian(self.q) * qd
+            v = J * qd + sp.diff(p, self.t)  # explicit time (prescribed motion)
+            Jdot_qd = v.jacobian(self.q) * qd + sp.diff(v, self.t)
             bias += J.T * D * Jdot_qd
             V += m * g * y
         Q = -sp.Matrix([V]).jacobian(self.q).T - bias
@@ -58,7 +59,7 @@ class Planar:
             for (name, m, I, x, y, th) in bodies
         ]
         self.fvel = [
-            (name, sp.lambdify(self.q + list(self.qd), sp.Matrix([x, y, th]).jacobian(self.q) * qd, cse=True, modules="numpy"))
+            (name, sp.lambdify(self.q + list(self.qd) + [self.t], sp.Matrix([x, y, th]).jacobian(self.q) * qd + sp.diff(sp.Matrix([x, y, th]), self.t), cse=True, modules="numpy"))
             for (name, m, I, x, y, th) in bodies
         ]
         ke = sp.Rational(1, 2) * (qd.T * M * qd)[0]
@@ -86,9 +87,9 @@ class Planar:
             out[name] = np.array([f(*(list(Y[i, :n]) + [times[i]])) for i in range(len(times))], dtype=float)
         return out
 
-    def velocities(self, y):
+    def velocities(self, y, t=0.0):
         """{name: [vx, vy, omega]} at state y."""
-        return {name: [float(v) for v in np.array(f(*y), dtype=float).reshape(3)] for name, f in self.fvel}
+        return {name: [float(v) for v in np.array(f(*y, t), dtype=float).reshape(3)] for name, f in self.fvel}
 
     def energy(self, times, Y):
         return np.array([self.fE(times[i], *Y[i]) for i in range(len(times))])
