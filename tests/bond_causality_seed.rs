@@ -45,6 +45,7 @@ fn bar(name: &str, points: &[(&str, f64, f64)]) -> PlanarBodySpec {
             .iter()
             .map(|(n, x, y)| (n.to_string(), *x, *y))
             .collect(),
+        rotation: true,
     }
 }
 

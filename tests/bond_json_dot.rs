@@ -64,6 +64,7 @@ fn double_pendulum() -> BondGraph {
         inertia: 0.1,
         gravity: 9.81,
         points: pts.iter().map(|(n, x)| (n.to_string(), *x, 0.0)).collect(),
+        rotation: true,
     };
     let b1 = planar_body_translating(&mut g, &spec("bar1", &[("O", -0.5), ("A", 0.5)]));
     let b2 = planar_body_translating(&mut g, &spec("bar2", &[("A", -0.5)]));

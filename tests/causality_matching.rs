@@ -265,6 +265,7 @@ fn bar(name: &str) -> PlanarBodySpec {
         inertia: 1.0 / 12.0,
         gravity: 9.81,
         points: vec![("O".into(), -0.5, 0.0), ("A".into(), 0.5, 0.0)],
+        rotation: true,
     }
 }
 

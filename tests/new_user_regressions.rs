@@ -546,3 +546,77 @@ fn regression_index1_newton_failure_at_a_regular_configuration_was_blamed_on_a_s
     assert!(err.contains("regularly placed"), "{err}");
     assert!(!err.contains("near a singular configuration"), "{err}");
 }
+
+/// A planar point mass welded to a bar (found by a new user's trial): the bond graph kept the
+/// point mass's zero I:J only for off-centre points, while the layout models its angle for a
+/// weld too, so the build failed with "the bond graph has no element 'pm.I_J'". The pair is a
+/// compound pendulum about the pivot O: a uniform bar (1 kg, 1 m, pinned at its end) with
+/// 0.4 kg at 0.8 m, released horizontal, `I_O θ'' = −(m_b L/2 + m_p d) g cos θ` with
+/// `I_O = m_b L²/3 + m_p d²`, integrated here by the tests' RK45.
+#[test]
+fn regression_a_point_mass_welded_to_a_bar_failed_to_build() {
+    let s = json!({
+        "gravity": [0, -9.81],
+        "bodies": [
+            {"name": "bar", "mass": 1.0, "inertia": 1.0 / 12.0,
+             "points": {"O": [-0.5, 0], "M": [0.3, 0]}, "position": [0.5, 0]},
+            {"name": "pm", "mass": 0.4, "inertia": 0.0, "position": [0.8, 0]}
+        ],
+        "joints": [
+            {"name": "pivot", "type": "revolute", "bodies": ["ground", "bar"], "points": [[0, 0], "O"]},
+            {"name": "glue", "type": "weld", "bodies": ["bar", "pm"], "points": ["M", [0, 0]]}
+        ],
+        "solve": {"t_end": 2.0, "output_step": 0.1, "rtol": 1e-9, "atol": 1e-11}
+    });
+    let path = write_scene("point_mass_weld.json", &s);
+    let out = bondmech(&["run", &path]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (header, rows) = read_csv(&String::from_utf8_lossy(&out.stdout));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (t, x, y, a) = (col("t"), col("pm.x"), col("pm.y"), col("bar.angle"));
+    let (i_o, moment) = (1.0 / 3.0 + 0.4 * 0.64, (0.5 + 0.4 * 0.8) * 9.81);
+    let times: Vec<f64> = rows.iter().map(|r| r[t]).collect();
+    let reference = common::integrate::integrate(
+        |_, s, d| {
+            d[0] = s[1];
+            d[1] = -moment / i_o * s[0].cos();
+        },
+        0.0,
+        &[0.0, 0.0],
+        &times,
+        1e-12,
+        1e-14,
+    );
+    let mut worst = 0.0f64;
+    for (r, th) in rows.iter().zip(&reference) {
+        let (sx, sy) = (0.8 * th[0].cos(), 0.8 * th[0].sin());
+        worst = worst
+            .max((r[x] - sx).abs())
+            .max((r[y] - sy).abs())
+            .max((r[a] - th[0]).abs());
+    }
+    assert!(
+        rows.len() == 21 && worst < 1e-6,
+        "{} rows, worst {worst:e}",
+        rows.len()
+    );
+}
+
+/// `"frame": "body"` on a planar point mass gave "expression NaN*p_pm.I_J: unknown name
+/// 'NaN'" (the frame's gyrator is m/J times the angular momentum): it is now refused at the
+/// body's `frame`.
+#[test]
+fn regression_body_frame_on_a_point_mass_gave_an_unknown_name_nan() {
+    let s = json!({
+        "bodies": [
+            {"name": "pm", "mass": 0.4, "inertia": 0.0, "frame": "body"}
+        ],
+        "solve": {"t_end": 1.0}
+    });
+    let path = write_scene("point_mass_body_frame.json", &s);
+    let out = bondmech(&["run", &path]);
+    let err = stderr(&out);
+    assert!(!out.status.success());
+    assert!(err.contains("bodies[0].frame"), "{err}");
+    assert!(!err.contains("NaN"), "{err}");
+}

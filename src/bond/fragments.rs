@@ -53,6 +53,11 @@ pub struct PlanarBodySpec {
     pub gravity: f64,
     /// Named points with body coordinates (a_x, a_y) from the centre of mass.
     pub points: Vec<(String, f64, f64)>,
+    /// The rotation is modelled even where `J = 0` and every point is at the centre (a weld,
+    /// a gear or a torque acts on it, or it starts spinning): the translating frame keeps
+    /// I:J of value 0, its flow ω a velocity unknown fixed by the joints. Off-centre points
+    /// imply it.
+    pub rotation: bool,
 }
 
 /// Handles to a planar body's junctions.
@@ -207,13 +212,14 @@ fn add_point(
 /// `V_Px = V_Ox − ω·(a_x sinα + a_y cosα)`, `V_Py = V_Oy + ω·(a_x cosα − a_y sinα)`
 /// through MTFs modulated by the body angle α = `x_<body>.omega`.
 pub fn planar_body_translating(g: &mut BondGraph, spec: &PlanarBodySpec) -> PlanarBody {
-    // a massless rotation still needs I:J (of value 0) when a point is off the centre: its
-    // flow ω is then a velocity unknown fixed by the joints
+    // a massless rotation still needs I:J (of value 0) when a point is off the centre or
+    // something else acts on the rotation: its flow ω is then a velocity unknown fixed by the
+    // joints
     let off_centre = spec
         .points
         .iter()
         .any(|(_, ax, ay)| *ax != 0.0 || *ay != 0.0);
-    let mut body = body_core(g, spec, off_centre);
+    let mut body = body_core(g, spec, off_centre || spec.rotation);
     if spec.gravity != 0.0 {
         one_port(
             g,

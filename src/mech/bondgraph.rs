@@ -114,6 +114,18 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
                 .map(|p| refname(&l.body, p, format!("{}_p", l.name)))
         })
         .collect();
+    // which bodies' rotations are modelled: decided once, by the layout that gives them their
+    // coordinates (an angle for a spinning or welded point mass too)
+    let plans = super::coordinates::Geometry::new(scene).plan()?;
+    let rotates: HashMap<&str, bool> = scene
+        .bodies
+        .iter()
+        .zip(&plans)
+        .map(|(b, plan)| {
+            let angle = matches!(plan, super::layout::Plan::Planar { angle: true, .. });
+            (b.name.as_str(), angle)
+        })
+        .collect();
     let mut bodies: HashMap<String, PlanarBody> = HashMap::new();
     for b in &scene.bodies {
         let j = match b.inertia {
@@ -139,6 +151,7 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
             inertia: j,
             gravity: gy,
             points,
+            rotation: rotates.get(b.name.as_str()).copied().unwrap_or(false),
         };
         let pb = match b.frame {
             BodyFrame::BodyFixed => planar_body_fixed_frame(&mut g, &spec),
@@ -161,7 +174,7 @@ fn planar(scene: &Scene, open: bool) -> Result<BondGraph, MechError> {
     let omega = |body: &str| {
         bodies
             .get(body)
-            .filter(|_| has_rotation(scene, body))
+            .filter(|_| rotates.get(body).copied().unwrap_or(false))
             .map(|b| b.omega)
     };
     // the solver's graph writes the joints of body-fixed bars as modulated sums of the bodies'
@@ -343,14 +356,6 @@ fn body_fixed_angle(scene: &Scene, body: &str) -> Option<String> {
         .iter()
         .find(|b| b.name == body && matches!(b.frame, BodyFrame::BodyFixed))
         .map(|b| crate::expr::quote_name(&format!("x_{}.omega", b.name)).into_owned())
-}
-
-fn has_rotation(scene: &Scene, body: &str) -> bool {
-    scene.bodies.iter().any(|b| {
-        b.name == body
-            && (matches!(b.frame, BodyFrame::BodyFixed)
-                || matches!(b.inertia, Inertia::Planar(j) if j > 0.0))
-    })
 }
 
 pub(crate) fn load_parameters(v: &LoadValue) -> Vec<Parameter> {

@@ -411,7 +411,17 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
     };
     let frame = match f.string(p, "frame").as_deref() {
         None | Some("inertial") => BodyFrame::Inertial,
-        Some("body") => BodyFrame::BodyFixed,
+        Some("body") => {
+            // the frame's gyrator m·ω carries ω as J⁻¹ p_J: a body with no rotational inertia
+            // has no angular momentum to read it from
+            if matches!(inertia, Some(Inertia::Planar(j)) if j <= 0.0) {
+                p.push(
+                    f.path("frame"),
+                    "a body-fixed frame needs a rotational inertia above 0 (this body's is 0, a point mass); use the default \"inertial\" frame".to_string(),
+                );
+            }
+            BodyFrame::BodyFixed
+        }
         Some(other) => {
             p.push(
                 f.path("frame"),
