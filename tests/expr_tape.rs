@@ -225,14 +225,19 @@ fn eval_parts_reads_consecutive_slices_as_one_input_vector() {
 
 /// Pseudo-random expressions over three variables (0: fixed, 1: iterated, 2: last), with
 /// shared subexpressions and every kind of dependence across the stages.
-fn staged_expressions(g: &mut ExprGraph, seed: u64) -> Vec<Expr> {
+/// A linear congruential generator of indices below `n` (the random expressions' choices).
+fn lcg(seed: u64) -> impl FnMut(usize) -> usize {
     let mut state = seed;
-    let mut next = move |n: usize| {
+    move |n: usize| {
         state = state
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         ((state >> 33) as usize) % n
-    };
+    }
+}
+
+fn staged_expressions(g: &mut ExprGraph, seed: u64) -> Vec<Expr> {
+    let mut next = lcg(seed);
     let mut pool: Vec<Expr> = vec![g.var(0), g.var(1), g.var(2), g.constant(0.7)];
     for _ in 0..60 {
         let a = pool[next(pool.len())];
@@ -303,13 +308,7 @@ fn staged_tape_rerunning_a_later_stage_matches_a_full_evaluation() {
 /// one-byte register indices into a fixed block; a larger one with four-byte indices into the
 /// caller's slice: both interpreters are exercised.
 fn tape_matches_the_graph(n_vars: usize, seed: u64) -> usize {
-    let mut state = seed;
-    let mut next = move |n: usize| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 33) as usize) % n
-    };
+    let mut next = lcg(seed);
     let mut g = ExprGraph::new();
     let mut pool: Vec<Expr> = (0..n_vars).map(|k| g.var(k as u32)).collect();
     pool.push(g.constant(0.7));

@@ -826,10 +826,10 @@ impl<'a> Index1<'a> {
             return false;
         }
         let x = &y[..nq + nv];
-        let b = &mut self.moot_buffers;
-        if b.gv_work.0.is_empty() {
-            b.gv_work = self.tapes.gv.workspace();
-            b.gq_work = self.tapes.gq.workspace();
+        let bufs = &mut self.moot_buffers;
+        if bufs.gv_work.0.is_empty() {
+            bufs.gv_work = self.tapes.gv.workspace();
+            bufs.gq_work = self.tapes.gq.workspace();
         }
         // the velocities' block: from the factors at the last full bound where G_v has moved
         // little since ([`dependent_condition_bound_factors`]), else a full bound (its factors
@@ -839,8 +839,8 @@ impl<'a> Index1<'a> {
         let mut velocities_below = |threshold: f64| {
             tapes
                 .gv
-                .matrix_into(t, x, (&mut b.vars, &mut b.gv_work), &mut b.gv);
-            let gv = &b.gv;
+                .matrix_into(t, x, (&mut bufs.vars, &mut bufs.gv_work), &mut bufs.gv);
+            let gv = &bufs.gv;
             if let Some((g0, a, b)) = reference.as_ref() {
                 let moved = gv
                     .iter()
@@ -874,11 +874,11 @@ impl<'a> Index1<'a> {
         if self.coordinates == self.dependent {
             return true;
         }
-        let b = &mut self.moot_buffers;
+        let bufs = &mut self.moot_buffers;
         self.tapes
             .gq
-            .matrix_into(t, x, (&mut b.vars, &mut b.gq_work), &mut b.gq);
-        MOOT_MARGIN * dependent_condition_bound(&b.gq, &self.coordinates) <= coordinates
+            .matrix_into(t, x, (&mut bufs.vars, &mut bufs.gq_work), &mut bufs.gq);
+        MOOT_MARGIN * dependent_condition_bound(&bufs.gq, &self.coordinates) <= coordinates
     }
 
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
