@@ -99,3 +99,40 @@ fn index1_reselects_dependents_through_the_vertical_and_follows_lagrange() {
     }
     eprintln!("{:?}", s.summary.warnings);
 }
+
+/// Re-selections are routine: the first three are listed in the warnings, one line counts the
+/// rest, and the summary's counter has every one. Regression (issue 46, F5): a correct 100 s
+/// run of a bead through its bar's pivot printed 205 warning lines, one per re-selection.
+#[test]
+fn regression_every_routine_reselection_was_a_warning_line() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/bead_slot_through_pivot.json"
+    );
+    let json = std::fs::read_to_string(path).expect("scene file");
+    let model = Model::new(&Scene::from_json_str(&json).expect("valid")).expect("builds");
+    let mut o = model.default_options();
+    o.output_times = (0..=1000).map(|k| k as f64 * 0.02).collect();
+    let s = model.solve(&o).expect("solves").summary;
+    let listed = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("re-selected at t = "))
+        .count() as u64;
+    let more: u64 = s
+        .warnings
+        .iter()
+        .find_map(|w| {
+            let (_, rest) = w.split_once("re-selected: ")?;
+            rest.split_whitespace().next()?.parse().ok()
+        })
+        .unwrap_or(0);
+    eprintln!(
+        "{} re-selections: {listed} listed, {more} counted; warnings {:?}",
+        s.index1_reselections, s.warnings
+    );
+    assert!(s.index1_reselections > 10, "{s:?}");
+    assert_eq!(listed, 3, "{:?}", s.warnings);
+    assert_eq!(listed + more, s.index1_reselections, "{:?}", s.warnings);
+    assert!(s.warnings.len() <= 6, "{:?}", s.warnings);
+}

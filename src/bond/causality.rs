@@ -17,7 +17,11 @@
 //!    prefers the inertias well conditioned at the graph's initial state;
 //!    [`assign_causality_at`] takes the rank at a given state (a mechanism's initial
 //!    configuration), so a geometrically special mechanism (Bricard's loop: generically rigid,
-//!    one DOF from its geometry) gets its true DOF and its redundant joint rows named.
+//!    one DOF from its geometry) gets its true DOF and its redundant joint rows named. Where
+//!    the rows leave a choice, the inertias the graph lists in
+//!    [`BondGraph::prefer_differential`] are pivoted on first (a freely rotating spatial
+//!    body's angular inertias, so that its centre's velocity is integral: the chapter's freedom
+//!    among admissible assignments, used for accuracy).
 //! 2. **The strokes** ([`super::orient`]): with those inertias differential and the others
 //!    integral, capacitors integral, the causal strokes are a degree-constrained orientation of
 //!    the bonds, solved as a bipartite matching (max flow). When the rules cannot all hold,
@@ -347,10 +351,11 @@ fn assign_ranked(
     generic_rank: bool,
 ) -> Causality {
     let deferred = joint_rows(graph);
-    let at = constraint_rank(graph, t, values, &[], &deferred);
+    let preferred = preferred_differential(graph);
+    let at = constraint_rank(graph, t, values, &preferred, &deferred);
     let generic_values = |n: &str| Some(generic_value(n));
     let mut generic = if generic_rank || !at_state {
-        constraint_rank(graph, t, &generic_values, &[], &deferred)
+        constraint_rank(graph, t, &generic_values, &preferred, &deferred)
     } else {
         at.clone()
     };
@@ -406,6 +411,24 @@ fn assign_ranked(
         }
     }
     finish(graph, sources, constraints)
+}
+
+/// The inertias the graph prefers in differential causality ([`BondGraph::prefer_differential`]),
+/// in canonical (name) order: the pivoting takes each first where its column still has an
+/// entry in an open row, so the choice does not depend on the order they are listed in.
+fn preferred_differential(graph: &BondGraph) -> Vec<ElementId> {
+    let mut names: Vec<&str> = graph
+        .prefer_differential
+        .iter()
+        .map(String::as_str)
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+        .into_iter()
+        .filter_map(|n| graph.element_ids().find(|&e| graph.element(e).name == n))
+        .filter(|&e| graph.element(e).kind == ElementKind::I)
+        .collect()
 }
 
 /// The elements whose rows are joint constraints: the graph's annotated constraint junctions,

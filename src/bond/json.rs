@@ -186,6 +186,10 @@ pub struct RawBondGraph {
     /// Mechanical energy of a graph read as a mechanism.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy: Option<String>,
+    /// Inertias put in differential causality first where the junction structure leaves a
+    /// choice ([`BondGraph::prefer_differential`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub prefer_differential: Vec<String>,
 }
 
 /// Failure to read a bond graph from JSON text.
@@ -307,6 +311,23 @@ impl RawBondGraph {
             })
             .collect();
         graph.energy = self.energy.clone();
+        for (i, name) in self.prefer_differential.iter().enumerate() {
+            match by_name.get(name.as_str()) {
+                Some(&id) if graph.element(id).kind == ElementKind::I => {
+                    graph.prefer_differential.push(name.clone())
+                }
+                Some(_) => errors.push(BondError::BadParameter {
+                    path: format!("{ROOT}.prefer_differential[{i}]"),
+                    element: name.clone(),
+                    reason: "not an inertia (I): only an inertia can be preferred in differential causality".into(),
+                }),
+                None => errors.push(BondError::BadParameter {
+                    path: format!("{ROOT}.prefer_differential[{i}]"),
+                    element: name.clone(),
+                    reason: "no element of this name".into(),
+                }),
+            }
+        }
     }
 
     /// Parses JSON text (the value of `"bond_graph"`).
@@ -785,6 +806,7 @@ impl BondGraph {
                 })
                 .collect(),
             energy: self.energy.clone(),
+            prefer_differential: self.prefer_differential.clone(),
         }
     }
 }

@@ -226,6 +226,13 @@ pub struct BondGraph {
     pub outputs: Vec<GraphOutput>,
     /// The mechanical energy of a graph read as a mechanism, as an expression of the states.
     pub energy: Option<String>,
+    /// Inertias the causality puts in differential causality first, where the junction
+    /// structure leaves a choice ([`crate::bond::causality`]): the modeller's pick among the
+    /// admissible assignments (seed 16.5: which inertias the joints make dependent is not
+    /// unique). A mechanism's graph lists the body-frame angular inertias of each freely
+    /// rotating spatial body, so that its centre's velocity is its states
+    /// ([`crate::mech::annotate`]).
+    pub prefer_differential: Vec<String>,
 }
 
 /// A named output column of a graph read as a mechanism.

@@ -46,8 +46,45 @@ pub struct Index1Formulation {
     /// The energy invariant's unknowns `(κ, μ)` after `λ`, where the run keeps the energy
     /// ([`EnergyInvariant`]); `None` otherwise.
     pub energy: Option<EnergyInvariant>,
-    /// 1 for differential unknowns, 0 for algebraic.
+    /// IDA's error-test mask ([`error_test_mask`]): 1 for the independent coordinates and
+    /// every velocity, dependent or not; 0 for the dependent coordinates, the dummy
+    /// accelerations, the multipliers and the energy invariant's unknowns.
     pub id: Vec<f64>,
+}
+
+/// IDA's error-test mask of the index-1 DAE `y = [q, v, a_D, λ, …]` (`(nq, nv, n)`: coordinates,
+/// velocities, unknowns; `coordinates` the dependent coordinates): the independent coordinates
+/// and **every velocity, the dependent ones too**, are measured; the dependent coordinates, the
+/// dummy accelerations, the multipliers and the energy invariant's unknowns are not (IDA's
+/// `id` with `IDASetSuppressAlg`; bondmech never calls `IDACalcIC`, so the mask is all `id`
+/// means here).
+///
+/// The dependent velocities are algebraic (`G_v v = 0` determines them), but the dependent
+/// block passes the independent velocities' local error on to them amplified by up to its
+/// condition: `v_D = −G_v[R, D]⁻¹ G_v[R, I] v_I`. Left out of the test (before), a five-bar kept
+/// its couplers' block up to `μ ≈ 10–100` before a re-selection and its largest coordinate error
+/// was 12× the GGL's at rtol 1e-7, 8.6× at 1e-8, 4.1× at 1e-9 (the GGL measures every
+/// coordinate and velocity); with them (one run): 1.7×, 0.52×, 0.61×. The offset slider-crank
+/// spinning at 14 rad/s: 3.4 / 1.4 / 2.5× → 0.40 / 1.65 / 0.31×. The dependent coordinates are
+/// left out: they are found by Newton on `g(q) = 0` from the independent ones, so their error is
+/// the independent coordinates' through the same block, and the RMS norm (divided by the
+/// number of measured unknowns) only grows more lenient with them: measured with them too, the
+/// double pendulum went from 1.4× the GGL's error at rtol 1e-9 to 3.4× and the A01 pendulum at
+/// rtol 1e-7 took 91 000 steps instead of 25 000 (docs/performance.md, "The default's error
+/// test").
+///
+/// ```
+/// use bondmech::dae::index1::error_test_mask;
+/// // a pendulum bob: q = (x, y), v = (vx, vy), y dependent; then a_D and λ
+/// assert_eq!(error_test_mask((2, 2, 6), &[1]), vec![1.0, 0.0, 1.0, 1.0, 0.0, 0.0]);
+/// ```
+pub fn error_test_mask((nq, nv, n): (usize, usize, usize), coordinates: &[usize]) -> Vec<f64> {
+    let mut id = vec![1.0; nq + nv];
+    for &i in coordinates {
+        id[i] = 0.0;
+    }
+    id.resize(n, 0.0);
+    id
 }
 
 /// The energy of a conservative mechanism kept as an invariant of the index-1 DAE, `E(q, v) =
@@ -1009,6 +1046,8 @@ impl Index1Formulation {
         {
             return None;
         }
+        // the velocities' and the other unknowns' entries of the mask do not depend on the
+        // coordinates chosen ([`error_test_mask`])
         let mut id = self.id.clone();
         for (i, d) in id.iter_mut().enumerate().take(nq) {
             *d = if coordinates.contains(&i) { 0.0 } else { 1.0 };
@@ -1209,14 +1248,7 @@ impl Index1Formulation {
             let e = g.constant(e0);
             res.push(g.sub(energy, e));
         }
-        let mut id = Vec::with_capacity(n);
-        for i in 0..nq {
-            id.push(if qpos(i).is_some() { 0.0 } else { 1.0 });
-        }
-        for j in 0..nv {
-            id.push(if dpos(j).is_some() { 0.0 } else { 1.0 });
-        }
-        id.resize(n, 0.0);
+        let id = error_test_mask((nq, nv, n), coordinates);
         let dae = if selectable {
             ImplicitDae::build_selected(g, &res, n, Some(coordinate_rows(nq, n, coordinates)))
         } else {

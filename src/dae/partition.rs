@@ -143,10 +143,36 @@ pub(crate) struct NewtonLimits {
 
 /// Coordinates preferred as dependent where `q' ≠ v` (3D bodies' quaternions, body-fixed
 /// frames): the translations (`x`, `y`, `z` of a body's centre), whose velocities the joints
-/// put in differential causality (seed 16.5, 16.7).
+/// put in differential causality (seed 16.5, 16.7); on a spatial body whose angular inertias
+/// the bond graph prefers in differential causality (a freely rotating body,
+/// [`crate::bond::model::BondGraph::prefer_differential`]), its quaternion instead, so that
+/// its coordinates' states follow its velocities' (the centre's position with `V`).
 pub fn preferred_coordinates(sys: &crate::mech::MultibodySystem) -> Vec<bool> {
-    sys.coords
+    let mut p: Vec<bool> = sys
+        .coords
         .iter()
         .map(|c| matches!(c.name.rsplit('.').next(), Some("x" | "y" | "z")))
-        .collect()
+        .collect();
+    let Some(graph) = sys.bond_graph.as_deref() else {
+        return p;
+    };
+    let nq = sys.nq();
+    let preferred = |slot: u32| {
+        sys.inertias
+            .get(slot as usize - 1 - nq)
+            .is_some_and(|n| graph.prefer_differential.contains(n))
+    };
+    for (_, kin) in &sys.bodies {
+        if let crate::mech::body::BodyKinematics::Spatial { r, e, w, .. } = kin {
+            if w.iter().all(|&s| preferred(s)) {
+                for &s in r {
+                    p[s as usize - 1] = false;
+                }
+                for &s in e {
+                    p[s as usize - 1] = true;
+                }
+            }
+        }
+    }
+    p
 }

@@ -354,6 +354,26 @@ fn planar_bodies(
 /// `e` itself (`e' = ½ e ⊗ (0, ω)`, the rotation of 16.2 carried without the Cardan
 /// singularity). Point masses carry `V` only.
 #[allow(clippy::type_complexity)]
+/// Whether the spatial body `name` rotates freely: none of its joints fixes a relative
+/// rotation (a ball joint, a distance link, or no joint). Its graph then prefers its
+/// body-frame angular inertias in differential causality
+/// ([`crate::bond::model::BondGraph::prefer_differential`]), so that its centre's velocity `V` is
+/// its states: a spinning body's transverse rotation, carried by the body-frame `ω_x, ω_y`,
+/// turns in the body at about `(J_z/J_x − 1) ω_z` while the motion it describes (the axis's
+/// nutation and precession) is slow in the world frame, where `V` carries it, and BDF's local
+/// errors on the turning pair add up step after step. Measured on the heavy top
+/// (`scenes/heavy_top.json`, 5 s, rtol 1e-9 / 1e-10 / 1e-11): 3050 / 557 / 6650 × rtol with `ω`
+/// the states, 579 / 218 / 1919 × with `V` (at rtol 7e-10, 1.4e-9, 7e-11, 1.4e-10, 7e-12 and
+/// 1.4e-11: 203–419 ×, 0.15–0.86 × the GGL's error; docs/performance.md, "The heavy top's
+/// states").
+fn rotates_freely(scene: &Scene, name: &str) -> bool {
+    scene
+        .joints
+        .iter()
+        .filter(|j| j.bodies.iter().any(|b| b == name))
+        .all(|j| !crate::mech::joints::transmits_moment(&j.kind))
+}
+
 fn spatial_bodies(
     scene: &Scene,
     sys: &MultibodySystem,
@@ -422,6 +442,10 @@ fn spatial_bodies(
                 g.set_label(e, format!("h_{}", ax[k]));
                 g.add_bond(wj[a], e);
                 g.add_bond(e, wj[b]);
+            }
+            if rotates_freely(scene, name) {
+                g.prefer_differential
+                    .extend(ax.iter().map(|a| format!("{name}.I_J_{a}")));
             }
         }
     }

@@ -117,6 +117,43 @@ pub struct Summary {
     pub recovered_failures: Vec<crate::sundials::RecoveredFailure>,
 }
 
+/// How many warnings of one routine kind (a re-selection of the partition) a run lists; the
+/// rest are counted in one closing line ([`Summary::routine_warning`]). A 100 s run of a bead
+/// sliding through its bar's pivot re-selects its dependent velocity about 200 times, each a
+/// correct and expected event: 205 warning lines buried the one that mattered.
+pub const ROUTINE_WARNINGS_LISTED: u64 = 3;
+
+impl Summary {
+    /// A warning of a routine event of kind `kind` (e.g. `"index1: partition re-selected"`):
+    /// listed for the first [`ROUTINE_WARNINGS_LISTED`] events of that kind; after that one line
+    /// `"<kind>: N more times (not listed; …)"` counts the others.
+    pub fn routine_warning(&mut self, kind: &str, message: String) {
+        let folded = format!("{kind}: ");
+        let more = |w: &str| -> Option<u64> {
+            w.strip_prefix(&folded)?
+                .split_once(" more time")?
+                .0
+                .parse()
+                .ok()
+        };
+        if let Some(i) = self.warnings.iter().position(|w| more(w).is_some()) {
+            let n = more(&self.warnings[i]).unwrap_or(0) + 1;
+            self.warnings[i] = format!(
+                "{kind}: {n} more times (not listed; the summary's counters have every one)"
+            );
+            return;
+        }
+        let listed = self.warnings.iter().filter(|w| w.starts_with(kind)).count() as u64;
+        if listed < ROUTINE_WARNINGS_LISTED {
+            self.warnings.push(message);
+        } else {
+            self.warnings.push(format!(
+                "{kind}: 1 more time (not listed; the summary's counters have every one)"
+            ));
+        }
+    }
+}
+
 /// One event met during a solve.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct EventRecord {

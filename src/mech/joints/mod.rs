@@ -69,6 +69,12 @@ pub(super) fn locks(kind: &JointKind, spatial: bool) -> usize {
     joint_type(kind).locks(spatial)
 }
 
+/// Whether a joint of kind `kind` fixes a relative rotation (its reaction carries a moment):
+/// a body whose every joint does not rotates freely ([`crate::mech::annotate`]).
+pub(crate) fn transmits_moment(kind: &JointKind) -> bool {
+    joint_type(kind).transmits_moment()
+}
+
 /// Whether a joint of kind `kind` needs body `end`'s rotation modelled.
 pub(super) fn needs_rotation(kind: &JointKind, end: usize, spatial: bool) -> bool {
     joint_type(kind).needs_rotation(end, spatial)

@@ -385,9 +385,10 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
         if let Some(lp) = &self.last_part {
             if *lp != part {
                 self.rechoices += 1;
-                summary.warnings.push(format!(
-                    "partitioned: partition re-chosen at t = {t_start:.6}"
-                ));
+                summary.routine_warning(
+                    "partitioned: partition re-chosen",
+                    format!("partitioned: partition re-chosen at t = {t_start:.6}"),
+                );
             }
         }
         let threshold = if self.last_part.as_ref() == Some(&part) {
