@@ -2,6 +2,7 @@
 //!
 //! Mechanisms as bond graphs, solved with SUNDIALS: the pinned mechanism as a true DAE on IDA
 //! (its differential-causality inertias kept as algebraic constraint rows, index-reduced by
+//! default to index 1 in the causality's partition, singular passages handed to
 //! Gear–Gupta–Leimkuhler stabilisation, exact Jacobians), and its *decoupled* stiff-spring twin
 //! as an ODE on CVODE, so the price of replacing a joint by a spring can be measured.
 //!
@@ -25,7 +26,7 @@
 //!
 //! let mut options = model.default_options(); // from the scene: t_end 1, 100 intervals
 //! options.rtol = 1e-6;
-//! let dae = model.solve(&options)?; // GGL index-2 DAE on IDA
+//! let dae = model.solve(&options)?; // the default `dae`: index 1 in the causality's partition, on IDA
 //! let energy = dae.column("energy").unwrap();
 //! assert!((energy[100] - energy[0]).abs() < 1e-3 * 9.81); // conservative: energy kept
 //! assert!(dae.summary.max_constraint_error < 1e-6); // the pins hold

@@ -384,7 +384,8 @@ impl Model {
         }
     }
 
-    /// Solves the DAE (GGL) and the decoupled twin with the same options and compares them.
+    /// Solves the DAE (the options' formulation; `dae` where they ask for the twin) and the
+    /// decoupled twin with the same options and compares them.
     ///
     /// Fails for a raw bond graph, which has no decoupled twin.
     pub fn compare(&self, opts: &SolveOptions) -> Result<(Comparison, Solution, Solution)> {
