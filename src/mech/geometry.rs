@@ -354,6 +354,7 @@ impl Geometry<'_> {
                 })?;
             // the driven coordinate s(q), as the joint's kind defines it
             let site = DriverSite {
+                ends: &ends,
                 path: &path,
                 joint_path: &jpath,
                 joint: &j.name,
@@ -365,7 +366,7 @@ impl Geometry<'_> {
                 x0: &x0,
             };
             let coordinate = joint_type(&j.kind)
-                .driven_coordinate(&mut w, &ends, &site)?
+                .driven_coordinate(&mut w, &site)?
                 .ok_or_else(|| {
                     MechError::at(
                         &format!("{path}.joint"),

@@ -3,8 +3,8 @@
 //! `P_a − P_b`, two torsional ones on the axis rows).
 
 use super::joint::{
-    perpendicular_pair, unit_axis, Drawing, DrivenCoordinate, DriverSite, Ends, Glyph, Joint,
-    RowWriter, Rows,
+    perpendicular_pair, unit_axis, Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph,
+    Joint, RowWriter, Rows,
 };
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::BodyKinematics;
@@ -49,12 +49,8 @@ impl Joint for Hinge<'_> {
     /// The rotation `φ` about the axis from the initial relative pose: `cos φ = (R_a c_1)·(R_b
     /// u)`, `sin φ = (R_a c_2)·(R_b u)`, with `c_1, c_2` perpendicular to the unit axis `â`
     /// and `u = R_b(0)ᵀ R_a(0) c_1` (`c_1` as body b sees it initially).
-    fn driven_coordinate(
-        &self,
-        w: &mut RowWriter<'_>,
-        ends: &Ends,
-        site: &DriverSite<'_>,
-    ) -> Result<Option<DrivenCoordinate>, MechError> {
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
         let f = w.hinge_frame(&ends.ka, &ends.kb, self.axis, site.joint_path)?;
         let (c1, c2) = perpendicular_pair(f.u);
         let a0c1: Vec<f64> = (0..3)

@@ -61,9 +61,15 @@ pub(crate) enum DrivenCoordinate {
     },
 }
 
-/// Where a driver is, for the errors its coordinate names: the driver's and its joint's JSON
-/// paths, the joint's name and its bodies.
+/// What [`Joint::driven_coordinate`] answers: the coordinate, or `None` where the kind takes no
+/// driver.
+pub(crate) type Driven = Result<Option<DrivenCoordinate>, MechError>;
+
+/// Where a driver is: its joint's two ends, and for the errors its coordinate names the
+/// driver's and its joint's JSON paths, the joint's name and its bodies.
 pub(crate) struct DriverSite<'a> {
+    /// The joint's ends.
+    pub(crate) ends: &'a Ends,
     /// `drivers[i]`.
     pub(crate) path: &'a str,
     /// `joints[j]`.
@@ -104,15 +110,10 @@ pub(crate) trait Joint {
     /// How the joint is drawn.
     fn glyph(&self) -> Glyph;
 
-    /// The coordinate a driver of this joint moves, written on `w` between `ends`; `None`
-    /// where the kind takes no driver (default).
-    fn driven_coordinate(
-        &self,
-        w: &mut RowWriter<'_>,
-        ends: &Ends,
-        site: &DriverSite<'_>,
-    ) -> Result<Option<DrivenCoordinate>, MechError> {
-        let _ = (w, ends, site);
+    /// The coordinate a driver of this joint moves, written on `w` between the ends of
+    /// `site`; `None` where the kind takes no driver (default).
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let _ = (w, site);
         Ok(None)
     }
 }

@@ -6,8 +6,8 @@
 //! rail, and torsional on the relative rotation).
 
 use super::joint::{
-    perpendicular_pair, unit_axis, Drawing, DrivenCoordinate, DriverSite, Ends, Glyph, Joint,
-    RowWriter, Rows,
+    perpendicular_pair, unit_axis, Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph,
+    Joint, RowWriter, Rows,
 };
 use crate::bond::fragments::{prismatic, Axis};
 use crate::expr::Expr;
@@ -74,12 +74,8 @@ impl Joint for Prismatic<'_> {
     }
 
     /// The displacement along the rail, `(P_b − P_a)·(R_a â)`.
-    fn driven_coordinate(
-        &self,
-        w: &mut RowWriter<'_>,
-        ends: &Ends,
-        site: &DriverSite<'_>,
-    ) -> Result<Option<DrivenCoordinate>, MechError> {
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
         let g = &mut *w.g;
         let dim = ends.pa.position.len();
         let axis: Vec<Expr> = if w.spatial {

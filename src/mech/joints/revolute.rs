@@ -4,7 +4,9 @@
 //! axis on `P_a − P_b` (Fig. 17, 21). In a spatial scene a revolute needs an axis (a
 //! [`super::hinge`]).
 
-use super::joint::{Drawing, DrivenCoordinate, DriverSite, Ends, Glyph, Joint, RowWriter, Rows};
+use super::joint::{
+    Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph, Joint, RowWriter, Rows,
+};
 use crate::mech::body::{AngleSlot, BodyKinematics};
 use crate::mech::error::MechError;
 
@@ -45,12 +47,8 @@ impl Joint for Revolute {
     }
 
     /// The relative angle `α_b − α_a`; refused where a body's rotation is not modelled.
-    fn driven_coordinate(
-        &self,
-        w: &mut RowWriter<'_>,
-        ends: &Ends,
-        site: &DriverSite<'_>,
-    ) -> Result<Option<DrivenCoordinate>, MechError> {
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
         let modelled = |k: &BodyKinematics| {
             !matches!(
                 k,
