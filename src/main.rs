@@ -11,7 +11,6 @@ use std::process::ExitCode;
 
 mod cli;
 
-use bondmech::scene::SolveOverrides;
 use bondmech::FormulationKind;
 use bondmech::{Error, Model};
 use clap::Parser;
@@ -20,11 +19,10 @@ use cli::animate::{animate, AnimateFlags};
 use cli::args::{Cli, Command};
 use cli::failure::{is_broken_pipe, options_error, CliError};
 use cli::fmu;
-use cli::output::{check_outputs, print_warnings, stdout_write, svg, write};
+use cli::output::{check_outputs, print_warnings, stdout_write, write};
 use cli::run::run_command;
-use cli::scene_input::{apply_overrides, load, read_scene, read_scene_with};
+use cli::scene_input::{load, read_scene, read_scene_with};
 use cli::signals::{exit_status_of, watch_interrupts};
-use cli::sweep::{vary_sweep, VaryArgs, MAX_REPEATS};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -152,65 +150,17 @@ fn run(cli: Cli) -> Result<(), CliError> {
             out,
             collapse,
             expand,
-        } => {
-            if as_scene {
-                if let Some(p) = out.as_ref() {
-                    let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-                    if !ext.eq_ignore_ascii_case("json") {
-                        return Err(options_error(format!(
-                            "--out {}: --as-scene writes a JSON scene; give --out a .json file",
-                            p.display()
-                        )));
-                    }
-                }
-                check_outputs(&[&scene], &[("--out", out.as_deref())])?;
-                let v = bondmech::graph::bond_graph_scene(&read_scene(&scene)?)?;
-                let text = serde_json::to_string_pretty(&v).expect("scene serialises") + "\n";
-                return match out {
-                    Some(p) => Ok(write(&p, &text)?),
-                    None => Ok(stdout_write(&text)?),
-                };
-            }
-            // the causality report is JSON: refuse to write it into a drawing's file
-            if let Some(p) = out.as_ref().filter(|_| causality) {
-                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-                if ext.eq_ignore_ascii_case("svg") || ext.eq_ignore_ascii_case("dot") {
-                    return Err(options_error(format!(
-                        "--out {}: --causality writes the causality report as JSON; give --out a .json file (or draw the graph without --causality)",
-                        p.display()
-                    )));
-                }
-            }
-            check_outputs(&[&scene], &[("--out", out.as_deref())])?;
-            let model = Model::new(&read_scene(&scene)?)?;
-            if decoupled && model.is_raw_bond_graph() {
-                return Err(options_error(
-                    "--decoupled: a raw bond graph has no joints to decouple".into(),
-                ));
-            }
-            // the scene's own `solve.formulation: "decoupled"` draws the twin too
-            let decoupled = decoupled
-                || (!model.is_raw_bond_graph()
-                    && model.scene().solve.formulation == bondmech::FormulationKind::Decoupled);
-            let variant = if decoupled {
-                bondmech::mech::Variant::Decoupled
-            } else {
-                bondmech::mech::Variant::Pinned
-            };
-            let g = model.scene_graph(variant)?;
-            let text = if causality {
-                serde_json::to_string_pretty(&g.report()).expect("report serialises") + "\n"
-            } else if collapse || expand {
-                g.dot_with(collapse)
-            } else {
-                g.dot()
-            };
-            match out {
-                Some(p) if p.extension().is_some_and(|e| e == "svg") => Ok(svg(&text, &p)?),
-                Some(p) => Ok(write(&p, &text)?),
-                None => Ok(stdout_write(&text)?),
-            }
-        }
+        } => cli::graph::graph(
+            scene,
+            cli::graph::GraphFlags {
+                causality,
+                decoupled,
+                as_scene,
+                out,
+                collapse,
+                expand,
+            },
+        ),
         Command::Animate {
             args,
             out,
@@ -288,104 +238,19 @@ fn run(cli: Cli) -> Result<(), CliError> {
             set,
             shard,
             columns,
-        } => {
-            use bondmech::report::SweepConfig;
-            if out.exists() && !out.is_dir() {
-                return Err(options_error(format!(
-                    "--out {}: is a file; sweep writes a directory of CSV, JSON and SVG files",
-                    out.display()
-                )));
-            }
-            if let Some(r) = &reference {
-                if bondmech::output::resolved(r).starts_with(bondmech::output::resolved(&out)) {
-                    return Err(options_error(format!(
-                        "--out {}: contains the reference {}; the sweep's files could overwrite it",
-                        out.display(),
-                        r.display()
-                    )));
-                }
-            }
-            if !vary.is_empty() {
-                let flags = [
-                    ("--quick", quick),
-                    ("--accuracy", accuracy.is_some()),
-                    ("--repeats", repeats.is_some()),
-                ];
-                if let Some((f, _)) = flags.iter().find(|(_, given)| *given) {
-                    return Err(options_error(format!(
-                        "{f} belongs to the tolerance/stiffness sweep, not to a --vary sweep"
-                    )));
-                }
-                let spec = VaryArgs {
-                    set,
-                    vary,
-                    shard,
-                    t_end,
-                    columns,
-                    reference,
-                };
-                return Ok(vary_sweep(&scene, &out, spec)?);
-            }
-            if shard.is_some() || columns.is_some() {
-                return Err(options_error(
-                    "--shard and --columns need --vary (the tolerance/stiffness sweep is not sharded)"
-                        .into(),
-                ));
-            }
-            let mut inputs = vec![scene.as_path()];
-            inputs.extend(reference.as_deref());
-            bondmech::report::vary::check_out_dir(&out, &inputs)?;
-            let mut scene_data = read_scene_with(&scene, &set)?;
-            if let Some(t) = t_end {
-                let t_end = SolveOverrides {
-                    t_end: Some(t),
-                    ..SolveOverrides::default()
-                };
-                apply_overrides(&mut scene_data, &t_end)?;
-            }
-            let model = Model::new(&scene_data)?;
-            if model.is_raw_bond_graph() {
-                return Err(options_error(
-                    "sweep needs bodies and joints (a raw bond graph has no decoupled twin)".into(),
-                ));
-            }
-            let mut cfg = if quick {
-                SweepConfig::quick()
-            } else {
-                SweepConfig::full()
-            };
-            cfg.accuracy = accuracy.unwrap_or(cfg.accuracy);
-            if let Some(r) = repeats {
-                if !(1..=MAX_REPEATS).contains(&r) {
-                    return Err(options_error(format!(
-                        "--repeats: must be between 1 and {MAX_REPEATS} (got {r})"
-                    )));
-                }
-            }
-            if let Some(a) = accuracy {
-                if !(a.is_finite() && a > 0.0) {
-                    return Err(options_error(format!(
-                        "--accuracy: must be > 0 and finite (got {a})"
-                    )));
-                }
-            }
-            cfg.repeats = repeats.unwrap_or(cfg.repeats);
-            if let Some(t) = t_end {
-                cfg.t_end = Some(t);
-            }
-            if let Some(path) = reference {
-                cfg.reference = Some(bondmech::report::ExternalReference {
-                    source: path.display().to_string(),
-                    solution: bondmech::report::reference::reference_from_csv(&path)?,
-                });
-            }
-            let report = bondmech::study::sweep::sweep_command(&model, &cfg, &out)?;
-            Ok(stdout_write(&format!(
-                "{}wrote {}\n",
-                report.table(),
-                out.display()
-            ))?)
-        }
+        } => cli::sweep::sweep(cli::sweep::SweepFlags {
+            scene,
+            out,
+            quick,
+            accuracy,
+            repeats,
+            t_end,
+            reference,
+            vary,
+            set,
+            shard,
+            columns,
+        }),
         Command::SweepMerge { dirs, out } => {
             let merged = bondmech::report::vary::merge_command(&dirs, &out)?;
             Ok(stdout_write(&format!(

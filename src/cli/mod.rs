@@ -5,6 +5,7 @@ pub(crate) mod animate;
 pub(crate) mod args;
 pub(crate) mod failure;
 pub(crate) mod fmu;
+pub(crate) mod graph;
 pub(crate) mod output;
 pub(crate) mod run;
 pub(crate) mod scene_input;

@@ -12,13 +12,7 @@ use super::args::SolveArgs;
 /// Reads a scene file, or standard input for `-`.
 pub(crate) fn read_scene(path: &Path) -> Result<Scene, Error> {
     if path == Path::new("-") {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|source| Error::Io {
-                path: "standard input".into(),
-                source,
-            })?;
+        let text = read_stdin()?;
         return Ok(Scene::from_json_str(&text)?);
     }
     Ok(Scene::from_path(path)?)
@@ -27,13 +21,7 @@ pub(crate) fn read_scene(path: &Path) -> Result<Scene, Error> {
 /// Reads the text of a scene file, or of standard input for `-`, and its default name.
 pub(crate) fn read_scene_text(path: &Path) -> Result<(String, String), Error> {
     if path == Path::new("-") {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|source| Error::Io {
-                path: "standard input".into(),
-                source,
-            })?;
+        let text = read_stdin()?;
         return Ok((text, "scene".into()));
     }
     Ok(bondmech::scene::path::read_scene_text(path)?)
@@ -92,4 +80,16 @@ pub(crate) fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
     let model = Model::new(&scene)?;
     let opts = model.default_options();
     Ok((model, opts))
+}
+
+/// The whole of standard input.
+fn read_stdin() -> Result<String, Error> {
+    let mut text = String::new();
+    std::io::stdin()
+        .read_to_string(&mut text)
+        .map_err(|source| Error::Io {
+            path: "standard input".into(),
+            source,
+        })?;
+    Ok(text)
 }

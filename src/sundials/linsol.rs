@@ -15,6 +15,8 @@ use sundials_sys as sys;
 /// Owned `SUNLinearSolver`, freed with `SUNLinSolFree` on drop.
 pub(crate) struct LinearSolver {
     raw: sys::SUNLinearSolver,
+    /// The type of its content, for a solver built by [`own`].
+    content: Option<TypeId>,
 }
 
 impl LinearSolver {
@@ -23,7 +25,7 @@ impl LinearSolver {
     /// # Safety
     /// `raw` must be a valid solver whose `free` op releases everything it owns.
     pub(crate) unsafe fn from_raw(raw: sys::SUNLinearSolver) -> LinearSolver {
-        LinearSolver { raw }
+        LinearSolver { raw, content: None }
     }
 
     pub(crate) fn raw(&self) -> sys::SUNLinearSolver {
@@ -33,18 +35,12 @@ impl LinearSolver {
     /// The content of a solver built by [`own`] with content `T`; `None` for another solver
     /// (SUNDIALS' own, or one of ours of another type).
     fn tagged<T: OwnLinearSolver>(&self) -> Option<*mut T> {
-        // SAFETY: a live solver; only ours have the CUSTOM id, and their content is a
-        // `Tagged<_>` whose `TypeId` comes first (`repr(C)`), checked before the cast.
-        unsafe {
-            let s = self.raw;
-            if sys::SUNLinSolGetID(s) != sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
-                || (*s).content.is_null()
-                || *((*s).content as *const TypeId) != TypeId::of::<T>()
-            {
-                return None;
-            }
-            Some(&mut (*((*s).content as *mut Tagged<T>)).solver as *mut T)
+        if self.content != Some(TypeId::of::<T>()) {
+            return None;
         }
+        // SAFETY: a live solver built by `own::<T>`: its content is our Box<T>.
+        let content = unsafe { (*self.raw).content };
+        (!content.is_null()).then_some(content as *mut T)
     }
 
     /// The solver of type `T` inside, read ([`own`]).
@@ -116,21 +112,13 @@ pub(crate) trait OwnLinearSolver: 'static {
     fn solve(&mut self, x: &mut [f64]) -> c_int;
 }
 
-/// The content of every solver built by [`own`]: its type first, so that
-/// [`LinearSolver::content_mut`] can tell whose it is.
-#[repr(C)]
-struct Tagged<T> {
-    tag: TypeId,
-    solver: T,
-}
-
-/// The solver inside content `Tagged<T>`.
+/// The solver inside `s`.
 ///
 /// # Safety
 /// `s` must be a live solver built by [`own::<T>`], not otherwise borrowed.
 unsafe fn content<'a, T>(s: sys::SUNLinearSolver) -> &'a mut T {
-    // SAFETY: the caller's contract: the content is our Box<Tagged<T>>.
-    unsafe { &mut (*((*s).content as *mut Tagged<T>)).solver }
+    // SAFETY: the caller's contract: the content is our Box<T>.
+    unsafe { &mut *((*s).content as *mut T) }
 }
 
 /// The matrix `a`, when it is square dense or sparse CSC.
@@ -232,16 +220,16 @@ unsafe extern "C" fn solve_op<T: OwnLinearSolver>(
     }
 }
 
-/// `free`: the content `Box<Tagged<T>>` reclaimed, then the shell and its ops.
+/// `free`: the content `Box<T>` reclaimed, then the shell and its ops.
 unsafe extern "C" fn free_op<T>(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: `s` was built by `own::<T>`; its content is our Box<Tagged<T>>, reclaimed once
-    // here, then the empty shell and ops are freed by SUNDIALS.
+    // SAFETY: `s` was built by `own::<T>`; its content is our Box<T>, reclaimed once here,
+    // then the empty shell and ops are freed by SUNDIALS.
     unsafe {
         if s.is_null() {
             return 0;
         }
         if !(*s).content.is_null() {
-            drop(Box::from_raw((*s).content as *mut Tagged<T>));
+            drop(Box::from_raw((*s).content as *mut T));
             (*s).content = std::ptr::null_mut();
         }
         sys::SUNLinSolFreeEmpty(s);
@@ -255,10 +243,7 @@ pub(crate) fn own<T: OwnLinearSolver>(
     ctx: &Context,
     solver: T,
 ) -> Result<LinearSolver, SolverError> {
-    let content = Box::new(Tagged {
-        tag: TypeId::of::<T>(),
-        solver,
-    });
+    let content = Box::new(solver);
     // SAFETY: valid context; NULL checked; the ops table was allocated by SUNLinSolNewEmpty
     // and is ours to fill; the content pointer is reclaimed by `free_op::<T>`.
     unsafe {
@@ -277,7 +262,10 @@ pub(crate) fn own<T: OwnLinearSolver>(
             table.numiters = Some(zero_iters);
         }
         (*s).content = Box::into_raw(content) as *mut c_void;
-        Ok(LinearSolver::from_raw(s))
+        Ok(LinearSolver {
+            raw: s,
+            content: Some(TypeId::of::<T>()),
+        })
     }
 }
 
