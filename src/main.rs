@@ -30,10 +30,7 @@ fn main() -> ExitCode {
     // the others (and `serve`, which drains its requests itself) keep the default
     if matches!(
         cli.command,
-        Command::Run { .. }
-            | Command::Compare { .. }
-            | Command::Animate { .. }
-            | Command::Sweep { .. }
+        Command::Run { .. } | Command::Compare { .. } | Command::Animate { .. } | Command::Sweep(_)
     ) {
         watch_interrupts();
     }
@@ -142,25 +139,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             }
             Ok(stdout_write(&model.equations().to_string())?)
         }
-        Command::Graph {
-            scene,
-            causality,
-            decoupled,
-            as_scene,
-            out,
-            collapse,
-            expand,
-        } => cli::graph::graph(
-            scene,
-            cli::graph::GraphFlags {
-                causality,
-                decoupled,
-                as_scene,
-                out,
-                collapse,
-                expand,
-            },
-        ),
+        Command::Graph(args) => cli::graph::graph(args),
         Command::Animate {
             args,
             out,
@@ -226,31 +205,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Sweep {
-            scene,
-            out,
-            quick,
-            accuracy,
-            repeats,
-            t_end,
-            reference,
-            vary,
-            set,
-            shard,
-            columns,
-        } => cli::sweep::sweep(cli::sweep::SweepFlags {
-            scene,
-            out,
-            quick,
-            accuracy,
-            repeats,
-            t_end,
-            reference,
-            vary,
-            set,
-            shard,
-            columns,
-        }),
+        Command::Sweep(args) => cli::sweep::sweep(args),
         Command::SweepMerge { dirs, out } => {
             let merged = bondmech::report::vary::merge_command(&dirs, &out)?;
             Ok(stdout_write(&format!(

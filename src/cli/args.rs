@@ -92,31 +92,7 @@ pub(crate) enum Command {
         plot: Option<PathBuf>,
     },
     /// The bond graph of a scene: DOT (or SVG through Graphviz), or its causality report.
-    Graph {
-        /// Scene file (JSON).
-        scene: PathBuf,
-        /// Print the causality report as JSON (dof, states, differential, conflicts, …).
-        #[arg(long)]
-        causality: bool,
-        /// Draw the decoupled twin (joints replaced by stiff springs) instead.
-        #[arg(long)]
-        decoupled: bool,
-        /// Draw one node per body or joint (the default above 200 elements).
-        #[arg(long, conflicts_with = "expand")]
-        collapse: bool,
-        /// Draw every element, however large the graph.
-        #[arg(long)]
-        expand: bool,
-        /// Print the mechanism's complete bond graph as a raw `bond_graph` scene (JSON, with
-        /// its closures, coordinates, output columns, `solve` and `outputs`): `run` on it gives
-        /// the mechanism's trajectories.
-        #[arg(long, conflicts_with_all = ["causality", "decoupled"])]
-        as_scene: bool,
-        /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`. With
-        /// `--causality` the file gets the JSON report, so `.svg` and `.dot` are refused.
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Graph(GraphArgs),
     /// The equations a scene is solved with, named after the bond graph: kinematics,
     /// dynamics, each constraint row with its joint, junction and differential inertia, and the
     /// flow constraint each junction imposes.
@@ -217,44 +193,7 @@ pub(crate) enum Command {
         title: Option<String>,
     },
     /// Speed against error: tolerance (work-precision) and joint-stiffness sweeps, CSV/JSON/SVG.
-    Sweep {
-        /// Scene file (JSON).
-        scene: PathBuf,
-        /// Output directory for the CSV, JSON and SVG files.
-        #[arg(long, default_value = "sweep-out")]
-        out: PathBuf,
-        /// A small sweep (3 tolerances, 3 stiffnesses, the scene's horizon up to 1 s, each point
-        /// timed by its own run and stopped after 2 s of wall clock).
-        #[arg(long)]
-        quick: bool,
-        /// Error the smallest sufficient joint stiffness must reach.
-        #[arg(long)]
-        accuracy: Option<f64>,
-        /// Timed runs per point (median reported).
-        #[arg(long)]
-        repeats: Option<usize>,
-        /// End time of every run (default: the scene's; --quick: the scene's, at most 1 s).
-        #[arg(long = "t-end")]
-        t_end: Option<f64>,
-        /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
-        /// measured against it, at its times, instead of against GGL at a tight tolerance.
-        #[arg(long)]
-        reference: Option<PathBuf>,
-        /// Sweep a scene parameter instead: PATH=[v1, v2, ...], e.g. 'bodies[1].mass=[1,2,4]' or
-        /// 'gravity=[[0,-9.81],[0,-1.62]]'; several give the cartesian product (first slowest).
-        #[arg(long = "vary", value_name = "PATH=[JSON,...]")]
-        vary: Vec<String>,
-        /// Change one scene field before sweeping: PATH=JSON (repeatable).
-        #[arg(long = "set", value_name = "PATH=JSON")]
-        set: Vec<String>,
-        /// With --vary: run only the i-th of n slices (points k with k mod n = i-1) and write a
-        /// partial result for `sweep-merge`.
-        #[arg(long, value_name = "i/n")]
-        shard: Option<String>,
-        /// With --vary: the final-state columns to report (comma-separated; default all).
-        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
-        columns: Option<Vec<String>>,
-    },
+    Sweep(SweepArgs),
     /// Combine the shards of a `sweep --vary ... --shard i/n` into the whole sweep's CSV/JSON/SVG.
     SweepMerge {
         /// The shards' output directories (all n of them, any order).
@@ -273,4 +212,73 @@ pub(crate) enum Command {
 pub(crate) fn parse_linear_solver(s: &str) -> Result<bondmech::LinearSolverKind, String> {
     bondmech::LinearSolverKind::parse(s)
         .ok_or_else(|| format!("unknown linear solver '{s}' (expected auto, dense, sparse or klu)"))
+}
+
+// The flags of `bondmech graph` (the variant's doc comment is its help).
+#[derive(clap::Args)]
+pub(crate) struct GraphArgs {
+    /// Scene file (JSON).
+    pub(crate) scene: PathBuf,
+    /// Print the causality report as JSON (dof, states, differential, conflicts, …).
+    #[arg(long)]
+    pub(crate) causality: bool,
+    /// Draw the decoupled twin (joints replaced by stiff springs) instead.
+    #[arg(long)]
+    pub(crate) decoupled: bool,
+    /// Draw one node per body or joint (the default above 200 elements).
+    #[arg(long, conflicts_with = "expand")]
+    pub(crate) collapse: bool,
+    /// Draw every element, however large the graph.
+    #[arg(long)]
+    pub(crate) expand: bool,
+    /// Print the mechanism's complete bond graph as a raw `bond_graph` scene (JSON, with
+    /// its closures, coordinates, output columns, `solve` and `outputs`): `run` on it gives
+    /// the mechanism's trajectories.
+    #[arg(long, conflicts_with_all = ["causality", "decoupled"])]
+    pub(crate) as_scene: bool,
+    /// Write to this file instead of standard output; `.svg` runs Graphviz `dot`. With
+    /// `--causality` the file gets the JSON report, so `.svg` and `.dot` are refused.
+    #[arg(long)]
+    pub(crate) out: Option<PathBuf>,
+}
+
+// The flags of `bondmech sweep` (the variant's doc comment is its help).
+#[derive(clap::Args)]
+pub(crate) struct SweepArgs {
+    /// Scene file (JSON).
+    pub(crate) scene: PathBuf,
+    /// Output directory for the CSV, JSON and SVG files.
+    #[arg(long, default_value = "sweep-out")]
+    pub(crate) out: PathBuf,
+    /// A small sweep (3 tolerances, 3 stiffnesses, the scene's horizon up to 1 s, each point
+    /// timed by its own run and stopped after 2 s of wall clock).
+    #[arg(long)]
+    pub(crate) quick: bool,
+    /// Error the smallest sufficient joint stiffness must reach.
+    #[arg(long)]
+    pub(crate) accuracy: Option<f64>,
+    /// Timed runs per point (median reported).
+    #[arg(long)]
+    pub(crate) repeats: Option<usize>,
+    /// End time of every run (default: the scene's; --quick: the scene's, at most 1 s).
+    #[arg(long = "t-end")]
+    pub(crate) t_end: Option<f64>,
+    /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
+    /// measured against it, at its times, instead of against GGL at a tight tolerance.
+    #[arg(long)]
+    pub(crate) reference: Option<PathBuf>,
+    /// Sweep a scene parameter instead: PATH=[v1, v2, ...], e.g. 'bodies[1].mass=[1,2,4]' or
+    /// 'gravity=[[0,-9.81],[0,-1.62]]'; several give the cartesian product (first slowest).
+    #[arg(long = "vary", value_name = "PATH=[JSON,...]")]
+    pub(crate) vary: Vec<String>,
+    /// Change one scene field before sweeping: PATH=JSON (repeatable).
+    #[arg(long = "set", value_name = "PATH=JSON")]
+    pub(crate) set: Vec<String>,
+    /// With --vary: run only the i-th of n slices (points k with k mod n = i-1) and write a
+    /// partial result for `sweep-merge`.
+    #[arg(long, value_name = "i/n")]
+    pub(crate) shard: Option<String>,
+    /// With --vary: the final-state columns to report (comma-separated; default all).
+    #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+    pub(crate) columns: Option<Vec<String>>,
 }

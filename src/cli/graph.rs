@@ -1,40 +1,24 @@
 //! `bondmech graph`: the scene's bond graph drawn (DOT, SVG through Graphviz), its causality
 //! report, or the graph written back as a raw bond-graph scene.
 
-use std::path::PathBuf;
-
 use bondmech::Model;
 
+use super::args::GraphArgs;
 use super::failure::{options_error, CliError};
 use super::output::{check_outputs, stdout_write, svg, write};
 use super::scene_input::read_scene;
 
-/// The flags of `bondmech graph`.
-pub(crate) struct GraphFlags {
-    /// `--causality`: the causality report (JSON) instead of the drawing.
-    pub(crate) causality: bool,
-    /// `--decoupled`: the decoupled twin.
-    pub(crate) decoupled: bool,
-    /// `--as-scene`: the graph as a raw `bond_graph` scene.
-    pub(crate) as_scene: bool,
-    /// `--out`: the file written instead of standard output.
-    pub(crate) out: Option<PathBuf>,
-    /// `--collapse`: one node per body or joint.
-    pub(crate) collapse: bool,
-    /// `--expand`: every element.
-    pub(crate) expand: bool,
-}
-
 /// `bondmech graph SCENE`.
-pub(crate) fn graph(scene: PathBuf, flags: GraphFlags) -> Result<(), CliError> {
-    let GraphFlags {
+pub(crate) fn graph(args: GraphArgs) -> Result<(), CliError> {
+    let GraphArgs {
+        scene,
         causality,
         decoupled,
         as_scene,
         out,
         collapse,
         expand,
-    } = flags;
+    } = args;
     if as_scene {
         if let Some(p) = out.as_ref() {
             let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");

@@ -7,6 +7,7 @@ use bondmech::report::SweepConfig;
 use bondmech::scene::SolveOverrides;
 use bondmech::{Error, Model};
 
+use super::args::SweepArgs;
 use super::failure::{options_error, CliError};
 use super::output::stdout_write;
 use super::scene_input::{apply_overrides, read_scene_text, read_scene_with};
@@ -44,35 +45,9 @@ fn vary_sweep(scene: &Path, out: &Path, a: VaryArgs) -> Result<(), Error> {
     stdout_write(&format!("{}wrote {}\n", report.table(), out.display()))
 }
 
-/// The flags of `bondmech sweep`.
-pub(crate) struct SweepFlags {
-    /// The scene file.
-    pub(crate) scene: PathBuf,
-    /// `--out`: the directory written.
-    pub(crate) out: PathBuf,
-    /// `--quick`: the short tolerance/stiffness sweep.
-    pub(crate) quick: bool,
-    /// `--accuracy`: the accuracy asked of the sweep.
-    pub(crate) accuracy: Option<f64>,
-    /// `--repeats`: timed runs per point.
-    pub(crate) repeats: Option<usize>,
-    /// `--t-end`: the end time.
-    pub(crate) t_end: Option<f64>,
-    /// `--reference`: an external reference (CSV).
-    pub(crate) reference: Option<PathBuf>,
-    /// `--vary`: the parameters swept (a parameter sweep).
-    pub(crate) vary: Vec<String>,
-    /// `--set`: scene fields changed first.
-    pub(crate) set: Vec<String>,
-    /// `--shard`: the shard of a parameter sweep.
-    pub(crate) shard: Option<String>,
-    /// `--columns`: the columns kept.
-    pub(crate) columns: Option<Vec<String>>,
-}
-
 /// `bondmech sweep`: the tolerance/stiffness sweep, or with `--vary` a parameter sweep.
-pub(crate) fn sweep(flags: SweepFlags) -> Result<(), CliError> {
-    let SweepFlags {
+pub(crate) fn sweep(args: SweepArgs) -> Result<(), CliError> {
+    let SweepArgs {
         scene,
         out,
         quick,
@@ -84,7 +59,7 @@ pub(crate) fn sweep(flags: SweepFlags) -> Result<(), CliError> {
         set,
         shard,
         columns,
-    } = flags;
+    } = args;
     if out.exists() && !out.is_dir() {
         return Err(options_error(format!(
             "--out {}: is a file; sweep writes a directory of CSV, JSON and SVG files",
