@@ -1,6 +1,6 @@
 //! The linear model `ẋ = A x + B u`, `y = C x + D u` about an operating point, what asks for
 //! it ([`LinearizeOptions`], [`OperatingPoint`]), why it may be refused ([`LinearizeError`]),
-//! and its modes and frequency response. [`crate::Model::linearize`] computes it
+//! and its modes and frequency response. [`crate::linearize`] computes it
 //! (`src/model_linearize.rs`: the mathematics there); `bondmech linearize` prints its table
 //! ([`crate::report`]).
 
@@ -9,7 +9,7 @@ use nalgebra::{Complex, DMatrix};
 /// Where the model is linearized.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OperatingPoint {
-    /// The static equilibrium nearest the scene's configuration ([`Model::equilibrium`]), at
+    /// The static equilibrium nearest the scene's configuration ([`crate::Model::equilibrium`]), at
     /// `t_start`, at rest.
     Equilibrium,
     /// The solved state at time `T` (s): the local linearization, wherever the motion is.
@@ -52,7 +52,7 @@ impl std::fmt::Display for OperatingPoint {
     }
 }
 
-/// What [`linearize`] is asked for.
+/// What [`crate::linearize`] is asked for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinearizeOptions {
     /// The operating point (default: the static equilibrium).
