@@ -66,10 +66,10 @@ pub enum Error {
     Options(String),
     /// No static equilibrium was found (why in the message).
     #[error("{0}")]
-    Equilibrium(#[from] crate::solve::equilibrium::EquilibriumError),
+    Equilibrium(#[from] crate::analysis::equilibrium::EquilibriumError),
     /// No linear model at the operating point, or a bad request for one (what in the message).
     #[error("{0}")]
-    Linearize(#[from] crate::solve::linearize::LinearizeError),
+    Linearize(#[from] crate::analysis::linear_model::LinearizeError),
     /// An output path refused before anything is computed (an input, given twice, not
     /// writable).
     #[error("{0}")]

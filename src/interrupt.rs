@@ -1,6 +1,6 @@
 //! Interrupts asked of a running command (SIGINT from Ctrl-C, SIGTERM from `kill` or a
 //! container's stop): the command-line program's signal handler records the first signal here
-//! ([`request`]); the solver loop (`src/sundials/driver.rs`) reads it between internal steps
+//! ([`request`]); the solver loop (`src/sundials/stepping.rs`) reads it between internal steps
 //! and stops the solve there as a budget does — the rows so far kept, the summary's
 //! `stopped_by: "interrupt"` — and the program then exits with `128 + signal` (130 for SIGINT,
 //! 143 for SIGTERM), the shell's convention for a command ended by a signal.

@@ -2,6 +2,7 @@
 //!
 //! Mechanisms as bond graphs, solved with SUNDIALS: the pinned mechanism as a true DAE on IDA
 //! (its differential-causality inertias kept as algebraic constraint rows, index-reduced by
+//! default to index 1 in the causality's partition, singular passages handed to
 //! Gear–Gupta–Leimkuhler stabilisation, exact Jacobians), and its *decoupled* stiff-spring twin
 //! as an ODE on CVODE, so the price of replacing a joint by a spring can be measured.
 //!
@@ -25,7 +26,7 @@
 //!
 //! let mut options = model.default_options(); // from the scene: t_end 1, 100 intervals
 //! options.rtol = 1e-6;
-//! let dae = model.solve(&options)?; // GGL index-2 DAE on IDA
+//! let dae = model.solve(&options)?; // the default `dae`: index 1 in the causality's partition, on IDA
 //! let energy = dae.column("energy").unwrap();
 //! assert!((energy[100] - energy[0]).abs() < 1e-3 * 9.81); // conservative: energy kept
 //! assert!(dae.summary.max_constraint_error < 1e-6); // the pins hold
@@ -60,6 +61,7 @@
 //! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
 //! | [`dae`] | the formulations (GGL, index 1, partitioned, decoupled twin), consistent initialisation |
 //! | [`solve`] | one `Formulation` trait, one module per formulation (GGL, index 1, partitioned, twin, raw graph), one executor on IDA, CVODE or ARKODE: outputs, events, budgets, statistics; its own `SolveError` |
+//! | [`analysis`] | what the analyses find: the static equilibrium (and its search), the linear model about an operating point and its modes ([`linearize`] computes it) |
 //! | [`report`] | DAE vs decoupled comparisons, the data, CSV, JSON and SVG of tolerance, stiffness and parameter sweeps ([`report::vary`]), plots, animations |
 //! | [`study`] | running sweeps: many solves of one scene, in parallel and in shards |
 //! | [`service`] | `bondmech serve`: the HTTP/JSON service over [`Model`] |
@@ -67,6 +69,7 @@
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod analysis;
 pub mod bond;
 pub mod builder;
 pub mod dae;
@@ -78,6 +81,7 @@ pub mod interrupt;
 pub mod mech;
 pub mod model;
 mod model_inspect;
+mod model_linearize;
 pub mod output;
 pub mod report;
 pub mod scene;
@@ -89,12 +93,13 @@ pub mod study;
 pub mod sundials;
 pub mod trajectory;
 
+pub use analysis::linear_model::{LinearModel, LinearizeOptions, OperatingPoint};
 pub use builder::{Endpoint, Ground, Mechanism, PlanarBody, SpatialBody, SpringDamper};
 pub use error::{Error, Result};
 pub use model::Model;
 pub use model_inspect::{DofReport, Equations};
+pub use model_linearize::linearize;
 pub use report::Comparison;
 pub use scene::Scene;
-pub use solve::linearize::{linearize, LinearModel, LinearizeOptions, OperatingPoint};
 pub use solve::{FormulationKind, Integrator, LinearSolverKind, Solution, SolveOptions, Summary};
 pub use trajectory::{BodyTrajectory, PlanarTrajectory, PointTrajectory, SpatialTrajectory};

@@ -142,7 +142,7 @@ impl Model {
             let mut sys = crate::mech::build(scene)?;
             if scene.solve.start_at_equilibrium {
                 // "start": "equilibrium": at rest in the static equilibrium nearest the bodies'
-                let eq = crate::solve::equilibrium::equilibrium(&sys, scene.solve.t_start)?;
+                let eq = crate::analysis::equilibrium::equilibrium(&sys, scene.solve.t_start)?;
                 for (c, (_, q)) in sys.coords.iter_mut().zip(&eq.coordinates) {
                     c.initial = *q;
                 }
@@ -160,7 +160,7 @@ impl Model {
     }
 
     /// The static equilibrium nearest the scene's initial configuration, with its loads,
-    /// drivers and inputs at `t_start` ([`crate::solve::equilibrium`]): Newton with a line
+    /// drivers and inputs at `t_start` ([`crate::analysis::equilibrium`]): Newton with a line
     /// search on the effort balance with the joints held; `stable` from the tangent stiffness
     /// reduced to the degrees of freedom.
     ///
@@ -183,11 +183,11 @@ impl Model {
     /// assert!(eq.residual < 1e-9);
     /// assert!(eq.coordinate("bar.angle").unwrap() > 0.0);
     /// ```
-    pub fn equilibrium(&self) -> Result<crate::solve::equilibrium::Equilibrium> {
+    pub fn equilibrium(&self) -> Result<crate::analysis::equilibrium::Equilibrium> {
         let sys = self
             .mechanism()
-            .ok_or(crate::solve::equilibrium::EquilibriumError::RawGraph)?;
-        Ok(crate::solve::equilibrium::equilibrium(
+            .ok_or(crate::analysis::equilibrium::EquilibriumError::RawGraph)?;
+        Ok(crate::analysis::equilibrium::equilibrium(
             sys,
             self.scene.solve.t_start,
         )?)
@@ -384,7 +384,8 @@ impl Model {
         }
     }
 
-    /// Solves the DAE (GGL) and the decoupled twin with the same options and compares them.
+    /// Solves the DAE (the options' formulation; `dae` where they ask for the twin) and the
+    /// decoupled twin with the same options and compares them.
     ///
     /// Fails for a raw bond graph, which has no decoupled twin.
     pub fn compare(&self, opts: &SolveOptions) -> Result<(Comparison, Solution, Solution)> {

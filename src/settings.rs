@@ -37,8 +37,10 @@ pub enum FormulationKind {
     /// position and velocity level, [`crate::dae::Index1Formulation`]); the partition is the
     /// causality's ([`crate::bond::causality`]), re-chosen when its block degrades. Where
     /// `q' = K(q) v` (3D bodies' quaternions, body-fixed planar frames) the dependent coordinates
-    /// are chosen apart from the dependent velocities; mechanisms with redundant joints run
-    /// [`Self::Ggl`] and say so in the summary.
+    /// are chosen apart from the dependent velocities; with redundant joints the motion is
+    /// solved from the independent rows (the redundant ones left out of the dependent block)
+    /// and a warning in the summary says which, their reactions taking the redundant rows'
+    /// forces as zero; singular passages are handed to the GGL.
     #[default]
     #[value(
         help = "the chapter's DAE on IDA in the causality's partition (index 1; GGL at singular passages and for redundant joints); the default"

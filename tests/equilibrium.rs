@@ -8,7 +8,7 @@ use serde_json::{json, Value};
 
 const G: f64 = 9.81;
 
-fn equilibrium(scene: &Value) -> bondmech::solve::equilibrium::Equilibrium {
+fn equilibrium(scene: &Value) -> bondmech::analysis::equilibrium::Equilibrium {
     let scene = Scene::from_json_str(&scene.to_string()).unwrap();
     Model::new(&scene).unwrap().equilibrium().unwrap()
 }

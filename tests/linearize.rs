@@ -71,7 +71,7 @@ fn double_pendulum_reference(m1: f64, l1: f64, m2: f64, l2: f64) -> [(f64, f64);
     [small, big].map(|l| (l.sqrt(), (k11 - l * m11) / (l * m12)))
 }
 
-fn shape(m: &bondmech::solve::linearize::Mode, name: &str) -> Complex<f64> {
+fn shape(m: &bondmech::analysis::linear_model::Mode, name: &str) -> Complex<f64> {
     m.shape.iter().find(|(n, _)| n == name).unwrap().1
 }
 

@@ -10,7 +10,7 @@ use super::body::BodyKinematics;
 use super::columns::Columns;
 use super::coordinates::Geometry;
 use super::error::MechError;
-use super::joints::{joint_type, Ends, RowWriter};
+use super::joints::{joint_type, DrivenCoordinate, DriverSite, Ends, RowWriter};
 use super::layout::Plan;
 use super::reactions::JointReaction;
 use super::system::{ConstraintRow, DriverOutput, EquationSource, LoadTerm, MultibodySystem};
@@ -311,10 +311,10 @@ impl Geometry<'_> {
 
     /// Every driver's row `g = s(q) − s(t)` appended to the joints' rows (direction `angle`
     /// or `displacement`, named after the driver), with its columns. The driven coordinate
-    /// `s(q)`: a planar pin's `α_b − α_a`; a prismatic joint's `(P_b − P_a)·(R_a â)`; a spatial
-    /// hinge's rotation `φ` about its axis from the initial relative pose, written
-    /// `g = atan2(sin(φ − s), cos(φ − s))` (smooth through every turn) with `cos φ =
-    /// (R_a c_1)·(R_b u)`, `sin φ = (R_a c_2)·(R_b u)`, `u = (R_aᵀ R_b)(0)ᵀ c_1`. A rate
+    /// `s(q)` is the joint kind's ([`super::joints::Joint::driven_coordinate`]: a planar pin's
+    /// `α_b − α_a`, a prismatic joint's `(P_b − P_a)·(R_a â)`, a spatial hinge's rotation `φ`
+    /// about its axis from the initial relative pose); a turn is written
+    /// `g = atan2(sin(φ − s), cos(φ − s))` (smooth through every turn). A rate
     /// driver `ṡ = w` (a constant) prescribes `s(t) = s(q₀) + w (t − t_start)`.
     fn drivers(
         &mut self,
@@ -352,108 +352,32 @@ impl Geometry<'_> {
                         ),
                     )
                 })?;
-            let spatial = self.spatial;
-            let g = &mut self.g;
-            // the driven coordinate s(q) (for a hinge: (cos φ, sin φ))
-            enum Coordinate {
-                Linear(Expr),
-                Turn(Expr, Expr),
-            }
-            let coordinate = match &j.kind {
-                crate::scene::JointKind::Revolute(k) => match &k.axis {
-                    None => {
-                        let modelled = |k: &BodyKinematics| {
-                            !matches!(
-                                k,
-                                BodyKinematics::PlanarInertial {
-                                    angle: super::body::AngleSlot::Fixed(_),
-                                    ..
-                                }
-                            )
-                        };
-                        for (b, k) in [(&j.bodies[0], &ends.ka), (&j.bodies[1], &ends.kb)] {
-                            if !modelled(k) {
-                                return Err(MechError::at(
-                                    &format!("{path}.joint"),
-                                    format!("joint '{}': body '{b}' has no modelled rotation (inertia 0 and nothing turns it), so its angle cannot be driven", j.name),
-                                ));
-                            }
-                        }
-                        let aa = ends.ka.planar_angle(g);
-                        let ab = ends.kb.planar_angle(g);
-                        Coordinate::Linear(g.sub(ab, aa))
-                    }
-                    Some(axis) => {
-                        let u = super::joints::unit_axis(axis, &jpath)?;
-                        let (c1, c2) = super::joints::perpendicular_pair(u);
-                        let ra = ends.ka.rotation3(g);
-                        let rb = ends.kb.rotation3(g);
-                        let ev = |g: &crate::expr::ExprGraph, r: &[[Expr; 3]; 3]| {
-                            let mut m = [[0.0; 3]; 3];
-                            for i in 0..3 {
-                                for k in 0..3 {
-                                    m[i][k] = g.eval(r[i][k], &x0);
-                                }
-                            }
-                            m
-                        };
-                        let (ra0, rb0) = (ev(g, &ra), ev(g, &rb));
-                        // u = R_b(0)ᵀ R_a(0) c_1
-                        let a0c1: Vec<f64> = (0..3)
-                            .map(|i| (0..3).map(|k| ra0[i][k] * c1[k]).sum())
-                            .collect();
-                        let uu: Vec<f64> = (0..3)
-                            .map(|k| (0..3).map(|i| rb0[i][k] * a0c1[i]).sum())
-                            .collect();
-                        let times = |g: &mut crate::expr::ExprGraph,
-                                         r: &[[Expr; 3]; 3],
-                                         c: &[f64]|
-                         -> Vec<Expr> {
-                            let ce: Vec<Expr> = c.iter().map(|&x| g.constant(x)).collect();
-                            (0..3).map(|i| g.dot(&r[i], &ce)).collect()
-                        };
-                        let bu = times(g, &rb, &uu);
-                        let ac1 = times(g, &ra, &c1);
-                        let ac2 = times(g, &ra, &c2);
-                        let cos = g.dot(&ac1, &bu);
-                        let sin = g.dot(&ac2, &bu);
-                        Coordinate::Turn(cos, sin)
-                    }
-                },
-                crate::scene::JointKind::Prismatic(k) => {
-                    let dim = ends.pa.position.len();
-                    let axis: Vec<Expr> = if spatial {
-                        let u = super::joints::unit_axis(&k.axis, &jpath)?;
-                        let ra = ends.ka.rotation3(g);
-                        let ue: Vec<Expr> = u.iter().map(|&x| g.constant(x)).collect();
-                        (0..3).map(|i| g.dot(&ra[i], &ue)).collect()
-                    } else {
-                        let n = (k.axis[0] * k.axis[0] + k.axis[1] * k.axis[1]).sqrt();
-                        let u = [k.axis[0] / n, k.axis[1] / n];
-                        if matches!(ends.ka, BodyKinematics::Ground) {
-                            vec![g.constant(u[0]), g.constant(u[1])]
-                        } else {
-                            let p = ends.ka.point(g, &u);
-                            let o = ends.ka.point(g, &[0.0, 0.0]);
-                            (0..2).map(|i| g.sub(p.position[i], o.position[i])).collect()
-                        }
-                    };
-                    let dvec: Vec<Expr> = (0..dim)
-                        .map(|i| g.sub(ends.pb.position[i], ends.pa.position[i]))
-                        .collect();
-                    Coordinate::Linear(g.dot(&axis, &dvec))
-                }
-                other => {
-                    return Err(MechError::at(
+            // the driven coordinate s(q), as the joint's kind defines it
+            let site = DriverSite {
+                ends: &ends,
+                path: &path,
+                joint_path: &jpath,
+                joint: &j.name,
+                bodies: [&j.bodies[0], &j.bodies[1]],
+            };
+            let mut w = RowWriter {
+                g: &mut self.g,
+                spatial: self.spatial,
+                x0: &x0,
+            };
+            let coordinate = joint_type(&j.kind)
+                .driven_coordinate(&mut w, &site)?
+                .ok_or_else(|| {
+                    MechError::at(
                         &format!("{path}.joint"),
                         format!(
                             "joint '{}' is a {} joint: only revolute and prismatic joints take a driver",
                             j.name,
-                            other.type_name()
+                            j.kind.type_name()
                         ),
-                    ))
-                }
-            };
+                    )
+                })?;
+            let g = &mut self.g;
             // s(t): the value, or for a rate the coordinate at the start plus ∫_{t_start}^{t} ṡ
             // (the flow source integrated, in closed form: exact rows and derivatives)
             let s_t = if d.kind.is_rate() {
@@ -469,8 +393,8 @@ impl Geometry<'_> {
                     )
                 })?;
                 let s0 = match &coordinate {
-                    Coordinate::Linear(e) => g.eval(*e, &x0),
-                    Coordinate::Turn(..) => 0.0,
+                    DrivenCoordinate::Linear(e) => g.eval(*e, &x0),
+                    DrivenCoordinate::Turn { .. } => 0.0,
                 };
                 let t0 = g.constant(self.scene.solve.t_start);
                 let at_start = g.substitute(prim, &[(0, t0)]);
@@ -482,8 +406,8 @@ impl Geometry<'_> {
             };
             let rate = g.diff(s_t, 0);
             let row = match coordinate {
-                Coordinate::Linear(e) => g.sub(e, s_t),
-                Coordinate::Turn(cos, sin) => {
+                DrivenCoordinate::Linear(e) => g.sub(e, s_t),
+                DrivenCoordinate::Turn { cos, sin } => {
                     let (cs, ss) = (g.cos(s_t), g.sin(s_t));
                     let a = g.mul(sin, cs);
                     let b = g.mul(cos, ss);

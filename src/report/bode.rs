@@ -13,7 +13,7 @@ use plotters::prelude::*;
 use super::error::{ReportError, Result};
 use super::plot::{draw_legend, plot_error, LegendEntry, LEGEND_WIDTH};
 use super::timeplot::{range, series_colour, tick_label};
-use crate::solve::linearize::LinearModel;
+use crate::analysis::linear_model::LinearModel;
 
 /// Frequencies sampled per decade.
 const PER_DECADE: usize = 200;

@@ -1,7 +1,8 @@
 //! Reports: comparisons of the DAE with its decoupled twin, the data of speed-against-error
 //! sweeps and parameter sweeps (sharded and merged) with their CSV, JSON and SVG, plots and
-//! animations of solutions, and generated benchmark scenes. Reports take solutions; the runs
-//! that produce a sweep's solutions are [`crate::study`]'s.
+//! animations of solutions, the tables the commands print (a run, the equilibrium, the linear model), and
+//! generated benchmark scenes. Reports take solutions; the runs that produce a sweep's
+//! solutions are [`crate::study`]'s.
 
 pub mod animate;
 pub mod bode;
@@ -13,6 +14,7 @@ pub mod plot;
 pub mod reference;
 pub mod shard;
 pub mod sweep;
+pub mod tables;
 pub mod timeplot;
 pub mod vary;
 pub mod view3d;

@@ -494,7 +494,7 @@ async fn graph_inner(
 }
 
 /// `POST /v1/equilibrium`: the static equilibrium nearest the scene's configuration, the
-/// `bondmech equilibrium --json` document ([`crate::solve::equilibrium::Equilibrium::to_json`]).
+/// `bondmech equilibrium --json` document ([`crate::analysis::equilibrium::Equilibrium::to_json`]).
 pub async fn equilibrium(State(app): State<Arc<App>>, headers: HeaderMap, body: Body) -> Response {
     let r = equilibrium_inner(&app, &headers, body).await;
     respond(&app, r)
@@ -522,7 +522,7 @@ async fn equilibrium_inner(
 }
 
 /// `POST /v1/linearize?at=&output=&states=`: the linear model about the operating point, the
-/// `bondmech linearize --json` document ([`crate::solve::linearize::LinearModel::to_json`]);
+/// `bondmech linearize --json` document ([`crate::analysis::linear_model::LinearModel::to_json`]);
 /// `output` and `states` are comma-separated column names.
 pub async fn linearize(
     State(app): State<Arc<App>>,
@@ -542,9 +542,9 @@ async fn linearize_inner(
 ) -> Result<Response, Problem> {
     not_shutting_down(app)?;
     let params = Params::parse(q.as_deref(), &["at", "output", "states"])?;
-    let at: crate::solve::linearize::OperatingPoint =
+    let at: crate::analysis::linear_model::OperatingPoint =
         params.text("at").unwrap_or("equilibrium").parse().map_err(
-            |e: crate::solve::linearize::LinearizeError| {
+            |e: crate::analysis::linear_model::LinearizeError| {
                 Problem::bad_parameter("at", e.to_string())
             },
         )?;
@@ -559,7 +559,7 @@ async fn linearize_inner(
             })
             .unwrap_or_default()
     };
-    let options = crate::solve::linearize::LinearizeOptions {
+    let options = crate::analysis::linear_model::LinearizeOptions {
         at,
         outputs: list("output"),
         states: params.text("states").map(|_| list("states")),
@@ -569,8 +569,8 @@ async fn linearize_inner(
     let limits = app.limits.clone();
     let job = app.pool.spawn(slot, move || {
         let budget = Budget::of(&scene, &limits);
-        use crate::solve::linearize::LinearizeError as L;
-        let lm = crate::solve::linearize::linearize(&scene, &options).map_err(|e| match &e {
+        use crate::analysis::linear_model::LinearizeError as L;
+        let lm = crate::linearize(&scene, &options).map_err(|e| match &e {
             crate::Error::Linearize(L::UnknownOutput { .. }) => {
                 super::solve::invalid_value("output", e.to_string())
             }

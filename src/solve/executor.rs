@@ -284,7 +284,11 @@ pub(crate) fn execute<'a>(
                 // the formulation's watch stopped at an internal step
                 let y = s.y().to_vec();
                 match formulation.at_step(step.t, &y, s, summary)? {
-                    Next::Continue | Next::Fail => continue,
+                    Next::Continue => continue,
+                    Next::Fail => {
+                        let e = refused(step.t, "at an internal step");
+                        return Err(run.stop(e, &mut *formulation, s, summary));
+                    }
                     Next::Restart(t) => {
                         t_start = t;
                         continue 'segments;
@@ -324,7 +328,11 @@ pub(crate) fn execute<'a>(
                 break 'segments;
             }
             match formulation.at_output(step.t, &run.x, s, k < times.len(), summary)? {
-                Next::Continue | Next::Fail => {}
+                Next::Continue => {}
+                Next::Fail => {
+                    let e = refused(step.t, "at an output");
+                    return Err(run.stop(e, &mut *formulation, s, summary));
+                }
                 Next::FailWith(named) => {
                     return Err(run.stop(named, &mut *formulation, s, summary))
                 }
@@ -340,6 +348,15 @@ pub(crate) fn execute<'a>(
         break;
     }
     Ok(run.complete(&mut *formulation, solver.as_ref(), summary))
+}
+
+/// The error of a [`Next::Fail`] from the formulation's examination `at` a step or an output
+/// at `t`, where no integrator error is at hand: the formulation cannot go on there.
+fn refused(t: f64, at: &str) -> SolverError {
+    SolverError::Stalled {
+        t,
+        cause: format!("its examination {at} stopped the run"),
+    }
 }
 
 impl Run<'_> {
@@ -775,6 +792,8 @@ mod tests {
         fail_after: f64,
         failed: Arc<AtomicBool>,
         recoveries: Arc<AtomicUsize>,
+        /// Outputs after this time answer [`Next::Fail`].
+        refuse_after: f64,
     }
 
     impl<'a> Formulation<'a> for Oscillator {
@@ -810,7 +829,11 @@ mod tests {
             _s: &mut Summary,
         ) -> Result<Next<'a>, SolveError> {
             self.start = (t, x.to_vec());
-            Ok(Next::Continue)
+            Ok(if t > self.refuse_after {
+                Next::Fail
+            } else {
+                Next::Continue
+            })
         }
         fn recover(
             &mut self,
@@ -830,6 +853,15 @@ mod tests {
         fail_after: f64,
         max_steps: Option<u64>,
     ) -> (Result<Solution, SolveError>, usize) {
+        run_refusing(integrator, fail_after, max_steps, f64::INFINITY)
+    }
+
+    fn run_refusing(
+        integrator: Integrator,
+        fail_after: f64,
+        max_steps: Option<u64>,
+        refuse_after: f64,
+    ) -> (Result<Solution, SolveError>, usize) {
         let recoveries = Arc::new(AtomicUsize::new(0));
         let job = Job {
             formulation: Box::new(Oscillator {
@@ -838,6 +870,7 @@ mod tests {
                 fail_after,
                 failed: Arc::new(AtomicBool::new(false)),
                 recoveries: recoveries.clone(),
+                refuse_after,
             }),
             rows: Box::new(Identity { e0: None, dev: 0.0 }),
             events: None,
@@ -911,6 +944,28 @@ mod tests {
         );
         assert!(partial.times[n - 1] > partial.times[n - 2]);
         assert!(s.t_reached > 0.0 && s.t_reached < 4.0);
+        assert_on_cosine(&partial);
+    }
+
+    #[test]
+    fn regression_next_fail_at_an_output_stops_the_run_with_the_rows_so_far() {
+        // `Next::Fail` from `at_output` used to be continued silently (issue 47)
+        let (r, recoveries) = run_refusing(Integrator::Adams, f64::INFINITY, None, 1.05);
+        let Err(SolveError::Incomplete { cause, partial }) = r else {
+            panic!("a refused output stops the run and keeps its rows")
+        };
+        let SolveError::Solver(SolverError::Stalled { t, .. }) = *cause else {
+            panic!("stopped by the formulation: {cause:?}")
+        };
+        assert_eq!(recoveries, 0);
+        // the rows up to and including the refused output at t = 1.1, no further
+        assert_eq!(partial.times.len(), 12, "{:?}", partial.times);
+        assert!((t - 1.1).abs() < 1e-12 && partial.times[11] == t, "{t}");
+        let s = &partial.summary;
+        assert_eq!(
+            (s.completed, s.stopped_by.as_deref(), s.t_reached),
+            (false, Some("solver_error"), t)
+        );
         assert_on_cosine(&partial);
     }
 }

@@ -118,8 +118,9 @@ pub(crate) enum Next<'a> {
     Restart(f64),
     /// Hand the rest of the run to another formulation.
     HandOver(Box<HandOver<'a>>),
-    /// Stop with this error (a failure the formulation does not handle stops the solve with
-    /// the rows so far).
+    /// Stop with the rows so far: after an integrator failure, with its error (a failure the
+    /// formulation does not handle); after an examination at a step or an output, as
+    /// stalled there.
     Fail,
     /// Stop with the rows so far and this error instead of the integrator's (the formulation
     /// names the cause: the block, the joints, the time).

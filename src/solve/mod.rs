@@ -7,17 +7,15 @@
 //! events, budgets, partial rows, statistics, energy drift, streaming. Errors: [`SolveError`].
 
 pub mod bond_run;
-pub mod equilibrium;
 pub mod error;
 pub(crate) mod executor;
 pub(crate) mod formulation;
 mod integrators;
 pub(crate) mod kinematic;
-pub mod linearize;
 pub(crate) mod non_finite;
 pub mod options;
 pub(crate) mod partition;
-mod reactions;
+pub(crate) mod reactions;
 mod rows;
 pub mod run;
 pub(crate) mod runners;

@@ -8,19 +8,45 @@ use super::callback::{
     error_handler, finite_or_recoverable, CallbackStatus, CvodeJacobianFn, CvodeRootFn,
     CvodeSparseJacobianFn, RhsFn,
 };
+use super::calls::Calls;
 use super::context::Context;
-use super::driver::{self, DriverState, RawEvent, Stepper};
 use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
 use super::options::{check_tolerances, check_vector, CvodeOptions, Multistep, Step};
 use super::sparse::{self, CscPattern, FaerCounters, SparseMatrix, SparseMatrixMut, SparseSolver};
 use super::stats::SolverStats;
+use super::stepping::{self, RawEvent, Stepper, SteppingState};
 use super::vector::{slice_of, slice_of_mut, NVector};
-use std::os::raw::{c_int, c_long, c_void};
+use std::os::raw::{c_int, c_void};
 use sundials_sys as sys;
 
 const P: Package = Package::Cvode;
+
+/// CVODE's entry points for the call sequences the integrator wrappers share
+/// ([`super::calls`]).
+static CALLS: Calls = Calls {
+    package: P,
+    user_function: "right-hand side",
+    current_time: sys::CVodeGetCurrentTime,
+    root_info: sys::CVodeGetRootInfo,
+    set_stop_time: ("CVodeSetStopTime", sys::CVodeSetStopTime),
+    dky: ("CVodeGetDky", sys::CVodeGetDky),
+    last_step: sys::CVodeGetLastStep,
+    last_order: Some(sys::CVodeGetLastOrder),
+    counters: [
+        Some(sys::CVodeGetNumSteps),
+        Some(sys::CVodeGetNumRhsEvals),
+        Some(sys::CVodeGetNumJacEvals),
+        Some(sys::CVodeGetNumLinSolvSetups),
+        Some(sys::CVodeGetNumNonlinSolvIters),
+        Some(sys::CVodeGetNumNonlinSolvConvFails),
+        Some(sys::CVodeGetNumErrTestFails),
+        Some(sys::CVodeGetNumGEvals),
+    ],
+    returns: [sys::CV_SUCCESS, sys::CV_ROOT_RETURN, sys::CV_TSTOP_RETURN],
+    too_much_work: sys::CV_TOO_MUCH_WORK,
+};
 
 /// Closures and callback status; boxed so SUNDIALS can hold its address as `user_data`.
 struct CvodeData {
@@ -58,7 +84,7 @@ pub struct Cvode {
     y: NVector,
     tmp: NVector,
     data: Box<CvodeData>,
-    driver: DriverState,
+    stepping: SteppingState,
     /// Time of the last step the integrator accepted (what `last_step_time` returns).
     accepted: f64,
     #[allow(dead_code)] // owned: freed last
@@ -376,7 +402,7 @@ impl Cvode {
             tmp,
             data,
             accepted: t0,
-            driver: DriverState::new(
+            stepping: SteppingState::new(
                 t0,
                 opts.max_steps,
                 opts.max_wall_clock,
@@ -398,26 +424,9 @@ impl Cvode {
 
     /// Turn a failing flag into an error, preferring a callback's own error.
     fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
-        if let Some(mut e) = self.data.status.take_error() {
-            if let SolverError::NonFinite { function: f, .. } = &mut e {
-                *f = function;
-            }
-            return e;
-        }
         let t = self.current_time();
-        if let Some(e) = self
-            .data
-            .status
-            .take_non_finite(function, "right-hand side", t)
-        {
-            return e;
-        }
-        if flag == sys::CV_TOO_MUCH_WORK {
-            if let Some(max_steps) = self.driver.max_steps {
-                return SolverError::TooMuchWork { t, max_steps };
-            }
-        }
-        check(P, function, flag, t).expect_err("flag is negative")
+        let max_steps = self.stepping.max_steps;
+        CALLS.failure(&mut self.data.status, (function, flag), t, max_steps)
     }
 
     /// Register `n` root functions `g(t, y)`; sign changes stop `solve_to`.
@@ -434,10 +443,10 @@ impl Cvode {
 
     /// Integrate to `tout` (or an earlier root / stop time); `y()` then holds the state at `step.t`.
     pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
-        driver::solve_to(self, tout)
+        stepping::solve_to(self, tout)
     }
 
-    driver::budget_methods!();
+    stepping::budget_methods!();
 
     /// Time CVODE's internal integration has reached (the last accepted step, at or after
     /// [`Self::t`]); [`Self::dky`] interpolates up to it.
@@ -447,7 +456,7 @@ impl Cvode {
 
     /// Time of the state in `y()`.
     pub fn t(&self) -> f64 {
-        self.driver.t
+        self.stepping.t
     }
 
     /// State y at `t()`.
@@ -457,18 +466,9 @@ impl Cvode {
 
     /// k-th derivative of the interpolating polynomial at `t` (within the last step).
     pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
-        if out.len() != self.data.n {
-            return Err(SolverError::InvalidInput(format!(
-                "dky output has length {}, expected {}",
-                out.len(),
-                self.data.n
-            )));
-        }
+        super::calls::check_output("dky output", out, self.data.n)?;
         // SAFETY: live CVODE memory; tmp is an owned vector of length n.
-        let flag = unsafe { sys::CVodeGetDky(self.raw(), t, k, self.tmp.raw()) };
-        if flag < 0 {
-            return Err(self.fail("CVodeGetDky", flag));
-        }
+        unsafe { CALLS.dky(self.raw(), t, k, self.tmp.raw()) }.map_err(|(f, c)| self.fail(f, c))?;
         out.copy_from_slice(self.tmp.as_slice());
         Ok(())
     }
@@ -482,7 +482,7 @@ impl Cvode {
         if flag < 0 {
             return Err(self.fail("CVodeReInit", flag));
         }
-        self.driver.restart(t0);
+        self.stepping.restart(t0);
         self.accepted = t0;
         Ok(())
     }
@@ -490,11 +490,7 @@ impl Cvode {
     /// Do not step past `t`.
     pub fn set_stop_time(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live CVODE memory.
-        let flag = unsafe { sys::CVodeSetStopTime(self.raw(), t) };
-        if flag < 0 {
-            return Err(self.fail("CVodeSetStopTime", flag));
-        }
-        Ok(())
+        unsafe { CALLS.set_stop_time(self.raw(), t) }.map_err(|(f, c)| self.fail(f, c))
     }
 
     /// Last message SUNDIALS reported to the error handler (instead of printing it).
@@ -504,45 +500,19 @@ impl Cvode {
 
     /// Integrator counters (`residual_evals` counts right-hand-side evaluations).
     pub fn stats(&self) -> SolverStats {
-        let mem = self.raw();
-        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
-            let mut v: c_long = 0;
-            // SAFETY: live CVODE memory and a valid out-pointer.
-            unsafe { f(mem, &mut v) };
-            v.max(0) as u64
-        };
-        let mut last_step = 0.0;
-        let mut last_order: c_int = 0;
-        // SAFETY: live CVODE memory and valid out-pointers.
-        unsafe {
-            sys::CVodeGetLastStep(mem, &mut last_step);
-            sys::CVodeGetLastOrder(mem, &mut last_order);
-        }
-        SolverStats {
-            steps: get(sys::CVodeGetNumSteps),
-            residual_evals: get(sys::CVodeGetNumRhsEvals),
-            jacobian_evals: get(sys::CVodeGetNumJacEvals),
-            linear_setups: get(sys::CVodeGetNumLinSolvSetups),
-            nonlinear_iterations: get(sys::CVodeGetNumNonlinSolvIters),
-            nonlinear_conv_failures: get(sys::CVodeGetNumNonlinSolvConvFails),
-            error_test_failures: get(sys::CVodeGetNumErrTestFails),
-            root_evals: get(sys::CVodeGetNumGEvals),
-            last_step,
-            last_order,
-        }
+        // SAFETY: live CVODE memory.
+        unsafe { CALLS.stats(self.raw()) }
     }
 }
 
 impl Stepper for Cvode {
-    fn driver(&mut self) -> &mut DriverState {
-        &mut self.driver
+    fn stepping(&mut self) -> &mut SteppingState {
+        &mut self.stepping
     }
 
     fn current_time(&self) -> f64 {
-        let mut t = self.driver.t;
-        // SAFETY: live CVODE memory and a valid out-pointer.
-        unsafe { sys::CVodeGetCurrentTime(self.raw(), &mut t) };
-        t
+        // SAFETY: live CVODE memory.
+        unsafe { CALLS.current_time(self.raw(), self.stepping.t) }
     }
 
     fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
@@ -572,32 +542,23 @@ impl Stepper for Cvode {
 
 impl Cvode {
     fn one_step_raw(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
-        let mut tret = self.driver.t;
+        let mut tret = self.stepping.t;
         // SAFETY: live CVODE memory, an owned vector of length n, valid out-pointer.
         let flag =
             unsafe { sys::CVode(self.raw(), tout, self.y.raw(), &mut tret, sys::CV_ONE_STEP) };
-        match flag {
-            sys::CV_SUCCESS => Ok((tret, RawEvent::Success)),
-            sys::CV_ROOT_RETURN => Ok((tret, RawEvent::Root)),
-            sys::CV_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
-            f if f < 0 => Err(self.fail("CVode", f)),
-            _ => Ok((tret, RawEvent::Success)),
+        match CALLS.step_event(flag) {
+            Some(event) => Ok((tret, event)),
+            None => Err(self.fail("CVode", flag)),
         }
     }
 
     fn root_info_raw(&mut self) -> Vec<i32> {
-        let mut info = vec![0 as c_int; self.data.nroots];
-        // SAFETY: live CVODE memory; `info` has room for nroots entries.
-        unsafe { sys::CVodeGetRootInfo(self.raw(), info.as_mut_ptr()) };
-        info
+        // SAFETY: live CVODE memory with nroots root functions.
+        unsafe { CALLS.root_info(self.raw(), self.data.nroots) }
     }
 
     fn interpolate_raw(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live CVODE memory and an owned vector of length n.
-        let flag = unsafe { sys::CVodeGetDky(self.raw(), t, 0, self.y.raw()) };
-        if flag < 0 {
-            return Err(self.fail("CVodeGetDky", flag));
-        }
-        Ok(())
+        unsafe { CALLS.dky(self.raw(), t, 0, self.y.raw()) }.map_err(|(f, c)| self.fail(f, c))
     }
 }

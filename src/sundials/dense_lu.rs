@@ -10,13 +10,11 @@
 //! those of the SUNDIALS solver up to rounding.
 
 use std::os::raw::c_int;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
 use super::context::Context;
 use super::error::SolverError;
-use super::linsol::{self, LinearSolver};
-use super::vector::{slice_of, slice_of_mut};
+use super::linsol::{self, LinearSolver, Matrix, OwnLinearSolver};
 use sundials_sys as sys;
 
 /// The factorisation's state: the pivot rows, the size, and whether `A` holds valid factors.
@@ -105,92 +103,59 @@ pub fn solve(a: &[f64], n: usize, pivots: &[usize], b: &mut [f64]) {
     }
 }
 
-unsafe extern "C" fn initialize(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: content is the Box<DenseLu> installed by `new`.
-    unsafe {
-        let lu = &mut *((*s).content as *mut DenseLu);
-        lu.factored = false;
-    }
-    0
-}
+impl OwnLinearSolver for DenseLu {
+    const KIND: sys::SUNLinearSolver_Type = sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT;
 
-unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int {
-    // SAFETY: content is our Box<DenseLu>; `a` is the live square dense matrix the integrator
-    // attached, rebuilt by the integrator before every setup and not accessed elsewhere until
-    // the next one (SUNDIALS' own dense solver factors it in place too).
-    unsafe {
-        let Some((n, data)) = super::matrix::square_dense(a) else {
+    fn reset(&mut self) {
+        self.factored = false;
+    }
+
+    /// Factors the dense matrix in place (the integrator rebuilds it before every setup and
+    /// does not touch it until the next one; SUNDIALS' own dense solver factors it in place
+    /// too).
+    fn setup(&mut self, a: Option<Matrix<'_>>) -> c_int {
+        let Some(Matrix::Dense { n, data }) = a else {
             return -1;
         };
-        let lu = &mut *((*s).content as *mut DenseLu);
-        let m = std::slice::from_raw_parts_mut(data, n * n);
-        lu.n = n;
-        lu.pivots.resize(n, 0);
-        lu.factors = data;
-        lu.factored = false;
-        // no panic may unwind into SUNDIALS
-        let zero =
-            catch_unwind(AssertUnwindSafe(|| factor(m, n, &mut lu.pivots))).unwrap_or(usize::MAX);
-        match zero {
+        self.n = n;
+        self.pivots.resize(n, 0);
+        self.factors = data.as_mut_ptr();
+        self.factored = false;
+        match factor(data, n, &mut self.pivots) {
             0 => {
-                lu.factored = true;
+                self.factored = true;
                 0
             }
             // a zero pivot: recoverable (IDA and CVODE cut the step), as SUNLinSol_Dense's
-            usize::MAX => -1,
             k => k as c_int,
         }
     }
-}
 
-unsafe extern "C" fn solve_op(
-    s: sys::SUNLinearSolver,
-    _a: sys::SUNMatrix,
-    x: sys::N_Vector,
-    b: sys::N_Vector,
-    _tol: f64,
-) -> c_int {
-    // SAFETY: content is our Box<DenseLu>, factored by `setup` from the matrix the integrator
-    // still owns unchanged; x and b are serial vectors of that size (possibly the same one).
-    unsafe {
-        let lu = &mut *((*s).content as *mut DenseLu);
-        if !lu.factored || lu.factors.is_null() {
-            return -1;
-        }
-        let n = lu.n;
-        if sys::N_VGetLength(x) as usize != n || sys::N_VGetLength(b) as usize != n {
-            return -1;
-        }
-        if x != b {
-            slice_of_mut(x, n).copy_from_slice(slice_of(b, n));
-        }
-        let xs = slice_of_mut(x, n);
-        let a = std::slice::from_raw_parts(lu.factors, n * n);
-        let ok = catch_unwind(AssertUnwindSafe(|| solve(a, n, &lu.pivots, xs))).is_ok();
-        if !ok {
-            -1
-        } else if xs.iter().all(|v| v.is_finite()) {
-            0
-        } else {
-            // a numerically singular factor: recoverable, as a zero pivot is
-            sys::SUNLS_PACKAGE_FAIL_REC as c_int
-        }
+    fn order(&self) -> Option<usize> {
+        (self.factored && !self.factors.is_null()).then_some(self.n)
+    }
+
+    fn solve(&mut self, x: &mut [f64]) -> c_int {
+        let n = self.n;
+        // SAFETY: `factors` is the matrix factored by `setup`, which the integrator still owns
+        // unchanged until its next setup (`order` refuses a solve without one).
+        let a = unsafe { std::slice::from_raw_parts(self.factors, n * n) };
+        solve(a, n, &self.pivots, x);
+        linsol::finite_solution(x)
     }
 }
 
 /// A new dense LU solver (attached to an integrator with its dense matrix).
 pub(crate) fn new(ctx: &Context) -> Result<LinearSolver, SolverError> {
-    let content = Box::new(DenseLu {
-        n: 0,
-        pivots: Vec::new(),
-        factors: ptr::null_mut(),
-        factored: false,
-    });
-    linsol::custom(ctx, linsol::direct_type, content, |ops| {
-        ops.initialize = Some(initialize);
-        ops.setup = Some(setup);
-        ops.solve = Some(solve_op);
-    })
+    linsol::own(
+        ctx,
+        DenseLu {
+            n: 0,
+            pivots: Vec::new(),
+            factors: ptr::null_mut(),
+            factored: false,
+        },
+    )
 }
 
 #[cfg(test)]

@@ -10,19 +10,49 @@
 //! method; landing costs at most one short step per output).
 
 use super::callback::{error_handler, finite_or_recoverable, CallbackStatus, CvodeRootFn, RhsFn};
+use super::calls::Calls;
 use super::context::Context;
-use super::driver::{self, DriverState, RawEvent, Stepper};
 use super::error::{check, Package, SolverError};
 use super::options::{check_tolerances, check_vector, Step};
 use super::stats::SolverStats;
+use super::stepping::{self, RawEvent, Stepper, SteppingState};
 use super::tables::ButcherTable;
 use super::vector::{slice_of, slice_of_mut, NVector};
-use std::os::raw::{c_int, c_long, c_void};
+use std::os::raw::{c_int, c_void};
 use sundials_sys as sys;
 
 const P: Package = Package::Arkode;
 
 use super::arkode_ffi as ffi;
+
+/// ARKODE's entry points for the call sequences the integrator wrappers share
+/// ([`super::calls`]).
+static CALLS: Calls = Calls {
+    package: P,
+    user_function: "right-hand side",
+    current_time: ffi::ERKStepGetCurrentTime,
+    root_info: ffi::ERKStepGetRootInfo,
+    set_stop_time: ("ERKStepSetStopTime", ffi::ERKStepSetStopTime),
+    dky: ("ERKStepGetDky", ffi::ERKStepGetDky),
+    last_step: ffi::ERKStepGetLastStep,
+    last_order: None,
+    counters: [
+        Some(ffi::ERKStepGetNumSteps),
+        Some(ffi::ERKStepGetNumRhsEvals),
+        None,
+        None,
+        None,
+        None,
+        Some(ffi::ERKStepGetNumErrTestFails),
+        Some(ffi::ERKStepGetNumGEvals),
+    ],
+    returns: [
+        ffi::ARK_SUCCESS,
+        ffi::ARK_ROOT_RETURN,
+        ffi::ARK_TSTOP_RETURN,
+    ],
+    too_much_work: ffi::ARK_TOO_MUCH_WORK,
+};
 
 /// Options for [`Erk`].
 #[derive(Clone, Debug)]
@@ -31,7 +61,7 @@ pub struct ErkOptions {
     pub rtol: f64,
     /// Absolute tolerance (scalar).
     pub atol: f64,
-    /// Internal steps allowed per `solve_to` call (`None`: the driver's default 500).
+    /// Internal steps allowed per `solve_to` call (`None`: the stepping loop's default 500).
     pub max_steps: Option<u64>,
     /// Internal steps allowed over the whole integration (`None`: no cap).
     pub max_total_steps: Option<u64>,
@@ -107,7 +137,7 @@ pub struct Erk {
     y: NVector,
     tmp: NVector,
     data: Box<ErkData>,
-    driver: DriverState,
+    stepping: SteppingState,
     /// Time of the last step the integrator accepted (what `last_step_time` returns).
     accepted: f64,
     stop_time: Option<f64>,
@@ -256,7 +286,7 @@ impl Erk {
                 ffi::ERKStepSetInterpolantDegree(raw, CUBIC),
                 t0,
             )?;
-            // the driver counts steps; ARKODE's own per-call limit is one step in ONE_STEP mode
+            // the stepping loop counts steps; ARKODE's own per-call limit is one step in ONE_STEP mode
             check(
                 P,
                 "ERKStepSetMaxNumSteps",
@@ -270,7 +300,7 @@ impl Erk {
             tmp,
             data,
             accepted: t0,
-            driver: DriverState::new(
+            stepping: SteppingState::new(
                 t0,
                 opts.max_steps,
                 opts.max_wall_clock,
@@ -286,26 +316,9 @@ impl Erk {
     }
 
     fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
-        if let Some(mut e) = self.data.status.take_error() {
-            if let SolverError::NonFinite { function: f, .. } = &mut e {
-                *f = function;
-            }
-            return e;
-        }
         let t = self.current_time();
-        if let Some(e) = self
-            .data
-            .status
-            .take_non_finite(function, "right-hand side", t)
-        {
-            return e;
-        }
-        if flag == ffi::ARK_TOO_MUCH_WORK {
-            if let Some(max_steps) = self.driver.max_steps {
-                return SolverError::TooMuchWork { t, max_steps };
-            }
-        }
-        check(P, function, flag, t).expect_err("flag is negative")
+        let max_steps = self.stepping.max_steps;
+        CALLS.failure(&mut self.data.status, (function, flag), t, max_steps)
     }
 
     /// Registers `n` root functions `g(t, y)`; sign changes stop `solve_to`. Root finding
@@ -326,17 +339,14 @@ impl Erk {
     /// Integrates to `tout` exactly (or an earlier root); `y()` then holds the state at `step.t`.
     pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
         let stop = self.stop_time.map_or(tout, |s| s.min(tout));
-        if stop > self.driver.t {
+        if stop > self.stepping.t {
             // SAFETY: live ARKODE memory.
-            let flag = unsafe { ffi::ERKStepSetStopTime(self.raw(), stop) };
-            if flag < 0 {
-                return Err(self.fail("ERKStepSetStopTime", flag));
-            }
+            unsafe { CALLS.set_stop_time(self.raw(), stop) }.map_err(|(f, c)| self.fail(f, c))?;
         }
-        driver::solve_to(self, tout)
+        stepping::solve_to(self, tout)
     }
 
-    driver::budget_methods!();
+    stepping::budget_methods!();
 
     /// Time of the last accepted step (at or after [`Self::t`]).
     pub fn last_step_time(&self) -> f64 {
@@ -345,7 +355,7 @@ impl Erk {
 
     /// Time of the state in `y()`.
     pub fn t(&self) -> f64 {
-        self.driver.t
+        self.stepping.t
     }
 
     /// State at `t()`.
@@ -355,18 +365,9 @@ impl Erk {
 
     /// k-th derivative of ARKODE's interpolant at `t` (within the last step).
     pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
-        if out.len() != self.data.n {
-            return Err(SolverError::InvalidInput(format!(
-                "dky output has length {}, expected {}",
-                out.len(),
-                self.data.n
-            )));
-        }
+        super::calls::check_output("dky output", out, self.data.n)?;
         // SAFETY: live ARKODE memory; tmp is an owned vector of length n.
-        let flag = unsafe { ffi::ERKStepGetDky(self.raw(), t, k, self.tmp.raw()) };
-        if flag < 0 {
-            return Err(self.fail("ERKStepGetDky", flag));
-        }
+        unsafe { CALLS.dky(self.raw(), t, k, self.tmp.raw()) }.map_err(|(f, c)| self.fail(f, c))?;
         out.copy_from_slice(self.tmp.as_slice());
         Ok(())
     }
@@ -401,44 +402,26 @@ impl Erk {
         if flag < 0 {
             return Err(self.fail("ERKStepReInit", flag));
         }
-        self.driver.restart(t0);
+        self.stepping.restart(t0);
         self.accepted = t0;
         Ok(())
     }
 
     /// Integrator counters (`residual_evals` counts right-hand-side evaluations).
     pub fn stats(&self) -> SolverStats {
-        let mem = self.raw();
-        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
-            let mut v: c_long = 0;
-            // SAFETY: live ARKODE memory and a valid out-pointer.
-            unsafe { f(mem, &mut v) };
-            v.max(0) as u64
-        };
-        let mut last_step = 0.0;
-        // SAFETY: live ARKODE memory and a valid out-pointer.
-        unsafe { ffi::ERKStepGetLastStep(mem, &mut last_step) };
-        SolverStats {
-            steps: get(ffi::ERKStepGetNumSteps),
-            residual_evals: get(ffi::ERKStepGetNumRhsEvals),
-            error_test_failures: get(ffi::ERKStepGetNumErrTestFails),
-            root_evals: get(ffi::ERKStepGetNumGEvals),
-            last_step,
-            ..SolverStats::default()
-        }
+        // SAFETY: live ARKODE memory.
+        unsafe { CALLS.stats(self.raw()) }
     }
 }
 
 impl Stepper for Erk {
-    fn driver(&mut self) -> &mut DriverState {
-        &mut self.driver
+    fn stepping(&mut self) -> &mut SteppingState {
+        &mut self.stepping
     }
 
     fn current_time(&self) -> f64 {
-        let mut t = self.driver.t;
-        // SAFETY: live ARKODE memory and a valid out-pointer.
-        unsafe { ffi::ERKStepGetCurrentTime(self.raw(), &mut t) };
-        t
+        // SAFETY: live ARKODE memory.
+        unsafe { CALLS.current_time(self.raw(), self.stepping.t) }
     }
 
     fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
@@ -468,33 +451,24 @@ impl Stepper for Erk {
 
 impl Erk {
     fn one_step_raw(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
-        let mut tret = self.driver.t;
+        let mut tret = self.stepping.t;
         // SAFETY: live ARKODE memory, an owned vector of length n, valid out-pointer.
         let flag = unsafe {
             ffi::ERKStepEvolve(self.raw(), tout, self.y.raw(), &mut tret, ffi::ARK_ONE_STEP)
         };
-        match flag {
-            ffi::ARK_SUCCESS => Ok((tret, RawEvent::Success)),
-            ffi::ARK_ROOT_RETURN => Ok((tret, RawEvent::Root)),
-            ffi::ARK_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
-            f if f < 0 => Err(self.fail("ERKStepEvolve", f)),
-            _ => Ok((tret, RawEvent::Success)),
+        match CALLS.step_event(flag) {
+            Some(event) => Ok((tret, event)),
+            None => Err(self.fail("ERKStepEvolve", flag)),
         }
     }
 
     fn root_info_raw(&mut self) -> Vec<i32> {
-        let mut info = vec![0 as c_int; self.data.nroots];
-        // SAFETY: live ARKODE memory; `info` has room for nroots entries.
-        unsafe { ffi::ERKStepGetRootInfo(self.raw(), info.as_mut_ptr()) };
-        info
+        // SAFETY: live ARKODE memory with nroots root functions.
+        unsafe { CALLS.root_info(self.raw(), self.data.nroots) }
     }
 
     fn interpolate_raw(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live ARKODE memory and an owned vector of length n.
-        let flag = unsafe { ffi::ERKStepGetDky(self.raw(), t, 0, self.y.raw()) };
-        if flag < 0 {
-            return Err(self.fail("ERKStepGetDky", flag));
-        }
-        Ok(())
+        unsafe { CALLS.dky(self.raw(), t, 0, self.y.raw()) }.map_err(|(f, c)| self.fail(f, c))
     }
 }

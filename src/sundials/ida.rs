@@ -9,9 +9,9 @@ use super::callback::{
     error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn,
     IdaSparseJacobianFn, ResidualFn,
 };
+use super::calls::Calls;
 use super::context::Context;
 use super::custom_ls::{self, IdaLinearSolver};
-use super::driver::{self, DriverState, RawEvent, Stepper};
 use super::error::{check, Package, SolverError};
 use super::linsol::LinearSolver;
 use super::matrix::{DenseMatrix, DenseMatrixMut};
@@ -19,12 +19,42 @@ use super::options::{check_tolerances, check_vector, CalcIc, IdaOptions, Step};
 use super::schur::SchurPartition;
 use super::sparse::{self, CscPattern, FaerCounters, SparseMatrix, SparseMatrixMut, SparseSolver};
 use super::stats::{RecoveredFailure, SolverStats, MAX_LOGGED_FAILURES};
+use super::stepping::{self, RawEvent, Stepper, SteppingState};
 use super::vector::{slice_of, slice_of_mut, NVector};
 use std::os::raw::{c_int, c_long, c_void};
 use std::ptr;
 use sundials_sys as sys;
 
 const P: Package = Package::Ida;
+
+/// IDA's entry points for the call sequences the integrator wrappers share
+/// ([`super::calls`]).
+static CALLS: Calls = Calls {
+    package: P,
+    user_function: "residual",
+    current_time: sys::IDAGetCurrentTime,
+    root_info: sys::IDAGetRootInfo,
+    set_stop_time: ("IDASetStopTime", sys::IDASetStopTime),
+    dky: ("IDAGetDky", sys::IDAGetDky),
+    last_step: sys::IDAGetLastStep,
+    last_order: Some(sys::IDAGetLastOrder),
+    counters: [
+        Some(sys::IDAGetNumSteps),
+        Some(sys::IDAGetNumResEvals),
+        Some(sys::IDAGetNumJacEvals),
+        Some(sys::IDAGetNumLinSolvSetups),
+        Some(sys::IDAGetNumNonlinSolvIters),
+        Some(sys::IDAGetNumNonlinSolvConvFails),
+        Some(sys::IDAGetNumErrTestFails),
+        Some(sys::IDAGetNumGEvals),
+    ],
+    returns: [
+        sys::IDA_SUCCESS,
+        sys::IDA_ROOT_RETURN,
+        sys::IDA_TSTOP_RETURN,
+    ],
+    too_much_work: sys::IDA_TOO_MUCH_WORK,
+};
 
 /// Closures and callback status; boxed so SUNDIALS can hold its address as `user_data`.
 pub(crate) struct IdaData {
@@ -63,7 +93,7 @@ pub struct Ida {
     yp: NVector,
     tmp: NVector,
     data: Box<IdaData>,
-    driver: DriverState,
+    stepping: SteppingState,
     /// Steps accepted after recovered failures, and the failure counters seen so far.
     failures: FailureLog,
     #[allow(dead_code)] // owned: freed last
@@ -511,7 +541,7 @@ impl Ida {
             yp,
             tmp,
             data,
-            driver: DriverState::new(
+            stepping: SteppingState::new(
                 t0,
                 opts.max_steps,
                 opts.max_wall_clock,
@@ -561,22 +591,9 @@ impl Ida {
 
     /// Turn a failing flag into an error, preferring a callback's own error.
     fn fail(&mut self, function: &'static str, flag: c_int) -> SolverError {
-        if let Some(mut e) = self.data.status.take_error() {
-            if let SolverError::NonFinite { function: f, .. } = &mut e {
-                *f = function;
-            }
-            return e;
-        }
         let t = self.current_time();
-        if let Some(e) = self.data.status.take_non_finite(function, "residual", t) {
-            return e;
-        }
-        if flag == sys::IDA_TOO_MUCH_WORK {
-            if let Some(max_steps) = self.driver.max_steps {
-                return SolverError::TooMuchWork { t, max_steps };
-            }
-        }
-        check(P, function, flag, t).expect_err("flag is negative")
+        let max_steps = self.stepping.max_steps;
+        CALLS.failure(&mut self.data.status, (function, flag), t, max_steps)
     }
 
     /// Register `n` root functions `g(t, y, y')`; sign changes stop `solve_to`.
@@ -613,7 +630,7 @@ impl Ida {
 
     /// Integrate to `tout` (or an earlier root / stop time); `y()`/`yp()` then hold the state at `step.t`.
     pub fn solve_to(&mut self, tout: f64) -> Result<Step, SolverError> {
-        driver::solve_to(self, tout)
+        stepping::solve_to(self, tout)
     }
 
     /// [`Ida::solve_to`] that also returns early at the first internal step before `tout`
@@ -624,7 +641,7 @@ impl Ida {
         tout: f64,
         watch: &mut dyn FnMut(f64, &[f64]) -> bool,
     ) -> Result<Step, SolverError> {
-        driver::solve_to_watched(self, tout, watch)
+        stepping::solve_to_watched(self, tout, watch)
     }
 
     /// Time of IDA's last accepted internal step `t_n` (after a failed solve call, the state
@@ -633,11 +650,11 @@ impl Ida {
         self.current_time()
     }
 
-    driver::budget_methods!();
+    stepping::budget_methods!();
 
     /// Time of the state in `y()`/`yp()`.
     pub fn t(&self) -> f64 {
-        self.driver.t
+        self.stepping.t
     }
 
     /// State y at `t()`.
@@ -652,18 +669,9 @@ impl Ida {
 
     /// k-th derivative of the interpolating polynomial at `t` (within the last step).
     pub fn dky(&mut self, t: f64, k: i32, out: &mut [f64]) -> Result<(), SolverError> {
-        if out.len() != self.data.n {
-            return Err(SolverError::InvalidInput(format!(
-                "dky output has length {}, expected {}",
-                out.len(),
-                self.data.n
-            )));
-        }
+        super::calls::check_output("dky output", out, self.data.n)?;
         // SAFETY: live IDA memory; tmp is an owned vector of length n.
-        let flag = unsafe { sys::IDAGetDky(self.raw(), t, k, self.tmp.raw()) };
-        if flag < 0 {
-            return Err(self.fail("IDAGetDky", flag));
-        }
+        unsafe { CALLS.dky(self.raw(), t, k, self.tmp.raw()) }.map_err(|(f, c)| self.fail(f, c))?;
         out.copy_from_slice(self.tmp.as_slice());
         Ok(())
     }
@@ -680,7 +688,7 @@ impl Ida {
         if flag < 0 {
             return Err(self.fail("IDAReInit", flag));
         }
-        self.driver.restart(t0);
+        self.stepping.restart(t0);
         // IDAReInit zeroes SUNDIALS' counters
         self.failures.conv = 0;
         self.failures.etf = 0;
@@ -706,11 +714,7 @@ impl Ida {
     /// Do not step past `t`.
     pub fn set_stop_time(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live IDA memory.
-        let flag = unsafe { sys::IDASetStopTime(self.raw(), t) };
-        if flag < 0 {
-            return Err(self.fail("IDASetStopTime", flag));
-        }
-        Ok(())
+        unsafe { CALLS.set_stop_time(self.raw(), t) }.map_err(|(f, c)| self.fail(f, c))
     }
 
     /// Last message SUNDIALS reported to the error handler (instead of printing it).
@@ -720,49 +724,23 @@ impl Ida {
 
     /// Integrator counters.
     pub fn stats(&self) -> SolverStats {
-        let mem = self.raw();
-        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| {
-            let mut v: c_long = 0;
-            // SAFETY: live IDA memory and a valid out-pointer.
-            unsafe { f(mem, &mut v) };
-            v.max(0) as u64
-        };
-        let mut last_step = 0.0;
-        let mut last_order: c_int = 0;
-        // SAFETY: live IDA memory and valid out-pointers.
-        unsafe {
-            sys::IDAGetLastStep(mem, &mut last_step);
-            sys::IDAGetLastOrder(mem, &mut last_order);
-        }
-        SolverStats {
-            steps: get(sys::IDAGetNumSteps),
-            residual_evals: get(sys::IDAGetNumResEvals),
-            jacobian_evals: get(sys::IDAGetNumJacEvals),
-            linear_setups: get(sys::IDAGetNumLinSolvSetups),
-            nonlinear_iterations: get(sys::IDAGetNumNonlinSolvIters),
-            nonlinear_conv_failures: get(sys::IDAGetNumNonlinSolvConvFails),
-            error_test_failures: get(sys::IDAGetNumErrTestFails),
-            root_evals: get(sys::IDAGetNumGEvals),
-            last_step,
-            last_order,
-        }
+        // SAFETY: live IDA memory.
+        unsafe { CALLS.stats(self.raw()) }
     }
 }
 
 impl Stepper for Ida {
-    fn driver(&mut self) -> &mut DriverState {
-        &mut self.driver
+    fn stepping(&mut self) -> &mut SteppingState {
+        &mut self.stepping
     }
 
     fn current_time(&self) -> f64 {
-        let mut t = self.driver.t;
-        // SAFETY: live IDA memory and a valid out-pointer.
-        unsafe { sys::IDAGetCurrentTime(self.raw(), &mut t) };
-        t
+        // SAFETY: live IDA memory.
+        unsafe { CALLS.current_time(self.raw(), self.stepping.t) }
     }
 
     fn one_step(&mut self, tout: f64) -> Result<(f64, RawEvent), SolverError> {
-        let mut tret = self.driver.t;
+        let mut tret = self.stepping.t;
         // SAFETY: live IDA memory, owned vectors of length n, valid out-pointer.
         let flag = unsafe {
             sys::IDASolve(
@@ -777,34 +755,22 @@ impl Stepper for Ida {
         if flag >= 0 {
             self.log_failures(tret);
         }
-        match flag {
-            sys::IDA_SUCCESS => Ok((tret, RawEvent::Success)),
-            sys::IDA_ROOT_RETURN => Ok((tret, RawEvent::Root)),
-            sys::IDA_TSTOP_RETURN => Ok((tret, RawEvent::StopTime)),
-            f if f < 0 => Err(self.fail("IDASolve", f)),
-            _ => Ok((tret, RawEvent::Success)),
+        match CALLS.step_event(flag) {
+            Some(event) => Ok((tret, event)),
+            None => Err(self.fail("IDASolve", flag)),
         }
     }
 
     fn root_info(&mut self) -> Vec<i32> {
-        let mut info = vec![0 as c_int; self.data.nroots];
-        // SAFETY: live IDA memory; `info` has room for nroots entries.
-        unsafe { sys::IDAGetRootInfo(self.raw(), info.as_mut_ptr()) };
-        info
+        // SAFETY: live IDA memory with nroots root functions.
+        unsafe { CALLS.root_info(self.raw(), self.data.nroots) }
     }
 
     fn interpolate(&mut self, t: f64) -> Result<(), SolverError> {
         // SAFETY: live IDA memory and owned vectors of length n.
-        let flag = unsafe { sys::IDAGetDky(self.raw(), t, 0, self.y.raw()) };
-        if flag < 0 {
-            return Err(self.fail("IDAGetDky", flag));
-        }
+        unsafe { CALLS.dky(self.raw(), t, 0, self.y.raw()) }.map_err(|(f, c)| self.fail(f, c))?;
         // SAFETY: as above.
-        let flag = unsafe { sys::IDAGetDky(self.raw(), t, 1, self.yp.raw()) };
-        if flag < 0 {
-            return Err(self.fail("IDAGetDky", flag));
-        }
-        Ok(())
+        unsafe { CALLS.dky(self.raw(), t, 1, self.yp.raw()) }.map_err(|(f, c)| self.fail(f, c))
     }
 
     fn clear_status(&mut self) {

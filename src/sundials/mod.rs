@@ -17,7 +17,7 @@
 //! - [`callback`]: panic-safe trampolines' shared state.
 //! - [`options`]: [`IdaOptions`], [`CvodeOptions`], [`Step`], [`StepEvent`].
 //! - [`stats`][]: [`SolverStats`].
-//! - [`driver`]: the `solve_to` loop of single internal steps with budgets and interpolation.
+//! - [`stepping`]: the `solve_to` loop of single internal steps with budgets and interpolation.
 //! - [`ida`], [`cvode`]: the solvers; [`erk`]: ARKODE's explicit Runge–Kutta (ERKStep).
 //! - [`sparse`]: [`CscPattern`], the CSC `SUNMatrix` and the sparse LU solvers (faer, KLU).
 //! - [`custom_ls`]: [`IdaLinearSolver`], a user-supplied linear solver plugged into IDA.
@@ -26,11 +26,11 @@
 
 mod arkode_ffi;
 pub mod callback;
+mod calls;
 pub mod context;
 pub mod custom_ls;
 pub mod cvode;
 pub mod dense_lu;
-pub mod driver;
 pub mod erk;
 pub mod error;
 pub mod fast_ops;
@@ -42,6 +42,7 @@ pub mod options;
 pub mod schur;
 pub mod sparse;
 pub mod stats;
+pub mod stepping;
 pub mod tables;
 pub mod vector;
 pub mod version;

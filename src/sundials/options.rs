@@ -9,7 +9,7 @@ pub struct IdaOptions {
     pub rtol: f64,
     /// Absolute tolerance: length 1 (scalar) or length n.
     pub atol: Vec<f64>,
-    /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
+    /// Internal steps allowed per `solve_to` call (`None`: [`super::stepping::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
     /// Wall-clock time allowed for the whole integration: the time spent in all
     /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),
@@ -83,7 +83,7 @@ pub struct CvodeOptions {
     pub rtol: f64,
     /// Absolute tolerance: length 1 (scalar) or length n.
     pub atol: Vec<f64>,
-    /// Internal steps allowed per `solve_to` call (`None`: [`super::driver::DEFAULT_MAX_STEPS`] = 500).
+    /// Internal steps allowed per `solve_to` call (`None`: [`super::stepping::DEFAULT_MAX_STEPS`] = 500).
     pub max_steps: Option<u64>,
     /// Wall-clock time allowed for the whole integration: the time spent in all
     /// `solve_to`/`step` calls since the solver was built (`reinit` does not reset it),

@@ -36,12 +36,10 @@
 //! its own decisions on when to re-evaluate and re-factor the Newton matrix).
 
 use std::os::raw::c_int;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use super::context::Context;
 use super::error::SolverError;
-use super::linsol::{self, LinearSolver};
-use super::vector::{slice_of, slice_of_mut};
+use super::linsol::{self, LinearSolver, Matrix, OwnLinearSolver};
 use sundials_sys as sys;
 
 /// Why a partition cannot serve the Schur solver.
@@ -555,74 +553,38 @@ fn apply(minv: &[f64], m: usize, v: &mut [f64], tmp: &mut [f64]) {
     }
 }
 
-unsafe extern "C" fn initialize(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: content is the Box<SchurLu> installed by `new`.
-    unsafe {
-        let lu = &mut *((*s).content as *mut SchurLu);
-        lu.factored = false;
-    }
-    0
-}
+impl OwnLinearSolver for SchurLu {
+    const KIND: sys::SUNLinearSolver_Type = sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT;
 
-unsafe extern "C" fn setup(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int {
-    // SAFETY: content is our Box<SchurLu>; `a` is the live square dense matrix the integrator
-    // attached and filled with the Newton matrix; it is only read here.
-    unsafe {
-        let lu = &mut *((*s).content as *mut SchurLu);
-        let Some((n, data)) = super::matrix::square_dense(a).filter(|&(n, _)| n == lu.p.n) else {
-            return -1;
-        };
-        let m = std::slice::from_raw_parts(data, n * n);
-        // no panic may unwind into SUNDIALS
-        match catch_unwind(AssertUnwindSafe(|| lu.factor(m))) {
-            Ok(Ok(())) => 0,
-            // a singular block: recoverable (the integrator cuts the step), as a zero pivot
-            Ok(Err(_)) => sys::SUNLS_PACKAGE_FAIL_REC as c_int,
-            Err(_) => -1,
+    fn reset(&mut self) {
+        self.factored = false;
+    }
+
+    /// Factors the dense Newton matrix the integrator attached (only read).
+    fn setup(&mut self, a: Option<Matrix<'_>>) -> c_int {
+        match a {
+            Some(Matrix::Dense { n, data }) if n == self.p.n => match self.factor(data) {
+                Ok(()) => 0,
+                // a singular block: recoverable (the integrator cuts the step), as a zero pivot
+                Err(_) => sys::SUNLS_PACKAGE_FAIL_REC as c_int,
+            },
+            _ => -1,
         }
     }
-}
 
-unsafe extern "C" fn solve_op(
-    s: sys::SUNLinearSolver,
-    _a: sys::SUNMatrix,
-    x: sys::N_Vector,
-    b: sys::N_Vector,
-    _tol: f64,
-) -> c_int {
-    // SAFETY: content is our Box<SchurLu>, factored by `setup`; x and b are serial vectors of
-    // length n (possibly the same one).
-    unsafe {
-        let lu = &mut *((*s).content as *mut SchurLu);
-        if !lu.factored {
-            return -1;
-        }
-        let n = lu.p.n;
-        if sys::N_VGetLength(x) as usize != n || sys::N_VGetLength(b) as usize != n {
-            return -1;
-        }
-        if x != b {
-            slice_of_mut(x, n).copy_from_slice(slice_of(b, n));
-        }
-        let xs = slice_of_mut(x, n);
-        let ok = catch_unwind(AssertUnwindSafe(|| lu.solve(xs))).is_ok();
-        if !ok {
-            -1
-        } else if xs.iter().all(|v| v.is_finite()) {
-            0
-        } else {
-            sys::SUNLS_PACKAGE_FAIL_REC as c_int
-        }
+    fn order(&self) -> Option<usize> {
+        self.factored.then_some(self.p.n)
+    }
+
+    fn solve(&mut self, x: &mut [f64]) -> c_int {
+        SchurLu::solve(self, x);
+        linsol::finite_solution(x)
     }
 }
 
 /// A new Schur solver for the partition `p` (attached to an integrator with its dense matrix).
 pub(crate) fn new(ctx: &Context, p: SchurPartition) -> Result<LinearSolver, SolverError> {
-    linsol::custom(ctx, linsol::direct_type, Box::new(SchurLu::new(p)), |ops| {
-        ops.initialize = Some(initialize);
-        ops.setup = Some(setup);
-        ops.solve = Some(solve_op);
-    })
+    linsol::own(ctx, SchurLu::new(p))
 }
 
 #[cfg(test)]

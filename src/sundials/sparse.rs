@@ -23,8 +23,8 @@
 
 use super::context::Context;
 use super::error::SolverError;
-use super::linsol::{self, LinearSolver};
-use super::vector::{slice_of, slice_of_mut, NVector};
+use super::linsol::{self, LinearSolver, Matrix, OwnLinearSolver};
+use super::vector::NVector;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::lu::simplicial::{
@@ -34,7 +34,6 @@ use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, Symbolic
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 use std::os::raw::c_int;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use sundials_sys as sys;
 
 /// How faer's sparse LU orders the columns of the Newton matrix ([`SparseSolver::Faer`]; KLU
@@ -832,65 +831,38 @@ fn faer_solve(lu: &mut FaerLu, x: &mut [f64]) -> c_int {
     }
 }
 
-unsafe extern "C" fn faer_initialize(s: sys::SUNLinearSolver) -> c_int {
-    // SAFETY: content is the Box<FaerLu> installed by new_faer_solver.
-    unsafe {
-        let lu = &mut *((*s).content as *mut FaerLu);
-        lu.factored = false;
+impl OwnLinearSolver for FaerLu {
+    const KIND: sys::SUNLinearSolver_Type = sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT;
+
+    fn reset(&mut self) {
+        self.factored = false;
     }
-    0
-}
 
-unsafe extern "C" fn faer_setup_op(s: sys::SUNLinearSolver, a: sys::SUNMatrix) -> c_int {
-    // SAFETY: content is our Box<FaerLu>; `a` is the live CSC matrix the integrator attached
-    // (square, n columns, colptr[n] stored entries), not accessed elsewhere during setup.
-    let (lu, n, ptrs, rows, vals) = unsafe {
-        if a.is_null() || sys::SUNMatGetID(a) != sys::SUNMatrix_ID_SUNMATRIX_SPARSE {
+    /// Refactors the CSC matrix the integrator attached.
+    fn setup(&mut self, a: Option<Matrix<'_>>) -> c_int {
+        let Some(Matrix::Sparse {
+            n,
+            ptrs,
+            rows,
+            vals,
+        }) = a
+        else {
             return -1;
-        }
-        let lu = &mut *((*s).content as *mut FaerLu);
-        let n = sys::SUNSparseMatrix_Columns(a) as usize;
-        let ptrs = std::slice::from_raw_parts(sys::SUNSparseMatrix_IndexPointers(a), n + 1);
-        let nnz = ptrs[n] as usize;
-        let (rows, vals): (&[i64], &[f64]) = if nnz == 0 {
-            (&[], &[])
-        } else {
-            (
-                std::slice::from_raw_parts(sys::SUNSparseMatrix_IndexValues(a), nnz),
-                std::slice::from_raw_parts(sys::SUNSparseMatrix_Data(a), nnz),
-            )
         };
-        (lu, n, ptrs, rows, vals)
-    };
-    // no panic may unwind into SUNDIALS
-    catch_unwind(AssertUnwindSafe(|| faer_setup(lu, n, ptrs, rows, vals))).unwrap_or(-1)
-}
+        faer_setup(self, n, ptrs, rows, vals)
+    }
 
-unsafe extern "C" fn faer_solve_op(
-    s: sys::SUNLinearSolver,
-    _a: sys::SUNMatrix,
-    x: sys::N_Vector,
-    b: sys::N_Vector,
-    _tol: f64,
-) -> c_int {
-    // SAFETY: content is our Box<FaerLu>; x and b are serial vectors of the matrix size
-    // (the integrator's own), possibly the same vector.
-    unsafe {
-        let lu = &mut *((*s).content as *mut FaerLu);
-        let n = lu.colptr.len().saturating_sub(1);
-        if sys::N_VGetLength(x) as usize != n || sys::N_VGetLength(b) as usize != n {
-            return -1;
-        }
-        if x != b {
-            slice_of_mut(x, n).copy_from_slice(slice_of(b, n));
-        }
-        let xs = slice_of_mut(x, n);
-        catch_unwind(AssertUnwindSafe(|| faer_solve(lu, xs))).unwrap_or(-1)
+    fn order(&self) -> Option<usize> {
+        Some(self.colptr.len().saturating_sub(1))
+    }
+
+    fn solve(&mut self, x: &mut [f64]) -> c_int {
+        faer_solve(self, x)
     }
 }
 
 fn new_faer_solver(ctx: &Context, ordering: ColumnOrdering) -> Result<LinearSolver, SolverError> {
-    let content = Box::new(FaerLu {
+    let content = FaerLu {
         colptr: Vec::new(),
         rowidx: Vec::new(),
         symbolic: None,
@@ -901,32 +873,13 @@ fn new_faer_solver(ctx: &Context, ordering: ColumnOrdering) -> Result<LinearSolv
         counters: FaerCounters::default(),
         ordering,
         ordered: None,
-    });
-    linsol::custom(ctx, linsol::direct_type, content, |ops| {
-        ops.initialize = Some(faer_initialize);
-        ops.setup = Some(faer_setup_op);
-        ops.solve = Some(faer_solve_op);
-    })
+    };
+    linsol::own(ctx, content)
 }
 
 /// The counters of a faer solver built by [`new_sparse_solver`] (`None` for KLU).
 pub(crate) fn faer_counters(ls: &LinearSolver) -> Option<FaerCounters> {
-    // SAFETY: a live solver; its setup operation tells whether its content is our FaerLu (the
-    // dense LU is also a custom direct solver: id and type cannot tell them apart).
-    unsafe {
-        let s = ls.raw();
-        let ours = (*(*s).ops).setup.is_some_and(|f| {
-            std::ptr::fn_addr_eq(
-                f,
-                faer_setup_op
-                    as unsafe extern "C" fn(sys::SUNLinearSolver, sys::SUNMatrix) -> c_int,
-            )
-        });
-        if !ours || (*s).content.is_null() {
-            return None;
-        }
-        Some((*((*s).content as *const FaerLu)).counters)
-    }
+    ls.content::<FaerLu>().map(|lu| lu.counters)
 }
 
 // --- one-off solves -------------------------------------------------------------------------
@@ -1251,22 +1204,7 @@ mod tests {
         // a chain of n blocks [m 0 gᵀ; 0 c −1; g 1 0]-like couplings with zeros on the
         // multipliers' diagonal, as the index-1 DAE's acceleration rows have
         let n = 60;
-        let mut entries = Vec::new();
-        for k in 0..n {
-            let (a, v, l) = (3 * k, 3 * k + 1, 3 * k + 2);
-            entries.extend([
-                (a, a, 2.0 + k as f64 * 0.01),
-                (a, l, 1.0),
-                (l, a, 1.0),
-                (v, v, 50.0),
-                (v, l, -0.7),
-                (l, v, 0.3),
-                (l, l, 0.0),
-            ]);
-            if k + 1 < n {
-                entries.extend([(l, 3 * (k + 1), -1.0), (3 * (k + 1), l, -1.0)]);
-            }
-        }
+        let entries = saddle_chain(n, |_, _| 1.0);
         let pat = CscPattern::new(3 * n, entries.iter().map(|e| (e.0, e.1))).unwrap();
         let mut values = vec![0.0; pat.nnz()];
         for &(i, j, v) in &entries {

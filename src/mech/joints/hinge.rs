@@ -2,7 +2,10 @@
 //! hinge axis (two rows). Twin: a spring on each of the five rows (three per axis on
 //! `P_a − P_b`, two torsional ones on the axis rows).
 
-use super::joint::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, RowWriter, Rows};
+use super::joint::{
+    perpendicular_pair, unit_axis, Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph,
+    Joint, RowWriter, Rows,
+};
 use crate::expr::{Expr, ExprGraph};
 use crate::mech::body::BodyKinematics;
 use crate::mech::error::MechError;
@@ -42,6 +45,42 @@ impl Joint for Hinge<'_> {
             axis: self.axis.to_vec(),
         }
     }
+
+    /// The rotation `φ` about the axis from the initial relative pose: `cos φ = (R_a c_1)·(R_b
+    /// u)`, `sin φ = (R_a c_2)·(R_b u)`, with `c_1, c_2` perpendicular to the unit axis `â`
+    /// and `u = R_b(0)ᵀ R_a(0) c_1` (`c_1` as body b sees it initially).
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
+        let f = w.hinge_frame(&ends.ka, &ends.kb, self.axis, site.joint_path)?;
+        let (c1, c2) = perpendicular_pair(f.u);
+        let a0c1: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|k| f.ra0[i][k] * c1[k]).sum())
+            .collect();
+        let uu: Vec<f64> = (0..3)
+            .map(|k| (0..3).map(|i| f.rb0[i][k] * a0c1[i]).sum())
+            .collect();
+        let g = &mut *w.g;
+        let times = |g: &mut ExprGraph, r: &[[Expr; 3]; 3], c: &[f64]| -> Vec<Expr> {
+            let ce: Vec<Expr> = c.iter().map(|&x| g.constant(x)).collect();
+            (0..3).map(|i| g.dot(&r[i], &ce)).collect()
+        };
+        let bu = times(g, &f.rb, &uu);
+        let ac1 = times(g, &f.ra, &c1);
+        let ac2 = times(g, &f.ra, &c2);
+        let cos = g.dot(&ac1, &bu);
+        let sin = g.dot(&ac2, &bu);
+        Ok(Some(DrivenCoordinate::Turn { cos, sin }))
+    }
+}
+
+/// A hinge's frame: the unit axis `â` (body a's frame), the bodies' rotations `R_a`, `R_b` and
+/// their initial values.
+struct HingeFrame {
+    u: [f64; 3],
+    ra: [[Expr; 3]; 3],
+    rb: [[Expr; 3]; 3],
+    ra0: [[f64; 3]; 3],
+    rb0: [[f64; 3]; 3],
 }
 
 impl RowWriter<'_> {
@@ -58,17 +97,14 @@ impl RowWriter<'_> {
         Ok(rows)
     }
 
-    /// The two orientation rows of a spatial hinge: with `a = R_a â` the hinge axis (`â` the
-    /// unit `axis` in body a's frame) and `c_1, c_2` an orthonormal pair perpendicular to the
-    /// axis as body b sees it initially (`R_b(0)ᵀ R_a(0) â`), the rows are `a · (R_b c_1) = 0`
-    /// and `a · (R_b c_2) = 0` (dimensionless: about the small relative rotation angles).
-    fn hinge_rows(
+    /// The frame of a hinge about `axis` (body a's frame) between bodies `ka` and `kb`.
+    fn hinge_frame(
         &mut self,
         ka: &BodyKinematics,
         kb: &BodyKinematics,
         axis: &[f64],
         path: &str,
-    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+    ) -> Result<HingeFrame, MechError> {
         let u = unit_axis(axis, path)?;
         let ra = ka.rotation3(self.g);
         let rb = kb.rotation3(self.g);
@@ -83,6 +119,33 @@ impl RowWriter<'_> {
             m
         };
         let (ra0, rb0) = (ev(self.g, &ra), ev(self.g, &rb));
+        Ok(HingeFrame {
+            u,
+            ra,
+            rb,
+            ra0,
+            rb0,
+        })
+    }
+
+    /// The two orientation rows of a spatial hinge: with `a = R_a â` the hinge axis (`â` the
+    /// unit `axis` in body a's frame) and `c_1, c_2` an orthonormal pair perpendicular to the
+    /// axis as body b sees it initially (`R_b(0)ᵀ R_a(0) â`), the rows are `a · (R_b c_1) = 0`
+    /// and `a · (R_b c_2) = 0` (dimensionless: about the small relative rotation angles).
+    fn hinge_rows(
+        &mut self,
+        ka: &BodyKinematics,
+        kb: &BodyKinematics,
+        axis: &[f64],
+        path: &str,
+    ) -> Result<Vec<(&'static str, Expr)>, MechError> {
+        let HingeFrame {
+            u,
+            ra,
+            rb,
+            ra0,
+            rb0,
+        } = self.hinge_frame(ka, kb, axis, path)?;
         // global axis at t = 0, then seen from body b
         let ag: Vec<f64> = (0..3)
             .map(|i| (0..3).map(|k| ra0[i][k] * u[k]).sum())

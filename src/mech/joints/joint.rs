@@ -46,6 +46,40 @@ pub enum Glyph {
     },
 }
 
+/// The coordinate `s(q)` a driver moves along its joint (`drivers[i]`, seed 16.8: a flow
+/// source on the joint's relative flow, written as the row `s(q) − s(t) = 0`).
+pub(crate) enum DrivenCoordinate {
+    /// A relative angle or displacement `s(q)`.
+    Linear(Expr),
+    /// A turn `φ` about an axis, as `(cos φ, sin φ)` (the row is written smooth through every
+    /// turn).
+    Turn {
+        /// `cos φ`.
+        cos: Expr,
+        /// `sin φ`.
+        sin: Expr,
+    },
+}
+
+/// What [`Joint::driven_coordinate`] answers: the coordinate, or `None` where the kind takes no
+/// driver.
+pub(crate) type Driven = Result<Option<DrivenCoordinate>, MechError>;
+
+/// Where a driver is: its joint's two ends, and for the errors its coordinate names the
+/// driver's and its joint's JSON paths, the joint's name and its bodies.
+pub(crate) struct DriverSite<'a> {
+    /// The joint's ends.
+    pub(crate) ends: &'a Ends,
+    /// `drivers[i]`.
+    pub(crate) path: &'a str,
+    /// `joints[j]`.
+    pub(crate) joint_path: &'a str,
+    /// The joint's name.
+    pub(crate) joint: &'a str,
+    /// The joint's bodies.
+    pub(crate) bodies: [&'a str; 2],
+}
+
 /// What a joint kind is: one implementation per file, chosen by [`super::joint_type`].
 pub(crate) trait Joint {
     /// The closure rows `(direction, g_k(q))` of the joint between `ends`; `path` is the
@@ -75,6 +109,13 @@ pub(crate) trait Joint {
 
     /// How the joint is drawn.
     fn glyph(&self) -> Glyph;
+
+    /// The coordinate a driver of this joint moves, written on `w` between the ends of
+    /// `site`; `None` where the kind takes no driver (default).
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let _ = (w, site);
+        Ok(None)
+    }
 }
 
 /// What a joint's closure rows are written on: the expression arena over the slots

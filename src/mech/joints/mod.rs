@@ -35,7 +35,7 @@ use crate::mech::error::MechError;
 use crate::scene::JointKind;
 pub use joint::Glyph;
 pub(crate) use joint::{
-    common_frame, perpendicular_pair, unit_axis, Drawing, Ends, Joint, RowWriter,
+    common_frame, Drawing, DrivenCoordinate, DriverSite, Ends, Joint, RowWriter,
 };
 
 /// The one dispatch from a scene's joint kind to its type.

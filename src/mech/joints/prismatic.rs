@@ -5,7 +5,10 @@
 //! slider fragment along a global axis (Fig. 29). Twin: a spring on each row (across the
 //! rail, and torsional on the relative rotation).
 
-use super::joint::{perpendicular_pair, unit_axis, Drawing, Ends, Glyph, Joint, RowWriter, Rows};
+use super::joint::{
+    perpendicular_pair, unit_axis, Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph,
+    Joint, RowWriter, Rows,
+};
 use crate::bond::fragments::{prismatic, Axis};
 use crate::expr::Expr;
 use crate::mech::body::BodyKinematics;
@@ -68,6 +71,36 @@ impl Joint for Prismatic<'_> {
         Glyph::Slider {
             axis: self.axis.to_vec(),
         }
+    }
+
+    /// The displacement along the rail, `(P_b − P_a)·(R_a â)`.
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
+        let g = &mut *w.g;
+        let dim = ends.pa.position.len();
+        let axis: Vec<Expr> = if w.spatial {
+            let u = unit_axis(self.axis, site.joint_path)?;
+            let ra = ends.ka.rotation3(g);
+            let ue: Vec<Expr> = u.iter().map(|&x| g.constant(x)).collect();
+            (0..3).map(|i| g.dot(&ra[i], &ue)).collect()
+        } else {
+            let k = self.axis;
+            let n = (k[0] * k[0] + k[1] * k[1]).sqrt();
+            let u = [k[0] / n, k[1] / n];
+            if matches!(ends.ka, BodyKinematics::Ground) {
+                vec![g.constant(u[0]), g.constant(u[1])]
+            } else {
+                let p = ends.ka.point(g, &u);
+                let o = ends.ka.point(g, &[0.0, 0.0]);
+                (0..2)
+                    .map(|i| g.sub(p.position[i], o.position[i]))
+                    .collect()
+            }
+        };
+        let dvec: Vec<Expr> = (0..dim)
+            .map(|i| g.sub(ends.pb.position[i], ends.pa.position[i]))
+            .collect();
+        Ok(Some(DrivenCoordinate::Linear(g.dot(&axis, &dvec))))
     }
 }
 

@@ -4,7 +4,10 @@
 //! axis on `P_a − P_b` (Fig. 17, 21). In a spatial scene a revolute needs an axis (a
 //! [`super::hinge`]).
 
-use super::joint::{Drawing, Ends, Glyph, Joint, RowWriter, Rows};
+use super::joint::{
+    Drawing, Driven, DrivenCoordinate, DriverSite, Ends, Glyph, Joint, RowWriter, Rows,
+};
+use crate::mech::body::{AngleSlot, BodyKinematics};
 use crate::mech::error::MechError;
 
 /// A planar pin.
@@ -41,5 +44,30 @@ impl Joint for Revolute {
 
     fn glyph(&self) -> Glyph {
         Glyph::Pin
+    }
+
+    /// The relative angle `α_b − α_a`; refused where a body's rotation is not modelled.
+    fn driven_coordinate(&self, w: &mut RowWriter<'_>, site: &DriverSite<'_>) -> Driven {
+        let ends = site.ends;
+        let modelled = |k: &BodyKinematics| {
+            !matches!(
+                k,
+                BodyKinematics::PlanarInertial {
+                    angle: AngleSlot::Fixed(_),
+                    ..
+                }
+            )
+        };
+        for (b, k) in site.bodies.iter().zip([&ends.ka, &ends.kb]) {
+            if !modelled(k) {
+                return Err(MechError::at(
+                    &format!("{}.joint", site.path),
+                    format!("joint '{}': body '{b}' has no modelled rotation (inertia 0 and nothing turns it), so its angle cannot be driven", site.joint),
+                ));
+            }
+        }
+        let aa = ends.ka.planar_angle(w.g);
+        let ab = ends.kb.planar_angle(w.g);
+        Ok(Some(DrivenCoordinate::Linear(w.g.sub(ab, aa))))
     }
 }

@@ -23,10 +23,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::reactions::{Multipliers, ReactionEval};
 use crate::dae::{ConstraintExprs, MechanicsTapes};
 use crate::expr::Expr;
 use crate::mech::MultibodySystem;
+use crate::solve::reactions::{Multipliers, ReactionEval};
 
 /// Largest number of Newton iterations.
 pub const MAX_ITERATIONS: usize = 200;

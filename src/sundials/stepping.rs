@@ -1,4 +1,4 @@
-//! The `solve_to` loop shared by IDA and CVODE: single internal steps
+//! The stepping loop shared by IDA, CVODE and ARKODE (`solve_to`): single internal steps
 //! (`*_ONE_STEP`) until the integrator passes `tout`, then interpolation of the
 //! state at `tout` (`IDAGetDky`/`CVodeGetDky`). Between steps the step and
 //! wall-clock budgets are checked: the step budget per `solve_to` call, the
@@ -25,8 +25,8 @@ pub(crate) enum RawEvent {
 
 /// Minimal integrator interface the loop needs.
 pub(crate) trait Stepper {
-    /// Driver bookkeeping of this solver.
-    fn driver(&mut self) -> &mut DriverState;
+    /// The stepping loop's bookkeeping of this solver.
+    fn stepping(&mut self) -> &mut SteppingState;
     /// Time the integrator has reached internally (`tn`).
     fn current_time(&self) -> f64;
     /// One internal step toward `tout`; the state vectors then hold values at the returned time.
@@ -48,7 +48,7 @@ pub type StepWatch<'w> = &'w mut dyn FnMut(f64, &[f64]) -> bool;
 
 /// Bookkeeping of the loop: last returned time, pending event, budgets.
 #[derive(Debug)]
-pub(crate) struct DriverState {
+pub(crate) struct SteppingState {
     pub(crate) t: f64,
     pub(crate) pending: Option<(f64, StepEvent)>,
     pub(crate) max_steps: Option<u64>,
@@ -72,7 +72,7 @@ pub const MAX_STALLED_STEPS: u32 = 100;
 
 /// Counts a step from `before` to `after`: `Err(NoProgress)` after [`MAX_STALLED_STEPS`] in a
 /// row that did not advance the time.
-fn check_progress(d: &mut DriverState, before: f64, after: f64) -> Result<(), SolverError> {
+fn check_progress(d: &mut SteppingState, before: f64, after: f64) -> Result<(), SolverError> {
     if after > before {
         d.stalled = 0;
         return Ok(());
@@ -87,7 +87,7 @@ fn check_progress(d: &mut DriverState, before: f64, after: f64) -> Result<(), So
     Ok(())
 }
 
-impl DriverState {
+impl SteppingState {
     pub(crate) fn new(
         t0: f64,
         max_steps: Option<u64>,
@@ -95,7 +95,7 @@ impl DriverState {
         max_total_steps: Option<u64>,
     ) -> Self {
         let max_steps = Some(max_steps.unwrap_or(DEFAULT_MAX_STEPS));
-        DriverState {
+        SteppingState {
             t: t0,
             pending: None,
             max_steps,
@@ -128,7 +128,7 @@ fn check_tout(t: f64, tout: f64) -> Result<(), SolverError> {
 }
 
 /// `Err(WallClock)` when the time already used plus the time since `start` exceeds the budget.
-fn check_wall_clock(d: &DriverState, start: Instant, t: f64) -> Result<(), SolverError> {
+fn check_wall_clock(d: &SteppingState, start: Instant, t: f64) -> Result<(), SolverError> {
     match d.max_wall_clock {
         Some(limit) if d.wall_used + start.elapsed() > limit => {
             Err(SolverError::WallClock { t, limit })
@@ -147,7 +147,7 @@ fn check_interrupt(t: f64) -> Result<(), SolverError> {
 }
 
 /// `Err(StepBudget)` when the steps of the solver's whole life have used up its budget.
-fn check_total_steps(d: &DriverState, t: f64) -> Result<(), SolverError> {
+fn check_total_steps(d: &SteppingState, t: f64) -> Result<(), SolverError> {
     match d.max_total_steps {
         Some(max_steps) if d.steps_used >= max_steps => {
             Err(SolverError::StepBudget { t, max_steps })
@@ -161,7 +161,7 @@ fn check_total_steps(d: &DriverState, t: f64) -> Result<(), SolverError> {
 pub(crate) fn solve_to<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
     let start = Instant::now();
     let result = solve_to_inner(s, tout, start, None);
-    s.driver().wall_used += start.elapsed();
+    s.stepping().wall_used += start.elapsed();
     result
 }
 
@@ -177,7 +177,7 @@ pub(crate) fn solve_to_watched<S: Stepper>(
 ) -> Result<Step, SolverError> {
     let start = Instant::now();
     let result = solve_to_inner(s, tout, start, Some(watch));
-    s.driver().wall_used += start.elapsed();
+    s.stepping().wall_used += start.elapsed();
     result
 }
 
@@ -187,10 +187,10 @@ fn solve_to_inner<S: Stepper>(
     start: Instant,
     mut watch: Option<StepWatch<'_>>,
 ) -> Result<Step, SolverError> {
-    let t_last = s.driver().t;
+    let t_last = s.stepping().t;
     check_tout(t_last, tout)?;
     s.clear_status();
-    if tout == t_last && s.driver().pending.is_none() {
+    if tout == t_last && s.stepping().pending.is_none() {
         return Ok(Step {
             t: tout,
             event: StepEvent::Reached,
@@ -198,36 +198,36 @@ fn solve_to_inner<S: Stepper>(
     }
     let mut steps: u64 = 0;
     loop {
-        if let Some((tp, _)) = &s.driver().pending {
+        if let Some((tp, _)) = &s.stepping().pending {
             if *tp <= tout {
-                let (tp, event) = s.driver().pending.take().expect("pending checked above");
+                let (tp, event) = s.stepping().pending.take().expect("pending checked above");
                 s.interpolate(tp)?;
-                s.driver().t = tp;
+                s.stepping().t = tp;
                 return Ok(Step { t: tp, event });
             }
         }
         let tn = s.current_time();
         if tn >= tout {
             s.interpolate(tout)?;
-            s.driver().t = tout;
+            s.stepping().t = tout;
             return Ok(Step {
                 t: tout,
                 event: StepEvent::Reached,
             });
         }
-        check_wall_clock(s.driver(), start, tn)?;
+        check_wall_clock(s.stepping(), start, tn)?;
         check_interrupt(tn)?;
-        if let Some(max_steps) = s.driver().max_steps {
+        if let Some(max_steps) = s.stepping().max_steps {
             if steps >= max_steps {
                 return Err(SolverError::TooMuchWork { t: tn, max_steps });
             }
         }
-        check_total_steps(s.driver(), tn)?;
+        check_total_steps(s.stepping(), tn)?;
         let (tret, raw) = s.one_step(tout)?;
         steps += 1;
-        s.driver().steps_used += 1;
+        s.stepping().steps_used += 1;
         let after = s.current_time();
-        check_progress(s.driver(), tn, after)?;
+        check_progress(s.stepping(), tn, after)?;
         let event = match raw {
             RawEvent::Success => {
                 // every accepted step is watched, the one that passes `tout` too (after the
@@ -236,13 +236,13 @@ fn solve_to_inner<S: Stepper>(
                 if let Some(w) = watch.as_deref_mut() {
                     if w(tret, s.state()) {
                         if tret < tout {
-                            s.driver().t = tret;
+                            s.stepping().t = tret;
                             return Ok(Step {
                                 t: tret,
                                 event: StepEvent::Reached,
                             });
                         }
-                        s.driver().pending = Some((tret, StepEvent::Reached));
+                        s.stepping().pending = Some((tret, StepEvent::Reached));
                     }
                 }
                 continue;
@@ -251,10 +251,10 @@ fn solve_to_inner<S: Stepper>(
             RawEvent::StopTime => StepEvent::StopTime,
         };
         if tret > tout {
-            s.driver().pending = Some((tret, event));
+            s.stepping().pending = Some((tret, event));
             continue;
         }
-        s.driver().t = tret;
+        s.stepping().t = tret;
         return Ok(Step { t: tret, event });
     }
 }
@@ -264,41 +264,41 @@ fn solve_to_inner<S: Stepper>(
 pub(crate) fn step<S: Stepper>(s: &mut S, tout: f64) -> Result<Step, SolverError> {
     let start = Instant::now();
     let result = step_inner(s, tout, start);
-    s.driver().wall_used += start.elapsed();
+    s.stepping().wall_used += start.elapsed();
     result
 }
 
 fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, SolverError> {
-    let t_last = s.driver().t;
+    let t_last = s.stepping().t;
     if !tout.is_finite() || tout <= t_last {
         return Err(SolverError::InvalidInput(format!(
             "step: tout = {tout} must be finite and after the current time {t_last}"
         )));
     }
     s.clear_status();
-    if let Some((tp, event)) = s.driver().pending.take() {
+    if let Some((tp, event)) = s.stepping().pending.take() {
         s.interpolate(tp)?;
-        s.driver().t = tp;
+        s.stepping().t = tp;
         return Ok(Step { t: tp, event });
     }
     let tn = s.current_time();
-    check_wall_clock(s.driver(), start, tn)?;
+    check_wall_clock(s.stepping(), start, tn)?;
     check_interrupt(tn)?;
-    check_total_steps(s.driver(), tn)?;
+    check_total_steps(s.stepping(), tn)?;
     let (tret, raw) = s.one_step(tout)?;
-    s.driver().steps_used += 1;
+    s.stepping().steps_used += 1;
     let after = s.current_time();
-    check_progress(s.driver(), tn, after)?;
+    check_progress(s.stepping(), tn, after)?;
     let event = match raw {
         RawEvent::Success => StepEvent::Reached,
         RawEvent::Root => StepEvent::Root(s.root_info()),
         RawEvent::StopTime => StepEvent::StopTime,
     };
-    s.driver().t = tret;
+    s.stepping().t = tret;
     Ok(Step { t: tret, event })
 }
 
-/// The budget methods every SUNDIALS wrapper exposes over its [`DriverState`] (`self.driver`),
+/// The budget methods every SUNDIALS wrapper exposes over its [`SteppingState`] (`self.stepping`),
 /// written once: the wall-clock and total-step budgets a solve continued on a new solver
 /// carries over from the earlier ones.
 macro_rules! budget_methods {
@@ -306,30 +306,30 @@ macro_rules! budget_methods {
         /// Wall-clock time spent in `solve_to`/`step` since the solver was built; the
         /// `max_wall_clock` budget is checked against it.
         pub fn wall_clock_used(&self) -> std::time::Duration {
-            self.driver.wall_used
+            self.stepping.wall_used
         }
 
         /// Count `spent` against the wall-clock budget as if it had been spent in this solver
         /// (for a solve that continues on a new solver after an earlier one).
         pub fn charge_wall_clock(&mut self, spent: std::time::Duration) {
-            self.driver.wall_used += spent;
+            self.stepping.wall_used += spent;
         }
 
         /// Internal steps taken by `solve_to`/`step` since the solver was built; the
         /// `max_total_steps` budget is checked against it.
         pub fn steps_used(&self) -> u64 {
-            self.driver.steps_used
+            self.stepping.steps_used
         }
 
         /// Count `steps` against the total step budget as if they had been taken by this
         /// solver (for a solve that continues on a new solver after an earlier one).
         pub fn charge_steps(&mut self, steps: u64) {
-            self.driver.steps_used += steps;
+            self.stepping.steps_used += steps;
         }
 
         /// Take one internal step toward `tout`.
         pub fn step(&mut self, tout: f64) -> Result<Step, SolverError> {
-            driver::step(self, tout)
+            stepping::step(self, tout)
         }
     };
 }

@@ -1,0 +1,199 @@
+//! `bondmech run`: the rows streamed to their sink as they are computed, the summary, the
+//! table and plots.
+
+use std::io::Write;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+use bondmech::Error;
+
+use super::args::SolveArgs;
+use super::failure::CliError;
+use super::output::{check_outputs, io_error, print_warnings, stdout_write, write};
+use super::scene_input::load;
+
+/// Where `run` streams its rows: a file written atomically, or standard output.
+pub(crate) enum RowSink {
+    File(
+        bondmech::output::CsvRows<bondmech::output::AtomicFile>,
+        PathBuf,
+    ),
+    Stdout(bondmech::output::CsvRows<std::io::Stdout>),
+}
+
+impl RowSink {
+    fn new(out: Option<&Path>, columns: &[String]) -> Result<RowSink, Error> {
+        use bondmech::output::{AtomicFile, CsvRows};
+        Ok(match out {
+            Some(p) => RowSink::File(
+                AtomicFile::create(p)
+                    .and_then(|f| CsvRows::new(f, columns))
+                    .map_err(io_error(p))?,
+                p.to_path_buf(),
+            ),
+            None => RowSink::Stdout(
+                CsvRows::new(std::io::stdout(), columns)
+                    .map_err(io_error(Path::new("standard output")))?,
+            ),
+        })
+    }
+
+    fn path(&self) -> &Path {
+        match self {
+            RowSink::File(_, p) => p,
+            RowSink::Stdout(_) => Path::new("standard output"),
+        }
+    }
+
+    fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
+        match self {
+            RowSink::File(w, _) => w.row(t, values),
+            RowSink::Stdout(w) => w.row(t, values),
+        }
+    }
+
+    /// Flushes the rows; a file is renamed into place only now.
+    fn finish(self) -> Result<(), Error> {
+        let path = self.path().to_path_buf();
+        match self {
+            RowSink::File(w, _) => w.finish().and_then(|f| f.commit()),
+            RowSink::Stdout(w) => w.finish().and_then(|mut o| o.flush()),
+        }
+        .map_err(io_error(&path))
+    }
+}
+
+/// Writes the summary JSON atomically.
+pub(crate) fn write_summary(path: &Path, summary: &bondmech::Summary) -> Result<(), Error> {
+    let j = serde_json::to_string_pretty(summary).expect("summary serialises");
+    write(path, &j)
+}
+
+/// `bondmech run`: the rows stream to `--out` (or standard output) as they are computed, so
+/// memory stays bounded whatever their number; they are kept in memory only for `--table`
+/// and `--plot`. A run stopped by a budget writes the rows it computed, then fails.
+pub(crate) fn run_command(
+    args: &SolveArgs,
+    out: Option<&Path>,
+    summary: Option<&Path>,
+    (table, no_csv): (bool, bool),
+    plot: Option<&Path>,
+) -> Result<(), CliError> {
+    check_outputs(&[&args.scene], &[("--out", out), ("--summary", summary)])?;
+    if let Some(dir) = plot {
+        let inputs: Vec<&Path> = std::iter::once(args.scene.as_path()).chain(out).collect();
+        bondmech::output::check_output_dir("--plot", dir, &inputs).map_err(Error::from)?;
+    }
+    let (model, mut opts) = load(args)?;
+    opts.keep_rows = table || plot.is_some();
+    let columns = model.row_columns(&opts)?;
+    let mut sink = match (out, no_csv) {
+        (None, true) => None,
+        (out, _) => Some(RowSink::new(out, &columns)?),
+    };
+    let mut failed: Option<std::io::Error> = None;
+    let mut last_t = f64::NEG_INFINITY;
+    let mut written = 0usize;
+    let result = model.solve_streaming(&opts, &mut |row| {
+        if let Some(s) = sink.as_mut() {
+            if let Err(e) = s.row(row.t, row.values) {
+                failed = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
+        last_t = row.t;
+        written += 1;
+        ControlFlow::Continue(())
+    });
+    if let Some(e) = failed {
+        let path = sink
+            .as_ref()
+            .map_or(PathBuf::new(), |s| s.path().to_path_buf());
+        return Err(io_error(&path)(e).into());
+    }
+    let sol = match result {
+        Ok(sol) => sol,
+        Err(e) => {
+            // a run stopped part-way keeps its rows: those streamed, plus the state at the time
+            // reached, then fails
+            let Some(partial) = e.partial_solution() else {
+                return Err(e.into());
+            };
+            print_warnings(&partial.summary.warnings);
+            if let Some(mut s) = sink.take() {
+                for (t, r) in partial.times.iter().zip(&partial.rows) {
+                    if *t > last_t {
+                        s.row(*t, r)
+                            .map_err(io_error(out.unwrap_or(Path::new("-"))))?;
+                        last_t = *t;
+                        written += 1;
+                    }
+                }
+                s.finish()?;
+            }
+            if let Some(p) = summary {
+                write_summary(p, &partial.summary)?;
+            }
+            let written_to = out.map(|p| format!("written to {}", p.display()));
+            if opts.keep_rows {
+                return Err(CliError {
+                    error: e,
+                    note: written_to,
+                });
+            }
+            // the rows went to their sink as they came and the partial solution holds the
+            // last ones only: the count is the sink's
+            let s = &partial.summary;
+            let hint = bondmech::solve::error::budget_hint(s.stopped_by.as_deref());
+            let mut note = format!(
+                "stopped at t = {}{hint}; the {written} rows up to t = {last_t} are kept",
+                s.t_reached
+            );
+            if let Some(w) = written_to {
+                note = format!("{note}; {w}");
+            }
+            let Error::Incomplete { cause, .. } = e else {
+                unreachable!("a partial solution comes with Error::Incomplete")
+            };
+            return Err(CliError {
+                error: *cause,
+                note: Some(note),
+            });
+        }
+    };
+    // the rows are in place before anything else can fail
+    if let Some(s) = sink.take() {
+        s.finish()?;
+    }
+    // the model's own warnings, redundant joints, singular passages, re-selections
+    print_warnings(&sol.summary.warnings);
+    if let Some(p) = summary {
+        write_summary(p, &sol.summary)?;
+    }
+    if let Some(dir) = plot {
+        let source = out.unwrap_or(&args.scene).display().to_string();
+        let popts = bondmech::report::timeplot::PlotOptions {
+            title: model.scene().name.clone(),
+            columns: None,
+        };
+        bondmech::report::timeplot::plot_solution_with(&sol, &source, dir, &popts)?;
+    }
+    if table {
+        let mut text = bondmech::report::tables::short_table(&sol, 11);
+        let s = &sol.summary;
+        let drift = match s.energy_drift {
+            Some(d) => format!("energy drift {d:.2e}"),
+            None => format!("energy not conserved ({})", s.energy_note),
+        };
+        text.push_str(&format!(
+            "{}: {} steps, {} residual evals, {} Jacobians, CPU {:.3e} s, max constraint error {:.2e}, {drift}\n",
+            s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
+            s.max_constraint_error
+        ));
+        for e in &s.events {
+            text.push_str(&format!("event {} at t = {}\n", e.name, e.t));
+        }
+        stdout_write(&text)?;
+    }
+    Ok(())
+}
