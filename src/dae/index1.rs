@@ -47,41 +47,51 @@ pub struct Index1Formulation {
     /// ([`EnergyInvariant`]); `None` otherwise.
     pub energy: Option<EnergyInvariant>,
     /// IDA's error-test mask ([`error_test_mask`]): 1 for the independent coordinates and
-    /// every velocity, dependent or not; 0 for the dependent coordinates, the dummy
-    /// accelerations, the multipliers and the energy invariant's unknowns.
+    /// velocities; 0 for the dependent ones, the dummy accelerations, the multipliers and the
+    /// energy invariant's unknowns.
     pub id: Vec<f64>,
 }
 
 /// IDA's error-test mask of the index-1 DAE `y = [q, v, a_D, λ, …]` (`(nq, nv, n)`: coordinates,
-/// velocities, unknowns; `coordinates` the dependent coordinates): the independent coordinates
-/// and **every velocity, the dependent ones too**, are measured; the dependent coordinates, the
-/// dummy accelerations, the multipliers and the energy invariant's unknowns are not (IDA's
+/// velocities, unknowns; `coordinates` the dependent coordinates, `dependent` the dependent
+/// velocities): the independent coordinates and velocities are measured; the dependent ones,
+/// the dummy accelerations, the multipliers and the energy invariant's unknowns are not (IDA's
 /// `id` with `IDASetSuppressAlg`; bondmech never calls `IDACalcIC`, so the mask is all `id`
 /// means here).
 ///
-/// The dependent velocities are algebraic (`G_v v = 0` determines them), but the dependent
-/// block passes the independent velocities' local error on to them amplified by up to its
-/// condition: `v_D = −G_v[R, D]⁻¹ G_v[R, I] v_I`. Left out of the test (before), a five-bar kept
-/// its couplers' block up to `μ ≈ 10–100` before a re-selection and its largest coordinate error
-/// was 12× the GGL's at rtol 1e-7, 8.6× at 1e-8, 4.1× at 1e-9 (the GGL measures every
-/// coordinate and velocity); with them (one run): 1.7×, 0.52×, 0.61×. The offset slider-crank
-/// spinning at 14 rad/s: 3.4 / 1.4 / 2.5× → 0.40 / 1.65 / 0.31×. The dependent coordinates are
-/// left out: they are found by Newton on `g(q) = 0` from the independent ones, so their error is
-/// the independent coordinates' through the same block, and the RMS norm (divided by the
-/// number of measured unknowns) only grows more lenient with them: measured with them too, the
-/// double pendulum went from 1.4× the GGL's error at rtol 1e-9 to 3.4× and the A01 pendulum at
-/// rtol 1e-7 took 91 000 steps instead of 25 000 (docs/performance.md, "The default's error
-/// test").
+/// Measuring the dependent velocities too was tried (issue 46) and is not the default: their
+/// error is the independent ones' amplified by the dependent block, and with them in the test a
+/// five-bar whose couplers' block degrades to μ ≈ 10–100 before a re-selection went from 12×,
+/// 8.6×, 4.1× the GGL's error at rtol 1e-7 / 1e-8 / 1e-9 to 1.7×, 0.52×, 0.61×. But IDA's local
+/// error estimate of an algebraic unknown is its predictor's miss, and `v_D = −G_v[R, D]⁻¹ G_v[R, I]
+/// v_I` varies on the time scale of the block's smallest singular value: a bead in a slot beside
+/// its pivot (rtol 1e-9) took 10 162 error-test failures in 15 345 steps and ended 1.6e-6 off
+/// (3.5e-8 before), a spherical pendulum stayed at order 1 with h ≈ 9e-6 for 700 steps and lost
+/// 1.6e-4 J. What the five-bar needs is the independent velocities weighted by the block's
+/// amplification, not the dependent ones' predictor (docs/performance.md, "The default's error
+/// test"). The exception, `measured`: the velocities of a freely rotating spatial body stay in
+/// the test when dependent ([`super::partition::always_measured_velocities`]).
 ///
 /// ```
 /// use bondmech::dae::index1::error_test_mask;
-/// // a pendulum bob: q = (x, y), v = (vx, vy), y dependent; then a_D and λ
-/// assert_eq!(error_test_mask((2, 2, 6), &[1]), vec![1.0, 0.0, 1.0, 1.0, 0.0, 0.0]);
+/// // a pendulum bob: q = (x, y), v = (vx, vy), y and vy dependent; then a_D and λ
+/// let none = [false, false];
+/// assert_eq!(error_test_mask((2, 2, 6), &[1], &[1], &none), vec![1.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
 /// ```
-pub fn error_test_mask((nq, nv, n): (usize, usize, usize), coordinates: &[usize]) -> Vec<f64> {
+pub fn error_test_mask(
+    (nq, nv, n): (usize, usize, usize),
+    coordinates: &[usize],
+    dependent: &[usize],
+    measured: &[bool],
+) -> Vec<f64> {
     let mut id = vec![1.0; nq + nv];
     for &i in coordinates {
         id[i] = 0.0;
+    }
+    for &j in dependent {
+        if !measured.get(j).copied().unwrap_or(false) {
+            id[nq + j] = 0.0;
+        }
     }
     id.resize(n, 0.0);
     id
@@ -1097,6 +1107,7 @@ impl Index1Formulation {
         let qpos = |i: usize| coordinates.iter().position(|&d| d == i);
         let energy = sys.energy;
         let v_slots: Vec<u32> = (0..nv).map(|j| sys.v_slot(j)).collect();
+        let measured = super::partition::always_measured_velocities(sys);
         let g = &mut sys.graph;
         // ∂E/∂q and ∂E/∂v in one reverse sweep (linear in the energy's size)
         let (de_dq, de_dv) = if e0.is_some() {
@@ -1248,7 +1259,7 @@ impl Index1Formulation {
             let e = g.constant(e0);
             res.push(g.sub(energy, e));
         }
-        let id = error_test_mask((nq, nv, n), coordinates);
+        let id = error_test_mask((nq, nv, n), coordinates, dependent, &measured);
         let dae = if selectable {
             ImplicitDae::build_selected(g, &res, n, Some(coordinate_rows(nq, n, coordinates)))
         } else {

@@ -23,7 +23,6 @@ pub mod four_bar_chain;
 pub mod heavy_top;
 pub mod integrate;
 pub mod n_link;
-pub mod pinned_planar;
 pub mod rigid_body;
 pub mod slider_crank;
 

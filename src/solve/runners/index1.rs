@@ -965,7 +965,7 @@ impl<'a> Index1<'a> {
             summary.routine_warning(
                 RESELECTION_WARNING,
                 format!(
-                    "{RESELECTION_WARNING} at t = {t:.6}: independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})"
+                    "{RESELECTION_WARNING} at t = {t:.6} — independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})"
                 ),
             );
             return Ok(Some(Next::Restart(t)));
@@ -1007,7 +1007,7 @@ impl<'a> Index1<'a> {
                     summary.routine_warning(
                         RESELECTION_WARNING,
                         format!(
-                            "{RESELECTION_WARNING} at t = {t:.6}: dependent velocities (condition {cond:.1e})"
+                            "{RESELECTION_WARNING} at t = {t:.6} — dependent velocities (condition {cond:.1e})"
                         ),
                     );
                     return Ok(Some(Next::Restart(t)));
@@ -1024,7 +1024,7 @@ impl<'a> Index1<'a> {
                 summary.routine_warning(
                     RESELECTION_WARNING,
                     format!(
-                        "{RESELECTION_WARNING} at t = {t:.6}: dependent coordinates (condition {cond_q:.1e})"
+                        "{RESELECTION_WARNING} at t = {t:.6} — dependent coordinates (condition {cond_q:.1e})"
                     ),
                 );
                 return Ok(Some(Next::Restart(t)));
@@ -1152,7 +1152,7 @@ impl<'a> Index1<'a> {
             summary.routine_warning(
                 RESELECTION_WARNING,
                 format!(
-                    "{RESELECTION_WARNING} at t = {t:.6} between outputs: dependent {what} ({why}; condition {c:.1e})"
+                    "{RESELECTION_WARNING} at t = {t:.6} between outputs — dependent {what} ({why}; condition {c:.1e})"
                 ),
             );
             Ok(Next::Restart(t))
