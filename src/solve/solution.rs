@@ -125,7 +125,7 @@ pub const ROUTINE_WARNINGS_LISTED: u64 = 3;
 
 impl Summary {
     /// A warning of a routine event of kind `kind` (e.g. `"index1: partition re-selected"`):
-    /// listed for the first [`ROUTINE_WARNINGS_LISTED`] events of that kind; after that one line
+    /// listed for the first `ROUTINE_WARNINGS_LISTED` (3) events of that kind; after that one line
     /// `"<kind>: N more times (not listed; …)"` counts the others.
     pub fn routine_warning(&mut self, kind: &str, message: String) {
         let folded = format!("{kind}: ");
