@@ -43,7 +43,7 @@ pub enum FormulationKind {
     /// forces as zero; singular passages are handed to the GGL.
     #[default]
     #[value(
-        help = "the chapter's DAE on IDA in the causality's partition (index 1; GGL at singular passages and for redundant joints); the default"
+        help = "the chapter's DAE on IDA in the causality's partition (index 1; the compliant GGL at singular passages; redundant joints solved from their independent rows); the default"
     )]
     Dae,
     /// Stabilized index-2 DAE (Gear–Gupta–Leimkuhler) on IDA; switches to the compliant form by
