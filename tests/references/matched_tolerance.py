@@ -27,7 +27,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(HERE, "trial"))
-from ref import Planar, PlanarConstrained, bar, PinModel
+from ref import FiveBar, Planar, PlanarConstrained, bar, PinModel
 import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.special import ellipj, ellipk
@@ -47,22 +47,10 @@ def planar_cols(names):
 
 # ---- five-bar: ground 0.4, cranks 0.3, couplers 0.7, uniform bars (1 kg/m), from rest, 1 s
 def five_bar():
-    d, L1, L2, L3, L4 = 0.4, 0.3, 0.7, 0.7, 0.3
-    m = [L1, L2, L3, L4]
-    t = sp.symbols("t1:5")
-    u = lambda a: sp.Matrix([sp.cos(a), sp.sin(a)])
-    B = L1 * u(t[0]); Dp = sp.Matrix([d, 0]) + L4 * u(t[3])
-    C2 = B + L2 * u(t[1]); C3 = Dp + L3 * u(t[2])
-    bodies = [("c1", m[0], m[0] * L1**2 / 12, *(L1 / 2 * u(t[0])), t[0]),
-              ("k2", m[1], m[1] * L2**2 / 12, *(B + L2 / 2 * u(t[1])), t[1]),
-              ("k3", m[2], m[2] * L3**2 / 12, *(Dp + L3 / 2 * u(t[2])), t[2]),
-              ("c4", m[3], m[3] * L4**2 / 12, *(sp.Matrix([d, 0]) + L4 / 2 * u(t[3])), t[3])]
-    model = PlanarConstrained(list(t), bodies, list(C2 - C3))
-    q1, q4 = math.radians(120), math.radians(60)
-    b = np.array([L1 * math.cos(q1), L1 * math.sin(q1)]); dd = np.array([d + L4 * math.cos(q4), L4 * math.sin(q4)])
-    s = np.linalg.norm(dd - b); uu = (dd - b) / s; a = (L2**2 - L3**2 + s**2) / (2 * s); h = math.sqrt(L2**2 - a**2)
-    c = b + a * uu + h * np.array([-uu[1], uu[0]])
-    q0 = [q1, math.atan2(*(c - b)[::-1]), math.atan2(*(c - dd)[::-1]), q4]
+    lengths = [0.3, 0.7, 0.7, 0.3]
+    five = FiveBar(0.4, lengths, lengths)
+    model = five.model
+    q0 = five.start(math.radians(120), math.radians(60))
     T = 1.0
     times = np.linspace(0, T, 101)
     def mk():
@@ -71,17 +59,7 @@ def five_bar():
         return np.column_stack([r[n][:, k] for n in ["c1", "k2", "k3", "c4"] for k in (0, 1)])
     R = cached("five_bar", mk)
     Y0 = model.bodies_at(times[:1], np.array([q0 + [0] * 4]))
-    bs = []
-    for (name, mm, I, *_), L in zip(bodies, [L1, L2, L3, L4]):
-        x, y, ang = Y0[name][0]
-        bs.append({"name": name, "mass": mm, "inertia": I, "points": bar(L), "position": [float(x), float(y)], "angle": float(ang)})
-    js = [{"name": "A", "type": "revolute", "bodies": ["ground", "c1"], "points": [[0, 0], "O"]},
-          {"name": "B", "type": "revolute", "bodies": ["c1", "k2"], "points": ["A", "O"]},
-          {"name": "C", "type": "revolute", "bodies": ["k2", "k3"], "points": ["A", "A"]},
-          {"name": "D", "type": "revolute", "bodies": ["k3", "c4"], "points": ["O", "A"]},
-          {"name": "E", "type": "revolute", "bodies": ["ground", "c4"], "points": [[d, 0], "O"]}]
-    sc = {"name": "five_bar", "dimension": 2, "gravity": [0, -9.81], "bodies": bs, "joints": js,
-          "solve": {"t_end": T, "output_step": 0.01}}
+    sc = five.scene("five_bar", {n: Y0[n][0] for n in Y0}, {"t_end": T, "output_step": 0.01})
     return sc, planar_cols(["c1", "k2", "k3", "c4"]), R
 
 # ---- fast offset slider-crank (case 2 with omega0 = 14), 1 s

@@ -241,3 +241,50 @@ class PinModel:
                       t_eval=times, rtol=rtol, atol=atol)
         assert s.success, s.message
         return s.y.T[:, :n]
+
+
+class FiveBar:
+    """A five-bar: cranks c1 (length L1, from the origin) and c4 (L4, from (d, 0)), couplers k2
+    (L2, from c1's tip) and k3 (L3, from c4's tip) pinned together; uniform bars of masses m,
+    inertias m L^2 / 12. The model is the four link angles with the loop closure kept by
+    multipliers (`PlanarConstrained`), regular where the couplers line up."""
+
+    def __init__(self, d, lengths, masses):
+        self.d, self.L, self.m = d, list(lengths), list(masses)
+        L1, L2, L3, L4 = self.L
+        t = sp.symbols("t1:5")
+        u = lambda a: sp.Matrix([sp.cos(a), sp.sin(a)])
+        B = L1 * u(t[0]); Dp = sp.Matrix([d, 0]) + L4 * u(t[3])
+        C2 = B + L2 * u(t[1]); C3 = Dp + L3 * u(t[2])
+        m = self.m
+        self.bodies = [("c1", m[0], m[0] * L1**2 / 12, *(L1 / 2 * u(t[0])), t[0]),
+                       ("k2", m[1], m[1] * L2**2 / 12, *(B + L2 / 2 * u(t[1])), t[1]),
+                       ("k3", m[2], m[2] * L3**2 / 12, *(Dp + L3 / 2 * u(t[2])), t[2]),
+                       ("c4", m[3], m[3] * L4**2 / 12, *(sp.Matrix([d, 0]) + L4 / 2 * u(t[3])), t[3])]
+        self.model = PlanarConstrained(list(t), self.bodies, list(C2 - C3))
+
+    def start(self, q1, q4, up=True):
+        """The four angles with the cranks at q1, q4 (the couplers' joint above their line when
+        `up`): the two circles' intersection in closed form."""
+        L1, L2, L3, L4 = self.L
+        b = np.array([L1 * math.cos(q1), L1 * math.sin(q1)])
+        dd = np.array([self.d + L4 * math.cos(q4), L4 * math.sin(q4)])
+        s = np.linalg.norm(dd - b); uu = (dd - b) / s
+        a = (L2**2 - L3**2 + s**2) / (2 * s); h = math.sqrt(L2**2 - a**2)
+        c = b + a * uu + (1 if up else -1) * h * np.array([-uu[1], uu[0]])
+        return [q1, math.atan2(*(c - b)[::-1]), math.atan2(*(c - dd)[::-1]), q4]
+
+    def scene(self, name, first, solve):
+        """The scene with the bodies at `first` ({name: (x, y, angle)}, a reference row)."""
+        bs = []
+        for (bn, mm, I, *_), L in zip(self.bodies, self.L):
+            x, y, a = first[bn]
+            bs.append({"name": bn, "mass": mm, "inertia": I, "points": bar(L),
+                       "position": [float(x), float(y)], "angle": float(a)})
+        js = [{"name": "A", "type": "revolute", "bodies": ["ground", "c1"], "points": [[0, 0], "O"]},
+              {"name": "B", "type": "revolute", "bodies": ["c1", "k2"], "points": ["A", "O"]},
+              {"name": "C", "type": "revolute", "bodies": ["k2", "k3"], "points": ["A", "A"]},
+              {"name": "D", "type": "revolute", "bodies": ["k3", "c4"], "points": ["O", "A"]},
+              {"name": "E", "type": "revolute", "bodies": ["ground", "c4"], "points": [[self.d, 0], "O"]}]
+        return {"name": name, "dimension": 2, "gravity": [0, -9.81], "bodies": bs, "joints": js,
+                "solve": solve}
