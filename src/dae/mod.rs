@@ -12,6 +12,7 @@
 //! * [`gram`]: sparse `G W Gᵀ` with its Cholesky factor (the consistent start of large mechanisms).
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
+pub mod amplification;
 pub mod block_lu;
 pub mod compiled;
 pub mod decoupled;
