@@ -63,6 +63,8 @@ impl PlanarBody {
             cardan: [0.0; 3],
             velocity: vec![0.0, 0.0],
             angular_velocity: vec![0.0],
+            velocity_given: false,
+            angular_velocity_given: false,
         })
     }
 
@@ -103,12 +105,14 @@ impl PlanarBody {
     /// Initial velocity of the centre of mass (global frame).
     pub fn velocity(mut self, velocity: [f64; 2]) -> Self {
         self.0.velocity = velocity.to_vec();
+        self.0.velocity_given = true;
         self
     }
 
     /// Initial angular velocity ω (rad/s).
     pub fn angular_velocity(mut self, omega: f64) -> Self {
         self.0.angular_velocity = vec![omega];
+        self.0.angular_velocity_given = true;
         self
     }
 
@@ -146,6 +150,8 @@ impl SpatialBody {
             cardan: [0.0; 3],
             velocity: vec![0.0; 3],
             angular_velocity: vec![0.0; 3],
+            velocity_given: false,
+            angular_velocity_given: false,
         })
     }
 
@@ -166,12 +172,14 @@ impl SpatialBody {
     /// Initial velocity of the centre of mass (global frame).
     pub fn velocity(mut self, velocity: [f64; 3]) -> Self {
         self.0.velocity = velocity.to_vec();
+        self.0.velocity_given = true;
         self
     }
 
     /// Initial angular velocity `[ωx, ωy, ωz]` in the body frame.
     pub fn angular_velocity(mut self, omega: [f64; 3]) -> Self {
         self.0.angular_velocity = omega.to_vec();
+        self.0.angular_velocity_given = true;
         self
     }
 

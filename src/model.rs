@@ -78,6 +78,7 @@ fn empty_system() -> MultibodySystem {
         graph,
         coords: Vec::new(),
         velocities: Vec::new(),
+        given_velocities: Vec::new(),
         mass: Vec::new(),
         kinematics: Vec::new(),
         forces: Vec::new(),

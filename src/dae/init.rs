@@ -192,15 +192,58 @@ pub fn consistent_state(
     tapes: &MechanicsTapes,
     t0: f64,
 ) -> Result<ConsistentState, InitError> {
-    consistent_state_from(sys, tapes, t0, &sys.initial_state())
+    project(sys, tapes, t0, &sys.initial_state(), &sys.given_velocities)
 }
 
-/// As [`consistent_state`], from the state `x0 = [q, v]` instead of the user's initial values.
+/// As [`consistent_state`], from the state `x0 = [q, v]` instead of the user's initial values
+/// (every velocity may change: the least change of all of them).
 pub fn consistent_state_from(
     sys: &MultibodySystem,
     tapes: &MechanicsTapes,
     t0: f64,
     x0: &[f64],
+) -> Result<ConsistentState, InitError> {
+    project(sys, tapes, t0, x0, &[])
+}
+
+/// The velocities' least change `Δv = G_v⁺ (G_v v + b)` that closes the joints, or, where some
+/// velocities are `given` (the scene's), the least change of the others alone,
+/// `Δv_N = G_v[:, N]⁺ (G_v v + b)`, where they can close the joints by themselves (the residual
+/// `G_v[:, N] Δv_N − (G_v v + b)` at rounding); the given ones then stay as written. Returns the
+/// change and the rank of `G_v`.
+fn velocity_change(
+    gv: &DMatrix<f64>,
+    gv_v: &DVector<f64>,
+    given: &[bool],
+) -> (DVector<f64>, usize) {
+    let (dv, rank) = pinv_apply(gv, gv_v);
+    let free: Vec<usize> = (0..gv.ncols())
+        .filter(|&j| !given.get(j).copied().unwrap_or(false))
+        .collect();
+    if free.len() == gv.ncols() || free.is_empty() || gv_v.norm() == 0.0 {
+        return (dv, rank);
+    }
+    let gn = DMatrix::from_fn(gv.nrows(), free.len(), |i, k| gv[(i, free[k])]);
+    let (dn, _) = pinv_apply(&gn, gv_v);
+    let residual = (&gn * &dn - gv_v).norm();
+    // closed to rounding: the scale of the rows' terms (G_v v's entries before they cancel)
+    let scale = gv.norm() * (gv_v.norm() + dv.norm()) + gv_v.norm();
+    if residual > 1e3 * f64::EPSILON * scale {
+        return (dv, rank);
+    }
+    let mut out = DVector::zeros(gv.ncols());
+    for (k, &j) in free.iter().enumerate() {
+        out[j] = dn[k];
+    }
+    (out, rank)
+}
+
+fn project(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+    x0: &[f64],
+    given: &[bool],
 ) -> Result<ConsistentState, InitError> {
     let (nq, nv, nc) = tapes.dims;
     let x0 = x0.to_vec();
@@ -257,7 +300,7 @@ pub fn consistent_state_from(
         "the velocity constraint Jacobian",
     )?;
     let v0 = DVector::from_column_slice(&x[nq..]);
-    if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv_entries)? {
+    if let Some(sparse) = sparse_start(sys, tapes, t0, &mut x, &gv_entries, given)? {
         let position_correction = (0..nq).map(|i| (x[i] - x0[i]).powi(2)).sum::<f64>().sqrt();
         return Ok(ConsistentState {
             position_correction,
@@ -270,7 +313,7 @@ pub fn consistent_state_from(
     if tapes.bias.is_some() {
         gv_v += DVector::from_vec(tapes.bias_at(t0, &x));
     }
-    let (dv, rank) = pinv_apply(&gv, &gv_v);
+    let (dv, rank) = velocity_change(&gv, &gv_v, given);
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }
@@ -490,6 +533,7 @@ fn sparse_start(
     t0: f64,
     x: &mut [f64],
     gv: &[(usize, usize, f64)],
+    given: &[bool],
 ) -> Result<Option<ConsistentState>, InitError> {
     let (nq, nv, nc) = tapes.dims;
     if nv + nc < SPARSE_START_UNKNOWNS || nc == 0 || sys.mass.iter().any(|&m| m <= 0.0) {
@@ -520,7 +564,26 @@ fn sparse_start(
         }
         y
     };
-    // velocities
+    // velocities: the least change of those the scene does not give, where they close the
+    // joints by themselves (`G_v diag(free) G_vᵀ` SPD and as well conditioned), else of all
+    let free: Vec<f64> = (0..nv)
+        .map(|j| {
+            if given.get(j).copied().unwrap_or(false) {
+                0.0
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let keep_given = free.contains(&0.0) && free.contains(&1.0);
+    let b_free = keep_given
+        .then(|| SparseGram::from_entries(nc, nv, gv, &free))
+        .flatten()
+        .filter(|bf| bf.condition_estimate(20) <= SPARSE_START_CONDITION);
+    let (b, free) = match &b_free {
+        Some(bf) => (bf, free),
+        None => (&b, vec![1.0; nv]),
+    };
     let mut r = g_times(&x[nq..]);
     if tapes.bias.is_some() {
         for (ri, bi) in r.iter_mut().zip(tapes.bias_at(t0, x)) {
@@ -528,7 +591,7 @@ fn sparse_start(
         }
     }
     b.solve_in_place(&mut r);
-    let dv = gt_times(&r);
+    let dv: Vec<f64> = gt_times(&r).iter().zip(&free).map(|(d, f)| d * f).collect();
     for j in 0..nv {
         x[nq + j] -= dv[j];
     }

@@ -735,6 +735,7 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
     };
     let kin: Vec<BodyKinematics> = sys.bodies.iter().map(|(_, k)| k.clone()).collect();
     let (nq, nv) = (sys.nq(), sys.nv());
+    sys.given_velocities = given_velocities(scene, &sys.bodies, (nq, nv));
     let reaction_columns = sys.reaction_columns();
     let mut columns = Columns {
         g: &mut sys.graph,
@@ -749,6 +750,47 @@ pub fn build(scene: &Scene) -> Result<MultibodySystem, MechError> {
     sys.energy = energy;
     sys.kinetic = kinetic;
     Ok(sys)
+}
+
+/// Which of the `nv` velocities the scene gives: a body's translation where its `velocity` is
+/// written, its rotation where its `angular_velocity` is (slots after the `nq` coordinates).
+fn given_velocities(
+    scene: &Scene,
+    bodies: &[(String, BodyKinematics)],
+    (nq, nv): (usize, usize),
+) -> Vec<bool> {
+    let mut given = vec![false; nv];
+    let mut mark = |slots: &[u32]| {
+        for &s in slots {
+            if let Some(g) = (s as usize)
+                .checked_sub(1 + nq)
+                .and_then(|j| given.get_mut(j))
+            {
+                *g = true;
+            }
+        }
+    };
+    for b in &scene.bodies {
+        let Some((_, kin)) = bodies.iter().find(|(name, _)| *name == b.name) else {
+            continue;
+        };
+        let (translation, rotation): (Vec<u32>, Vec<u32>) = match kin {
+            BodyKinematics::Ground => (vec![], vec![]),
+            BodyKinematics::PlanarInertial { vx, vy, omega, .. } => {
+                (vec![*vx, *vy], omega.iter().copied().collect())
+            }
+            BodyKinematics::PlanarBodyFixed { u, w, omega, .. } => (vec![*u, *w], vec![*omega]),
+            BodyKinematics::Particle { v, .. } => (v.to_vec(), vec![]),
+            BodyKinematics::Spatial { v, w, .. } => (v.to_vec(), w.to_vec()),
+        };
+        if b.velocity_given {
+            mark(&translation);
+        }
+        if b.angular_velocity_given {
+            mark(&rotation);
+        }
+    }
+    given
 }
 
 /// The pinned bond graph of a mechanism scene, complete and self-contained: everything
@@ -849,6 +891,7 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
     Ok(MultibodySystem {
         coords: state(&eqs.coords),
         velocities: state(&eqs.velocities),
+        given_velocities: Vec::new(),
         mass: eqs.mass.clone(),
         kinematics: eqs.kinematics.clone(),
         forces: eqs.forces.clone(),

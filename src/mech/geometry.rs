@@ -75,6 +75,7 @@ impl Geometry<'_> {
             graph: self.g,
             coords: self.coords,
             velocities: self.vels,
+            given_velocities: Vec::new(),
             mass: self.mass,
             kinematics,
             forces: vec![zero; nv],

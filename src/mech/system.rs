@@ -153,6 +153,10 @@ pub struct MultibodySystem {
     pub coords: Vec<Coordinate>,
     /// Velocity unknowns `v` (names), initial values.
     pub velocities: Vec<Coordinate>,
+    /// Which velocities the scene gives (a body's `velocity` or `angular_velocity`), one per
+    /// velocity (empty: none): the initial projection changes the others, where they can
+    /// close the joints ([`crate::dae::consistent_state`]).
+    pub given_velocities: Vec<bool>,
     /// Diagonal of the mass matrix `M` (one entry per velocity; 0 for a massless rotation).
     pub mass: Vec<f64>,
     /// `K(q) v`, one expression per coordinate.

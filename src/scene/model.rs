@@ -102,6 +102,11 @@ pub struct Body {
     pub velocity: Vec<f64>,
     /// Initial angular velocity: `[omega]` in the plane, `[wx, wy, wz]` (body frame) in space.
     pub angular_velocity: Vec<f64>,
+    /// Whether the scene writes `velocity` (absent: zeros, which the initial projection may
+    /// change first to close the joints).
+    pub velocity_given: bool,
+    /// Whether the scene writes `angular_velocity` (as `velocity_given`).
+    pub angular_velocity_given: bool,
 }
 
 impl Body {

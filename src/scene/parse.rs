@@ -491,6 +491,8 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
             None => None,
         },
     };
+    let velocity_given = f.get("velocity").is_some();
+    let angular_velocity_given = f.get("angular_velocity").is_some();
     let velocity = f
         .vector(p, "velocity")
         .unwrap_or_else(|| vec![0.0; dim.coords()]);
@@ -512,6 +514,8 @@ fn body(p: &mut Problems, path: &str, j: &Json, dim: Dimension) -> Option<Body> 
         cardan: cardan?,
         velocity,
         angular_velocity,
+        velocity_given,
+        angular_velocity_given,
     })
 }
 

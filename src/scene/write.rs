@@ -65,12 +65,18 @@ fn body(b: &Body, dim: Dimension) -> Json {
         Dimension::Planar => e.push(("angle", num(b.angle))),
         Dimension::Spatial => e.push(("cardan", nums(&b.cardan))),
     }
-    e.push(("velocity", nums(&b.velocity)));
-    let w = match (dim, b.angular_velocity.as_slice()) {
-        (Dimension::Planar, [w]) => num(*w),
-        (_, w) => nums(w),
-    };
-    e.push(("angular_velocity", w));
+    // what the scene left out stays out (the initial projection treats a given velocity as
+    // the user's and changes the others first)
+    if b.velocity_given {
+        e.push(("velocity", nums(&b.velocity)));
+    }
+    if b.angular_velocity_given {
+        let w = match (dim, b.angular_velocity.as_slice()) {
+            (Dimension::Planar, [w]) => num(*w),
+            (_, w) => nums(w),
+        };
+        e.push(("angular_velocity", w));
+    }
     obj(e)
 }
 

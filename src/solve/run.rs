@@ -68,8 +68,9 @@ fn solve_from_first_output(
     // initial velocities that violate the joints are projected onto them: say by how much
     if init.velocity_correction > crate::mech::geometry::INITIAL_VIOLATION_WARNING {
         summary.warnings.push(format!(
-            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction)",
-            init.velocity_correction
+            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction){}",
+            init.velocity_correction,
+            velocity_change_note(&sys, &init.v)
         ));
     }
     // the chapter's index-1 DAE and the partitioned ODE leave redundant rows out of their
@@ -142,4 +143,28 @@ fn solve_from_first_output(
     let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds += build))?;
     sol.summary.build_cpu_seconds += build;
     Ok(sol)
+}
+
+/// What the initial projection did to the velocities `v` (projected from the scene's): the
+/// largest change by name, and whether the velocities the scene gives were kept.
+fn velocity_change_note(sys: &crate::mech::MultibodySystem, v: &[f64]) -> String {
+    let changed = |j: usize| (v[j] - sys.velocities[j].initial).abs();
+    let Some(j) =
+        (0..v.len().min(sys.velocities.len())).max_by(|&a, &b| changed(a).total_cmp(&changed(b)))
+    else {
+        return String::new();
+    };
+    let given = |j: usize| sys.given_velocities.get(j).copied().unwrap_or(false);
+    let given_changed = (0..v.len()).any(|k| given(k) && changed(k) > 0.0);
+    let kept = if given_changed {
+        "; the velocities the scene gives could not close the joints alone and changed too"
+    } else if (0..v.len()).any(given) {
+        "; the velocities the scene gives are kept, the others changed"
+    } else {
+        ""
+    };
+    format!(
+        "; the largest change: '{}' {:.6e} → {:.6e}{kept}",
+        sys.velocities[j].name, sys.velocities[j].initial, v[j]
+    )
 }
