@@ -17,9 +17,9 @@ mod minimal;
 
 use std::sync::Arc;
 
-use bondmech::dae::{
-    consistent_state, select_dependent, ConstraintExprs, GglFormulation, MechanicsTapes,
-};
+use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use bondmech::partition::select_dependent;
+use bondmech::solve::formulation::GglFormulation;
 use bondmech::report::sweep::median;
 use bondmech::sundials::{DenseMatrixMut, Ida, IdaOptions, Multistep};
 use bondmech::{FormulationKind, Model, Scene};

@@ -83,6 +83,7 @@ pub mod model;
 mod model_inspect;
 mod model_linearize;
 pub mod output;
+pub mod partition;
 pub mod report;
 pub mod scene;
 pub mod service;

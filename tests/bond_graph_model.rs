@@ -6,7 +6,7 @@
 
 mod oracle;
 
-use bondmech::dae::DecoupledFormulation;
+use bondmech::solve::formulation::DecoupledFormulation;
 use bondmech::expr::ExprGraph;
 use bondmech::mech::{self, EquationSource, MultibodySystem};
 use bondmech::scene::Scene;

@@ -1,8 +1,10 @@
 //! A partition of a mechanism's coordinates and velocities into the ODE's states and the
 //! dependent unknowns (coordinate partitioning), and what its Newton solves for the dependent
 //! coordinates share: the failures, the limits, the tangent predictor and the branch test.
-//! Used by the partitioned right-hand side ([`super::partitioned`]) and the symbolic
-//! elimination ([`super::elimination`]).
+//! Used by the partitioned right-hand side ([`crate::solve::formulation::partitioned::equations`]) and the symbolic
+//! elimination ([`crate::solve::formulation::partitioned::elimination`]).
+
+use crate::partition::thresholds::{BRANCH_FRACTION};
 
 /// Why a right-hand side of the partitioned ODE could not be evaluated.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -79,10 +81,6 @@ impl Partition {
             .collect()
     }
 }
-
-/// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
-/// that a right-hand side accepts (see [`PartitionError::Branch`]).
-pub const BRANCH_FRACTION: f64 = 0.5;
 
 /// Whether Newton's correction `corr` of the tangent prediction (of size `predicted`, for a
 /// move `moved` of the independent coordinates) means it converged on another branch of the
@@ -189,7 +187,7 @@ fn freely_rotating(
 }
 
 /// The velocities that IDA's error test measures even where they are dependent (index-1 DAE,
-/// [`super::index1::error_test_mask`]): every velocity of a freely rotating spatial body (its
+/// [`crate::solve::formulation::error_test_mask`]): every velocity of a freely rotating spatial body (its
 /// centre's `V` and its body-frame `ω`). Measured on the heavy top (5 s, rtol 1e-9 / 1e-10 /
 /// 1e-11, its centre's velocity the states): 822 / 1510 / 2200 × rtol with its dependent `ω_x,
 /// ω_y` and `V_z` out of the test, 579 / 218 / 1919 × with them in, at about the same steps

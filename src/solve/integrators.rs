@@ -7,7 +7,8 @@
 
 use std::sync::Arc;
 
-use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::dae::ExplicitOde;
+use crate::solve::formulation::DaeFormulation;
 use crate::solve::SolveError;
 use crate::solve::SolveOptions;
 use crate::sundials::schur::{SchurPartition, SchurSplit};

@@ -9,16 +9,14 @@
 pub mod bond_run;
 pub mod error;
 pub(crate) mod executor;
-pub(crate) mod formulation;
+pub mod formulation;
 mod integrators;
 pub(crate) mod kinematic;
 pub(crate) mod non_finite;
 pub mod options;
-pub(crate) mod partition;
 pub(crate) mod reactions;
 mod rows;
 pub mod run;
-pub(crate) mod runners;
 mod solution;
 pub(crate) mod solver;
 

@@ -85,12 +85,12 @@ pub struct Summary {
     pub compliant_time: f64,
     /// Singular passages met by the GGL: plain GGL failed near a rank-deficient `G_v` and the
     /// compliant GGL carried the motion through (the switch), and every later passage, found
-    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`crate::solve::run::PASSAGE_CONDITION`] at the output times.
+    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`PASSAGE_CONDITION`](crate::partition::thresholds::PASSAGE_CONDITION) at the output times.
     pub singular_passages: Vec<SingularPassage>,
     /// Times the index-1 formulation re-selected its dependent velocities.
     pub index1_reselections: u64,
     /// Whether the default DAE kept the mechanism's energy as an invariant (a row
-    /// `E(q, v) = E₀` with its multiplier, [`crate::dae::EnergyInvariant`]).
+    /// `E(q, v) = E₀` with its multiplier, [`crate::solve::formulation::EnergyInvariant`]).
     pub energy_invariant: bool,
     /// Times the partitioned formulation re-chose its dependent coordinates and velocities
     /// (its dependent block had degraded).

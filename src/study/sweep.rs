@@ -8,7 +8,8 @@ use std::path::Path;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use crate::dae::{consistent_state, ConstraintExprs, DecoupledFormulation, MechanicsTapes};
+use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use crate::solve::formulation::DecoupledFormulation;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::report::compare::{column_kind, ColumnKind};

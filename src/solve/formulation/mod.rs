@@ -26,12 +26,26 @@
 //! compliant switch at a singular passage: a new `ε` and a re-initialised IDA) is done in
 //! place through [`Solver`].
 
+pub mod decoupled;
+pub mod ggl;
+pub mod implicit;
+pub mod index1;
+pub mod partitioned;
+pub mod raw_graph;
+pub(crate) mod shared;
+
+pub use decoupled::DecoupledFormulation;
+pub use ggl::GglFormulation;
+pub use implicit::{DaeFormulation, GglDae, IdDae};
+pub use index1::{error_test_mask, EnergyInvariant, Index1Formulation};
+pub use partitioned::{PartitionedRhs, PartitionedSystem};
+
 use std::sync::Arc;
 
 use super::reactions::EventEval;
 use super::solution::Summary;
 use super::solver::Solver;
-use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::dae::ExplicitOde;
 use crate::mech::EventFunction;
 use crate::settings::Integrator;
 use crate::solve::SolveError;

@@ -1,4 +1,4 @@
-//! The runners: one module per formulation, each implementing [`super::formulation::Formulation`]
+//! The runners: one module per formulation, each implementing [`super::Formulation`]
 //! over the equations `crate::dae` builds for it (`dae/ggl.rs` the GGL's residual, `runners/ggl.rs`
 //! its restarts, compliant switch and statistics) (no run
 //! loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
@@ -12,9 +12,9 @@ pub(crate) mod index1;
 pub(crate) mod partitioned;
 pub(crate) mod raw_graph;
 
-use super::formulation::Events;
-use super::options::SolveOptions;
-use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
+use super::Events;
+use crate::solve::options::SolveOptions;
+use crate::solve::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
 

@@ -13,7 +13,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::compiled::{ExplicitOde, ImplicitDae};
+use crate::dae::compiled::{ExplicitOde, ImplicitDae};
 use crate::bond::equations::{BondEquations, EquationError, VariableKind};
 use crate::expr::Expr;
 

@@ -14,7 +14,8 @@ use std::sync::Arc;
 
 use crate::bond::equations::{BondEquations, VariableKind};
 use crate::bond::model::BondGraph;
-use crate::dae::{ExplicitOde, IdDae};
+use crate::dae::ExplicitOde;
+use crate::solve::formulation::IdDae;
 use crate::expr::Tape;
 use crate::solve::formulation::{ExplicitProblem, Formulation, ImplicitProblem, Problem, Start};
 use crate::solve::formulation::{Job, RowEval};
