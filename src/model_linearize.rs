@@ -263,12 +263,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let cm = &yz * &zx;
     let dm = &yz * &zu;
 
-    let states: Vec<String> = part
-        .ind_q
-        .iter()
-        .map(|&i| sys0.coords[i].name.clone())
-        .chain(part.ind_v.iter().map(|&j| sys0.velocities[j].name.clone()))
-        .collect();
+    let states = part.state_names(sys0);
     let modes = modes_of(&a, &states, part.ind_q.len());
     Ok(LinearModel {
         at: options.at.to_string(),
@@ -334,6 +329,17 @@ fn operating_point(
         return Err(LinearizeError::NonFinite(name).into());
     }
     Ok((t, x))
+}
+
+/// Refuses `given` independent `what` where the joints leave `left`.
+fn count_given(given: usize, left: usize, what: &str) -> Result<()> {
+    if given != left {
+        return Err(LinearizeError::States(format!(
+            "{given} independent {what} given, the joints leave {left}"
+        ))
+        .into());
+    }
+    Ok(())
 }
 
 /// The partition at the operating point `(t, x)`: the causality's there (with a note when it
@@ -527,12 +533,7 @@ fn resolve_outputs(
     asked: &[String],
     lambda0: u32,
 ) -> Result<Vec<(String, Option<Expr>, usize)>> {
-    let states: Vec<String> = part
-        .ind_q
-        .iter()
-        .map(|&i| sys.coords[i].name.clone())
-        .chain(part.ind_v.iter().map(|&j| sys.velocities[j].name.clone()))
-        .collect();
+    let states = part.state_names(sys);
     if asked.is_empty() {
         return Ok(states
             .iter()
@@ -615,14 +616,7 @@ fn named_partition(
     ind_q.dedup();
     ind_v.sort_unstable();
     ind_v.dedup();
-    if ind_q.len() != nq - nc {
-        return Err(LinearizeError::States(format!(
-            "{} independent coordinates given, the joints leave {}",
-            ind_q.len(),
-            nq - nc
-        ))
-        .into());
-    }
+    count_given(ind_q.len(), nq - nc, "coordinates")?;
     let (gq, gv) = psys.jacobians(t, x);
     // q' = v: each coordinate's rate is its own velocity
     let mut g = sys.graph.clone();
@@ -637,14 +631,7 @@ fn named_partition(
             ind_v = (0..nv).filter(|j| !dep.contains(j)).collect();
         }
     }
-    if ind_v.len() != nv - nc {
-        return Err(LinearizeError::States(format!(
-            "{} independent velocities given, the joints leave {}",
-            ind_v.len(),
-            nv - nc
-        ))
-        .into());
-    }
+    count_given(ind_v.len(), nv - nc, "velocities")?;
     let rest = |n: usize, i: &[usize]| (0..n).filter(|k| !i.contains(k)).collect::<Vec<_>>();
     let p = crate::partition::Partition {
         dep_q: rest(nq, &ind_q),

@@ -67,6 +67,25 @@ pub struct Partition {
 }
 
 impl Partition {
+    /// The names of the states: the independent coordinates, then the independent velocities.
+    pub fn state_names(&self, sys: &crate::mech::MultibodySystem) -> Vec<String> {
+        let q = self.ind_q.iter().map(|&i| sys.coords[i].name.clone());
+        q.chain(self.ind_v.iter().map(|&j| sys.velocities[j].name.clone()))
+            .collect()
+    }
+
+    /// The partition with the dependent coordinates `dep_q` (of `nq`) and velocities `dep_v`
+    /// (of `nv`); the independent ones are the rest, in order.
+    pub fn of_dependent((nq, nv): (usize, usize), dep_q: Vec<usize>, dep_v: Vec<usize>) -> Self {
+        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
+        Partition {
+            ind_q: rest(nq, &dep_q),
+            ind_v: rest(nv, &dep_v),
+            dep_q,
+            dep_v,
+        }
+    }
+
     /// Number of ODE states `|q_I| + |v_I|`.
     pub fn n_states(&self) -> usize {
         self.ind_q.len() + self.ind_v.len()

@@ -69,29 +69,26 @@ impl JointRows {
 
     /// The dense `gv` (the dense path whatever its size).
     pub fn from_dense(gv: DMatrix<f64>) -> Self {
-        JointRows {
-            shape: gv.shape(),
-            sparse: false,
-            entries: Vec::new(),
-            dense: Some(gv),
-            top: None,
-            bottom: None,
-            block_vector: Vec::new(),
-            hint: Vec::new(),
-            bottom_vector: Vec::new(),
-            block_known: None,
-            top_vector: Vec::new(),
-        }
+        Self::unmeasured(gv.shape(), Vec::new(), Some(gv))
     }
 
     /// The `nc × nv` matrix of the non-zeros `entries` (row-major; the sparse path whatever
     /// its size).
     pub fn from_entries(shape: (usize, usize), entries: Vec<(usize, usize, f64)>) -> Self {
+        Self::unmeasured(shape, entries, None)
+    }
+
+    /// The rows with nothing measured yet: sparse where `dense` is `None`.
+    fn unmeasured(
+        shape: (usize, usize),
+        entries: Vec<(usize, usize, f64)>,
+        dense: Option<DMatrix<f64>>,
+    ) -> Self {
         JointRows {
             shape,
-            sparse: true,
+            sparse: dense.is_none(),
             entries,
-            dense: None,
+            dense,
             top: None,
             bottom: None,
             block_vector: Vec::new(),

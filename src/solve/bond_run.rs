@@ -1,6 +1,6 @@
 //! Solving a raw bond graph scene (no bodies): the graph validated, its causality assigned,
 //! its equations read ([`crate::bond::equations`]) and run by the executor as the formulation
-//! of `solve/runners/raw_graph.rs` (an ODE on CVODE, or the velocity-level index-2 DAE
+//! of `solve/formulation/raw_graph/runner.rs` (an ODE on CVODE, or the velocity-level index-2 DAE
 //! — its index-1 variant when `formulation` is [`FormulationKind::Index1`] — on IDA); under
 //! `decoupled` the graph's twin. Columns and figures: see that module.
 

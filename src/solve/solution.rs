@@ -236,3 +236,23 @@ pub struct SingularPassage {
     /// `t` is the peak of κ located between outputs and `restarted_at = t`).
     pub failure: String,
 }
+
+impl SingularPassage {
+    /// A passage through the singular configuration `c` found at `t`, the run restarted at
+    /// `restarted_at` (not plain again yet), for the reason `failure`.
+    pub(crate) fn begun(
+        t: f64,
+        c: crate::partition::JointConditioning,
+        restarted_at: f64,
+        failure: String,
+    ) -> Self {
+        SingularPassage {
+            t,
+            joints: c.joints,
+            condition: c.condition,
+            restarted_at,
+            plain_again_at: None,
+            failure,
+        }
+    }
+}

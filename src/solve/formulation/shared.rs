@@ -1,7 +1,6 @@
-//! The runners: one module per formulation, each implementing [`super::Formulation`]
-//! over the equations `crate::dae` builds for it (`dae/ggl.rs` the GGL's residual, `runners/ggl.rs`
-//! its restarts, compliant switch and statistics) (no run
-//! loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
+//! What the runners share. Each formulation's runner implements [`super::Formulation`] over
+//! the equations of its own folder (`ggl/equations.rs` the GGL's residual, `ggl/runner.rs`
+//! its restarts, compliant switch and statistics) (no run loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
 //! and the chapter's `dae`), the partitioned ODE, the decoupled twin, and a raw bond graph's
 //! own equations. What the mechanism formulations share (their events, compliance and
 //! tolerances) is here.

@@ -17,7 +17,7 @@
 //!
 //! ε is applied at evaluation time ([`GglFormulation::residual`], [`GglFormulation::jacobian`]),
 //! not compiled into the tapes, so one compiled residual serves both forms and the solver can
-//! switch between them (`src/solve/runners/ggl.rs` does so at singular passages) by a
+//! switch between them (`src/solve/formulation/ggl/runner.rs` does so at singular passages) by a
 //! re-initialisation.
 
 use crate::dae::compiled::{ImplicitDae, Workspace};

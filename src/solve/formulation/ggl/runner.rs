@@ -350,14 +350,7 @@ impl<'a> Formulation<'a> for Ggl {
             c.joints.join(", "),
             c.condition
         ));
-        summary.singular_passages.push(SingularPassage {
-            t: tf,
-            joints: c.joints,
-            condition: c.condition,
-            restarted_at: tr,
-            plain_again_at: None,
-            failure: name,
-        });
+        (summary.singular_passages).push(SingularPassage::begun(tf, c, tr, name));
         Ok(Next::Continue)
     }
 

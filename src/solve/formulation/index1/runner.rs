@@ -238,6 +238,13 @@ struct BlockLus {
     smallest: Option<(u64, f64)>,
 }
 
+/// `b ← B⁻¹ b` with a dependent block's sparse LU `lu`; whether every entry came out finite.
+fn solved_finite(lu: &Lu<usize, f64>, b: &mut [f64]) -> bool {
+    let n = b.len();
+    lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, 1));
+    b.iter().all(|v| v.is_finite())
+}
+
 /// [`complete_dependent`] with the blocks `G_q[:, D_q]` and `G_v[:, D]` read by their
 /// non-zeros ([`crate::dae::MatrixTape::entries`]) and solved by faer's sparse LU
 /// ([`KeptBlockLu`], the factors kept in `lus`):
@@ -264,11 +271,7 @@ fn complete_dependent_sparse(
             return;
         };
         let mut dq: Vec<f64> = g.iter().map(|v| -v).collect();
-        lu.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut dq, nc, 1),
-        );
-        if !dq.iter().all(|v| v.is_finite()) {
+        if !solved_finite(&lu, &mut dq) {
             return;
         }
         for (k, &i) in coordinates.iter().enumerate() {
@@ -293,11 +296,7 @@ fn complete_dependent_sparse(
             vd[r] -= v * y[nq + c];
         }
     }
-    lu.solve_in_place_with_conj(
-        Conj::No,
-        MatMut::from_column_major_slice_mut(&mut vd, nc, 1),
-    );
-    if !vd.iter().all(|v| v.is_finite()) {
+    if !solved_finite(&lu, &mut vd) {
         return;
     }
     for (k, &j) in dependent.iter().enumerate() {

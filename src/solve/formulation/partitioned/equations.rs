@@ -190,13 +190,7 @@ impl PartitionedSystem {
         } else {
             select_dependent(&gq, &self.preferred_q)?
         };
-        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
-        Some(Partition {
-            ind_q: rest(nq, &dep_q),
-            ind_v: rest(nv, &dep_v),
-            dep_q,
-            dep_v,
-        })
+        Some(Partition::of_dependent((nq, nv), dep_q, dep_v))
     }
 
     /// The partition whose dependent velocities are `dep_v` (the causality's differential
@@ -219,13 +213,7 @@ impl PartitionedSystem {
             let (gq, _) = self.jacobians(t, x);
             select_dependent(&gq, &self.preferred_q)?
         };
-        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
-        Some(Partition {
-            ind_q: rest(nq, &dep_q),
-            ind_v: rest(nv, &dep_v),
-            dep_q,
-            dep_v,
-        })
+        Some(Partition::of_dependent((nq, nv), dep_q, dep_v))
     }
 
     /// Condition number (2-norm) of the dependent blocks of `G_q` and `G_v` (the larger) at

@@ -281,14 +281,8 @@ impl<'a> Partitioned<'a> {
             cond.joints.join(", "),
             cond.condition
         ));
-        summary.singular_passages.push(SingularPassage {
-            t: t_start,
-            joints: cond.joints,
-            condition: cond.condition,
-            restarted_at: t_start,
-            plain_again_at: None,
-            failure: "no well-conditioned partition".into(),
-        });
+        let failure = "no well-conditioned partition".to_string();
+        (summary.singular_passages).push(SingularPassage::begun(t_start, cond, t_start, failure));
         let (y0, yp0) = crate::solve::formulation::ggl::runner::restart_state(&self.sys, &self.tapes, eps, t_start, &self.x)?;
         let mut atol = vec![self.opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(
