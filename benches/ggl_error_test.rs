@@ -19,8 +19,8 @@ use std::sync::Arc;
 
 use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
 use bondmech::partition::select_dependent;
-use bondmech::solve::formulation::GglFormulation;
 use bondmech::report::sweep::median;
+use bondmech::solve::formulation::GglFormulation;
 use bondmech::sundials::{DenseMatrixMut, Ida, IdaOptions, Multistep};
 use bondmech::{FormulationKind, Model, Scene};
 use cpu_time::ThreadTime;

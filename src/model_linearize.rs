@@ -42,15 +42,15 @@ use crate::analysis::linear_model::{
     modes_of, LinearModel, LinearizeError, LinearizeOptions, OperatingPoint,
 };
 use crate::dae::ConstraintExprs;
-use crate::partition::{dependent_condition, select_dependent};
-use crate::solve::formulation::PartitionedSystem;
 use crate::error::{Error, Result};
 use crate::expr::{Expr, Tape};
-use crate::partition::{Decision, PartitionPolicy};
 use crate::mech::body::BodyKinematics;
 use crate::mech::MultibodySystem;
 use crate::model::Model;
+use crate::partition::PartitionPolicy;
+use crate::partition::{dependent_condition, select_dependent};
 use crate::scene::Scene;
+use crate::solve::formulation::PartitionedSystem;
 
 /// The linear model of `scene` about `options.at` (see the module documentation).
 ///

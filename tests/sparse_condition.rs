@@ -14,9 +14,11 @@
 
 mod common;
 
-use bondmech::partition::thresholds::SPARSE_CONDITION_ROWS;
 use bondmech::dae::{ConstraintExprs, MechanicsTapes};
-use bondmech::partition::{joint_condition_number, joint_conditioning, sparse_joint_condition_number};
+use bondmech::partition::thresholds::SPARSE_CONDITION_ROWS;
+use bondmech::partition::{
+    joint_condition_number, joint_conditioning, sparse_joint_condition_number,
+};
 use bondmech::{Model, Scene};
 use common::four_bar_chain::chain_json_at;
 use nalgebra::DMatrix;

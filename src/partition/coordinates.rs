@@ -4,7 +4,7 @@
 //! Used by the partitioned right-hand side ([`crate::solve::formulation::partitioned::equations`]) and the symbolic
 //! elimination ([`crate::solve::formulation::partitioned::elimination`]).
 
-use crate::partition::thresholds::{BRANCH_FRACTION};
+use crate::partition::thresholds::BRANCH_FRACTION;
 
 /// Why a right-hand side of the partitioned ODE could not be evaluated.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

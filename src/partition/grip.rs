@@ -2,8 +2,13 @@
 //! block's sparse LU kept between steps ([`KeptBlockLu`]) and `σ_min(G_D)` by Lanczos
 //! iterations ([`block_smallest_squared`]), so that the checks cost time linear in a chain.
 
+use crate::partition::thresholds::{
+    SPARSE_GRIP_ITERATIONS, SPARSE_GRIP_ROWS, SPARSE_GRIP_TOL, SPARSE_GRIP_TOP_STEPS,
+    SPARSE_GRIP_TOP_TOL, SPARSE_GRIP_TOP_WARM_STEPS,
+};
 use nalgebra::DMatrix;
-use crate::partition::thresholds::{SPARSE_GRIP_ITERATIONS, SPARSE_GRIP_ROWS, SPARSE_GRIP_TOL, SPARSE_GRIP_TOP_STEPS, SPARSE_GRIP_TOP_TOL, SPARSE_GRIP_TOP_WARM_STEPS};
+
+use super::condition::{block_condition_bound, dependent_condition};
 
 /// Approximate eigenvectors of `G_v G_vᵀ` (each of length `nc`, or empty: unknown) carried
 /// from one output to the next: `λ_max`'s, the dependent block's `σ_min(G_D)` left singular
@@ -169,8 +174,9 @@ impl JointRows {
     fn bottom_eigenvalue(&mut self) -> Option<f64> {
         let (m, n) = self.shape;
         if self.bottom.is_none() {
-            let pair = crate::dae::gram::SparseGram::from_entries(m, n, &self.entries, &vec![1.0; n])
-                .and_then(|g| g.smallest_eigenpair(SPARSE_GRIP_TOL, SPARSE_GRIP_ITERATIONS));
+            let pair =
+                crate::dae::gram::SparseGram::from_entries(m, n, &self.entries, &vec![1.0; n])
+                    .and_then(|g| g.smallest_eigenpair(SPARSE_GRIP_TOL, SPARSE_GRIP_ITERATIONS));
             self.bottom = Some(pair.map(|(l, u)| {
                 self.bottom_vector = u;
                 l

@@ -30,7 +30,9 @@ pub use coordinates::{
     always_measured_velocities, preferred_coordinates, Partition, PartitionError,
 };
 pub use grip::{block_lu, block_smallest_squared, JointRows, KeptBlockLu, SpectralHints};
-pub use redundancy::{independent_rows, independent_rows_of_stress, redundant_row_grip, SelfStress};
+pub use redundancy::{
+    independent_rows, independent_rows_of_stress, redundant_row_grip, SelfStress,
+};
 pub use select::select_dependent;
 pub use singular::{
     dense_joint_condition_number, joint_condition_number, joint_conditioning,

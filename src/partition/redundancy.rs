@@ -3,6 +3,7 @@
 
 use nalgebra::DMatrix;
 
+use super::select::select_dependent;
 
 /// The rows of `gv` that determine the motion where `redundant` of its rows are redundant
 /// (sorted; all rows when `redundant` is 0): the rows left out are those where the joints'

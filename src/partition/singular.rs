@@ -12,7 +12,10 @@ use nalgebra::DMatrix;
 
 use crate::dae::gram::SparseGram;
 use crate::mech::ConstraintRow;
-use crate::partition::thresholds::{INVOLVED_SHARE, NEAR_NULL_RATIO, SPARSE_CONDITION_ITERATIONS, SPARSE_CONDITION_ROWS, SPARSE_CONDITION_TOL};
+use crate::partition::thresholds::{
+    INVOLVED_SHARE, NEAR_NULL_RATIO, SPARSE_CONDITION_ITERATIONS, SPARSE_CONDITION_ROWS,
+    SPARSE_CONDITION_TOL,
+};
 
 /// The conditioning of the joints at one state.
 #[derive(Clone, Debug, PartialEq)]

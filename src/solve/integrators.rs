@@ -19,9 +19,7 @@ use crate::sundials::{
 
 /// IDA's residual callback `r = F(t, y, y')` over a handle on `f` with a workspace of its own,
 /// and a second handle with its workspace for the Jacobian callback.
-fn residual_of(
-    f: &Arc<dyn DaeFormulation>,
-) -> (ResidualFn, Arc<dyn DaeFormulation>, Workspace) {
+fn residual_of(f: &Arc<dyn DaeFormulation>) -> (ResidualFn, Arc<dyn DaeFormulation>, Workspace) {
     let (f1, f2) = (f.clone(), f.clone());
     let mut ws1 = f1.workspace();
     let ws2 = f2.workspace();

@@ -8,24 +8,24 @@ use std::ops::ControlFlow;
 use cpu_time::ThreadTime;
 
 use super::executor::{execute, from_t_start};
-use super::options::{FormulationKind, SolveOptions};
 use super::formulation::shared::default_compliance;
 use super::formulation::{
     decoupled::runner as decoupled, ggl::runner as ggl, index1::runner as index1,
     partitioned::runner as partitioned,
 };
+use super::options::{FormulationKind, SolveOptions};
 use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
-use crate::solve::formulation::{DecoupledFormulation, GglFormulation};
 use crate::mech::MultibodySystem;
+use crate::solve::formulation::{DecoupledFormulation, GglFormulation};
 use crate::solve::SolveError;
 
 pub use super::rows::output_columns;
+pub use super::solution::{EventRecord, Row, SingularPassage, Solution, Summary};
 pub use crate::partition::thresholds::{
     GGL_ERROR_TEST_SINGULAR, MAX_SWITCHINGS_PER_OUTPUT, PASSAGE_CONDITION, REGULAR_CONDITION,
     REGULAR_PARTITION, REPARTITION_CONDITION, REPARTITION_GROWTH, RESUME_PLAIN_GGL,
     SINGULAR_CONDITION, SINGULAR_PARTITION, STIFFNESS_LIMIT, TYPICAL_CONDITION,
 };
-pub use super::solution::{EventRecord, Row, SingularPassage, Solution, Summary};
 
 /// Solves a multibody system with the chosen formulation, streaming rows to `observer`
 /// (return `ControlFlow::Break(())` to stop early; the rows so far are returned).

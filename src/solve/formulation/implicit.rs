@@ -18,9 +18,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use crate::dae::compiled::{ImplicitDae, Workspace};
 use super::GglFormulation;
 use super::Index1Formulation;
+use crate::dae::compiled::{ImplicitDae, Workspace};
 use crate::sundials::ColumnOrdering;
 
 /// A formulation as a fully implicit DAE for IDA (see the module documentation).

@@ -5,17 +5,11 @@
 //! own equations. What the mechanism formulations share (their events, compliance and
 //! tolerances) is here.
 
-pub(crate) mod decoupled;
-pub(crate) mod ggl;
-pub(crate) mod index1;
-pub(crate) mod partitioned;
-pub(crate) mod raw_graph;
-
 use super::Events;
-use crate::solve::options::SolveOptions;
-use crate::solve::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
+use crate::solve::options::SolveOptions;
+use crate::solve::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 
 /// The scene's events with the reactions read from `multipliers` (`None`: the scene has none).
 pub(crate) fn events(

@@ -15,9 +15,9 @@
 //! Rows that fix an angle (prismatic, weld) get a torsional spring of the same numeric
 //! stiffness `k` (N·m/rad).
 
-use crate::dae::compiled::ExplicitOde;
 use crate::bond::decouple::{decouple, DecoupledGraph};
 use crate::bond::mechanics::read_mechanics_in;
+use crate::dae::compiled::ExplicitOde;
 use crate::expr::Expr;
 use crate::mech::{MechError, MultibodySystem};
 

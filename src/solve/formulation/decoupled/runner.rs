@@ -6,8 +6,8 @@
 use std::sync::Arc;
 
 use crate::dae::{ConsistentState, ExplicitOde, MechanicsTapes};
-use crate::solve::formulation::DecoupledFormulation;
 use crate::mech::MultibodySystem;
+use crate::solve::formulation::DecoupledFormulation;
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{ExplicitProblem, Formulation, Problem, Start};
 use crate::solve::options::SolveOptions;

@@ -16,21 +16,23 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::dae::{consistent_state_from, ConsistentState, MechanicsTapes};
-use crate::partition::{dependent_condition, joint_condition_number, joint_conditioning, select_dependent};
-use crate::solve::formulation::{GglDae, GglFormulation};
-use crate::partition::{Decision, PartitionPolicy};
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{MAX_SINGULAR_PASSAGES, PASSAGE_CONDITION, RESUME_PLAIN_GGL};
+use crate::partition::{
+    dependent_condition, joint_condition_number, joint_conditioning, select_dependent,
+};
+use crate::partition::{Decision, PartitionPolicy};
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{Ending, Formulation, ImplicitProblem, Next, Problem, Start};
+use crate::solve::formulation::{GglDae, GglFormulation};
 use crate::solve::options::SolveOptions;
-use crate::partition::causal::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
-use crate::partition::thresholds::{GGL_ERROR_TEST_SINGULAR, INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN, MAX_SINGULAR_PASSAGES, PASSAGE_CONDITION, REGULAR_CONDITION, RESUME_PLAIN_GGL, SINGULAR_CONDITION};
 
 /// Which velocities the GGL leaves out of IDA's local error test
 /// (`SolveOptions::ggl_dependent_velocity_error_test = false`).
@@ -473,7 +475,10 @@ pub(crate) fn job<'a>(
     yp0.extend(&init.vdot);
     yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
     let mut atol = vec![opts.atol; nq + nv];
-    atol.extend(std::iter::repeat_n(crate::solve::formulation::shared::multiplier_atol(opts), 2 * nc));
+    atol.extend(std::iter::repeat_n(
+        crate::solve::formulation::shared::multiplier_atol(opts),
+        2 * nc,
+    ));
     let mut error_test = DependentErrorTest::new(
         !opts.ggl_dependent_velocity_error_test && nc > 0,
         ggl.id.clone(),
@@ -489,7 +494,11 @@ pub(crate) fn job<'a>(
     let dae = Arc::new(GglDae::shared(Arc::new(ggl), eps_start));
     let multipliers = Multipliers::Unknowns(nq + nv);
     let rows = OutputEval::new(&sys, tapes.clone(), &multipliers);
-    let events = crate::solve::formulation::shared::events(&sys, &tapes, &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes));
+    let events = crate::solve::formulation::shared::events(
+        &sys,
+        &tapes,
+        &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes),
+    );
     Job {
         formulation: Box::new(Ggl {
             monitor: init.redundant_joints.is_empty(),

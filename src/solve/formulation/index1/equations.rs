@@ -20,8 +20,6 @@
 //! `D_q` (`G_q[:, D_q]` nonsingular) are chosen apart from the dependent velocities and the
 //! independent ones keep `q_I' = K_I(q) v` ([`Index1Formulation::build_partitioned`]).
 
-use nalgebra::DMatrix;
-
 use crate::dae::compiled::ImplicitDae;
 use crate::dae::mechanics::ConstraintExprs;
 use crate::expr::Expr;

@@ -28,25 +28,34 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
-use crate::partition::{KeptBlockLu, SpectralHints};
-use crate::dae::{consistent_state_from, rank_loss_persists, ConsistentState, ConstraintExprs, MechanicsTapes};
-use crate::partition::{dependent_condition_bound, dependent_condition_bound_factors, independent_rows, joint_conditioning, select_dependent, JointRows};
-use crate::solve::formulation::{DaeFormulation, GglFormulation, Index1Formulation};
-use crate::partition::{Decision, PartitionPolicy};
+use crate::dae::{
+    consistent_state_from, rank_loss_persists, ConsistentState, ConstraintExprs, MechanicsTapes,
+};
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{
+    BUILT_KEPT, ENERGY_DRIFT_TRIGGER, ENERGY_READS, ENERGY_TREND_FRACTION, EXAMINE_MOTION,
+    GRIP_ALERT, GRIP_EVERY_STEP_ROWS, GRIP_GROWTH, GRIP_RECHECK, INDEX1_CHECK_CONDITION,
+    INDEX1_RESELECT_GAIN, MOOT_MARGIN, SPARSE_GRIP_ROWS,
+};
+use crate::partition::{
+    dependent_condition_bound, dependent_condition_bound_factors, independent_rows,
+    joint_conditioning, select_dependent, JointRows,
+};
+use crate::partition::{Decision, PartitionPolicy};
+use crate::partition::{KeptBlockLu, SpectralHints};
 use crate::solve::formulation::Job;
+use crate::solve::formulation::{DaeFormulation, GglFormulation, Index1Formulation};
 use crate::solve::formulation::{
     Ending, Formulation, HandOver, ImplicitProblem, Next, Problem, Start,
 };
 use crate::solve::options::SolveOptions;
-use crate::partition::causal::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::Summary;
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
-use crate::partition::thresholds::{BUILT_KEPT, DAE_HANDOVER_CONDITION, DAE_HANDOVER_RISE, ENERGY_DRIFT_TRIGGER, ENERGY_READS, ENERGY_TREND_FRACTION, EXAMINE_MOTION, GRIP_ALERT, GRIP_EVERY_STEP_ROWS, GRIP_GROWTH, GRIP_RECHECK, INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN, MOOT_MARGIN, REDUNDANT_ROWS_GAIN, SINGULAR_CONDITION, SPARSE_GRIP_ROWS, STEP_RESELECT_GAIN};
 
 mod checks;
 
@@ -129,7 +138,7 @@ fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
 /// its aligned configuration) rather than redundant joints ([`rank_loss_persists`]); where it is,
 /// `summary` gets a warning naming the joints. The formulations then keep every joint row and
 /// pass the start as any singular passage.
-pub(super) fn starts_singular(
+pub(crate) fn starts_singular(
     formulation: &str,
     tapes: &MechanicsTapes,
     (t0, x): (f64, &[f64]),
@@ -149,7 +158,7 @@ pub(super) fn starts_singular(
 
 /// The warning of a formulation that solves redundant joints from the independent rows `kept`:
 /// which rows are left out, and that the joints' reactions are not unique.
-pub(super) fn redundant_rows_warning(
+pub(crate) fn redundant_rows_warning(
     formulation: &str,
     sys: &MultibodySystem,
     kept: &[usize],
@@ -172,7 +181,7 @@ pub(super) fn redundant_rows_warning(
 /// `λ` (a least-squares solution over all rows, as the consistent start gives it), with the
 /// other rows' held at zero: `λ_R = (G_R G_Rᵀ)⁻¹ G_R (G_vᵀ λ)`, exact where `G_R` spans the row
 /// space of `G_v`. `λ` itself when every row is independent.
-pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
+pub(crate) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
     if rows.len() == gv.nrows() {
         return lambda.to_vec();
     }
@@ -581,7 +590,8 @@ impl<'a> Index1<'a> {
         why: &str,
     ) -> Result<Box<HandOver<'a>>, SolveError> {
         let init = self.restart_state(t_h, x)?;
-        let eps_default = crate::solve::formulation::shared::default_compliance(&self.sys, &self.opts);
+        let eps_default =
+            crate::solve::formulation::shared::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
         // redundant joints need the compliant form throughout
@@ -633,10 +643,9 @@ impl<'a> Formulation<'a> for Index1<'a> {
             let fresh = stress.as_ref().and_then(|s| s.independent_rows(hint));
             let keep = self.reselections > 0
                 && self.rows.len() + *d == nc
-                && stress
-                    .as_ref()
-                    .zip(fresh.as_ref())
-                    .is_some_and(|(s, f)| PartitionPolicy::rows_hold(s.grip(&self.rows), s.grip(f)));
+                && stress.as_ref().zip(fresh.as_ref()).is_some_and(|(s, f)| {
+                    PartitionPolicy::rows_hold(s.grip(&self.rows), s.grip(f))
+                });
             match fresh {
                 _ if keep => {}
                 Some(rows) => self.rows = rows,
@@ -746,7 +755,10 @@ impl<'a> Formulation<'a> for Index1<'a> {
         yp0.extend(std::iter::repeat_n(0.0, r + nc));
         let mut atol = vec![self.opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(self.opts.atol, r));
-        atol.extend(std::iter::repeat_n(crate::solve::formulation::shared::multiplier_atol(&self.opts), nc));
+        atol.extend(std::iter::repeat_n(
+            crate::solve::formulation::shared::multiplier_atol(&self.opts),
+            nc,
+        ));
         if f.energy.is_some() {
             // η, κ (the reduced gradient's multipliers) and μ, then their rates
             y0.extend(energy_multipliers(
@@ -1106,7 +1118,11 @@ pub(crate) fn job<'a>(
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + r);
     let rows = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
-    let events = crate::solve::formulation::shared::events(&sys, &tapes, &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes));
+    let events = crate::solve::formulation::shared::events(
+        &sys,
+        &tapes,
+        &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes),
+    );
     let mut y_first = x.clone();
     y_first.extend(std::iter::repeat_n(0.0, r));
     match &full {

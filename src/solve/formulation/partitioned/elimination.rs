@@ -34,8 +34,10 @@
 use std::sync::Arc;
 
 use crate::dae::block_lu::BlockLu;
-use crate::partition::coordinates::{left_branch, tangent_step, NewtonLimits, Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
+use crate::partition::coordinates::{
+    left_branch, tangent_step, NewtonLimits, Partition, PartitionError,
+};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically
 /// (`Jᵀ M J` has `|z|²` entries, each a sum over the eliminated coordinates).

@@ -29,14 +29,14 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use crate::dae::block_lu::BlockLu;
 use super::elimination::{Elimination, EliminationInputs};
-use crate::solve::formulation::index1::equations::{dependent_condition, select_dependent};
+use crate::dae::block_lu::BlockLu;
 use crate::dae::mechanics::{slots, ConstraintExprs, MatrixTape};
-use crate::partition::coordinates::{left_branch, tangent_step, NewtonLimits};
-pub use crate::partition::coordinates::{Partition, PartitionError};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 use crate::mech::MultibodySystem;
+use crate::partition::coordinates::{left_branch, tangent_step, NewtonLimits};
+pub use crate::partition::coordinates::{Partition, PartitionError};
+use crate::partition::{dependent_condition, select_dependent};
 
 /// The compiled pieces of a multibody system that every partition shares.
 #[derive(Clone, Debug)]

@@ -12,24 +12,27 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use crate::dae::{consistent_state_from, ConsistentState, ConstraintExprs, MechanicsTapes};
-use crate::partition::{joint_conditioning, Partition, PartitionError};
-use crate::solve::formulation::{GglDae, GglFormulation, PartitionedRhs, PartitionedSystem};
-use crate::partition::{Decision, PartitionPolicy};
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{
+    MAX_RETRIES, MAX_SWITCHINGS_PER_OUTPUT, REPARTITION_CONDITION, REPARTITION_GROWTH,
+    STIFFNESS_LIMIT, TYPICAL_CONDITION,
+};
+use crate::partition::PartitionPolicy;
+use crate::partition::{joint_conditioning, Partition, PartitionError};
 use crate::settings::Integrator;
 use crate::solve::formulation::{
     Ending, Formulation, ImplicitProblem, Next, Problem, ReducedProblem, Start,
 };
 use crate::solve::formulation::{Events, Job};
+use crate::solve::formulation::{GglDae, GglFormulation, PartitionedRhs, PartitionedSystem};
 use crate::solve::options::SolveOptions;
-use crate::partition::causal::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::{CallbackError, CvodeRootFn, SolverError};
-use crate::partition::thresholds::{CAUSALITY_KEPT_GAIN, MAX_RETRIES, MAX_SWITCHINGS_PER_OUTPUT, REGULAR_PARTITION, REPARTITION_CONDITION, REPARTITION_GROWTH, SINGULAR_PARTITION, STIFFNESS_LIMIT, TYPICAL_CONDITION};
 
 /// The right-hand side shared by the integrator and the output rows and event functions, which
 /// complete their states from its last evaluation (its Newton warm start and tangent
@@ -246,7 +249,8 @@ impl<'a> Partitioned<'a> {
         let t = self.t_start;
         let gv = self.tapes.gv.matrix(t, &self.x);
         let redundant = full - kept.len();
-        let fresh = crate::partition::independent_rows(&gv, redundant, &[]).filter(|f| *f != kept)?;
+        let fresh =
+            crate::partition::independent_rows(&gv, redundant, &[]).filter(|f| *f != kept)?;
         summary.warnings.push(format!(
             "partitioned: independent joint rows re-selected at t = {t:.6} (left out: {})",
             (0..full)
@@ -283,7 +287,13 @@ impl<'a> Partitioned<'a> {
         ));
         let failure = "no well-conditioned partition".to_string();
         (summary.singular_passages).push(SingularPassage::begun(t_start, cond, t_start, failure));
-        let (y0, yp0) = crate::solve::formulation::ggl::runner::restart_state(&self.sys, &self.tapes, eps, t_start, &self.x)?;
+        let (y0, yp0) = crate::solve::formulation::ggl::runner::restart_state(
+            &self.sys,
+            &self.tapes,
+            eps,
+            t_start,
+            &self.x,
+        )?;
         let mut atol = vec![self.opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(
             crate::solve::formulation::shared::multiplier_atol(&self.opts),
@@ -651,7 +661,14 @@ pub(crate) fn job<'a>(
     // configuration): a singular configuration, passed as every other (the rows left out would
     // be violated as soon as the mechanism moves: 3.0 m on such a four-bar, issue 34)
     let singular_start = kept.as_ref().is_some_and(|k| {
-        crate::solve::formulation::index1::runner::starts_singular("partitioned", &tapes, (t0, &x), k, init, summary)
+        crate::solve::formulation::index1::runner::starts_singular(
+            "partitioned",
+            &tapes,
+            (t0, &x),
+            k,
+            init,
+            summary,
+        )
     });
     let psys = if init.redundant_joints.is_empty() || singular_start {
         PartitionedSystem::new(&mut sys, c)
@@ -667,16 +684,30 @@ pub(crate) fn job<'a>(
                 "partitioned: redundant joints [{}] with no regular set of independent rows at t = {t0}; solved with the compliant GGL",
                 init.redundant_joints.join(", ")
             ));
-            return crate::solve::formulation::ggl::runner::job(sys, ggl, tapes, init, (eps, eps), t0, opts);
+            return crate::solve::formulation::ggl::runner::job(
+                sys,
+                ggl,
+                tapes,
+                init,
+                (eps, eps),
+                t0,
+                opts,
+            );
         };
-        summary.warnings.push(crate::solve::formulation::index1::runner::redundant_rows_warning(
-            "partitioned",
-            &sys,
+        summary.warnings.push(
+            crate::solve::formulation::index1::runner::redundant_rows_warning(
+                "partitioned",
+                &sys,
+                &kept,
+                t0,
+                init,
+            ),
+        );
+        let on_kept = crate::solve::formulation::index1::runner::multipliers_on_rows(
+            &full,
+            &init.lambda,
             &kept,
-            t0,
-            init,
-        ));
-        let on_kept = crate::solve::formulation::index1::runner::multipliers_on_rows(&full, &init.lambda, &kept);
+        );
         first_lambda = vec![0.0; nc];
         for (&r, l) in kept.iter().zip(on_kept) {
             first_lambda[r] = l;
@@ -704,7 +735,9 @@ pub(crate) fn job<'a>(
         .and_then(|d| psys.with_dependent_velocities(t0, &x, d))
         .filter(|p| {
             let k = psys.condition(p, t0, &x);
-            PartitionPolicy::causality_kept(k, || choose(t0, &x).map(|b| psys.condition(&b, t0, &x)))
+            PartitionPolicy::causality_kept(k, || {
+                choose(t0, &x).map(|b| psys.condition(&b, t0, &x))
+            })
         });
     if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() && !singular_start {
         summary.warnings.push(format!(

@@ -3,5 +3,3 @@
 
 pub mod equations;
 pub(crate) mod runner;
-
-pub use equations::*;

@@ -10,7 +10,7 @@ impl<'a> Index1<'a> {
     /// (at scale with the running partition's symbolic block LUs, and the numeric LU of
     /// `G_v[:, D]` left for the examination of the same row: a fresh symbolic analysis of each
     /// block at every examined step was 7 % of the 128-link pendulum's run).
-    fn completed(&mut self, t: f64, y: &[f64]) -> Vec<f64> {
+    pub(super) fn completed(&mut self, t: f64, y: &[f64]) -> Vec<f64> {
         let (nq, nv, _) = self.tapes.dims;
         let mut x = y[..nq + nv].to_vec();
         complete_dependent(
@@ -29,7 +29,7 @@ impl<'a> Index1<'a> {
     /// of a singular configuration (hand-over), the dependent velocities' and coordinates'
     /// blocks, each re-chosen where a fresh choice is [`INDEX1_RESELECT_GAIN`] times better;
     /// `alert`, the step watch's grip estimate rose ([`Self::rechoose_at_step`]).
-    fn examine_step(
+    pub(super) fn examine_step(
         &mut self,
         t: f64,
         x: &[f64],
@@ -55,7 +55,7 @@ impl<'a> Index1<'a> {
 
     /// The step watch's grip estimate at `(t, y)` ([`BlockGrip`]), on its schedule: whether it
     /// rose above the alert.
-    fn grip_alert(&mut self, t: f64, y: &[f64]) -> bool {
+    pub(super) fn grip_alert(&mut self, t: f64, y: &[f64]) -> bool {
         if self.grip.constant {
             return false;
         }
@@ -82,7 +82,7 @@ impl<'a> Index1<'a> {
     /// The dependent coordinates' block at `(t, x)` where they are chosen apart from the
     /// velocities (`None` otherwise): its grip `μ(D_q)`, and whether a fresh choice is
     /// [`INDEX1_RESELECT_GAIN`] times better gripped (looked for only where `search(μ)`).
-    fn coordinates_grip(
+    pub(super) fn coordinates_grip(
         &self,
         t: f64,
         x: &[f64],
@@ -108,7 +108,7 @@ impl<'a> Index1<'a> {
 
     /// Whether the blocks are read by their non-zeros ([`SPARSE_GRIP_ROWS`] joint rows or more,
     /// every row): an examination at an IDA step then reads the step's row uncompleted.
-    fn at_scale(&self) -> bool {
+    pub(super) fn at_scale(&self) -> bool {
         let nc = self.tapes.dims.2;
         nc >= SPARSE_GRIP_ROWS && self.rows.len() == nc
     }
@@ -116,7 +116,11 @@ impl<'a> Index1<'a> {
     /// The consistent state a run restarts or hands over from at `(t, x)`: at scale `x`'s
     /// dependent coordinates and velocities completed first (an examination at a step reads
     /// IDA's row as it is), then projected ([`consistent_state_from`]).
-    fn restart_state(&mut self, t: f64, x: &[f64]) -> Result<ConsistentState, SolveError> {
+    pub(super) fn restart_state(
+        &mut self,
+        t: f64,
+        x: &[f64],
+    ) -> Result<ConsistentState, SolveError> {
         if self.at_scale() {
             let xc = self.completed(t, x);
             return Ok(consistent_state_from(&self.sys, &self.tapes, t, &xc)?);
@@ -141,7 +145,7 @@ impl<'a> Index1<'a> {
     /// block is bounded from the last one's factors and how far `G_v` has moved since
     /// ([`dependent_condition_bound_factors`]: Weyl's perturbation bound), a tape evaluation
     /// and a norm.
-    fn examination_moot(&mut self, t: f64, y: &[f64]) -> bool {
+    pub(super) fn examination_moot(&mut self, t: f64, y: &[f64]) -> bool {
         let (nq, nv, nc) = self.tapes.dims;
         if self.redundant.is_some() || nc >= SPARSE_GRIP_ROWS || self.rows.len() != nc {
             return false;
@@ -203,7 +207,7 @@ impl<'a> Index1<'a> {
     }
 
     /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
-    fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
+    pub(super) fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
         self.reselections += 1;
         self.state = self.restart_state(t, x)?;
         let xs = self.state_x();
@@ -213,7 +217,7 @@ impl<'a> Index1<'a> {
     }
 
     /// The partition's checks at `(t, x)` ([`Self::examine_step`], `scheduled`).
-    fn examine(
+    pub(super) fn examine(
         &mut self,
         t: f64,
         x: &[f64],
@@ -305,7 +309,9 @@ impl<'a> Index1<'a> {
                 })
                 .flatten();
             if let Some(b) = better {
-                if b != self.dependent && PartitionPolicy::should_reselect(gv.dependent_condition(&b), cond) {
+                if b != self.dependent
+                    && PartitionPolicy::should_reselect(gv.dependent_condition(&b), cond)
+                {
                     self.restart_from(t, x)?;
                     summary.routine_warning(
                         RESELECTION_WARNING,
@@ -344,7 +350,7 @@ impl<'a> Index1<'a> {
     /// exceeds [`ENERGY_DRIFT_TRIGGER`] × what the tolerances promise, the run gives the energy
     /// lost back (scaling the velocities, at a step where the mechanism moves) and keeps it
     /// from here on as an invariant (restarting at `t`).
-    fn energy_check(
+    pub(super) fn energy_check(
         &mut self,
         t: f64,
         mut x: Vec<f64>,
@@ -408,14 +414,14 @@ impl<'a> Index1<'a> {
     }
 
     /// `[q, v]` of the consistent state a restart starts from.
-    fn state_x(&self) -> Vec<f64> {
+    pub(super) fn state_x(&self) -> Vec<f64> {
         self.state.q.iter().chain(&self.state.v).copied().collect()
     }
 
     /// Where the joints are redundant and a fresh set of independent rows holds the rank
     /// [`REDUNDANT_ROWS_GAIN`] times better than the running one at `(t, x)`: the running and
     /// the fresh set's grip ([`redundant_row_grip`]). `None`: keep the rows.
-    fn fresher_rows(&self, t: f64, x: &[f64]) -> Option<(f64, f64)> {
+    pub(super) fn fresher_rows(&self, t: f64, x: &[f64]) -> Option<(f64, f64)> {
         let (d, _) = self.redundant.as_ref()?;
         let full = self.tapes.gv.matrix(t, x);
         // (the self-stress once for the three questions)
@@ -432,7 +438,7 @@ impl<'a> Index1<'a> {
     /// running one restarts the run there; where none exists and the best block is not
     /// regular (condition above [`DAE_HANDOVER_CONDITION`]), `dae` hands over to the GGL
     /// there. `None`: keep the block.
-    fn rechoose_at_step(
+    pub(super) fn rechoose_at_step(
         &mut self,
         t: f64,
         x: &[f64],
@@ -485,7 +491,7 @@ impl<'a> Index1<'a> {
 
     /// What degraded where IDA's steps stop at `t` (state `x = [q, v]`, error `e`): the
     /// dependent block, its condition, the joints whose rows lose rank.
-    fn stall_cause(&self, t: f64, x: &[f64], e: &SolverError) -> String {
+    pub(super) fn stall_cause(&self, t: f64, x: &[f64], e: &SolverError) -> String {
         let cond = self.gv_at(t, x).dependent_condition(&self.dependent);
         let c = joint_conditioning(&self.tapes.gv.matrix(t, x), &self.sys.mass, &self.sys.rows);
         let (_, dependent) = self.causal.names(&self.dependent);
