@@ -201,3 +201,11 @@ impl CausalPartition {
         (states, dependent.iter().map(|&j| name(j)).collect())
     }
 }
+
+/// The warning where the causality's dependent inertias are no regular block of the joint rows
+/// at the start `t0` (the `formulation` then chooses its dependent velocities numerically).
+pub(crate) fn not_regular_warning(formulation: &str, t0: f64) -> String {
+    format!(
+        "{formulation}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
+    )
+}

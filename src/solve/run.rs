@@ -8,7 +8,7 @@ use std::ops::ControlFlow;
 use cpu_time::ThreadTime;
 
 use super::executor::{execute, from_t_start};
-use super::formulation::shared::default_compliance;
+use super::formulation::shared::{default_compliance, JobStart};
 use super::formulation::{
     decoupled::runner as decoupled, ggl::runner as ggl, index1::runner as index1,
     partitioned::runner as partitioned,
@@ -114,14 +114,16 @@ fn solve_from_first_output(
             }
             decoupled::job(&sys, dec, tapes, &init, opts)
         }
-        FormulationKind::Partitioned => partitioned::job(sys, &c, tapes, &init, opts, &mut summary),
+        FormulationKind::Partitioned => {
+            partitioned::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
+        }
         FormulationKind::Index1 => {
             summary.formulation = "index1".into();
-            index1::job(sys, &c, tapes, &init, opts, &mut summary)
+            index1::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
         }
         FormulationKind::Dae => {
             summary.formulation = "dae".into();
-            index1::job(sys, &c, tapes, &init, opts, &mut summary)
+            index1::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
         }
         FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let eps_default = default_compliance(&sys, opts);

@@ -6,6 +6,8 @@
 //! tolerances) is here.
 
 use super::Events;
+use crate::dae::ConsistentState;
+use crate::dae::ConstraintExprs;
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
 use crate::solve::options::SolveOptions;
@@ -51,4 +53,40 @@ pub(crate) fn default_compliance(sys: &MultibodySystem, opts: &SolveOptions) -> 
 /// The absolute tolerance of the multipliers in IDA's Newton convergence test.
 pub(crate) fn multiplier_atol(opts: &SolveOptions) -> f64 {
     opts.multiplier_atol.unwrap_or(1e-2)
+}
+
+/// What a mechanism formulation's job starts from: the system, its constraint expressions and
+/// tapes, the consistent start (and its state `x = [q, v]` at `t0`, the first output time) and
+/// the options.
+pub(crate) struct JobStart<'a, 'b> {
+    pub sys: MultibodySystem,
+    pub c: &'a ConstraintExprs,
+    pub tapes: MechanicsTapes,
+    pub init: &'b ConsistentState,
+    pub opts: &'b SolveOptions,
+    pub t0: f64,
+    pub x: Vec<f64>,
+}
+
+impl<'a, 'b> JobStart<'a, 'b> {
+    /// The start of a job from the consistent start `init` at the first output time.
+    pub(crate) fn new(
+        sys: MultibodySystem,
+        c: &'a ConstraintExprs,
+        tapes: MechanicsTapes,
+        init: &'b ConsistentState,
+        opts: &'b SolveOptions,
+    ) -> Self {
+        let t0 = opts.output_times[0];
+        let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+        JobStart {
+            sys,
+            c,
+            tapes,
+            init,
+            opts,
+            t0,
+            x,
+        }
+    }
 }

@@ -44,6 +44,7 @@ use crate::partition::{
 };
 use crate::partition::{Decision, PartitionPolicy};
 use crate::partition::{KeptBlockLu, SpectralHints};
+use crate::solve::formulation::shared::JobStart;
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{DaeFormulation, GglFormulation, Index1Formulation};
 use crate::solve::formulation::{
@@ -1071,17 +1072,17 @@ fn energy_multipliers(
 /// or `dae`, which hands over to the GGL), with its rows and events. The causality's partition
 /// is the first choice of the dependent velocities, unless its block is ill-conditioned at the
 /// start and a numeric choice is much better.
-pub(crate) fn job<'a>(
-    mut sys: MultibodySystem,
-    c: &'a ConstraintExprs,
-    tapes: MechanicsTapes,
-    init: &ConsistentState,
-    opts: &SolveOptions,
-    summary: &mut Summary,
-) -> Job<'a> {
+pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a> {
+    let JobStart {
+        mut sys,
+        c,
+        tapes,
+        init,
+        opts,
+        t0,
+        x,
+    } = start;
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let t0 = opts.output_times[0];
-    let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     summary.solver = "IDA".into();
     let causal = CausalPartition::new(&sys, t0);
     // redundant joints: the rows the causality names redundant are left out of the dependent
@@ -1168,10 +1169,8 @@ pub(crate) fn job<'a>(
         }
     };
     if from_causality.is_none() && !sys.inertias.is_empty() && !singular_start {
-        summary.warnings.push(format!(
-            "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",
-            summary.formulation
-        ));
+        let w = crate::partition::causal::not_regular_warning(&summary.formulation, t0);
+        summary.warnings.push(w);
     }
     let grip = BlockGrip::new(&tapes);
     let (energy_e0, energy_watch) = match kept_energy(&sys, &tapes, (t0, &x), init, opts) {

@@ -21,6 +21,7 @@ use crate::partition::thresholds::{
 use crate::partition::PartitionPolicy;
 use crate::partition::{joint_conditioning, Partition, PartitionError};
 use crate::settings::Integrator;
+use crate::solve::formulation::shared::JobStart;
 use crate::solve::formulation::{
     Ending, Formulation, ImplicitProblem, Next, Problem, ReducedProblem, Start,
 };
@@ -636,17 +637,17 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
 /// The partitioned formulation of `sys` from the consistent start `init`, with its rows and
 /// events; a mechanism with joints redundant everywhere (no partition exists at any time) is
 /// solved by the compliant GGL, and `summary.formulation` says so.
-pub(crate) fn job<'a>(
-    mut sys: MultibodySystem,
-    c: &'a ConstraintExprs,
-    tapes: MechanicsTapes,
-    init: &ConsistentState,
-    opts: &SolveOptions,
-    summary: &mut Summary,
-) -> Job<'a> {
+pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a> {
+    let JobStart {
+        mut sys,
+        c,
+        tapes,
+        init,
+        opts,
+        t0,
+        x,
+    } = start;
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let t0 = opts.output_times[0];
-    let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let causal = CausalPartition::new(&sys, t0);
     // redundant joints: the partition of the chapter's causality on an independent set of the
     // joint rows, the one the index-1 DAE takes (the causality's redundant junctions left out
@@ -740,9 +741,8 @@ pub(crate) fn job<'a>(
             })
         });
     if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() && !singular_start {
-        summary.warnings.push(format!(
-            "partitioned: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
-        ));
+        let w = crate::partition::causal::not_regular_warning("partitioned", t0);
+        summary.warnings.push(w);
     }
     Job {
         formulation: Box::new(Partitioned {

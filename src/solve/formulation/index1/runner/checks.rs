@@ -6,6 +6,23 @@
 use super::*;
 
 impl<'a> Index1<'a> {
+    /// Restarts the run at `t` (state `x = [q, v]`) with a fresh choice, and says so in the
+    /// routine re-selection warning (`what`: what was chosen again, and why).
+    pub(super) fn reselect_at(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        what: &str,
+        summary: &mut Summary,
+    ) -> Result<Option<Next<'a>>, SolveError> {
+        self.restart_from(t, x)?;
+        summary.routine_warning(
+            RESELECTION_WARNING,
+            format!("{RESELECTION_WARNING} at t = {t:.6} — {what}"),
+        );
+        Ok(Some(Next::Restart(t)))
+    }
+
     /// `[q, v]` of IDA's state `y` at `t`, the dependent coordinates and velocities completed
     /// (at scale with the running partition's symbolic block LUs, and the numeric LU of
     /// `G_v[:, D]` left for the examination of the same row: a fresh symbolic analysis of each
@@ -267,14 +284,8 @@ impl<'a> Index1<'a> {
         // turns with the mechanism: a parallel third crank's rows trade places as it passes
         // the horizontal)
         if let Some((grip, fresh)) = self.fresher_rows(t, x) {
-            self.restart_from(t, x)?;
-            summary.routine_warning(
-                RESELECTION_WARNING,
-                format!(
-                    "{RESELECTION_WARNING} at t = {t:.6} — independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})"
-                ),
-            );
-            return Ok(Some(Next::Restart(t)));
+            let what = format!("independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})");
+            return self.reselect_at(t, x, &what, summary);
         }
         if self.hands_over && cond > 2.0 * self.watch.block {
             // the partition degrades: are the joints approaching a singular configuration?
@@ -312,14 +323,8 @@ impl<'a> Index1<'a> {
                 if b != self.dependent
                     && PartitionPolicy::should_reselect(gv.dependent_condition(&b), cond)
                 {
-                    self.restart_from(t, x)?;
-                    summary.routine_warning(
-                        RESELECTION_WARNING,
-                        format!(
-                            "{RESELECTION_WARNING} at t = {t:.6} — dependent velocities (condition {cond:.1e})"
-                        ),
-                    );
-                    return Ok(Some(Next::Restart(t)));
+                    let what = format!("dependent velocities (condition {cond:.1e})");
+                    return self.reselect_at(t, x, &what, summary);
                 }
             }
             self.kept_grip.0 = cond;
@@ -329,14 +334,8 @@ impl<'a> Index1<'a> {
             PartitionPolicy::worth_checking(c, self.kept_grip.1)
         }) {
             if better {
-                self.restart_from(t, x)?;
-                summary.routine_warning(
-                    RESELECTION_WARNING,
-                    format!(
-                        "{RESELECTION_WARNING} at t = {t:.6} — dependent coordinates (condition {cond_q:.1e})"
-                    ),
-                );
-                return Ok(Some(Next::Restart(t)));
+                let what = format!("dependent coordinates (condition {cond_q:.1e})");
+                return self.reselect_at(t, x, &what, summary);
             }
             if PartitionPolicy::worth_checking(cond_q, self.kept_grip.1) {
                 self.kept_grip.1 = cond_q;
