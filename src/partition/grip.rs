@@ -511,6 +511,9 @@ pub fn block_smallest_squared(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::partition::{
+        dependent_condition_bound, dependent_condition_bound_factors, select_dependent,
+    };
 
     #[test]
     fn preferred_columns_are_taken_first_when_they_suffice() {

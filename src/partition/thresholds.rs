@@ -260,9 +260,9 @@ pub const SPARSE_GRIP_ITERATIONS: usize = 200;
 // ---- linearize ----
 
 /// The dependent block's condition at and above which `linearize` refuses the operating point
-/// as singular: the linear model's state matrix is the dependent block's inverse applied to the
-/// independent columns, and at `1e10` it carries no correct digit of the 1e-6 relative
-/// accuracy its derivatives have.
+/// as singular (the value it has always used): the state matrix applies `G_D⁻¹`, which at a
+/// condition of 1e10 amplifies the rounding of the Jacobians' entries (1e-16 relative) to 1e-6,
+/// rounding noise in the linear model's sixth digit.
 pub const LINEARIZE_SINGULAR_CONDITION: f64 = 1e10;
 
 /// What a check of the partition decides.

@@ -11,7 +11,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use crate::dae::{consistent_state_from, ConsistentState, ConstraintExprs, MechanicsTapes};
+use crate::dae::{consistent_state_from, ConstraintExprs, MechanicsTapes};
 use crate::mech::MultibodySystem;
 use crate::partition::causal::CausalPartition;
 use crate::partition::thresholds::{
