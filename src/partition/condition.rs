@@ -55,7 +55,7 @@ pub fn dependent_condition(gv: &DMatrix<f64>, dependent: &[usize]) -> f64 {
 /// singular or non-square block; 1 without rows, as [`dependent_condition`].
 ///
 /// ```
-/// use bondmech::dae::{dependent_condition, dependent_condition_bound};
+/// use bondmech::partition::{dependent_condition, dependent_condition_bound};
 /// use nalgebra::DMatrix;
 /// let gv = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, -0.3, 0.0, 1.0, 0.4]);
 /// let (mu, bound) = (dependent_condition(&gv, &[0, 1]), dependent_condition_bound(&gv, &[0, 1]));

@@ -150,7 +150,7 @@ pub(crate) fn tangent_step(
 
 /// What a Newton solve for the dependent coordinates may take: its tolerance, its iterations,
 /// and the condition estimate above which the partition is to be re-chosen (the fields of a
-/// [`PartitionedRhs`] of the same names, handed to the elimination's Newton).
+/// [`PartitionedRhs`](crate::solve::formulation::PartitionedRhs) of the same names, handed to the elimination's Newton).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct NewtonLimits {
     pub(crate) tolerance: f64,

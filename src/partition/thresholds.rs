@@ -1,6 +1,7 @@
 //! Every threshold that decides a partition, a re-selection, a hand-over, a singular passage or
 //! the energy invariant, each with the reason for its value; and [`PartitionPolicy`], the one
-//! place the runners, `linearize` and `equilibrium` ask (the comparisons are the ones the
+//! place the runners and `linearize` ask (`equilibrium` chooses no partition: it solves
+//! every joint row for `q` and `λ`) (the comparisons are the ones the
 //! runners made themselves, in the same order, so the numbers are unchanged).
 
 // ---- The causality's partition in the index-1 runners: when its conditioning is checked and re-chosen ----
@@ -35,7 +36,7 @@ pub const DAE_HANDOVER_RISE: f64 = 10.0;
 pub const DAE_HANDOVER_CONDITION: f64 = 1e3;
 
 /// How much better a fresh set of independent joint rows must hold the rank
-/// ([`redundant_row_grip`]) than the running one for a restart with it: the grip of the rows
+/// ([`redundant_row_grip`](super::redundant_row_grip)) than the running one for a restart with it: the grip of the rows
 /// left out falls like `|sin φ|` as the self-stress turns away from them, and a fresh set is
 /// taken while the running one still holds a quarter of it.
 pub const REDUNDANT_ROWS_GAIN: f64 = 4.0;
@@ -66,14 +67,14 @@ pub const STEP_RESELECT_GAIN: f64 = 3.0;
 /// two examinations of the partition: the dependent block's grip `μ(D)`, the dependent
 /// coordinates' block, the redundant rows' and the approach of a singular configuration,
 /// which all depend on the configuration only. The examinations run at IDA's accepted steps
-/// (the watch, [`Formulation::watch_step`]), so when they happen no longer follows the
+/// (the watch, `Formulation::watch_step`), so when they happen no longer follows the
 /// output times asked for, and their cost follows the motion, not the outputs: Bricard's
 /// mechanism (10 s, outputs every 0.01 s, about 1200 steps) examined its partition at each of
 /// its 1000 outputs, two thirds of its integration's CPU (dense singular values and a
 /// causality assignment each time).
 pub const EXAMINE_MOTION: f64 = 0.02;
 
-/// The margin by which [`Index1::examination_moot`]'s bound on `μ(D)` at IDA's step must stay
+/// The margin by which `Index1::examination_moot`'s bound on `μ(D)` at IDA's step must stay
 /// below the examination's thresholds (at least [`INDEX1_CHECK_CONDITION`]): IDA's dependent
 /// unknowns satisfy the joints' rows to its Newton tolerance, which moves `μ` by a relative
 /// amount of that order, far below 1 %.
@@ -84,7 +85,7 @@ pub const MOOT_MARGIN: f64 = 1.01;
 /// above, every `⌈nc / 16⌉²`-th step, so that the watch costs `O(nc)` per step on average.
 pub const GRIP_EVERY_STEP_ROWS: usize = 16;
 
-/// How many built formulations a run keeps ([`Index1::built`]).
+/// How many built formulations a run keeps (`Index1::built`).
 pub const BUILT_KEPT: usize = 8;
 
 /// Fraction of the run after which the energy's drift is read as a trend
@@ -192,7 +193,7 @@ pub const MAX_SWITCHINGS_PER_OUTPUT: u32 = 50;
 // ---- The partitioned Newton's branch test ----
 
 /// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
-/// that a right-hand side accepts (see [`PartitionError::Branch`]).
+/// that a right-hand side accepts (see [`PartitionError::Branch`](super::PartitionError::Branch)).
 pub const BRANCH_FRACTION: f64 = 0.5;
 
 // ---- The joints' conditioning (singular configurations) and its sparse path ----
@@ -203,8 +204,8 @@ pub const NEAR_NULL_RATIO: f64 = 100.0;
 /// Share of an eigenvector's largest entry above which a row counts as involved.
 pub const INVOLVED_SHARE: f64 = 0.05;
 
-/// Joint rows from which [`joint_condition_number`] takes the sparse path
-/// ([`sparse_joint_condition_number`]); below it the dense eigenvalues cost little. Measured
+/// Joint rows from which [`joint_condition_number`](super::joint_condition_number) takes the sparse path
+/// ([`sparse_joint_condition_number`](super::sparse_joint_condition_number)); below it the dense eigenvalues cost little. Measured
 /// on four-bar chains (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=monitor`): the
 /// sparse path breaks even between 32 and 50 rows, is 1.4× cheaper at 62 and 5× at 242.
 pub const SPARSE_CONDITION_ROWS: usize = 60;
@@ -248,7 +249,7 @@ pub const SPARSE_GRIP_TOP_TOL: f64 = 1e-2;
 pub const SPARSE_GRIP_TOP_STEPS: usize = 16;
 
 /// Lanczos steps for `λ_max(G_v G_vᵀ)` from the previous output's Ritz vector
-/// ([`JointRows::with_hints`]): the Krylov space holds that vector, so the Ritz value is at
+/// ([`JointRows::with_hints`](super::JointRows::with_hints)): the Krylov space holds that vector, so the Ritz value is at
 /// least its Rayleigh quotient at the new state — as close to the top as the last estimate
 /// was where the motion between outputs is smooth — and the steps refine it. On the N-link
 /// pendulum the 16 cold steps at every output were 6 % of the run at N = 128.
@@ -278,7 +279,7 @@ pub enum Decision {
     Singular,
 }
 
-/// The one place the runners, `linearize` and the error-test choice ask whether to keep,
+/// The one place the runners, `linearize` and the GGL's error-test choice ask whether to keep,
 /// re-choose or hand over a partition, and whether the joints are singular. Each method is the
 /// comparison the runner made itself, with the threshold above (`μ` a dependent block's
 /// condition [`crate::partition::dependent_condition`], `κ` the joints'

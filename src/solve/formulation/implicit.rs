@@ -5,7 +5,8 @@
 //! against it.
 //!
 //! ```
-//! use bondmech::dae::{DaeFormulation, ConstraintExprs, GglDae, GglFormulation};
+//! use bondmech::dae::ConstraintExprs;
+//! use bondmech::solve::formulation::{DaeFormulation, GglDae, GglFormulation};
 //! let scene = bondmech::Scene::from_path("scenes/pendulum.json").unwrap();
 //! let mut sys = bondmech::mech::build(&scene).unwrap();
 //! let c = ConstraintExprs::derive(&mut sys);

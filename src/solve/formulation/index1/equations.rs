@@ -36,7 +36,7 @@ pub struct Index1Formulation {
     /// Dependent coordinate indices (sorted; the velocity indices when `q' = v`).
     pub coordinates: Vec<usize>,
     /// The joint rows the dependent block is solved from (sorted): every row, or, where the
-    /// joints are redundant, a maximal independent set ([`independent_rows`]); the other rows'
+    /// joints are redundant, a maximal independent set ([`independent_rows`](crate::partition::independent_rows)); the other rows'
     /// multipliers are held at zero.
     pub rows: Vec<usize>,
     /// Multipliers `λ`: one per joint row, redundant rows included.
