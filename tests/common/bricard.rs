@@ -214,3 +214,153 @@ pub fn simulate(omega0: f64, times: &[f64], rtol: f64, atol: f64) -> Vec<([f64; 
         })
         .collect()
 }
+
+/// A state of [`simulate_kane`]: the six hinge angles and the first one's rate u = q̇₁.
+#[derive(Clone, Copy, Debug)]
+pub struct KaneState {
+    /// Time (s).
+    pub t: f64,
+    /// Hinge angles q₁..q₆ (rad).
+    pub q: [f64; 6],
+    /// u = q̇₁ (rad/s).
+    pub u: f64,
+}
+
+/// The hinge lines of the chain at q: for hinge i its global axis `w_i = R_{i−1} a_i` and a
+/// point `p_i = T_{i−1}(P_i)`, with the motions `T_k`.
+fn hinge_lines(q: &[f64; 6]) -> ([Vector3<f64>; 6], [Vector3<f64>; 6], [Motion; 6]) {
+    let t = motions(q);
+    let mut w = [Vector3::zeros(); 6];
+    let mut p = [Vector3::zeros(); 6];
+    for i in 0..6 {
+        let prev = if i == 0 { Motion::identity() } else { t[i - 1] };
+        w[i] = prev.r * Vector3::from(AXES[i]);
+        p[i] = prev.apply(&Vector3::from(POINTS[i]));
+    }
+    (w, p, t)
+}
+
+/// The rates `(q̇, u̇)` of the 1-DOF motion at `(q, u)`, with exact derivatives (Kane's
+/// equations on the closed chain; [`simulate_kane`] states the mathematics).
+pub fn kane_rates(q: &[f64; 6], u: f64) -> ([f64; 6], f64) {
+    let (w, p, t) = hinge_lines(q);
+    let twist = |i: usize| (w[i], p[i].cross(&w[i]));
+    let mut a = DMatrix::zeros(6, 5);
+    for i in 1..6 {
+        let (wi, vi) = twist(i);
+        for r in 0..3 {
+            a[(r, i - 1)] = wi[r];
+            a[(r + 3, i - 1)] = vi[r];
+        }
+    }
+    let svd = a.svd(true, true);
+    // x with x₁ = 0 and A x = −(ang; lin) on hinges 2..6 (consistent: A has rank 5)
+    let solve = |ang: Vector3<f64>, lin: Vector3<f64>| -> [f64; 6] {
+        let b = DVector::from_vec(vec![-ang.x, -ang.y, -ang.z, -lin.x, -lin.y, -lin.z]);
+        let x = svd.solve(&b, 1e-12).expect("svd solve");
+        [0.0, x[0], x[1], x[2], x[3], x[4]]
+    };
+    let (w0, v0) = twist(0);
+    let mut n = solve(w0, v0);
+    n[0] = 1.0;
+    // the twists' rates at u = 1, each hinge line carried by the body before it
+    let (mut om, mut vv) = (Vector3::zeros(), Vector3::zeros());
+    let (mut r_ang, mut r_lin) = (Vector3::zeros(), Vector3::zeros());
+    let mut rates = [(Vector3::zeros(), Vector3::zeros()); 6];
+    for i in 0..6 {
+        let wd = om.cross(&w[i]);
+        let pd = om.cross(&p[i]) + vv;
+        rates[i] = (wd, pd.cross(&w[i]) + p[i].cross(&wd));
+        r_ang += rates[i].0 * n[i];
+        r_lin += rates[i].1 * n[i];
+        let (wi, vi) = twist(i);
+        om += wi * n[i];
+        vv += vi * n[i];
+    }
+    let nd = solve(r_ang, r_lin);
+    let (mut m, mut rest, mut force) = (0.0, 0.0, 0.0);
+    let (mut pw, mut pv) = (Vector3::zeros(), Vector3::zeros());
+    let (mut bw, mut bv) = (Vector3::zeros(), Vector3::zeros());
+    for k in 0..5 {
+        let (wk, vk) = twist(k);
+        pw += wk * n[k];
+        pv += vk * n[k];
+        bw += rates[k].0 * n[k] + wk * nd[k];
+        bv += rates[k].1 * n[k] + vk * nd[k];
+        let x = t[k].apply(&centre(k));
+        let j = t[k].r * initial_inertia(k) * t[k].r.transpose();
+        let vc = pw.cross(&x) + pv;
+        m += MASS * vc.norm_squared() + pw.dot(&(j * pw));
+        rest += MASS * vc.dot(&(bw.cross(&x) + pw.cross(&vc) + bv))
+            + pw.dot(&(j * bw + pw.cross(&(j * pw))));
+        force -= MASS * G * vc.y;
+    }
+    (n.map(|ni| ni * u), (force - u * u * rest) / m)
+}
+
+/// The centres of the five bars at hinge angles q.
+pub fn centres(q: &[f64; 6]) -> [Vector3<f64>; 5] {
+    let t = motions(q);
+    std::array::from_fn(|k| t[k].apply(&centre(k)))
+}
+
+/// The loop's closure error at q (translation and rotation of `E_1 ··· E_6` from I).
+pub fn closure_error(q: &[f64; 6]) -> f64 {
+    closure_residual(q).norm()
+}
+
+/// Energy `½ M u² + V` at `(q, u)` of the closed chain.
+pub fn kane_energy(q: &[f64; 6], u: f64) -> f64 {
+    let (qd, _) = kane_rates(q, u);
+    let (w, p, t) = hinge_lines(q);
+    let (mut om, mut vv) = (Vector3::zeros(), Vector3::zeros());
+    let mut e = 0.0;
+    for k in 0..5 {
+        om += w[k] * qd[k];
+        vv += p[k].cross(&w[k]) * qd[k];
+        let x = t[k].apply(&centre(k));
+        let j = t[k].r * initial_inertia(k) * t[k].r.transpose();
+        let vc = om.cross(&x) + vv;
+        e += 0.5 * MASS * vc.norm_squared() + 0.5 * om.dot(&(j * om)) + MASS * G * x.y;
+    }
+    e
+}
+
+/// Bricard's mechanism integrated in all six hinge angles with exact rates, independent of
+/// the finite differences of [`simulate`]: a second derivation of the same 1-DOF motion.
+///
+/// Hinge i is the line through `p_i = T_{i−1}(P_i)` along `w_i = R_{i−1} a_i`; its unit twist
+/// (spatial, `ẋ = ω × x + v`) is `ξ_i = (w_i, p_i × w_i)`, and bar k turns with the twist
+/// `V_k = Σ_{i≤k} ξ_i q̇_i`. The loop closes on the ground: `A(q) q̇ = Σ_{i≤6} ξ_i q̇_i = 0`,
+/// `A` of rank 5, so `q̇ = n(q) u` with `n₁ = 1` and `n₂..₆` the (consistent) least-squares
+/// solution of `A n = 0`. Hinge line i is carried by bar i−1, so `ẇ_i = Ω_{i−1} × w_i`,
+/// `ṗ_i = Ω_{i−1} × p_i + v_{i−1}`; then `q̈ = n u̇ + ṅ u` with `ṅ = u ν` and `A ν = −Σ ξ̇_i n_i`
+/// (at u = 1), `ν₁ = 0`. Each bar's twist rate is `u̇ P_k + u² B_k`, `P_k = Σ_{i≤k} ξ_i n_i`,
+/// `B_k = Σ_{i≤k} (ξ̇_i n_i + ξ_i ν_i)`; its centre x_k has the partial velocity
+/// `v_k = P_k^ω × x_k + P_k^v`, its angular velocity `u P_k^ω`. Kane's equation in u:
+///
+/// `Σ_k v_k·m a_k + P_k^ω·(J_k α_k + ω_k × J_k ω_k) = Σ_k v_k·(0, −m g, 0)`, with
+/// `a_k = u̇ v_k + u² (B_k^ω × x_k + P_k^ω × v_k + B_k^v)`, `α_k = u̇ P_k^ω + u² B_k^ω`,
+///
+/// whose coefficient of `u̇` is the generalized mass `Σ m|v_k|² + P_k^ω·J_k P_k^ω`. The state
+/// `(q₁..q₆, u)` is integrated by the tests' Dormand–Prince at `rtol`, `atol` from rest at
+/// q = 0 (the scene's configuration); the closure is kept by `q̇ = n u` (the tests check it).
+pub fn simulate_kane(u0: f64, times: &[f64], rtol: f64, atol: f64) -> Vec<KaneState> {
+    let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+        let q = [y[0], y[1], y[2], y[3], y[4], y[5]];
+        let (qd, ud) = kane_rates(&q, y[6]);
+        dy[..6].copy_from_slice(&qd);
+        dy[6] = ud;
+    };
+    let mut y0 = vec![0.0; 6];
+    y0.push(u0);
+    integrate(rhs, 0.0, &y0, times, rtol, atol)
+        .into_iter()
+        .zip(times)
+        .map(|(y, &t)| KaneState {
+            t,
+            q: [y[0], y[1], y[2], y[3], y[4], y[5]],
+            u: y[6],
+        })
+        .collect()
+}

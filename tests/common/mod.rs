@@ -19,12 +19,14 @@ pub mod bricard;
 pub mod double_pendulum;
 pub mod elliptic;
 pub mod examples;
+pub mod five_bar;
 pub mod four_bar_chain;
 pub mod heavy_top;
 pub mod integrate;
 pub mod n_link;
 pub mod rigid_body;
 pub mod slider_crank;
+pub mod spherical_pendulum;
 
 /// Relative tolerance used by every reference model.
 pub const REFERENCE_RTOL: f64 = 1e-13;

@@ -218,3 +218,223 @@ pub fn simulate_slider_crank(
         .map(|(&t, y)| p.state(t, y[0], y[1]))
         .collect()
 }
+
+/// An offset slider-crank with a horizontal cylinder, in the crank angle φ (Lagrange): the
+/// new-user trial's case 2 (issue 46's "fast offset slider-crank" spins it at 14 rad/s).
+///
+/// Crank: uniform bar (m_c, central inertia I_c, length r) pinned at the origin at its end O,
+/// its tip A = r (cos φ, sin φ). Rod: a body (m_r, central inertia I_r) pinned to the crank's A
+/// at its point A, its centre at `c_A` from A in rod axes (not on the line A→B), its point B at
+/// distance l along the rod's x-axis from A; B is the wrist pin of the piston, a point mass m_p
+/// sliding along the line y = e (the offset). Gravity (0, −g). No other loads.
+///
+/// With the rod angle ψ (sin ψ = (e − r sin φ)/l, cos ψ > 0 on the branch with the piston
+/// to the right of A, as l > r + |e|), and ′ = d/dφ:
+///
+/// ```text
+///   s = e − r sin φ = l sin ψ,   s′ = −r cos φ,   s″ = r sin φ,
+///   ψ′ = s′/(l cos ψ),           ψ″ = (s″ + l sin ψ ψ′²)/(l cos ψ),
+///   x_p = r cos φ + l cos ψ,     x_p′ = −r sin φ − l sin ψ ψ′,
+///                                x_p″ = −r cos φ − l cos ψ ψ′² − l sin ψ ψ″,
+///   G = A + R(ψ) c_A,            G′ = A′ + ψ′ J R(ψ) c_A,   G″ = A″ + ψ″ J R(ψ) c_A − ψ′² R(ψ) c_A,
+///   C = (r/2)(cos φ, sin φ)      (crank centre),  A′ = r (−sin φ, cos φ),  A″ = −r (cos φ, sin φ),
+/// ```
+///
+/// (J the rotation by +90°). The reduced inertia and Lagrange's equation:
+///
+/// ```text
+///   M(φ) = m_c |C′|² + I_c + m_r |G′|² + I_r ψ′² + m_p x_p′²,
+///   ½ M′ = m_c C′·C″ + m_r G′·G″ + I_r ψ′ψ″ + m_p x_p′ x_p″,
+///   V′ = g (m_c C′_y + m_r G′_y),
+///   M φ̈ = −½ M′ φ̇² − V′.
+/// ```
+///
+/// The energy `½ M φ̇² + g (m_c C_y + m_r G_y + m_p e)` is conserved (the tests check it).
+#[derive(Clone, Copy, Debug)]
+pub struct OffsetSliderCrank {
+    /// Crank length r (m).
+    pub r: f64,
+    /// Crank mass (kg).
+    pub m_crank: f64,
+    /// Crank central inertia (kg m²).
+    pub i_crank: f64,
+    /// Rod length l from A to B (m), more than r + |e|.
+    pub l: f64,
+    /// Rod mass (kg).
+    pub m_rod: f64,
+    /// Rod central inertia (kg m²).
+    pub i_rod: f64,
+    /// Rod centre from its point A, in rod axes (m).
+    pub rod_centre: [f64; 2],
+    /// Piston mass (kg).
+    pub m_piston: f64,
+    /// Cylinder offset e: the piston moves on y = e (m).
+    pub e: f64,
+    /// Gravity magnitude g (m/s², along −Y).
+    pub g: f64,
+}
+
+/// Positions of an [`OffsetSliderCrank`] and their φ-derivatives `[value, ′, ″]`.
+#[derive(Clone, Copy, Debug)]
+pub struct OffsetKinematics {
+    /// Crank centre C.
+    pub crank: [[f64; 2]; 3],
+    /// Rod centre G.
+    pub rod: [[f64; 2]; 3],
+    /// Rod angle ψ.
+    pub psi: [f64; 3],
+    /// Piston x (its y is e).
+    pub piston_x: [f64; 3],
+}
+
+impl OffsetSliderCrank {
+    /// The new-user trial's case 2 (`tests/references/matched_tolerance.py`,
+    /// `slider_crank_fast`): r 0.15 m, l 0.5 m, e 0.08 m; crank 1 kg (uniform), rod 0.6 kg,
+    /// 0.02 kg m², centre (0.2, 0.04) from A; piston 0.4 kg.
+    pub fn trial_case_2() -> OffsetSliderCrank {
+        OffsetSliderCrank {
+            r: 0.15,
+            m_crank: 1.0,
+            i_crank: 0.15 * 0.15 / 12.0,
+            l: 0.5,
+            m_rod: 0.6,
+            i_rod: 0.02,
+            rod_centre: [0.2, 0.04],
+            m_piston: 0.4,
+            e: 0.08,
+            g: 9.81,
+        }
+    }
+
+    /// The positions and their first two φ-derivatives.
+    pub fn kinematics(&self, phi: f64) -> OffsetKinematics {
+        let (r, l) = (self.r, self.l);
+        let (sf, cf) = phi.sin_cos();
+        let s = [self.e - r * sf, -r * cf, r * sf];
+        let psi = (s[0] / l).asin();
+        let (sp, cp) = psi.sin_cos();
+        let p1 = s[1] / (l * cp);
+        let p2 = (s[2] + l * sp * p1 * p1) / (l * cp);
+        let x_p = [
+            r * cf + l * cp,
+            -r * sf - l * sp * p1,
+            -r * cf - l * cp * p1 * p1 - l * sp * p2,
+        ];
+        let [ax, ay] = self.rod_centre;
+        let w = [cp * ax - sp * ay, sp * ax + cp * ay];
+        let jw = [-w[1], w[0]];
+        let a = [[r * cf, r * sf], [-r * sf, r * cf], [-r * cf, -r * sf]];
+        OffsetKinematics {
+            crank: [
+                [0.5 * a[0][0], 0.5 * a[0][1]],
+                [0.5 * a[1][0], 0.5 * a[1][1]],
+                [0.5 * a[2][0], 0.5 * a[2][1]],
+            ],
+            rod: [
+                [a[0][0] + w[0], a[0][1] + w[1]],
+                [a[1][0] + p1 * jw[0], a[1][1] + p1 * jw[1]],
+                [
+                    a[2][0] + p2 * jw[0] - p1 * p1 * w[0],
+                    a[2][1] + p2 * jw[1] - p1 * p1 * w[1],
+                ],
+            ],
+            psi: [psi, p1, p2],
+            piston_x: x_p,
+        }
+    }
+
+    /// Reduced inertia M(φ), ½ M′(φ) and V′(φ).
+    fn reduced(&self, phi: f64) -> (f64, f64, f64) {
+        let k = self.kinematics(phi);
+        let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
+        let m = self.m_crank * dot(k.crank[1], k.crank[1])
+            + self.i_crank
+            + self.m_rod * dot(k.rod[1], k.rod[1])
+            + self.i_rod * k.psi[1] * k.psi[1]
+            + self.m_piston * k.piston_x[1] * k.piston_x[1];
+        let half_dm = self.m_crank * dot(k.crank[1], k.crank[2])
+            + self.m_rod * dot(k.rod[1], k.rod[2])
+            + self.i_rod * k.psi[1] * k.psi[2]
+            + self.m_piston * k.piston_x[1] * k.piston_x[2];
+        let dv = self.g * (self.m_crank * k.crank[1][1] + self.m_rod * k.rod[1][1]);
+        (m, half_dm, dv)
+    }
+
+    /// φ̈ at (φ, φ̇).
+    pub fn acceleration(&self, phi: f64, phi_dot: f64) -> f64 {
+        let (m, half_dm, dv) = self.reduced(phi);
+        -(half_dm * phi_dot * phi_dot + dv) / m
+    }
+
+    /// Energy `½ M φ̇² + V`.
+    pub fn energy(&self, phi: f64, phi_dot: f64) -> f64 {
+        let (m, _, _) = self.reduced(phi);
+        let k = self.kinematics(phi);
+        0.5 * m * phi_dot * phi_dot
+            + self.g
+                * (self.m_crank * k.crank[0][1] + self.m_rod * k.rod[0][1] + self.m_piston * self.e)
+    }
+
+    /// Integrates from (φ, φ̇) = `initial` at t = 0 and returns `[φ, φ̇]` at each of `times`
+    /// (sorted, ≥ 0), with the tests' Dormand–Prince at `rtol`, `atol`.
+    pub fn simulate_tol(
+        &self,
+        initial: [f64; 2],
+        times: &[f64],
+        rtol: f64,
+        atol: f64,
+    ) -> Vec<[f64; 2]> {
+        assert!(
+            self.l > self.r + self.e.abs(),
+            "offset slider-crank: the rod must reach the cylinder line at every crank angle"
+        );
+        let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = self.acceleration(y[0], y[1]);
+        };
+        integrate(rhs, 0.0, &initial, times, rtol, atol)
+            .into_iter()
+            .map(|y| [y[0], y[1]])
+            .collect()
+    }
+
+    /// [`OffsetSliderCrank::simulate_tol`] at the references' tolerances.
+    pub fn simulate(&self, initial: [f64; 2], times: &[f64]) -> Vec<[f64; 2]> {
+        self.simulate_tol(initial, times, REFERENCE_RTOL, REFERENCE_ATOL)
+    }
+
+    /// The scene (bodies crank, rod, piston; joints main, crankpin, wrist, cylinder) at
+    /// (φ, φ̇) = `initial`, the velocities consistent, with the scene's `solve` block `solve`.
+    pub fn scene(&self, initial: [f64; 2], solve: serde_json::Value) -> String {
+        let [phi, w] = initial;
+        let k = self.kinematics(phi);
+        let [cx, cy] = self.rod_centre;
+        let v = |p: [f64; 2]| [p[0] * w, p[1] * w];
+        serde_json::json!({
+            "name": "offset_slider_crank",
+            "dimension": 2,
+            "gravity": [0.0, -self.g],
+            "bodies": [
+                {"name": "crank", "mass": self.m_crank, "inertia": self.i_crank,
+                 "points": {"O": [-0.5 * self.r, 0.0], "A": [0.5 * self.r, 0.0]},
+                 "position": k.crank[0], "angle": phi,
+                 "velocity": v(k.crank[1]), "angular_velocity": w},
+                {"name": "rod", "mass": self.m_rod, "inertia": self.i_rod,
+                 "points": {"A": [-cx, -cy], "B": [self.l - cx, -cy]},
+                 "position": k.rod[0], "angle": k.psi[0],
+                 "velocity": v(k.rod[1]), "angular_velocity": k.psi[1] * w},
+                {"name": "piston", "mass": self.m_piston, "inertia": 0.0,
+                 "position": [k.piston_x[0], self.e],
+                 "velocity": [k.piston_x[1] * w, 0.0]},
+            ],
+            "joints": [
+                {"name": "main", "type": "revolute", "bodies": ["ground", "crank"], "points": [[0.0, 0.0], "O"]},
+                {"name": "crankpin", "type": "revolute", "bodies": ["crank", "rod"], "points": ["A", "A"]},
+                {"name": "wrist", "type": "revolute", "bodies": ["rod", "piston"], "points": ["B", [0.0, 0.0]]},
+                {"name": "cylinder", "type": "prismatic", "bodies": ["ground", "piston"], "points": [[0.0, self.e], [0.0, 0.0]], "axis": [1.0, 0.0]},
+            ],
+            "solve": solve,
+        })
+        .to_string()
+    }
+}
