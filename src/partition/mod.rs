@@ -10,7 +10,7 @@
 //! * [`redundancy`]: redundant joints — the self-stress, the independent rows, their grip.
 //! * [`singular`]: the joints' conditioning `κ(G_v M⁻¹ G_vᵀ)` (how near `G_v` is to losing rank).
 //! * [`coordinates`]: a partition of coordinates and velocities, and its Newton's limits.
-//! * [`causal`]: the causality's partition at a configuration (what `graph --causality` draws).
+//! * `causal`: the causality's partition at a configuration (what `graph --causality` draws).
 //! * [`thresholds`]: every threshold, with the reason for its value, and [`PartitionPolicy`].
 
 pub(crate) mod causal;
