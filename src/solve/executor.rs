@@ -37,6 +37,7 @@ fn build_solver(
     let integ = match problem {
         Problem::Implicit(p) => {
             let wants_schur = p.schur.is_some();
+            let weights = p.weights.map(|w| (p.atol.clone(), w));
             let schur = p.schur.and_then(|split| {
                 make_ida_schur(
                     p.dae.clone(),
@@ -61,6 +62,9 @@ fn build_solver(
                     ida
                 }
             };
+            if let Some((atol, w)) = weights {
+                ida.set_error_weights(opts.rtol, atol, w)?;
+            }
             if let Some(ev) = events.filter(|e| e.eval.len() > 0) {
                 let mut ev = ev.eval.clone();
                 ida.set_roots(ev.len(), Box::new(move |t, y, _yp, g| ev.roots(t, y, g)))?;

@@ -21,6 +21,10 @@ pub type IdaSparseJacobianFn =
     Box<dyn FnMut(f64, f64, &[f64], &[f64], &mut SparseMatrixMut<'_>) -> CallbackResult + Send>;
 /// IDA root functions `g(t, y, y') → gout`.
 pub type IdaRootFn = Box<dyn FnMut(f64, &[f64], &[f64], &mut [f64]) -> CallbackResult + Send>;
+/// IDA error weights `(t, y, ewt)`: `ewt` arrives as `1 / (rtol |y_i| + atol_i)` and the
+/// closure may raise entries (never lower them to zero or below); `t` is the time of the last
+/// residual evaluation (IDA asks for weights after a step, at the step's end).
+pub type ErrorWeightFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
 /// CVODE right-hand side `f(t, y) → ydot`.
 pub type RhsFn = Box<dyn FnMut(f64, &[f64], &mut [f64]) -> CallbackResult + Send>;
 /// CVODE Jacobian `(t, y, f(t, y), J)`: fill `J = ∂f/∂y`.

@@ -6,7 +6,7 @@
 //! ([`Ida::new_sparse`]: faer or KLU, see [`super::sparse`]) or by a user [`IdaLinearSolver`].
 
 use super::callback::{
-    error_handler, finite_or_recoverable, CallbackStatus, IdaJacobianFn, IdaRootFn,
+    error_handler, finite_or_recoverable, CallbackStatus, ErrorWeightFn, IdaJacobianFn, IdaRootFn,
     IdaSparseJacobianFn, ResidualFn,
 };
 use super::calls::Calls;
@@ -65,6 +65,17 @@ pub(crate) struct IdaData {
     jacobian: Option<IdaJacobianFn>,
     sparse_jacobian: Option<(IdaSparseJacobianFn, CscPattern)>,
     roots: Option<IdaRootFn>,
+    /// The time of the last residual evaluation (the error weights' `t`).
+    last_t: f64,
+    /// User error weights ([`Ida::set_error_weights`]).
+    weights: Option<ErrorWeights>,
+}
+
+/// The tolerances and closure behind `IDAWFtolerances` ([`Ida::set_error_weights`]).
+struct ErrorWeights {
+    rtol: f64,
+    atol: Vec<f64>,
+    raise: ErrorWeightFn,
 }
 
 /// Owned IDA memory, freed with `IDAFree`.
@@ -126,6 +137,7 @@ unsafe extern "C" fn residual_trampoline(
         let n = data.n;
         (data, slice_of(yy, n), slice_of(yp, n), slice_of_mut(rr, n))
     };
+    data.last_t = t;
     let IdaData {
         status, residual, ..
     } = data;
@@ -234,6 +246,37 @@ unsafe extern "C" fn root_trampoline(
         -1
     } else {
         0
+    }
+}
+
+unsafe extern "C" fn weights_trampoline(
+    yy: sys::N_Vector,
+    ewt: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
+    // SAFETY: as in residual_trampoline; yy and ewt are distinct serial vectors of length n.
+    let (data, y, w) = unsafe {
+        let data = &mut *(user_data as *mut IdaData);
+        let n = data.n;
+        (data, slice_of(yy, n), slice_of_mut(ewt, n))
+    };
+    let t = data.last_t;
+    let IdaData {
+        status, weights, ..
+    } = data;
+    let Some(ErrorWeights { rtol, atol, raise }) = weights.as_mut() else {
+        return -1;
+    };
+    for (i, (wi, yi)) in w.iter_mut().zip(y).enumerate() {
+        let tol = *rtol * yi.abs() + atol[if atol.len() == 1 { 0 } else { i }];
+        if tol.is_nan() || tol <= 0.0 {
+            return -1;
+        }
+        *wi = 1.0 / tol;
+    }
+    match status.guard(t, || raise(t, y, w)) {
+        0 if w.iter().all(|v| v.is_finite() && *v > 0.0) => 0,
+        _ => -1,
     }
 }
 
@@ -381,6 +424,8 @@ impl Ida {
             jacobian,
             sparse_jacobian: sparse_jac.map(|(j, p, _)| (j, p)),
             roots: None,
+            last_t: t0,
+            weights: None,
         });
         let (mat, mut ls) = match (custom, &smat, sparse_kind) {
             (_, Some(sm), Some(kind)) => (
@@ -707,6 +752,27 @@ impl Ida {
         let flag = unsafe { sys::IDASetId(self.raw(), self.tmp.raw()) };
         if flag < 0 {
             return Err(self.fail("IDASetId", flag));
+        }
+        Ok(())
+    }
+
+    /// Error weights `w_i = 1 / (rtol |y_i| + atol_i)` raised by `raise` (`IDAWFtolerances`):
+    /// IDA's local error test and Newton convergence test measure `‖W e‖` with these weights,
+    /// so raising a component's weight tightens the test on it. Replaces the tolerances given
+    /// at construction; kept across [`Ida::reinit`].
+    pub fn set_error_weights(
+        &mut self,
+        rtol: f64,
+        atol: Vec<f64>,
+        raise: ErrorWeightFn,
+    ) -> Result<(), SolverError> {
+        check_tolerances(rtol, &atol, self.data.n)?;
+        self.data.weights = Some(ErrorWeights { rtol, atol, raise });
+        // SAFETY: live IDA memory; the trampoline reads the closure from the boxed `IdaData`
+        // registered as user data, which outlives the IDA memory.
+        let flag = unsafe { sys::IDAWFtolerances(self.raw(), Some(weights_trampoline)) };
+        if flag < 0 {
+            return Err(self.fail("IDAWFtolerances", flag));
         }
         Ok(())
     }

@@ -48,7 +48,7 @@ pub mod vector;
 pub mod version;
 
 pub use callback::{
-    CvodeJacobianFn, CvodeRootFn, CvodeSparseJacobianFn, IdaJacobianFn, IdaRootFn,
+    CvodeJacobianFn, CvodeRootFn, CvodeSparseJacobianFn, ErrorWeightFn, IdaJacobianFn, IdaRootFn,
     IdaSparseJacobianFn, ResidualFn, RhsFn,
 };
 pub use custom_ls::IdaLinearSolver;

@@ -75,6 +75,9 @@ pub(crate) struct ImplicitProblem {
     /// Schur complement on its outer set, where the structure allows (else the linear solver of
     /// the options).
     pub schur: Option<crate::sundials::schur::SchurSplit>,
+    /// Error weights raised above `1 / (rtol |y| + atol)` where an unknown's error reaches
+    /// others the error test leaves out ([`crate::sundials::Ida::set_error_weights`]).
+    pub weights: Option<crate::sundials::ErrorWeightFn>,
 }
 
 /// The explicit ODE of a segment, on CVODE BDF with Newton and the exact Jacobian.

@@ -308,6 +308,7 @@ impl<'a> Formulation<'a> for Ggl {
             y0: self.y0.clone(),
             yp0: self.yp0.clone(),
             schur: None,
+            weights: None,
         })))
     }
 

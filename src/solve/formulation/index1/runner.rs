@@ -90,17 +90,38 @@ fn complete_dependent(
         complete_dependent_sparse(tapes, (dependent, coordinates), t, y, lus);
         return;
     }
+    let b = &mut lus.scratch;
+    if b.g_work.len() != tapes.g.workspace_len() {
+        *b = CompletionScratch {
+            g_work: tapes.g.workspace(),
+            g: vec![0.0; tapes.g.n_outputs()],
+            gq_work: tapes.gq.workspace(),
+            gv_work: tapes.gv.workspace(),
+            bias_work: tapes
+                .bias
+                .as_ref()
+                .map(|t| t.workspace())
+                .unwrap_or_default(),
+            bias: vec![0.0; tapes.dims.2],
+            ..CompletionScratch::default()
+        };
+    }
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for _ in 0..4 {
-        let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
-        if rows.iter().all(|&k| g[k].abs() <= 1e-15 * scale) {
+        b.vars.clear();
+        b.vars.push(t);
+        b.vars.extend_from_slice(&y[..nq + nv]);
+        tapes.g.eval(&b.vars, &mut b.g_work, &mut b.g);
+        if rows.iter().all(|&k| b.g[k].abs() <= 1e-15 * scale) {
             break;
         }
-        let gq = tapes.gq.matrix(t, &y[..nq + nv]);
-        let block = DMatrix::from_fn(nc, nc, |r, k| gq[(rows[r], coordinates[k])]);
+        tapes
+            .gq
+            .matrix_into(t, &y[..nq + nv], (&mut b.vars, &mut b.gq_work), &mut b.gq);
+        let block = DMatrix::from_fn(nc, nc, |r, k| b.gq[(rows[r], coordinates[k])]);
         let Some(dq) = block.lu().solve(&nalgebra::DVector::from_iterator(
             nc,
-            rows.iter().map(|&k| -g[k]),
+            rows.iter().map(|&k| -b.g[k]),
         )) else {
             return;
         };
@@ -108,22 +129,43 @@ fn complete_dependent(
             y[i] += dq[k];
         }
     }
-    let gv = rows_of(&tapes.gv.matrix(t, &y[..nq + nv]), rows);
-    let block = DMatrix::from_fn(nc, nc, |r, k| gv[(r, dependent[k])]);
+    tapes
+        .gv
+        .matrix_into(t, &y[..nq + nv], (&mut b.vars, &mut b.gv_work), &mut b.gv);
+    let gv = &b.gv;
+    let block = DMatrix::from_fn(nc, nc, |r, k| gv[(rows[r], dependent[k])]);
     // G_D v_D = −(G_I v_I + b), b = ∂g/∂t (a driver's prescribed rate)
-    let bias = tapes.bias_at(t, &y[..nq + nv]);
+    if let Some(bias) = &tapes.bias {
+        bias.eval(&b.vars, &mut b.bias_work, &mut b.bias);
+    }
     let rhs = nalgebra::DVector::from_fn(nc, |r, _| {
         -(0..nv)
             .filter(|j| !dependent.contains(j))
-            .map(|j| gv[(r, j)] * y[nq + j])
+            .map(|j| gv[(rows[r], j)] * y[nq + j])
             .sum::<f64>()
-            - bias[rows[r]]
+            - b.bias[rows[r]]
     });
     if let Some(vd) = block.lu().solve(&rhs) {
         for (k, &j) in dependent.iter().enumerate() {
             y[nq + j] = vd[k];
         }
     }
+}
+
+/// The buffers of [`complete_dependent`]'s dense path (kept: it runs at every output row and
+/// examined step; allocating the tapes' workspaces there was a quarter of a spherical
+/// pendulum's run).
+#[derive(Default)]
+struct CompletionScratch {
+    vars: Vec<f64>,
+    g_work: Vec<f64>,
+    g: Vec<f64>,
+    gq_work: (Vec<f64>, Vec<f64>),
+    gv_work: (Vec<f64>, Vec<f64>),
+    bias_work: Vec<f64>,
+    bias: Vec<f64>,
+    gq: DMatrix<f64>,
+    gv: DMatrix<f64>,
 }
 
 /// The rows `rows` of `m` (all of them when `rows` lists every row).
@@ -246,6 +288,8 @@ struct BlockLus {
     /// (`KeptBlockLu::factored`): while the kept factors answer, the block is the same and so
     /// is its smallest singular value (the pinned chain's, at every examination).
     smallest: Option<(u64, f64)>,
+    /// The dense path's buffers.
+    scratch: CompletionScratch,
 }
 
 /// `b ← B⁻¹ b` with a dependent block's sparse LU `lu`; whether every entry came out finite.
@@ -778,6 +822,18 @@ impl<'a> Formulation<'a> for Index1<'a> {
             ));
         }
         let dae: Arc<dyn DaeFormulation> = Arc::new(f);
+        let weights = crate::dae::amplification::DependentAmplification::new(
+            (&self.tapes.gq, &self.tapes.gv),
+            (&dependent, &coordinates, &self.rows),
+            (nq, nv),
+            dae.id(),
+        )
+        .map(|mut a| {
+            Box::new(move |t: f64, y: &[f64], w: &mut [f64]| {
+                a.raise(t, y, w);
+                Ok(())
+            }) as crate::sundials::ErrorWeightFn
+        });
         // `auto`: the Newton matrix by elimination of the dependent blocks (Schur complement)
         // below AUTO_SCHUR_UNKNOWNS, faer's sparse LU from there on (make_ida resolves `auto`)
         let schur = self
@@ -818,6 +874,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             y0,
             yp0,
             schur,
+            weights,
         })))
     }
 

@@ -309,6 +309,7 @@ impl<'a> Partitioned<'a> {
             y0,
             yp0,
             schur: None,
+            weights: None,
         })))
     }
 }

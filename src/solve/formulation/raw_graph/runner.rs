@@ -182,6 +182,7 @@ pub(crate) fn dae_job<'a>(
                 y0: y0.clone(),
                 yp0,
                 schur: None,
+                weights: None,
             })),
             y0,
         }),
