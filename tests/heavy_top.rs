@@ -228,3 +228,38 @@ fn regression_the_free_tops_body_rotation_was_its_states_and_its_error_3050_rtol
     eprintln!("default at rtol {rtol:e}: {:.0} × rtol", err / rtol);
     assert!(err < 1000.0 * rtol, "error {err:e} = {} rtol", err / rtol);
 }
+
+/// Issue 46's must-show: the default within 1000 × rtol at rtol 1e-9, 1e-10 and 1e-11, and at
+/// tolerances between them (the global error of BDF scatters with the tolerance: one rtol alone
+/// is not a property). Measured with the dependent blocks' amplification in the error weights
+/// (`dae::amplification`): 191, 396 and 167 × rtol at 1e-9, 1e-10, 1e-11; 117, 271, 172 and
+/// 237 × at 1.4e-9, 7e-10, 1.4e-10 and 7e-11 (822 / 1510 / 2200 × at the nominal three before
+/// the free top's centre velocity became its states, 579 / 218 / 1919 × before the weights).
+#[test]
+fn default_follows_the_heavy_top_within_1000_rtol_from_1e9_to_1e11() {
+    for rtol in [1e-9, 7e-10, 1.4e-10, 7e-11, 1e-11] {
+        let sol = solve_at(None, rtol);
+        let err = error(&sol);
+        let s = &sol.summary;
+        eprintln!(
+            "rtol {rtol:e}: error {err:.3e} = {:.0} rtol, {} steps, {} etf",
+            err / rtol,
+            s.steps,
+            s.error_test_failures
+        );
+        assert_eq!(s.formulation, "dae");
+        assert!(err < 1000.0 * rtol, "rtol {rtol:e}: {} × rtol", err / rtol);
+    }
+}
+
+/// Found while varying the tolerance: at rtol 1.4e-11 the default's error test fails 2955 times
+/// (1297 at 1e-11) and the attitude ends 3430 × rtol off, the jump at t ≈ 2.5 s. Not yet
+/// understood (issue 46 stays open on it).
+#[test]
+#[ignore = "issue 46: heavy top at rtol 1.4e-11 is 3430 × rtol (error-test storm near t = 2.5 s)"]
+fn default_follows_the_heavy_top_within_1000_rtol_at_1_4e11() {
+    let rtol = 1.4e-11;
+    let sol = solve_at(None, rtol);
+    let err = error(&sol);
+    assert!(err < 1000.0 * rtol, "{} × rtol", err / rtol);
+}
