@@ -17,10 +17,10 @@ mod minimal;
 
 use std::sync::Arc;
 
-use bondmech::dae::{
-    consistent_state, select_dependent, ConstraintExprs, GglFormulation, MechanicsTapes,
-};
+use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use bondmech::partition::select_dependent;
 use bondmech::report::sweep::median;
+use bondmech::solve::formulation::GglFormulation;
 use bondmech::sundials::{DenseMatrixMut, Ida, IdaOptions, Multistep};
 use bondmech::{FormulationKind, Model, Scene};
 use cpu_time::ThreadTime;

@@ -236,10 +236,8 @@ fn chain_table(with_dense: bool) {
 /// The singular-passage monitor's κ on four-bar chains of N loops (2 + 6 N joint rows), dense
 /// eigenvalues against the sparse Lanczos path: µs per call (median of 21 calls), upright (φ = 1) and near an alignment (φ = 0.01).
 fn monitor_table() {
-    use bondmech::dae::{
-        dense_joint_condition_number, sparse_joint_condition_number, ConstraintExprs,
-        MechanicsTapes,
-    };
+    use bondmech::dae::{ConstraintExprs, MechanicsTapes};
+    use bondmech::partition::{dense_joint_condition_number, sparse_joint_condition_number};
     println!("\nMonitor κ(G_v M⁺ G_vᵀ), four-bar chains: µs per call (median of 21)");
     println!(
         "{:>4} {:>5} {:>6} {:>12} {:>12} {:>12} {:>14}",
@@ -290,7 +288,8 @@ fn cpu<T>(f: impl FnOnce() -> T) -> (T, f64) {
 }
 
 fn build_table() {
-    use bondmech::dae::{consistent_state, ConstraintExprs, GglFormulation, MechanicsTapes};
+    use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+    use bondmech::solve::formulation::GglFormulation;
     println!("\nModel build of the N-link pendulum, CPU seconds by phase (one build per cell)");
     let phases = [
         "Model::new",

@@ -59,8 +59,9 @@
 //! | [`fmu`] | a scene as a co-simulation FMU (FMI 2.0, 3.0): the archive and its variables |
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
 //! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
-//! | [`dae`] | the formulations (GGL, index 1, partitioned, decoupled twin), consistent initialisation |
-//! | [`solve`] | one `Formulation` trait, one module per formulation (GGL, index 1, partitioned, twin, raw graph), one executor on IDA, CVODE or ARKODE: outputs, events, budgets, statistics; its own `SolveError` |
+//! | [`dae`] | what every formulation shares: the constraint calculus, the mechanics rows `M a − Q + G_vᵀ λ` and `G_v a + γ` written once, consistent initialisation, compiled tapes |
+//! | [`partition`] | the one owner of the partition: dependent velocities and coordinates, conditioning, redundant rows, every threshold that decides them, [`partition::PartitionPolicy`] |
+//! | [`solve`] | one `Formulation` trait, one folder per formulation ([`solve::formulation`]: GGL, index 1, partitioned, twin, raw graph; equations and runner), one executor on IDA, CVODE or ARKODE: outputs, events, budgets, statistics; its own `SolveError` |
 //! | [`analysis`] | what the analyses find: the static equilibrium (and its search), the linear model about an operating point and its modes ([`linearize`] computes it) |
 //! | [`report`] | DAE vs decoupled comparisons, the data, CSV, JSON and SVG of tolerance, stiffness and parameter sweeps ([`report::vary`]), plots, animations |
 //! | [`study`] | running sweeps: many solves of one scene, in parallel and in shards |
@@ -83,6 +84,7 @@ pub mod model;
 mod model_inspect;
 mod model_linearize;
 pub mod output;
+pub mod partition;
 pub mod report;
 pub mod scene;
 pub mod service;

@@ -3,7 +3,7 @@
 //!
 //! The state `x = [q_I, v_I]` is the partition's: the integral-causality inertias' flows `v_I`
 //! and the displacements `q_I` they carry (the ODE states of the partitioned formulation,
-//! [`crate::dae::partitioned`]), chosen by the causality at the operating point. Every other
+//! [`crate::solve::formulation::partitioned`]), chosen by the causality at the operating point. Every other
 //! unknown `w = [q_D, v_D, v', λ]` is fixed by `x`, the inputs `u` and `t` through
 //!
 //! ```text
@@ -41,13 +41,16 @@ use nalgebra::{DMatrix, DVector};
 use crate::analysis::linear_model::{
     modes_of, LinearModel, LinearizeError, LinearizeOptions, OperatingPoint,
 };
-use crate::dae::{dependent_condition, select_dependent, ConstraintExprs, PartitionedSystem};
+use crate::dae::ConstraintExprs;
 use crate::error::{Error, Result};
 use crate::expr::{Expr, Tape};
 use crate::mech::body::BodyKinematics;
 use crate::mech::MultibodySystem;
 use crate::model::Model;
+use crate::partition::PartitionPolicy;
+use crate::partition::{dependent_condition, select_dependent};
 use crate::scene::Scene;
+use crate::solve::formulation::PartitionedSystem;
 
 /// The linear model of `scene` about `options.at` (see the module documentation).
 ///
@@ -118,24 +121,10 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         let m = g.constant(sys.mass[j]);
         let aj = g.var(a_slot(j));
         let ma = g.mul(m, aj);
-        let mut terms = vec![ma, g.neg(sys.forces[j])];
-        for i in 0..nc {
-            if !g.is_zero(c.gv[i][j]) {
-                let l = g.var(l_slot(i));
-                terms.push(g.mul(c.gv[i][j], l));
-            }
-        }
-        e_rows.push(g.sum(&terms));
+        e_rows.push(c.effort_row(g, (j, sys.forces[j]), &[ma], l_slot));
     }
     for i in 0..nc {
-        let mut terms = vec![c.gamma[i]];
-        for j in 0..nv {
-            if !g.is_zero(c.gv[i][j]) {
-                let aj = g.var(a_slot(j));
-                terms.push(g.mul(c.gv[i][j], aj));
-            }
-        }
-        e_rows.push(g.sum(&terms));
+        e_rows.push(c.acceleration_row(g, i, a_slot));
     }
     let y_exprs: Vec<Option<Expr>> = outputs.iter().map(|o| o.1).collect();
     // the Jacobians' entries, row by row: (block, row, z index, expression)
@@ -274,12 +263,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let cm = &yz * &zx;
     let dm = &yz * &zu;
 
-    let states: Vec<String> = part
-        .ind_q
-        .iter()
-        .map(|&i| sys0.coords[i].name.clone())
-        .chain(part.ind_v.iter().map(|&j| sys0.velocities[j].name.clone()))
-        .collect();
+    let states = part.state_names(sys0);
     let modes = modes_of(&a, &states, part.ind_q.len());
     Ok(LinearModel {
         at: options.at.to_string(),
@@ -347,6 +331,17 @@ fn operating_point(
     Ok((t, x))
 }
 
+/// Refuses `given` independent `what` where the joints leave `left`.
+fn count_given(given: usize, left: usize, what: &str) -> Result<()> {
+    if given != left {
+        return Err(LinearizeError::States(format!(
+            "{given} independent {what} given, the joints leave {left}"
+        ))
+        .into());
+    }
+    Ok(())
+}
+
 /// The partition at the operating point `(t, x)`: the causality's there (with a note when it
 /// is not the start's), or the one whose independent coordinates are named; refused where the
 /// joints' Jacobian loses rank or its dependent block is nearly singular.
@@ -356,13 +351,13 @@ fn choose_partition(
     t_start: f64,
     t: f64,
     x: &[f64],
-) -> Result<(crate::dae::Partition, Vec<String>)> {
+) -> Result<(crate::partition::Partition, Vec<String>)> {
     let nq = sys0.nq();
     let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
     let mut sp = sys0.clone();
     let cp = ConstraintExprs::derive(&mut sp);
     let psys = PartitionedSystem::new(&mut sp, &cp);
-    let causal = crate::solve::partition::CausalPartition::new(sys0, t_start);
+    let causal = crate::partition::causal::CausalPartition::new(sys0, t_start);
     let mut notes = Vec::new();
     let part = match states {
         Some(names) => named_partition(sys0, &psys, t, x, names)?,
@@ -405,7 +400,7 @@ fn choose_partition(
         }
     };
     let condition = psys.condition(&part, t, x);
-    if condition.is_nan() || condition >= 1e10 {
+    if !PartitionPolicy::linearizable(condition) {
         return Err(singular(format!(
             "the dependent block of the joints' Jacobian has condition {condition:.1e} (joints {}): a singular configuration",
             joint_list(sys0)
@@ -534,16 +529,11 @@ fn joint_list(sys: &MultibodySystem) -> String {
 fn resolve_outputs(
     sys: &MultibodySystem,
     graph: &mut crate::expr::ExprGraph,
-    part: &crate::dae::Partition,
+    part: &crate::partition::Partition,
     asked: &[String],
     lambda0: u32,
 ) -> Result<Vec<(String, Option<Expr>, usize)>> {
-    let states: Vec<String> = part
-        .ind_q
-        .iter()
-        .map(|&i| sys.coords[i].name.clone())
-        .chain(part.ind_v.iter().map(|&j| sys.velocities[j].name.clone()))
-        .collect();
+    let states = part.state_names(sys);
     if asked.is_empty() {
         return Ok(states
             .iter()
@@ -599,7 +589,7 @@ fn named_partition(
     t: f64,
     x: &[f64],
     names: &[String],
-) -> Result<crate::dae::Partition> {
+) -> Result<crate::partition::Partition> {
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let mut ind_q = Vec::new();
     let mut ind_v = Vec::new();
@@ -626,14 +616,7 @@ fn named_partition(
     ind_q.dedup();
     ind_v.sort_unstable();
     ind_v.dedup();
-    if ind_q.len() != nq - nc {
-        return Err(LinearizeError::States(format!(
-            "{} independent coordinates given, the joints leave {}",
-            ind_q.len(),
-            nq - nc
-        ))
-        .into());
-    }
+    count_given(ind_q.len(), nq - nc, "coordinates")?;
     let (gq, gv) = psys.jacobians(t, x);
     // q' = v: each coordinate's rate is its own velocity
     let mut g = sys.graph.clone();
@@ -648,23 +631,16 @@ fn named_partition(
             ind_v = (0..nv).filter(|j| !dep.contains(j)).collect();
         }
     }
-    if ind_v.len() != nv - nc {
-        return Err(LinearizeError::States(format!(
-            "{} independent velocities given, the joints leave {}",
-            ind_v.len(),
-            nv - nc
-        ))
-        .into());
-    }
+    count_given(ind_v.len(), nv - nc, "velocities")?;
     let rest = |n: usize, i: &[usize]| (0..n).filter(|k| !i.contains(k)).collect::<Vec<_>>();
-    let p = crate::dae::Partition {
+    let p = crate::partition::Partition {
         dep_q: rest(nq, &ind_q),
         dep_v: rest(nv, &ind_v),
         ind_q,
         ind_v,
     };
     let cond = dependent_condition(&gq, &p.dep_q).max(dependent_condition(&gv, &p.dep_v));
-    if cond.is_nan() || cond >= 1e10 {
+    if !PartitionPolicy::linearizable(cond) {
         return Err(LinearizeError::States(format!(
             "the joints do not fix the other coordinates from these (dependent block condition {cond:.1e})"
         ))

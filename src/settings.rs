@@ -34,7 +34,7 @@ pub enum FormulationKind {
     /// displacements they carry are IDA's differential unknowns; the differential-causality
     /// inertias' flows and accelerations, the dependent displacements and the constraint
     /// efforts are algebraic (index 1 at acceleration level, the constraint rows kept at
-    /// position and velocity level, [`crate::dae::Index1Formulation`]); the partition is the
+    /// position and velocity level, [`crate::solve::formulation::Index1Formulation`]); the partition is the
     /// causality's ([`crate::bond::causality`]), re-chosen when its block degrades. Where
     /// `q' = K(q) v` (3D bodies' quaternions, body-fixed planar frames) the dependent coordinates
     /// are chosen apart from the dependent velocities; with redundant joints the motion is

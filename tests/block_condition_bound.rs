@@ -3,7 +3,7 @@
 //! of each column subset from nalgebra's singular values), on deterministic pseudo-random
 //! matrices of 1 … 4 rows and up to 7 columns with columns of very different scales.
 
-use bondmech::dae::{block_condition_bound, dependent_condition};
+use bondmech::partition::{block_condition_bound, dependent_condition};
 use nalgebra::DMatrix;
 
 /// A deterministic pseudo-random stream in [-1, 1) (64-bit LCG).

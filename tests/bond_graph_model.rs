@@ -6,10 +6,10 @@
 
 mod oracle;
 
-use bondmech::dae::DecoupledFormulation;
 use bondmech::expr::ExprGraph;
 use bondmech::mech::{self, EquationSource, MultibodySystem};
 use bondmech::scene::Scene;
+use bondmech::solve::formulation::DecoupledFormulation;
 
 fn scene(name: &str) -> Scene {
     Scene::from_path(format!("{}/scenes/{name}.json", env!("CARGO_MANIFEST_DIR"))).unwrap()

@@ -13,7 +13,7 @@
 
 mod common;
 
-use bondmech::dae::index1::SPARSE_GRIP_ROWS;
+use bondmech::partition::thresholds::SPARSE_GRIP_ROWS;
 use bondmech::report::generate::n_link_pendulum;
 use bondmech::{LinearSolverKind, Model, Solution};
 use common::n_link::{simulate_n_link, NLinkPendulum};

@@ -1,16 +1,16 @@
 //! The partitioned right-hand side against independent derivations (Lagrange's equations in
 //! the minimal coordinates, `common::double_pendulum` and `common::slider_crank`), on both of
 //! its paths: the full dependent block (Newton on every dependent coordinate) and the
-//! symbolic elimination of the coordinates affine in their rows (`dae::elimination`: no
+//! symbolic elimination of the coordinates affine in their rows (`solve::formulation::partitioned::elimination`: no
 //! Newton for a tree, Newton on the loop closure for the slider-crank).
 
 mod common;
 
 use std::sync::Arc;
 
-use bondmech::dae::{
-    consistent_state, ConstraintExprs, MechanicsTapes, Partition, PartitionedRhs, PartitionedSystem,
-};
+use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use bondmech::partition::Partition;
+use bondmech::solve::formulation::{PartitionedRhs, PartitionedSystem};
 use bondmech::{Model, Scene};
 use common::double_pendulum::DoublePendulum;
 use common::slider_crank::SliderCrank;

@@ -3,10 +3,9 @@
 //! along a motion, for step coefficients `c_j` from 1 to 1e6 (IDA's `α/h` over the steps it
 //! takes on these problems).
 
-use bondmech::dae::{
-    consistent_state, select_dependent, ConstraintExprs, DaeFormulation, Index1Formulation,
-    MechanicsTapes,
-};
+use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use bondmech::partition::select_dependent;
+use bondmech::solve::formulation::{DaeFormulation, Index1Formulation};
 use bondmech::sundials::dense_lu;
 use bondmech::sundials::schur::{SchurLu, SchurPartition};
 use bondmech::Scene;

@@ -5,7 +5,7 @@
 
 mod common;
 
-use bondmech::dae::singular::SPARSE_CONDITION_ROWS;
+use bondmech::partition::thresholds::SPARSE_CONDITION_ROWS;
 use bondmech::solve::run::SINGULAR_CONDITION;
 use bondmech::{FormulationKind, LinearSolverKind, Model, Scene, Solution};
 use common::four_bar_chain::{chain_json, simulate_four_bar_chain, FourBarChain};

@@ -2,11 +2,10 @@
 //! blocks, index 1, decoupled twin) against central finite differences of their own residuals
 //! at random states — the finite differences being the independent reference.
 
-use bondmech::dae::select_dependent;
-use bondmech::dae::{
-    ConstraintExprs, DecoupledFormulation, GglFormulation, Index1Formulation, MechanicsTapes,
-};
+use bondmech::dae::{ConstraintExprs, MechanicsTapes};
 use bondmech::mech::build;
+use bondmech::partition::select_dependent;
+use bondmech::solve::formulation::{DecoupledFormulation, GglFormulation, Index1Formulation};
 use bondmech::Scene;
 use nalgebra::DMatrix;
 

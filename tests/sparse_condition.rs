@@ -1,6 +1,6 @@
 //! The singular-passage monitor's condition number `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` from the
 //! sparse path (Lanczos on the sparse Gram matrix and, through its sparse Cholesky factor, on
-//! its inverse; `dae::singular::sparse_joint_condition_number`) against all eigenvalues of the
+//! its inverse; `partition::singular::sparse_joint_condition_number`) against all eigenvalues of the
 //! dense Gram matrix computed here by nalgebra (an independent symmetric eigensolver), on every
 //! bundled scene and on the 40-four-bar chain along its motion, up to and at its alignments;
 //! and the κ `joint_conditioning` reports with the joints (faer's dense eigen-decomposition)
@@ -14,10 +14,10 @@
 
 mod common;
 
-use bondmech::dae::singular::SPARSE_CONDITION_ROWS;
-use bondmech::dae::{
-    joint_condition_number, joint_conditioning, sparse_joint_condition_number, ConstraintExprs,
-    MechanicsTapes,
+use bondmech::dae::{ConstraintExprs, MechanicsTapes};
+use bondmech::partition::thresholds::SPARSE_CONDITION_ROWS;
+use bondmech::partition::{
+    joint_condition_number, joint_conditioning, sparse_joint_condition_number,
 };
 use bondmech::{Model, Scene};
 use common::four_bar_chain::chain_json_at;

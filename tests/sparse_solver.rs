@@ -40,10 +40,9 @@
 
 mod common;
 
-use bondmech::dae::{
-    consistent_state, select_dependent, ConstraintExprs, DecoupledFormulation, GglFormulation,
-    Index1Formulation, MechanicsTapes,
-};
+use bondmech::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
+use bondmech::partition::select_dependent;
+use bondmech::solve::formulation::{DecoupledFormulation, GglFormulation, Index1Formulation};
 use bondmech::sundials::{
     solve_direct, solve_faer_sequence, CscPattern, DirectSolver, Ida, IdaOptions, SparseSolver,
 };

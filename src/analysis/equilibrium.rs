@@ -129,15 +129,7 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
     let g = &mut sys.graph;
     let mut f: Vec<Expr> = Vec::with_capacity(nv + nc);
     for j in 0..nv {
-        let mut terms = vec![sys.forces[j]];
-        for i in 0..nc {
-            if !g.is_zero(c.gv[i][j]) {
-                let l = g.var(lam_slot(i));
-                let p = g.mul(c.gv[i][j], l);
-                terms.push(g.neg(p));
-            }
-        }
-        f.push(g.sum(&terms));
+        f.push(c.static_row(g, (j, sys.forces[j]), lam_slot));
     }
     f.extend(c.g.iter().copied());
     let unknown_slots: Vec<u32> = (0..nq)

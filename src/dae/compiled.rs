@@ -239,20 +239,17 @@ impl ImplicitDae {
 }
 
 impl ImplicitDae {
-    /// `values[slots[k]] += J_k` for the `k`-th entry of `J = ∂F/∂y + cj ∂F/∂y'` in the order
+    /// `values[slots[k]] += J_k` for the `k`-th entry of `J = ∂F/∂y + cj ∂F/∂y'` at `(t, cj)` and
+    /// `(y, y')` in the order
     /// of [`Self::structure`] (`∂F/∂y`'s entries, then `∂F/∂y'`'s times `cj`); `false`
     /// (nothing written) when `slots` does not hold one place per entry, or a place lies
     /// outside `values`.
-    #[allow(clippy::too_many_arguments)]
     pub fn jacobian_into_slots(
         &self,
         ws: &mut Workspace,
-        t: f64,
-        cj: f64,
-        y: &[f64],
-        yp: &[f64],
-        slots: &[usize],
-        values: &mut [f64],
+        (t, cj): (f64, f64),
+        (y, yp): (&[f64], &[f64]),
+        (slots, values): (&[usize], &mut [f64]),
     ) -> bool {
         let (n_dy, n_dyp) = (self.dy_at.len(), self.dyp_at.len());
         if slots.len() != n_dy + n_dyp || slots.iter().any(|&s| s >= values.len()) {

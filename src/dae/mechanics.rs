@@ -40,6 +40,75 @@ pub struct ConstraintExprs {
 }
 
 impl ConstraintExprs {
+    /// The effort (force balance) row of velocity `j`, `M_j a_j − Q_j + Σ_k G_v[k, j] λ_k`:
+    /// the `inertia` terms first (`M_j a_j`, and whatever a formulation adds there, e.g. the
+    /// energy invariant's `μ M_j v_j`), then `−Q_j` (`force` is `Q_j`), then `G_v[k, j] λ_k`
+    /// for every row `k` that involves velocity `j`, with `λ_k` the variable in slot `lambda(k)`.
+    /// Every formulation, `linearize` and `equilibrium` build it here, in this term order (the
+    /// tapes' floating-point sums follow it).
+    pub fn effort_row(
+        &self,
+        g: &mut ExprGraph,
+        (j, force): (usize, Expr),
+        inertia: &[Expr],
+        lambda: impl Fn(usize) -> u32,
+    ) -> Expr {
+        let mut terms = inertia.to_vec();
+        terms.push(g.neg(force));
+        self.push_reactions(g, j, &lambda, false, &mut terms);
+        g.sum(&terms)
+    }
+
+    /// The static balance of velocity `j` (the effort row at rest, `a = 0`, with its sign
+    /// turned): `Q_j − Σ_k G_v[k, j] λ_k`.
+    pub fn static_row(
+        &self,
+        g: &mut ExprGraph,
+        (j, force): (usize, Expr),
+        lambda: impl Fn(usize) -> u32,
+    ) -> Expr {
+        let mut terms = vec![force];
+        self.push_reactions(g, j, &lambda, true, &mut terms);
+        g.sum(&terms)
+    }
+
+    /// Appends `± G_v[k, j] λ_k` for every row `k` whose `G_v[k, j]` is not the zero
+    /// expression (`negate`: `−G_v[k, j] λ_k`).
+    fn push_reactions(
+        &self,
+        g: &mut ExprGraph,
+        j: usize,
+        lambda: &impl Fn(usize) -> u32,
+        negate: bool,
+        terms: &mut Vec<Expr>,
+    ) {
+        for k in 0..self.gv.len() {
+            if !g.is_zero(self.gv[k][j]) {
+                let l = g.var(lambda(k));
+                let p = g.mul(self.gv[k][j], l);
+                terms.push(if negate { g.neg(p) } else { p });
+            }
+        }
+    }
+
+    /// The acceleration-level constraint row `k`, `γ_k + Σ_j G_v[k, j] a_j`, with `a_j` the
+    /// variable in slot `acc(j)` for every velocity `j` that row `k` involves.
+    pub fn acceleration_row(
+        &self,
+        g: &mut ExprGraph,
+        k: usize,
+        acc: impl Fn(usize) -> u32,
+    ) -> Expr {
+        let mut terms = vec![self.gamma[k]];
+        for j in 0..self.gv[k].len() {
+            if !g.is_zero(self.gv[k][j]) {
+                let a = g.var(acc(j));
+                terms.push(g.mul(self.gv[k][j], a));
+            }
+        }
+        g.sum(&terms)
+    }
+
     /// Derives every constraint quantity from the system's `g` and `K`.
     ///
     /// Linear in the size of the mechanism: each row is differentiated only by the variables
@@ -140,7 +209,7 @@ impl ConstraintExprs {
 
 impl ConstraintExprs {
     /// The quantities of the rows `kept` only (in that order): the independent rows of
-    /// redundant joints ([`crate::dae::independent_rows`]), which determine the motion alone.
+    /// redundant joints ([`crate::partition::independent_rows`]), which determine the motion alone.
     pub fn keep_rows(&self, kept: &[usize]) -> ConstraintExprs {
         let pick = |v: &[Expr]| kept.iter().map(|&k| v[k]).collect::<Vec<_>>();
         let pick_rows = |v: &[Vec<Expr>]| kept.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();

@@ -167,14 +167,7 @@ impl BodyKinematics {
                 let w = self.planar_omega(g);
                 // V_P = V_O + ω × (R s) = (vx − ω ry, vy + ω rx)
                 let (vxe, vye) = (g.var(*vx), g.var(*vy));
-                let wry = g.mul(w, ry);
-                let wrx = g.mul(w, rx);
-                let pvx = g.sub(vxe, wry);
-                let pvy = g.add(vye, wrx);
-                PointKinematics {
-                    position: vec![px, py],
-                    velocity: vec![pvx, pvy],
-                }
+                planar_point(g, (px, py), (vxe, vye), w, (rx, ry))
             }
             BodyKinematics::PlanarBodyFixed { x, y, u, w, .. } => {
                 let (rx, ry) = self.rotated2(g, s);
@@ -183,14 +176,7 @@ impl BodyKinematics {
                 let py = g.add(ye, ry);
                 let (vcx, vcy) = self.centre_velocity_body_fixed(g, *u, *w);
                 let om = self.planar_omega(g);
-                let wry = g.mul(om, ry);
-                let wrx = g.mul(om, rx);
-                let pvx = g.sub(vcx, wry);
-                let pvy = g.add(vcy, wrx);
-                PointKinematics {
-                    position: vec![px, py],
-                    velocity: vec![pvx, pvy],
-                }
+                planar_point(g, (px, py), (vcx, vcy), om, (rx, ry))
             }
             BodyKinematics::Particle { r, v } => {
                 // every point of a particle is at its centre (checked when assembling)
@@ -310,4 +296,24 @@ pub fn quaternion_from_cardan(psi: f64, theta: f64, phi: f64) -> [f64; 4] {
         cz * sy * cx + sz * cy * sx,
         sz * cy * cx - cz * sy * sx,
     ]
+}
+
+/// The planar point at `p = (px, py)` of a body whose origin moves with `v = (vx, vy)` and turns
+/// at `ω`, its offset rotated into the ground frame `R s = (rx, ry)`:
+/// `V_P = V_O + ω × (R s) = (vx − ω ry, vy + ω rx)`.
+fn planar_point(
+    g: &mut ExprGraph,
+    p: (Expr, Expr),
+    v: (Expr, Expr),
+    w: Expr,
+    (rx, ry): (Expr, Expr),
+) -> PointKinematics {
+    let wry = g.mul(w, ry);
+    let wrx = g.mul(w, rx);
+    let pvx = g.sub(v.0, wry);
+    let pvy = g.add(v.1, wrx);
+    PointKinematics {
+        position: vec![p.0, p.1],
+        velocity: vec![pvx, pvy],
+    }
 }

@@ -1075,7 +1075,7 @@ pub fn check_atol(value: f64, length_scale: Option<f64>) -> Result<(), BoundErro
 ///
 /// Inside these bounds a stiffness can still give a meaningless twin (springs that start
 /// stretched by more than the bodies' size); that is a warning, given when the twin is built
-/// with the joint forces known ([`crate::dae::decoupled::prestress_warning`]).
+/// with the joint forces known ([`crate::solve::formulation::decoupled::prestress_warning`]).
 pub fn check_joint_stiffness(value: f64) -> Result<(), BoundError> {
     within(
         value,

@@ -1,6 +1,6 @@
 //! Solving a raw bond graph scene (no bodies): the graph validated, its causality assigned,
 //! its equations read ([`crate::bond::equations`]) and run by the executor as the formulation
-//! of `solve/runners/raw_graph.rs` (an ODE on CVODE, or the velocity-level index-2 DAE
+//! of `solve/formulation/raw_graph/runner.rs` (an ODE on CVODE, or the velocity-level index-2 DAE
 //! — its index-1 variant when `formulation` is [`FormulationKind::Index1`] — on IDA); under
 //! `decoupled` the graph's twin. Columns and figures: see that module.
 
@@ -9,9 +9,9 @@ use std::ops::ControlFlow;
 use cpu_time::ThreadTime;
 
 use super::executor::{execute, from_t_start};
+use super::formulation::raw_graph::runner::{self as raw_graph, columns_of};
 use super::non_finite::{map_solver_cause, name_in_bond_graph};
 use super::options::{FormulationKind, SolveOptions};
-use super::runners::raw_graph::{self, columns_of};
 use super::solution::{Row, Solution, Summary};
 use crate::bond::assign_causality;
 use crate::bond::equations::BondEquations;
@@ -232,7 +232,13 @@ fn solve_from_first_output(
             .iter()
             .map(|&d| if d > 0.5 { opts.atol } else { alg_atol })
             .collect();
-        raw_graph::dae_job(g, &eq, crate::dae::IdDae { dae, id }, atol, (y0, yp0))
+        raw_graph::dae_job(
+            g,
+            &eq,
+            crate::solve::formulation::IdDae { dae, id },
+            atol,
+            (y0, yp0),
+        )
     };
     summary.build_cpu_seconds = clock.elapsed().as_secs_f64();
     execute(job, opts, &mut summary, observer)

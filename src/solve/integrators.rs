@@ -7,13 +7,28 @@
 
 use std::sync::Arc;
 
-use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::dae::{ExplicitOde, Workspace};
+use crate::solve::formulation::DaeFormulation;
 use crate::solve::SolveError;
 use crate::solve::SolveOptions;
 use crate::sundials::schur::{SchurPartition, SchurSplit};
 use crate::sundials::{
-    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, SparseMatrixMut,
+    CscPattern, Cvode, CvodeOptions, DenseMatrixMut, Ida, IdaOptions, Multistep, ResidualFn,
+    SparseMatrixMut,
 };
+
+/// IDA's residual callback `r = F(t, y, y')` over a handle on `f` with a workspace of its own,
+/// and a second handle with its workspace for the Jacobian callback.
+fn residual_of(f: &Arc<dyn DaeFormulation>) -> (ResidualFn, Arc<dyn DaeFormulation>, Workspace) {
+    let (f1, f2) = (f.clone(), f.clone());
+    let mut ws1 = f1.workspace();
+    let ws2 = f2.workspace();
+    let residual: ResidualFn = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
+        f1.residual(&mut ws1, t, y, yp, r);
+        Ok(())
+    });
+    (residual, f2, ws2)
+}
 
 /// IDA on formulation `f` from `(t0, y0, y0')`, with per-unknown absolute tolerances `atol`.
 pub(crate) fn make_ida(
@@ -26,13 +41,7 @@ pub(crate) fn make_ida(
 ) -> Result<Ida, SolveError> {
     let mut ida_opts = ida_options(atol, f.id().to_vec(), opts);
     ida_opts.sparse_ordering = opts.sparse_ordering.unwrap_or_else(|| f.sparse_ordering());
-    let (f1, f2) = (f.clone(), f.clone());
-    let mut ws1 = f1.workspace();
-    let mut ws2 = f2.workspace();
-    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-        f1.residual(&mut ws1, t, y, yp, r);
-        Ok(())
-    });
+    let (residual, f2, mut ws2) = residual_of(&f);
     if let Some(kind) = opts.linear_solver.resolve(f.len()) {
         let structure = f.structure();
         let pattern = CscPattern::new(f.len(), structure.iter().copied())?;
@@ -49,7 +58,8 @@ pub(crate) fn make_ida(
         let places: Vec<usize> = slots.iter().map(|s| s.2).collect();
         let jacobian = Box::new(
             move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut SparseMatrixMut<'_>| {
-                if f2.jacobian_into_slots(&mut ws2, t, cj, y, yp, &places, jm.values_mut()) {
+                let into = (&places[..], jm.values_mut());
+                if f2.jacobian_into_slots(&mut ws2, (t, cj), (y, yp), into) {
                     return Ok(());
                 }
                 let mut k = 0;
@@ -93,13 +103,7 @@ pub(crate) fn make_ida_schur(
 ) -> Option<Result<Ida, SolveError>> {
     let partition = SchurPartition::from_split(f.len(), &split, f.structure()).ok()?;
     let ida_opts = ida_options(atol, f.id().to_vec(), opts);
-    let (f1, f2) = (f.clone(), f.clone());
-    let mut ws1 = f1.workspace();
-    let mut ws2 = f2.workspace();
-    let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-        f1.residual(&mut ws1, t, y, yp, r);
-        Ok(())
-    });
+    let (residual, f2, mut ws2) = residual_of(&f);
     // the matrix arrives zeroed (IDA and the trampoline clear it)
     let jacobian = Box::new(
         move |t: f64, cj: f64, y: &[f64], yp: &[f64], jm: &mut DenseMatrixMut<'_>| {

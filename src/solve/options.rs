@@ -74,7 +74,7 @@ pub struct SolveOptions {
     /// `c_j`, see `solve::integrators::IDA_DELTA_CJ`; SUNDIALS' own default is 0.25).
     pub ida_delta_cj: Option<f64>,
     /// IDA formulations on faer's sparse LU: how it orders the Newton matrix's columns;
-    /// `None` takes the formulation's own choice ([`crate::dae::DaeFormulation::sparse_ordering`]:
+    /// `None` takes the formulation's own choice ([`crate::solve::formulation::DaeFormulation::sparse_ordering`]:
     /// the cheapest of three orders for the index-1 DAE, COLAMD for the others).
     pub sparse_ordering: Option<crate::sundials::ColumnOrdering>,
     /// Linear solver of the Newton iterations (default [`LinearSolverKind::Auto`]).
@@ -91,7 +91,7 @@ pub struct SolveOptions {
     /// command line streams `run`'s CSV so).
     pub keep_rows: bool,
     /// The default DAE (`dae`, `index1`) keeps a conservative mechanism's energy as an
-    /// invariant of the DAE ([`crate::dae::EnergyInvariant`]): `None` (auto) and `Some(true)`
+    /// invariant of the DAE ([`crate::solve::formulation::EnergyInvariant`]): `None` (auto) and `Some(true)`
     /// where the mechanism conserves its energy and moves, `Some(false)` never.
     pub energy_invariant: Option<bool>,
 }

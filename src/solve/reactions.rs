@@ -3,7 +3,7 @@
 //! [`ReactionEval`] turns a solver state into every joint's reaction columns through the one
 //! mapping of [`crate::mech::reactions`]: the constraint forces come from the DAE's multipliers
 //! λ (GGL, compliant GGL, index 1: unknowns of the residual) or from the twin's joint
-//! spring-dampers `k g + c G_v v` ([`crate::dae::DecoupledFormulation::row_force`]).
+//! spring-dampers `k g + c G_v v` ([`crate::solve::formulation::DecoupledFormulation::row_force`]).
 //! [`EventEval`] evaluates the scene's event functions over `[t, q, v, reactions]`.
 
 use crate::dae::mechanics::MatrixTape;

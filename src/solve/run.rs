@@ -1,5 +1,5 @@
 //! Solving a mechanism: the consistent start, then the formulation chosen in
-//! [`SolveOptions::formulation`] (one module each, `solve/runners/`) run by the one
+//! [`SolveOptions::formulation`] (one folder each, `solve/formulation/<name>/`) run by the one
 //! executor (`solve/executor.rs`). The public names of the solve (its [`Solution`] and
 //! [`Summary`], the thresholds of the recoveries) are re-exported here.
 
@@ -8,24 +8,24 @@ use std::ops::ControlFlow;
 use cpu_time::ThreadTime;
 
 use super::executor::{execute, from_t_start};
-use super::options::{FormulationKind, SolveOptions};
-use super::runners::{decoupled, default_compliance, ggl, index1, partitioned};
-use crate::dae::{
-    consistent_state, ConstraintExprs, DecoupledFormulation, GglFormulation, MechanicsTapes,
+use super::formulation::shared::{default_compliance, JobStart};
+use super::formulation::{
+    decoupled::runner as decoupled, ggl::runner as ggl, index1::runner as index1,
+    partitioned::runner as partitioned,
 };
+use super::options::{FormulationKind, SolveOptions};
+use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
 use crate::mech::MultibodySystem;
+use crate::solve::formulation::{DecoupledFormulation, GglFormulation};
 use crate::solve::SolveError;
 
 pub use super::rows::output_columns;
-pub use super::runners::ggl::{
-    GGL_ERROR_TEST_SINGULAR, PASSAGE_CONDITION, REGULAR_CONDITION, RESUME_PLAIN_GGL,
-    SINGULAR_CONDITION,
-};
-pub use super::runners::partitioned::{
-    MAX_SWITCHINGS_PER_OUTPUT, REGULAR_PARTITION, REPARTITION_CONDITION, REPARTITION_GROWTH,
-    SINGULAR_PARTITION, STIFFNESS_LIMIT, TYPICAL_CONDITION,
-};
 pub use super::solution::{EventRecord, Row, SingularPassage, Solution, Summary};
+pub use crate::partition::thresholds::{
+    GGL_ERROR_TEST_SINGULAR, MAX_SWITCHINGS_PER_OUTPUT, PASSAGE_CONDITION, REGULAR_CONDITION,
+    REGULAR_PARTITION, REPARTITION_CONDITION, REPARTITION_GROWTH, RESUME_PLAIN_GGL,
+    SINGULAR_CONDITION, SINGULAR_PARTITION, STIFFNESS_LIMIT, TYPICAL_CONDITION,
+};
 
 /// Solves a multibody system with the chosen formulation, streaming rows to `observer`
 /// (return `ControlFlow::Break(())` to stop early; the rows so far are returned).
@@ -102,7 +102,7 @@ fn solve_from_first_output(
             summary.joint_stiffness = opts.joint_stiffness;
             summary
                 .warnings
-                .extend(crate::dae::decoupled::prestress_warning(
+                .extend(crate::solve::formulation::decoupled::prestress_warning(
                     &sys,
                     &init.lambda,
                     opts.joint_stiffness,
@@ -115,14 +115,16 @@ fn solve_from_first_output(
             }
             decoupled::job(&sys, dec, tapes, &init, opts)
         }
-        FormulationKind::Partitioned => partitioned::job(sys, &c, tapes, &init, opts, &mut summary),
+        FormulationKind::Partitioned => {
+            partitioned::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
+        }
         FormulationKind::Index1 => {
             summary.formulation = "index1".into();
-            index1::job(sys, &c, tapes, &init, opts, &mut summary)
+            index1::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
         }
         FormulationKind::Dae => {
             summary.formulation = "dae".into();
-            index1::job(sys, &c, tapes, &init, opts, &mut summary)
+            index1::job(JobStart::new(sys, &c, tapes, &init, opts), &mut summary)
         }
         FormulationKind::Ggl | FormulationKind::CompliantGgl => {
             let eps_default = default_compliance(&sys, opts);

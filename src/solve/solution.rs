@@ -85,12 +85,12 @@ pub struct Summary {
     pub compliant_time: f64,
     /// Singular passages met by the GGL: plain GGL failed near a rank-deficient `G_v` and the
     /// compliant GGL carried the motion through (the switch), and every later passage, found
-    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`crate::solve::run::PASSAGE_CONDITION`] at the output times.
+    /// as a peak of `κ(G_v M⁺ G_vᵀ)` above [`PASSAGE_CONDITION`](crate::partition::thresholds::PASSAGE_CONDITION) at the output times.
     pub singular_passages: Vec<SingularPassage>,
     /// Times the index-1 formulation re-selected its dependent velocities.
     pub index1_reselections: u64,
     /// Whether the default DAE kept the mechanism's energy as an invariant (a row
-    /// `E(q, v) = E₀` with its multiplier, [`crate::dae::EnergyInvariant`]).
+    /// `E(q, v) = E₀` with its multiplier, [`crate::solve::formulation::EnergyInvariant`]).
     pub energy_invariant: bool,
     /// Times the partitioned formulation re-chose its dependent coordinates and velocities
     /// (its dependent block had degraded).
@@ -235,4 +235,24 @@ pub struct SingularPassage {
     /// peak` for a passage found while the compliant GGL was already running (no restart; then
     /// `t` is the peak of κ located between outputs and `restarted_at = t`).
     pub failure: String,
+}
+
+impl SingularPassage {
+    /// A passage through the singular configuration `c` found at `t`, the run restarted at
+    /// `restarted_at` (not plain again yet), for the reason `failure`.
+    pub(crate) fn begun(
+        t: f64,
+        c: crate::partition::JointConditioning,
+        restarted_at: f64,
+        failure: String,
+    ) -> Self {
+        SingularPassage {
+            t,
+            joints: c.joints,
+            condition: c.condition,
+            restarted_at,
+            plain_again_at: None,
+            failure,
+        }
+    }
 }

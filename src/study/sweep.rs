@@ -8,11 +8,12 @@ use std::path::Path;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use crate::dae::{consistent_state, ConstraintExprs, DecoupledFormulation, MechanicsTapes};
+use crate::dae::{consistent_state, ConstraintExprs, MechanicsTapes};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::report::compare::{column_kind, ColumnKind};
 use crate::report::sweep::*;
+use crate::solve::formulation::DecoupledFormulation;
 use crate::solve::{FormulationKind, Solution, SolveOptions};
 
 /// The largest eigenvalue magnitude of the decoupled twin's Jacobian `∂f/∂y` at the start.

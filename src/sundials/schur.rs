@@ -23,7 +23,7 @@
 //! against the first unknowns (`G_D`), then the first rows against the second unknowns
 //! (`G_Dᵀ`), with `M` below the block diagonal.
 //!
-//! For the index-1 DAE of a mechanism (`crate::dae::index1`), `x` is the independent
+//! For the index-1 DAE of a mechanism (`crate::solve::formulation::index1`), `x` is the independent
 //! coordinates and velocities, and the blocks are `G_qD` (the position rows in the dependent
 //! coordinates), `G_vD` (the velocity rows in the dependent velocities), `G_D` (the
 //! acceleration constraints in the dummy accelerations) and `G_Dᵀ` (the dependent inertias'

@@ -51,7 +51,7 @@ pub enum ColumnOrdering {
     /// (left-looking, partial pivoting by rows) in that column order.
     ///
     /// Bound on COLAMD's, which does not see the pivoting: for the index-1 DAE of a chain
-    /// (`crate::dae::index1`), whose acceleration rows have no entry in their multipliers'
+    /// (`crate::solve::formulation::index1`), whose acceleration rows have no entry in their multipliers'
     /// columns, COLAMD's order costs 1.6 times the multiply–adds of Cuthill–McKee's (N-link
     /// pendulum, N = 256: 98 600 against 52 000), while for the GGL DAE of the same chain
     /// COLAMD's is already the cheapest of the three.

@@ -1,7 +1,7 @@
 //! `"gear"` (planar): an external mesh between two gears on axles fixed to the ground, no
 //! `points` (docs/scene-format.md §5).
 
-use super::own_fields::{refuse_ground, KeyShape, OwnFields, OwnKey, ReadOwnFields};
+use super::own_fields::{refuse_ground, refuse_space, KeyShape, OwnFields, OwnKey, ReadOwnFields};
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
 use crate::scene::space::Dimension;
@@ -20,11 +20,12 @@ impl OwnFields for Gear {
     }
 
     fn validate(&self, p: &mut Problems, dim: Dimension, path: &str, bodies: &[String; 2]) {
-        if dim == Dimension::Spatial {
-            p.push(
-                field(path, "type"),
-                "a gear joint is planar (dimension 2): it meshes two rotations about Z",
-            );
+        if refuse_space(
+            p,
+            dim,
+            path,
+            "a gear joint is planar (dimension 2): it meshes two rotations about Z",
+        ) {
             return;
         }
         if !self.ratio.is_finite() || self.ratio == 0.0 {

@@ -76,6 +76,15 @@ pub(crate) fn direction(p: &mut Problems, path: &str, v: &[f64], n: usize) {
     }
 }
 
+/// Refuses a planar-only kind in space (at the joint's `type`, with `message`); whether it did.
+pub(crate) fn refuse_space(p: &mut Problems, dim: Dimension, path: &str, message: &str) -> bool {
+    if dim == Dimension::Spatial {
+        p.push(field(path, "type"), message);
+        return true;
+    }
+    false
+}
+
 /// Refuses the ground as body `k` of the joint at `path` with `message`.
 pub(crate) fn refuse_ground(
     p: &mut Problems,

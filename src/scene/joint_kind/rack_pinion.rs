@@ -3,7 +3,7 @@
 //! docs/scene-format.md §5).
 
 use super::own_fields::{
-    direction, nums, refuse_ground, KeyShape, OwnFields, OwnKey, ReadOwnFields,
+    direction, nums, refuse_ground, refuse_space, KeyShape, OwnFields, OwnKey, ReadOwnFields,
 };
 use crate::scene::error::{field, Problems};
 use crate::scene::fields::Fields;
@@ -25,11 +25,7 @@ impl OwnFields for RackPinion {
     }
 
     fn validate(&self, p: &mut Problems, dim: Dimension, path: &str, bodies: &[String; 2]) {
-        if dim == Dimension::Spatial {
-            p.push(
-                field(path, "type"),
-                "a rack_pinion joint is planar (dimension 2)",
-            );
+        if refuse_space(p, dim, path, "a rack_pinion joint is planar (dimension 2)") {
             return;
         }
         direction(p, &field(path, "axis"), &self.axis, 2);

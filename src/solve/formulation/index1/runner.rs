@@ -28,26 +28,37 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::{Conj, MatMut};
 use nalgebra::DMatrix;
 
-use crate::dae::index1::{KeptBlockLu, SpectralHints, SPARSE_GRIP_ROWS};
 use crate::dae::{
-    consistent_state_from, dependent_condition_bound, dependent_condition_bound_factors,
-    independent_rows, joint_conditioning, rank_loss_persists, select_dependent, ConsistentState,
-    ConstraintExprs, DaeFormulation, GglFormulation, Index1Formulation, JointRows, MechanicsTapes,
+    consistent_state_from, rank_loss_persists, ConsistentState, ConstraintExprs, MechanicsTapes,
 };
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{
+    BUILT_KEPT, ENERGY_DRIFT_TRIGGER, ENERGY_READS, ENERGY_TREND_FRACTION, EXAMINE_MOTION,
+    GRIP_ALERT, GRIP_EVERY_STEP_ROWS, GRIP_GROWTH, GRIP_RECHECK, INDEX1_CHECK_CONDITION,
+    INDEX1_RESELECT_GAIN, MOOT_MARGIN, SPARSE_GRIP_ROWS,
+};
+use crate::partition::{
+    dependent_condition_bound, dependent_condition_bound_factors, independent_rows,
+    joint_conditioning, select_dependent, JointRows,
+};
+use crate::partition::{Decision, PartitionPolicy};
+use crate::partition::{KeptBlockLu, SpectralHints};
+use crate::solve::formulation::shared::JobStart;
 use crate::solve::formulation::Job;
+use crate::solve::formulation::{DaeFormulation, GglFormulation, Index1Formulation};
 use crate::solve::formulation::{
     Ending, Formulation, HandOver, ImplicitProblem, Next, Problem, Start,
 };
 use crate::solve::options::SolveOptions;
-use crate::solve::partition::CausalPartition;
-use crate::solve::partition::{INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN};
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::Summary;
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
+
+mod checks;
 
 /// Completes the dependent coordinates and velocities of an output row `y = [q, v, …]` of the
 /// index-1 DAE (dependent coordinates `coordinates`, dependent velocities `dependent`) from the
@@ -170,7 +181,7 @@ fn rows_of(m: &DMatrix<f64>, rows: &[usize]) -> DMatrix<f64> {
 /// its aligned configuration) rather than redundant joints ([`rank_loss_persists`]); where it is,
 /// `summary` gets a warning naming the joints. The formulations then keep every joint row and
 /// pass the start as any singular passage.
-pub(super) fn starts_singular(
+pub(crate) fn starts_singular(
     formulation: &str,
     tapes: &MechanicsTapes,
     (t0, x): (f64, &[f64]),
@@ -190,7 +201,7 @@ pub(super) fn starts_singular(
 
 /// The warning of a formulation that solves redundant joints from the independent rows `kept`:
 /// which rows are left out, and that the joints' reactions are not unique.
-pub(super) fn redundant_rows_warning(
+pub(crate) fn redundant_rows_warning(
     formulation: &str,
     sys: &MultibodySystem,
     kept: &[usize],
@@ -213,7 +224,7 @@ pub(super) fn redundant_rows_warning(
 /// `λ` (a least-squares solution over all rows, as the consistent start gives it), with the
 /// other rows' held at zero: `λ_R = (G_R G_Rᵀ)⁻¹ G_R (G_vᵀ λ)`, exact where `G_R` spans the row
 /// space of `G_v`. `λ` itself when every row is independent.
-pub(super) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
+pub(crate) fn multipliers_on_rows(gv: &DMatrix<f64>, lambda: &[f64], rows: &[usize]) -> Vec<f64> {
     if rows.len() == gv.nrows() {
         return lambda.to_vec();
     }
@@ -281,6 +292,13 @@ struct BlockLus {
     scratch: CompletionScratch,
 }
 
+/// `b ← B⁻¹ b` with a dependent block's sparse LU `lu`; whether every entry came out finite.
+fn solved_finite(lu: &Lu<usize, f64>, b: &mut [f64]) -> bool {
+    let n = b.len();
+    lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, 1));
+    b.iter().all(|v| v.is_finite())
+}
+
 /// [`complete_dependent`] with the blocks `G_q[:, D_q]` and `G_v[:, D]` read by their
 /// non-zeros ([`crate::dae::MatrixTape::entries`]) and solved by faer's sparse LU
 /// ([`KeptBlockLu`], the factors kept in `lus`):
@@ -307,11 +325,7 @@ fn complete_dependent_sparse(
             return;
         };
         let mut dq: Vec<f64> = g.iter().map(|v| -v).collect();
-        lu.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut dq, nc, 1),
-        );
-        if !dq.iter().all(|v| v.is_finite()) {
+        if !solved_finite(&lu, &mut dq) {
             return;
         }
         for (k, &i) in coordinates.iter().enumerate() {
@@ -336,11 +350,7 @@ fn complete_dependent_sparse(
             vd[r] -= v * y[nq + c];
         }
     }
-    lu.solve_in_place_with_conj(
-        Conj::No,
-        MatMut::from_column_major_slice_mut(&mut vd, nc, 1),
-    );
-    if !vd.iter().all(|v| v.is_finite()) {
+    if !solved_finite(&lu, &mut vd) {
         return;
     }
     for (k, &j) in dependent.iter().enumerate() {
@@ -364,7 +374,7 @@ fn dependent_coordinates(
         return Some(dependent.to_vec());
     }
     let gq = rows_of(&tapes.gq.matrix(t, x), rows);
-    select_dependent(&gq, &crate::dae::partition::preferred_coordinates(sys))
+    select_dependent(&gq, &crate::partition::preferred_coordinates(sys))
 }
 
 /// Whether every coordinate's rate is its velocity (`q' = v`: planar bodies in the seed's
@@ -387,70 +397,6 @@ struct HandoverWatch {
     /// The start.
     t0: f64,
 }
-
-/// The rise of the joints' condition number `κ(G_v M⁺ G_vᵀ)` over its value at the start above
-/// which the `dae` formulation hands the rest of the run to the GGL (checked at the outputs
-/// where the dependent block's condition has doubled). Measured on the bundled scenes: the
-/// slider-crank's κ varies by 1.9× over its turns, Andrews' by 1.6×, the four-bar's by 2.9×;
-/// the three-four-bar chain's rises 18× an output step before its alignment (κ peak 8e3).
-const DAE_HANDOVER_RISE: f64 = 10.0;
-
-/// The condition number of the best-conditioned dependent block `G_v[:, D]` above which the
-/// `dae` formulation hands the rest of the run to the GGL (which passes singular configurations
-/// with its compliant form and reports them): every partition is then degrading, as near a
-/// singular configuration of the joints (a four-bar chain's alignment; a slider-crank's dead
-/// centre is not one: the crank angle stays a regular state there).
-const DAE_HANDOVER_CONDITION: f64 = 1e3;
-
-/// How much better a fresh set of independent joint rows must hold the rank
-/// ([`redundant_row_grip`]) than the running one for a restart with it: the grip of the rows
-/// left out falls like `|sin φ|` as the self-stress turns away from them, and a fresh set is
-/// taken while the running one still holds a quarter of it.
-const REDUNDANT_ROWS_GAIN: f64 = 4.0;
-
-/// Growth of the dependent block's pivot-ratio estimate over its value at the start of a
-/// segment above which the step watch examines a step.
-const GRIP_GROWTH: f64 = 3.0;
-
-/// The pivot-ratio estimate above which the step watch examines a step in any case (a block of
-/// unit rows starts at 1; the examination's `μ` is then about 10).
-const GRIP_ALERT: f64 = 4.0;
-
-/// The factor by which the alert rises when an examination keeps the block (no block
-/// [`STEP_RESELECT_GAIN`] times better yet): the next look comes after a further degradation.
-const GRIP_RECHECK: f64 = 1.5;
-
-/// At an IDA step, a fresh choice replaces the running dependent velocities when its condition
-/// `μ` is this many times smaller. Smaller than the outputs' [`INDEX1_RESELECT_GAIN`]: between
-/// outputs the block is watched at every step, so the switch need not wait for a block 10×
-/// worse, and the dependent unknowns (algebraic, out of IDA's error test) amplify the
-/// independent ones' error by about `μ`. Measured on `scenes/bead_slot_through_pivot.json`
-/// (rtol 1e-10, atol 1e-8, outputs 0.03 … 0.5 s): a switch at `μ ≈ 30` (gain 10) left
-/// 0.8–19e-6 of error against the polar reference, at `μ ≈ 10` (gain 3) 1.9–2.0e-7, the
-/// GGL's 1e-7.
-const STEP_RESELECT_GAIN: f64 = 3.0;
-
-/// How far any coordinate moves (rad, m; the largest change of `q` over its entries) between
-/// two examinations of the partition: the dependent block's grip `μ(D)`, the dependent
-/// coordinates' block, the redundant rows' and the approach of a singular configuration,
-/// which all depend on the configuration only. The examinations run at IDA's accepted steps
-/// (the watch, [`Formulation::watch_step`]), so when they happen no longer follows the
-/// output times asked for, and their cost follows the motion, not the outputs: Bricard's
-/// mechanism (10 s, outputs every 0.01 s, about 1200 steps) examined its partition at each of
-/// its 1000 outputs, two thirds of its integration's CPU (dense singular values and a
-/// causality assignment each time).
-const EXAMINE_MOTION: f64 = 0.02;
-
-/// The margin by which [`Index1::examination_moot`]'s bound on `μ(D)` at IDA's step must stay
-/// below the examination's thresholds (at least [`INDEX1_CHECK_CONDITION`]): IDA's dependent
-/// unknowns satisfy the joints' rows to its Newton tolerance, which moves `μ` by a relative
-/// amount of that order, far below 1 %.
-const MOOT_MARGIN: f64 = 1.01;
-
-/// Joint rows up to which the step watch factors `G_v[:, D]` at every internal step (an LU of
-/// at most 16 × 16: a few hundred flops, against the residuals and Newton solves of a step);
-/// above, every `⌈nc / 16⌉²`-th step, so that the watch costs `O(nc)` per step on average.
-const GRIP_EVERY_STEP_ROWS: usize = 16;
 
 /// The step watch's estimate of the dependent block's condition: `G_v` at IDA's step, the
 /// block `G_v[:, D]`, its LU with partial pivoting and the ratio of its largest to its
@@ -531,7 +477,7 @@ impl BlockGrip {
 /// The largest of `whole` (the largest entry of the block's rows) and the largest pivot, over
 /// the smallest pivot magnitude of the LU with partial pivoting of the column-major `m × m`
 /// matrix `a` (factored in place); ∞ when a pivot is zero. Like `μ(D)`
-/// ([`crate::dae::dependent_condition`]) it sees a block that loses its grip against the whole
+/// ([`crate::partition::dependent_condition`]) it sees a block that loses its grip against the whole
 /// rows: `G_v = [x  y]`, `D = {x}` gives `max(|x|, |y|) / |x|`, where the pivots alone give 1.
 fn pivot_ratio(a: &mut [f64], m: usize, whole: f64) -> f64 {
     let (mut largest, mut smallest) = (0.0f64, f64::INFINITY);
@@ -618,7 +564,7 @@ struct Index1<'a> {
     /// The blocks' sparse LUs at scale (reset with the partition).
     block_lus: BlockLus,
     /// The energy kept as an invariant, where the run keeps it
-    /// ([`crate::dae::EnergyInvariant`]); the same `E₀` across restarts.
+    /// ([`crate::solve::formulation::EnergyInvariant`]); the same `E₀` across restarts.
     energy_e0: Option<f64>,
     /// Where the mechanism conserves its energy and the invariant is not kept from the start:
     /// the watch that switches it on once the energy has drifted ([`EnergyWatch`]).
@@ -637,24 +583,6 @@ const RESELECTION_WARNING: &str = "index1: partition re-selected";
 /// `(dependent velocities, joint rows)` of a segment: the formulation built for them serves
 /// every choice of dependent coordinates ([`Index1Formulation::with_coordinates`]).
 type PartitionKey = (Vec<usize>, Vec<usize>);
-
-/// How many built formulations a run keeps ([`Index1::built`]).
-const BUILT_KEPT: usize = 8;
-
-/// Fraction of the run after which the energy's drift is read as a trend
-/// ([`ENERGY_DRIFT_TRIGGER`]).
-pub const ENERGY_TREND_FRACTION: f64 = 0.1;
-
-/// Factor on `rtol × E_scale + atol × |∇E|₁` by which the energy, its drift so far projected
-/// linearly to the end of the run, of a conservative mechanism may drift before
-/// the default DAE keeps it as an invariant ([`crate::dae::EnergyInvariant`]), `E_scale` the
-/// larger of `|E₀|` and the largest kinetic energy met, plus atol × the largest `Σ |∂E/∂x_i|`
-/// (what the tolerances promise of the energy). BDF damps an undamped oscillation a
-/// little at every step (a one-signed energy error of about rtol per unit time); over a few
-/// periods it stays within the tolerance's promise and the invariant would only cost steps
-/// (measured: 1.4–1.8× on the bundled 5 s scenes), over hundreds of periods it becomes a phase
-/// error (IFToMM A01: 1.35e-2 m after 2000 s at rtol 1e-9 without the invariant).
-pub const ENERGY_DRIFT_TRIGGER: f64 = 300.0;
 
 /// The energy at the outputs of a run that may keep it as an invariant later.
 #[derive(Clone, Debug)]
@@ -675,15 +603,6 @@ struct EnergyWatch {
     next_read: f64,
     spacing: f64,
 }
-
-/// How many times over a run the energy watch reads the energy at IDA's steps (the first IDA
-/// step at or after each of `t₀ + k (t_end − t₀) / ENERGY_READS`). Read at the outputs
-/// instead, the IFToMM A01 pendulum (2000 s, rtol 1e-9) asked for at 8 output times switched
-/// the invariant on at t = 1000 and ended 2.1e-3 m off, where one output every 10 s switched it
-/// on at t = 200 and ended 9.7e-5 m off: the outputs decided the method. 1000 reads cost a
-/// tape evaluation each (the energy, its kinetic part and its gradient), nothing against the
-/// run's steps (the A01 pendulum takes 70 000 over 100 s at rtol 1e-9).
-pub const ENERGY_READS: f64 = 1000.0;
 
 impl<'a> Index1<'a> {
     /// `G_v` over the running segment's rows at `(t, x)` as the checks read it (dense, or by
@@ -716,7 +635,8 @@ impl<'a> Index1<'a> {
         why: &str,
     ) -> Result<Box<HandOver<'a>>, SolveError> {
         let init = self.restart_state(t_h, x)?;
-        let eps_default = super::default_compliance(&self.sys, &self.opts);
+        let eps_default =
+            crate::solve::formulation::shared::default_compliance(&self.sys, &self.opts);
         let tb = ThreadTime::now();
         let mut sys = self.sys.clone();
         // redundant joints need the compliant form throughout
@@ -727,7 +647,7 @@ impl<'a> Index1<'a> {
         };
         let ggl = GglFormulation::build(&mut sys, self.c, eps);
         let build_seconds = tb.elapsed().as_secs_f64();
-        let job = super::ggl::job(
+        let job = crate::solve::formulation::ggl::runner::job(
             sys,
             ggl,
             self.tapes.clone(),
@@ -744,512 +664,6 @@ impl<'a> Index1<'a> {
             ),
             build_seconds,
         }))
-    }
-}
-
-impl<'a> Index1<'a> {
-    /// `[q, v]` of IDA's state `y` at `t`, the dependent coordinates and velocities completed
-    /// (at scale with the running partition's symbolic block LUs, and the numeric LU of
-    /// `G_v[:, D]` left for the examination of the same row: a fresh symbolic analysis of each
-    /// block at every examined step was 7 % of the 128-link pendulum's run).
-    fn completed(&mut self, t: f64, y: &[f64]) -> Vec<f64> {
-        let (nq, nv, _) = self.tapes.dims;
-        let mut x = y[..nq + nv].to_vec();
-        complete_dependent(
-            &self.tapes,
-            (&self.dependent, &self.coordinates, &self.rows),
-            t,
-            &mut x,
-            &mut self.block_lus,
-        );
-        x
-    }
-
-    /// The examination of the partition at the IDA step `(t, x)`, `x = [q, v]` completed, that
-    /// the watch asked for ([`Formulation::watch_step`]): `scheduled`, the configuration has
-    /// moved [`EXAMINE_MOTION`] since the last examination — the redundant rows, the approach
-    /// of a singular configuration (hand-over), the dependent velocities' and coordinates'
-    /// blocks, each re-chosen where a fresh choice is [`INDEX1_RESELECT_GAIN`] times better;
-    /// `alert`, the step watch's grip estimate rose ([`Self::rechoose_at_step`]).
-    fn examine_step(
-        &mut self,
-        t: f64,
-        x: &[f64],
-        (scheduled, alert): (bool, bool),
-        summary: &mut Summary,
-    ) -> Result<Option<Next<'a>>, SolveError> {
-        if scheduled {
-            self.examined_q.clear();
-            self.examined_q.extend_from_slice(&x[..self.nq()]);
-            if let Some(next) = self.examine(t, x, summary)? {
-                return Ok(Some(next));
-            }
-        }
-        if alert {
-            if let Some(next) = self.rechoose_at_step(t, x, "the block's grip degraded", summary)? {
-                return Ok(Some(next));
-            }
-            // the block holds (no better one yet): look again when it has degraded further
-            self.grip.alert *= GRIP_RECHECK;
-        }
-        Ok(None)
-    }
-
-    /// The step watch's grip estimate at `(t, y)` ([`BlockGrip`]), on its schedule: whether it
-    /// rose above the alert.
-    fn grip_alert(&mut self, t: f64, y: &[f64]) -> bool {
-        if self.grip.constant {
-            return false;
-        }
-        self.grip.since += 1;
-        if self.grip.since < self.grip.next {
-            return false;
-        }
-        self.grip.since = 0;
-        let rho = self
-            .grip
-            .estimate(&self.tapes, (&self.dependent, &self.rows), t, y);
-        // far below the alert the block cannot reach it in a few steps of a smooth motion
-        let margin = if 2.0 * rho < self.grip.alert {
-            4
-        } else if 1.25 * rho < self.grip.alert {
-            2
-        } else {
-            1
-        };
-        self.grip.next = self.grip.every * margin;
-        rho > self.grip.alert
-    }
-
-    /// The dependent coordinates' block at `(t, x)` where they are chosen apart from the
-    /// velocities (`None` otherwise): its grip `μ(D_q)`, and whether a fresh choice is
-    /// [`INDEX1_RESELECT_GAIN`] times better gripped (looked for only where `search(μ)`).
-    fn coordinates_grip(
-        &self,
-        t: f64,
-        x: &[f64],
-        search: impl Fn(f64) -> bool,
-    ) -> Option<(f64, bool)> {
-        if self.coordinates == self.dependent {
-            return None;
-        }
-        let mut gq = if self.rows.len() == self.tapes.dims.2 {
-            JointRows::new(&self.tapes.gq, t, x)
-        } else {
-            JointRows::from_dense(rows_of(&self.tapes.gq.matrix(t, x), &self.rows))
-        };
-        let cond_q = gq.dependent_condition(&self.coordinates);
-        let better = search(cond_q)
-            && select_dependent(
-                gq.dense(),
-                &crate::dae::partition::preferred_coordinates(&self.sys),
-            )
-            .is_some_and(|b| gq.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond_q);
-        Some((cond_q, better))
-    }
-
-    /// Whether the blocks are read by their non-zeros ([`SPARSE_GRIP_ROWS`] joint rows or more,
-    /// every row): an examination at an IDA step then reads the step's row uncompleted.
-    fn at_scale(&self) -> bool {
-        let nc = self.tapes.dims.2;
-        nc >= SPARSE_GRIP_ROWS && self.rows.len() == nc
-    }
-
-    /// The consistent state a run restarts or hands over from at `(t, x)`: at scale `x`'s
-    /// dependent coordinates and velocities completed first (an examination at a step reads
-    /// IDA's row as it is), then projected ([`consistent_state_from`]).
-    fn restart_state(&mut self, t: f64, x: &[f64]) -> Result<ConsistentState, SolveError> {
-        if self.at_scale() {
-            let xc = self.completed(t, x);
-            return Ok(consistent_state_from(&self.sys, &self.tapes, t, &xc)?);
-        }
-        Ok(consistent_state_from(&self.sys, &self.tapes, t, x)?)
-    }
-
-    /// Whether a scheduled examination at IDA's step `(t, y)` can change nothing, so that
-    /// neither the completion of the dependent unknowns nor the singular values it takes are
-    /// needed. On the dense path without redundant joints, every check of [`Self::examine`]
-    /// acts only where the dependent block's grip `μ(D)` exceeds a threshold: the fresh
-    /// choice's `max(INDEX1_CHECK_CONDITION, GRIP_RECHECK μ_kept)` (`μ_kept`: the grip last
-    /// found with no better block), the hand-over's `2 μ_start` (`μ_start` at least half
-    /// [`INDEX1_CHECK_CONDITION`]); and, where the coordinates are chosen apart, the
-    /// coordinates' `μ(D_q)` exceeds theirs. [`crate::dae::dependent_condition_bound`] bounds
-    /// `μ` from above at a few products' cost; it is taken at IDA's `y` (its dependent unknowns
-    /// within the Newton tolerance of the completed ones) with the margin [`MOOT_MARGIN`]. A
-    /// smooth mechanism far from any singular configuration is examined every
-    /// [`EXAMINE_MOTION`] of motion, up to every other step (the peers' slider-crank, `μ ≈
-    /// 10–13`, 361 times in 912 steps at rtol 1e-8; two singular value decompositions and a
-    /// completion each took as much as IDA's whole step). Between full bounds, the velocities'
-    /// block is bounded from the last one's factors and how far `G_v` has moved since
-    /// ([`dependent_condition_bound_factors`]: Weyl's perturbation bound), a tape evaluation
-    /// and a norm.
-    fn examination_moot(&mut self, t: f64, y: &[f64]) -> bool {
-        let (nq, nv, nc) = self.tapes.dims;
-        if self.redundant.is_some() || nc >= SPARSE_GRIP_ROWS || self.rows.len() != nc {
-            return false;
-        }
-        let x = &y[..nq + nv];
-        let bufs = &mut self.moot_buffers;
-        if bufs.gv_work.0.is_empty() {
-            bufs.gv_work = self.tapes.gv.workspace();
-            bufs.gq_work = self.tapes.gq.workspace();
-        }
-        // the velocities' block: from the factors at the last full bound where G_v has moved
-        // little since ([`dependent_condition_bound_factors`]), else a full bound (its factors
-        // kept for the next steps)
-        let (tapes, dependent, reference) =
-            (&self.tapes, &self.dependent, &mut self.moot_reference);
-        let mut velocities_below = |threshold: f64| {
-            tapes
-                .gv
-                .matrix_into(t, x, (&mut bufs.vars, &mut bufs.gv_work), &mut bufs.gv);
-            let gv = &bufs.gv;
-            if let Some((g0, a, b)) = reference.as_ref() {
-                let moved = gv
-                    .iter()
-                    .zip(g0.iter())
-                    .map(|(p, q)| (p - q) * (p - q))
-                    .sum::<f64>()
-                    .sqrt();
-                if moved * b < 1.0 && MOOT_MARGIN * (a + moved) / (1.0 / b - moved) <= threshold {
-                    return true;
-                }
-            }
-            match dependent_condition_bound_factors(gv, dependent) {
-                Some((a, b)) => {
-                    let holds = MOOT_MARGIN * a * b <= threshold;
-                    *reference = Some((gv.clone(), a, b));
-                    holds
-                }
-                None => false,
-            }
-        };
-        let fresh = INDEX1_CHECK_CONDITION.max(GRIP_RECHECK * self.kept_grip.0);
-        let velocities = if self.hands_over {
-            fresh.min(2.0 * self.watch.block)
-        } else {
-            fresh
-        };
-        let coordinates = INDEX1_CHECK_CONDITION.max(GRIP_RECHECK * self.kept_grip.1);
-        if !velocities_below(velocities) {
-            return false;
-        }
-        if self.coordinates == self.dependent {
-            return true;
-        }
-        let bufs = &mut self.moot_buffers;
-        self.tapes
-            .gq
-            .matrix_into(t, x, (&mut bufs.vars, &mut bufs.gq_work), &mut bufs.gq);
-        MOOT_MARGIN * dependent_condition_bound(&bufs.gq, &self.coordinates) <= coordinates
-    }
-
-    /// A restart at `(t, x)`: the consistent state there, and `x` as the row it starts from.
-    fn restart_from(&mut self, t: f64, x: &[f64]) -> Result<(), SolveError> {
-        self.reselections += 1;
-        self.state = self.restart_state(t, x)?;
-        let xs = self.state_x();
-        self.x.copy_from_slice(&xs);
-        self.restarted_at = Some(t);
-        Ok(())
-    }
-
-    /// The partition's checks at `(t, x)` ([`Self::examine_step`], `scheduled`).
-    fn examine(
-        &mut self,
-        t: f64,
-        x: &[f64],
-        summary: &mut Summary,
-    ) -> Result<Option<Next<'a>>, SolveError> {
-        let nq = self.nq();
-        // G_v at this step, evaluated once for every check below (dense, or by its
-        // non-zeros at scale: every measure then linear in the size of a chain)
-        // (at scale, with the LU of G_v[:, D] the completion of this row factored, and G_v's
-        // non-zeros where the step watch evaluated them for it)
-        let lu = self
-            .block_lus
-            .last
-            .take()
-            .filter(|(tl, xl, _)| *tl == t && xl[..] == x[..]);
-        let step_gv = self.block_lus.last_gv.take().filter(|_| lu.is_some());
-        let gv = match step_gv {
-            Some(entries) if self.at_scale() => {
-                let (_, nv, nc) = self.tapes.dims;
-                JointRows::from_entries((nc, nv), entries)
-            }
-            _ => self.gv_at(t, x),
-        };
-        let mut gv = gv.with_hints(std::mem::take(&mut self.hints));
-        // the block's smallest singular value where its kept factors answered since it was
-        // computed (the block is then the same, bit for bit)
-        let generation = self.block_lus.v.factored;
-        if let (Some(_), Some((g, smallest))) = (&lu, self.block_lus.smallest) {
-            if g == generation {
-                gv = gv.with_block_smallest(&self.dependent, smallest);
-            }
-        }
-        let cond = gv.dependent_condition_with(&self.dependent, lu.as_ref().map(|l| &*l.2));
-        if lu.is_some() {
-            self.block_lus.smallest = gv
-                .block_smallest(&self.dependent)
-                .map(|smallest| (generation, smallest));
-        }
-        // when no block can be INDEX1_RESELECT_GAIN times better conditioned than the bound
-        // allows, no fresh choice (a causality assignment) can replace this one
-        let possible = (cond > INDEX1_CHECK_CONDITION && cond > GRIP_RECHECK * self.kept_grip.0)
-            .then(|| !gv.no_block_much_better(cond, INDEX1_RESELECT_GAIN));
-        self.hints = gv.hints();
-        // the causality's preference at this step (a graph assignment), assigned at most once
-        let mut preferred: Option<Vec<bool>> = None;
-        // redundant joints: the rows left out must keep holding the rank (the self-stress
-        // turns with the mechanism: a parallel third crank's rows trade places as it passes
-        // the horizontal)
-        if let Some((grip, fresh)) = self.fresher_rows(t, x) {
-            self.restart_from(t, x)?;
-            summary.routine_warning(
-                RESELECTION_WARNING,
-                format!(
-                    "{RESELECTION_WARNING} at t = {t:.6} — independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})"
-                ),
-            );
-            return Ok(Some(Next::Restart(t)));
-        }
-        if self.hands_over && cond > 2.0 * self.watch.block {
-            // the partition degrades: are the joints approaching a singular configuration?
-            let kappa = gv.joint_condition_number(&self.sys.mass);
-            // best ≤ cond: a fresh choice only matters above the hand-over's threshold
-            let best = if cond > DAE_HANDOVER_CONDITION {
-                let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &x[..nq]));
-                select_dependent(gv.dense(), p)
-                    .map_or(f64::INFINITY, |b| gv.dependent_condition(&b))
-                    .min(cond)
-            } else {
-                cond
-            };
-            // (with redundant joints κ is that of the independent rows chosen, which varies as
-            // the self-stress turns — Bricard's rises 37× in its first second while every
-            // block stays regular —: there the blocks alone decide)
-            let rise = self.redundant.is_none() && kappa > DAE_HANDOVER_RISE * self.watch.joints;
-            if rise || best > DAE_HANDOVER_CONDITION {
-                let why = format!(
-                    "the joints approach a singular configuration: κ(G_v M⁺ G_vᵀ) = {kappa:.1e} ({:.1e} at t = {}), the best dependent block's condition {best:.1e}",
-                    self.watch.joints, self.watch.t0
-                );
-                return Ok(Some(Next::HandOver(self.hand_over_from(t, x, &why)?)));
-            }
-        }
-        if let Some(possible) = possible {
-            let better = possible
-                .then(|| {
-                    let p = preferred.get_or_insert_with(|| self.causal.preferred_at(t, &x[..nq]));
-                    select_dependent(gv.dense(), p)
-                })
-                .flatten();
-            if let Some(b) = better {
-                if b != self.dependent && gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN < cond {
-                    self.restart_from(t, x)?;
-                    summary.routine_warning(
-                        RESELECTION_WARNING,
-                        format!(
-                            "{RESELECTION_WARNING} at t = {t:.6} — dependent velocities (condition {cond:.1e})"
-                        ),
-                    );
-                    return Ok(Some(Next::Restart(t)));
-                }
-            }
-            self.kept_grip.0 = cond;
-        }
-        // the dependent coordinates, where they are chosen apart from the velocities
-        if let Some((cond_q, better)) = self.coordinates_grip(t, x, |c| {
-            c > INDEX1_CHECK_CONDITION && c > GRIP_RECHECK * self.kept_grip.1
-        }) {
-            if better {
-                self.restart_from(t, x)?;
-                summary.routine_warning(
-                    RESELECTION_WARNING,
-                    format!(
-                        "{RESELECTION_WARNING} at t = {t:.6} — dependent coordinates (condition {cond_q:.1e})"
-                    ),
-                );
-                return Ok(Some(Next::Restart(t)));
-            }
-            if cond_q > INDEX1_CHECK_CONDITION && cond_q > GRIP_RECHECK * self.kept_grip.1 {
-                self.kept_grip.1 = cond_q;
-            }
-        }
-        Ok(None)
-    }
-
-    /// The energy watch at IDA's step `(t, x)`, `x = [q, v]` completed (read on the watch's own
-    /// schedule, [`ENERGY_READS`]): where the energy's drift, projected to the end of the run,
-    /// exceeds [`ENERGY_DRIFT_TRIGGER`] × what the tolerances promise, the run gives the energy
-    /// lost back (scaling the velocities, at a step where the mechanism moves) and keeps it
-    /// from here on as an invariant (restarting at `t`).
-    fn energy_check(
-        &mut self,
-        t: f64,
-        mut x: Vec<f64>,
-        summary: &mut Summary,
-    ) -> Result<Option<Next<'a>>, SolveError> {
-        let Some(w) = self.energy_watch.as_mut() else {
-            return Ok(None);
-        };
-        let ek = MechanicsTapes::eval(&w.tape, t, &x);
-        let (e, kinetic) = (ek[0], ek[1]);
-        w.kinetic_max = w.kinetic_max.max(kinetic);
-        w.gradient_max = w.gradient_max.max(ek[2..].iter().map(|d| d.abs()).sum());
-        let scale = w.e_start.abs().max(w.kinetic_max);
-        // what the tolerances promise: rtol of the energy, atol on each coordinate and velocity
-        let promise = self.opts.rtol * scale + self.opts.atol * w.gradient_max;
-        let drift = e - w.e_start;
-        // the drift is linear in time (BDF's damping): projected to the end of the run, read
-        // from a tenth of the run on (the first steps' errors are no trend)
-        let (t0, t_end) = (
-            w.t_start,
-            self.opts.output_times.last().copied().unwrap_or(t),
-        );
-        let elapsed = t - t0;
-        if elapsed
-            .partial_cmp(&(ENERGY_TREND_FRACTION * (t_end - t0)))
-            .is_none_or(|o| o.is_lt())
-            || !e.is_finite()
-        {
-            return Ok(None);
-        }
-        let projected = drift.abs() * (t_end - t0) / elapsed;
-        if projected
-            .partial_cmp(&(ENERGY_DRIFT_TRIGGER * promise))
-            .is_none_or(|o| o.is_le())
-        {
-            return Ok(None);
-        }
-        // the energy lost so far is given back by scaling the velocities (the joints' rows
-        // `G_v v = 0` are linear in v: the scaled state is on them), at a step where the
-        // mechanism moves well (a turning point would need a large factor): until then, wait
-        let potential = e - kinetic;
-        let factor2 = (w.e_start - potential) / kinetic;
-        if !(kinetic >= 0.25 * w.kinetic_max && (0.5..2.0).contains(&factor2)) {
-            return Ok(None);
-        }
-        let e_start = w.e_start;
-        let nq = self.nq();
-        let factor = factor2.sqrt();
-        for v in &mut x[nq..] {
-            *v *= factor;
-        }
-        self.energy_watch = None;
-        self.energy_e0 = Some(e_start);
-        summary.energy_invariant = true;
-        self.state = consistent_state_from(&self.sys, &self.tapes, t, &x)?;
-        summary.warnings.push(format!(
-            "{}: the energy is kept as an invariant from t = {t:.6} on (it had drifted {drift:.2e} J since the start, {projected:.2e} J by t = {t_end} at that rate: more than {ENERGY_DRIFT_TRIGGER} × {promise:.2e} J, what the tolerances promise)",
-            summary.formulation
-        ));
-        Ok(Some(Next::Restart(t)))
-    }
-
-    /// `[q, v]` of the consistent state a restart starts from.
-    fn state_x(&self) -> Vec<f64> {
-        self.state.q.iter().chain(&self.state.v).copied().collect()
-    }
-
-    /// Where the joints are redundant and a fresh set of independent rows holds the rank
-    /// [`REDUNDANT_ROWS_GAIN`] times better than the running one at `(t, x)`: the running and
-    /// the fresh set's grip ([`redundant_row_grip`]). `None`: keep the rows.
-    fn fresher_rows(&self, t: f64, x: &[f64]) -> Option<(f64, f64)> {
-        let (d, _) = self.redundant.as_ref()?;
-        let full = self.tapes.gv.matrix(t, x);
-        // (the self-stress once for the three questions)
-        let stress = crate::dae::SelfStress::new(&full, *d);
-        let grip = stress.as_ref().map_or(0.0, |s| s.grip(&self.rows));
-        let stress = stress?;
-        let fresh = stress.independent_rows(&[]).filter(|f| *f != self.rows)?;
-        let fresh_grip = stress.grip(&fresh);
-        (fresh_grip > REDUNDANT_ROWS_GAIN * grip).then_some((grip, fresh_grip))
-    }
-
-    /// The re-choice at an IDA step `(t, x)`, `x = [q, v]`: a fresh choice of dependent
-    /// velocities (or coordinates) [`INDEX1_RESELECT_GAIN`] times better conditioned than the
-    /// running one restarts the run there; where none exists and the best block is not
-    /// regular (condition above [`DAE_HANDOVER_CONDITION`]), `dae` hands over to the GGL
-    /// there. `None`: keep the block.
-    fn rechoose_at_step(
-        &mut self,
-        t: f64,
-        x: &[f64],
-        why: &str,
-        summary: &mut Summary,
-    ) -> Result<Option<Next<'a>>, SolveError> {
-        let nq = self.nq();
-        let mut gv = self.gv_at(t, x);
-        let cond = gv.dependent_condition(&self.dependent);
-        let best = select_dependent(gv.dense(), &self.causal.preferred_at(t, &x[..nq]));
-        let best_cond = best
-            .as_ref()
-            .map_or(f64::INFINITY, |b| gv.dependent_condition(b));
-        let mut restart = |me: &mut Self, what: &str, c: f64| -> Result<Next<'a>, SolveError> {
-            me.reselections += 1;
-            me.state = me.restart_state(t, x)?;
-            let xs = me.state_x();
-            me.x.copy_from_slice(&xs);
-            me.restarted_at = Some(t);
-            summary.routine_warning(
-                RESELECTION_WARNING,
-                format!(
-                    "{RESELECTION_WARNING} at t = {t:.6} between outputs — dependent {what} ({why}; condition {c:.1e})"
-                ),
-            );
-            Ok(Next::Restart(t))
-        };
-        // redundant joints: the rows left out may have lost their grip (the self-stress turned)
-        if let Some((grip, _)) = self.fresher_rows(t, x) {
-            return restart(self, "joint rows", grip).map(Some);
-        }
-        if best
-            .as_ref()
-            .is_some_and(|b| *b != self.dependent && best_cond * STEP_RESELECT_GAIN < cond)
-        {
-            return restart(self, "velocities", cond).map(Some);
-        }
-        // the dependent coordinates, where they are chosen apart from the velocities
-        if let Some((cond_q, true)) = self.coordinates_grip(t, x, |_| true) {
-            return restart(self, "coordinates", cond_q).map(Some);
-        }
-        let best_cond = best_cond.min(cond);
-        if self.hands_over && best_cond > DAE_HANDOVER_CONDITION {
-            let why = format!(
-                "no regular set of dependent velocities at t = {t:.6} ({why}): the best dependent block's condition is {best_cond:.1e}"
-            );
-            return Ok(Some(Next::HandOver(self.hand_over_from(t, x, &why)?)));
-        }
-        Ok(None)
-    }
-
-    /// What degraded where IDA's steps stop at `t` (state `x = [q, v]`, error `e`): the
-    /// dependent block, its condition, the joints whose rows lose rank.
-    fn stall_cause(&self, t: f64, x: &[f64], e: &SolverError) -> String {
-        let cond = self.gv_at(t, x).dependent_condition(&self.dependent);
-        let c = joint_conditioning(&self.tapes.gv.matrix(t, x), &self.sys.mass, &self.sys.rows);
-        let (_, dependent) = self.causal.names(&self.dependent);
-        let joints = if c.condition >= super::ggl::SINGULAR_CONDITION {
-            format!(
-                "the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
-                c.joints.join(", "),
-                c.condition
-            )
-        } else {
-            // a regular configuration: what failed is IDA's Newton iteration itself (Andrews'
-            // squeezer at rtol 1e-11, atol 1e-13 from rest: a kinematic row's residual stays
-            // at c_j times the coordinate's rounding, 7e-10, through every iteration)
-            format!(
-                "the joints are regularly placed there (κ(G_v M⁺ G_vᵀ) = {:.1e}), so IDA's Newton iteration failed at the step size these tolerances need: a looser atol or rtol, or the ggl or partitioned formulation, may pass",
-                c.condition
-            )
-        };
-        format!(
-            "index1: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; {joints}",
-            dependent.join(", "),
-        )
     }
 }
 
@@ -1270,14 +684,13 @@ impl<'a> Formulation<'a> for Index1<'a> {
             // from segment to segment, and a partition met before is taken from `built`
             // (Bricard re-chooses its coordinates twice a period; a fresh set of rows at every
             // restart made every segment's partition new)
-            let stress = crate::dae::SelfStress::new(&full, *d);
+            let stress = crate::partition::SelfStress::new(&full, *d);
             let fresh = stress.as_ref().and_then(|s| s.independent_rows(hint));
             let keep = self.reselections > 0
                 && self.rows.len() + *d == nc
-                && stress
-                    .as_ref()
-                    .zip(fresh.as_ref())
-                    .is_some_and(|(s, f)| REDUNDANT_ROWS_GAIN * s.grip(&self.rows) >= s.grip(f));
+                && stress.as_ref().zip(fresh.as_ref()).is_some_and(|(s, f)| {
+                    PartitionPolicy::rows_hold(s.grip(&self.rows), s.grip(f))
+                });
             match fresh {
                 _ if keep => {}
                 Some(rows) => self.rows = rows,
@@ -1387,7 +800,10 @@ impl<'a> Formulation<'a> for Index1<'a> {
         yp0.extend(std::iter::repeat_n(0.0, r + nc));
         let mut atol = vec![self.opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(self.opts.atol, r));
-        atol.extend(std::iter::repeat_n(super::multiplier_atol(&self.opts), nc));
+        atol.extend(std::iter::repeat_n(
+            crate::solve::formulation::shared::multiplier_atol(&self.opts),
+            nc,
+        ));
         if f.energy.is_some() {
             // η, κ (the reduced gradient's multipliers) and μ, then their rates
             y0.extend(energy_multipliers(
@@ -1401,7 +817,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             // multipliers, as λ (measured: μ at the coordinates' atol made Newton's test
             // unreachable on the heavy top, every step cut to nothing)
             atol.extend(std::iter::repeat_n(
-                super::multiplier_atol(&self.opts),
+                crate::solve::formulation::shared::multiplier_atol(&self.opts),
                 2 * r + 1,
             ));
         }
@@ -1558,7 +974,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
         let stalled = matches!(e, SolverError::NoProgress { .. })
-            || super::ggl::is_convergence_failure(e).is_some();
+            || crate::solve::formulation::ggl::runner::is_convergence_failure(e).is_some();
         if !stalled || self.tapes.dims.2 == 0 {
             return Ok(Next::Fail);
         }
@@ -1618,7 +1034,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
     }
 }
 
-/// The energy the run keeps as an invariant ([`crate::dae::EnergyInvariant`]): `E(q₀, v₀)`
+/// The energy the run keeps as an invariant ([`crate::solve::formulation::EnergyInvariant`]): `E(q₀, v₀)`
 /// where the mechanism conserves its energy (no load does work, no spring damps, `E` does not
 /// depend on time) and moves (it is not at rest in an equilibrium, where `dE/dμ = 0`), unless
 /// the options switch it off; `None` otherwise.
@@ -1650,7 +1066,7 @@ fn kept_energy(
     e0.is_finite().then_some(e0)
 }
 
-/// `(η, κ)` of the energy invariant at `(t, x)` ([`crate::dae::EnergyInvariant`]):
+/// `(η, κ)` of the energy invariant at `(t, x)` ([`crate::solve::formulation::EnergyInvariant`]):
 /// `G_v[R, D]ᵀ η = ∂E/∂v_D`, then `G_q[R, D_q]ᵀ κ = h_D` with `h = ∂E/∂q − (∂(G_v v)/∂q)ᵀ η`
 /// (zeros where a block is singular: IDA's first Newton iteration then finds them).
 fn energy_multipliers(
@@ -1713,17 +1129,17 @@ fn energy_multipliers(
 /// or `dae`, which hands over to the GGL), with its rows and events. The causality's partition
 /// is the first choice of the dependent velocities, unless its block is ill-conditioned at the
 /// start and a numeric choice is much better.
-pub(crate) fn job<'a>(
-    mut sys: MultibodySystem,
-    c: &'a ConstraintExprs,
-    tapes: MechanicsTapes,
-    init: &ConsistentState,
-    opts: &SolveOptions,
-    summary: &mut Summary,
-) -> Job<'a> {
+pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a> {
+    let JobStart {
+        mut sys,
+        c,
+        tapes,
+        init,
+        opts,
+        t0,
+        x,
+    } = start;
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let t0 = opts.output_times[0];
-    let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     summary.solver = "IDA".into();
     let causal = CausalPartition::new(&sys, t0);
     // redundant joints: the rows the causality names redundant are left out of the dependent
@@ -1760,7 +1176,11 @@ pub(crate) fn job<'a>(
     // y = [q, v, a_D, λ]
     let multipliers = Multipliers::Unknowns(nq + nv + r);
     let rows = OutputEval::new(sys.clone(), tapes.clone(), &multipliers);
-    let events = super::events(&sys, &tapes, &super::solved_multipliers(&sys, &tapes));
+    let events = crate::solve::formulation::shared::events(
+        &sys,
+        &tapes,
+        &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes),
+    );
     let mut y_first = x.clone();
     y_first.extend(std::iter::repeat_n(0.0, r));
     match &full {
@@ -1781,10 +1201,10 @@ pub(crate) fn job<'a>(
         (d, cond)
     });
     let from_causality = causality_block.as_ref().and_then(|(d, cond)| {
-        let keep = *cond <= INDEX1_CHECK_CONDITION
+        let keep = PartitionPolicy::well_conditioned(*cond)
             || gv.no_block_much_better(*cond, INDEX1_RESELECT_GAIN)
             || select_dependent(gv.dense(), &causal.preferred_at(t0, &x[..nq]))
-                .is_none_or(|b| gv.dependent_condition(&b) * INDEX1_RESELECT_GAIN >= *cond);
+                .is_none_or(|b| PartitionPolicy::keeps_against(gv.dependent_condition(&b), *cond));
         keep.then(|| (d.clone(), *cond))
     });
     // what the hand-over compares with: the joints' and the partition's conditioning at the start
@@ -1806,10 +1226,8 @@ pub(crate) fn job<'a>(
         }
     };
     if from_causality.is_none() && !sys.inertias.is_empty() && !singular_start {
-        summary.warnings.push(format!(
-            "{}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically",
-            summary.formulation
-        ));
+        let w = crate::partition::causal::not_regular_warning(&summary.formulation, t0);
+        summary.warnings.push(w);
     }
     let grip = BlockGrip::new(&tapes);
     let (energy_e0, energy_watch) = match kept_energy(&sys, &tapes, (t0, &x), init, opts) {

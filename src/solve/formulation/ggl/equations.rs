@@ -17,11 +17,11 @@
 //!
 //! ε is applied at evaluation time ([`GglFormulation::residual`], [`GglFormulation::jacobian`]),
 //! not compiled into the tapes, so one compiled residual serves both forms and the solver can
-//! switch between them (`src/solve/runners/ggl.rs` does so at singular passages) by a
+//! switch between them (`src/solve/formulation/ggl/runner.rs` does so at singular passages) by a
 //! re-initialisation.
 
-use super::compiled::{ImplicitDae, Workspace};
-use super::mechanics::ConstraintExprs;
+use crate::dae::compiled::{ImplicitDae, Workspace};
+use crate::dae::mechanics::ConstraintExprs;
 use crate::expr::Expr;
 use crate::mech::MultibodySystem;
 
@@ -69,15 +69,8 @@ impl GglFormulation {
         }
         for j in 0..nv {
             let a = g.var(vp(j));
-            let mut terms = vec![g.scale(sys.mass[j], a)];
-            terms.push(g.neg(sys.forces[j]));
-            for k in 0..nc {
-                if !g.is_zero(c.gv[k][j]) {
-                    let l = g.var(lam(k));
-                    terms.push(g.mul(c.gv[k][j], l));
-                }
-            }
-            res.push(g.sum(&terms));
+            let ma = g.scale(sys.mass[j], a);
+            res.push(c.effort_row(g, (j, sys.forces[j]), &[ma], lam));
         }
         res.extend(c.g.iter().copied());
         res.extend(c.gvv.iter().copied());

@@ -10,8 +10,12 @@
 
 use nalgebra::DMatrix;
 
-use super::gram::SparseGram;
+use crate::dae::gram::SparseGram;
 use crate::mech::ConstraintRow;
+use crate::partition::thresholds::{
+    INVOLVED_SHARE, NEAR_NULL_RATIO, SPARSE_CONDITION_ITERATIONS, SPARSE_CONDITION_ROWS,
+    SPARSE_CONDITION_TOL,
+};
 
 /// The conditioning of the joints at one state.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,12 +26,6 @@ pub struct JointConditioning {
     /// within [`NEAR_NULL_RATIO`] of the smallest one), in row order.
     pub joints: Vec<String>,
 }
-
-/// Eigenvalues up to this multiple of the smallest one span the near-null space.
-pub const NEAR_NULL_RATIO: f64 = 100.0;
-
-/// Share of an eigenvector's largest entry above which a row counts as involved.
-const INVOLVED_SHARE: f64 = 0.05;
 
 /// Conditioning of `G_v M⁺ G_vᵀ` for `gv` (`nc × nv`) and the diagonal mass matrix `mass`.
 pub fn joint_conditioning(
@@ -89,19 +87,6 @@ fn mass_weighted_gram(gv: &DMatrix<f64>, mass: &[f64]) -> DMatrix<f64> {
     }
     &a * a.transpose()
 }
-
-/// Joint rows from which [`joint_condition_number`] takes the sparse path
-/// ([`sparse_joint_condition_number`]); below it the dense eigenvalues cost little. Measured
-/// on four-bar chains (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=monitor`): the
-/// sparse path breaks even between 32 and 50 rows, is 1.4× cheaper at 62 and 5× at 242.
-pub const SPARSE_CONDITION_ROWS: usize = 60;
-
-/// Relative accuracy of `λ_min` and `λ_max` on the sparse path (Lanczos residual bound).
-pub const SPARSE_CONDITION_TOL: f64 = 1e-10;
-
-/// Lanczos steps for each extreme eigenvalue on the sparse path before it gives up (and the
-/// dense eigenvalues decide).
-const SPARSE_CONDITION_ITERATIONS: usize = 200;
 
 /// `κ(G_v M⁺ G_vᵀ) = λ_max / λ_min` alone (no eigenvectors: the solver monitors it at every
 /// output and asks for the joints, [`joint_conditioning`], only where κ is large).

@@ -5,7 +5,8 @@
 //! against it.
 //!
 //! ```
-//! use bondmech::dae::{DaeFormulation, ConstraintExprs, GglDae, GglFormulation};
+//! use bondmech::dae::ConstraintExprs;
+//! use bondmech::solve::formulation::{DaeFormulation, GglDae, GglFormulation};
 //! let scene = bondmech::Scene::from_path("scenes/pendulum.json").unwrap();
 //! let mut sys = bondmech::mech::build(&scene).unwrap();
 //! let c = ConstraintExprs::derive(&mut sys);
@@ -18,9 +19,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use super::compiled::{ImplicitDae, Workspace};
-use super::ggl::GglFormulation;
-use super::index1::Index1Formulation;
+use super::GglFormulation;
+use super::Index1Formulation;
+use crate::dae::compiled::{ImplicitDae, Workspace};
 use crate::sundials::ColumnOrdering;
 
 /// A formulation as a fully implicit DAE for IDA (see the module documentation).
@@ -50,19 +51,15 @@ pub trait DaeFormulation: Send + Sync {
         put: &mut dyn FnMut(usize, usize, f64),
     );
     /// `values[slots[k]] += J_k` for the `k`-th entry `J_k` of `J` in the order of
-    /// [`Self::structure`] (`slots`: each entry's place among a sparse matrix's values, one per
-    /// entry), without a call per entry; `false` (nothing written) where the formulation does
+    /// [`Self::structure`] at `(t, c_j)` and `(y, y')` (`into = (slots, values)`, `slots`: each
+    /// entry's place among a sparse matrix's values, one per entry), without a call per entry; `false` (nothing written) where the formulation does
     /// not do so, and the caller puts the entries one by one ([`Self::jacobian`]).
-    #[allow(clippy::too_many_arguments)]
     fn jacobian_into_slots(
         &self,
         _ws: &mut Workspace,
-        _t: f64,
-        _cj: f64,
-        _y: &[f64],
-        _yp: &[f64],
-        _slots: &[usize],
-        _values: &mut [f64],
+        _at: (f64, f64),
+        _state: (&[f64], &[f64]),
+        _into: (&[usize], &mut [f64]),
     ) -> bool {
         false
     }
@@ -169,15 +166,11 @@ macro_rules! compiled_with_id {
             fn jacobian_into_slots(
                 &self,
                 ws: &mut Workspace,
-                t: f64,
-                cj: f64,
-                y: &[f64],
-                yp: &[f64],
-                slots: &[usize],
-                values: &mut [f64],
+                at: (f64, f64),
+                state: (&[f64], &[f64]),
+                into: (&[usize], &mut [f64]),
             ) -> bool {
-                self.dae
-                    .jacobian_into_slots(ws, t, cj, y, yp, slots, values)
+                self.dae.jacobian_into_slots(ws, at, state, into)
             }
             fn structure(&self) -> Vec<(usize, usize)> {
                 self.dae.structure().collect()

@@ -15,39 +15,24 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use crate::dae::{
-    consistent_state_from, dependent_condition, joint_condition_number, joint_conditioning,
-    select_dependent, ConsistentState, GglDae, GglFormulation, MechanicsTapes,
-};
+use crate::dae::{consistent_state_from, ConsistentState, MechanicsTapes};
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{MAX_SINGULAR_PASSAGES, PASSAGE_CONDITION, RESUME_PLAIN_GGL};
+use crate::partition::{
+    dependent_condition, joint_condition_number, joint_conditioning, select_dependent,
+};
+use crate::partition::{Decision, PartitionPolicy};
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{Ending, Formulation, ImplicitProblem, Next, Problem, Start};
+use crate::solve::formulation::{GglDae, GglFormulation};
 use crate::solve::options::SolveOptions;
-use crate::solve::partition::CausalPartition;
-use crate::solve::partition::{INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN};
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::SolverError;
-
-/// `κ(G_v M⁺ G_vᵀ)` above which a failed plain-GGL step is taken as a singular passage. Measured
-/// on the four-bar chains (N = 1, 3, 10) at the last accepted step before the failure:
-/// κ ≈ 4e7 … 3e9 (further from the alignment at tighter tolerances); upright they have κ ≈ 10.
-pub const SINGULAR_CONDITION: f64 = 1e4;
-
-/// Where a singular passage was met, plain GGL would resume at the first output where κ has
-/// fallen below this, if [`RESUME_PLAIN_GGL`] were set.
-pub const REGULAR_CONDITION: f64 = 1e5;
-
-/// Whether plain GGL resumes after a singular passage once the joints are well-conditioned.
-/// Measured on the four-bar chains over 20 s (test profile), compliant to the end against
-/// resuming (which then detects and reports every alignment, 19–21 passages):
-/// N = 1, rtol 5e-9: 14 741 steps / 0.24 s against 15 723 / 0.30 s; N = 3, rtol 1e-9:
-/// 27 507 / 1.59 s against 31 093 / 2.06 s (each switch restarts IDA at order 1 with small
-/// steps), with errors of the same size; so resuming is not cheaper and stays off.
-pub const RESUME_PLAIN_GGL: bool = false;
 
 /// Which velocities the GGL leaves out of IDA's local error test
 /// (`SolveOptions::ggl_dependent_velocity_error_test = false`).
@@ -75,11 +60,6 @@ struct DependentErrorTest {
     reselections: u64,
     chosen_once: bool,
 }
-
-/// `κ(G_v[:, D])` above which the GGL keeps every velocity in its error test: the dependent
-/// velocities are then ill-determined by the joints (near a singular configuration), and
-/// leaving them out lets the step grow past what the independent ones can tell.
-pub const GGL_ERROR_TEST_SINGULAR: f64 = 1e3;
 
 impl DependentErrorTest {
     fn new(active: bool, base_id: Vec<f64>, nq: usize, preferred: Vec<bool>) -> Self {
@@ -109,7 +89,7 @@ impl DependentErrorTest {
             None
         } else {
             select_dependent(gv, &self.preferred)
-                .filter(|d| dependent_condition(gv, d) < GGL_ERROR_TEST_SINGULAR)
+                .filter(|d| PartitionPolicy::error_test_regular(dependent_condition(gv, d)))
         };
         self.set(fresh)
     }
@@ -133,21 +113,16 @@ impl DependentErrorTest {
         match &self.dependent {
             Some(d) => {
                 let cond = dependent_condition(gv, d);
-                if cond <= INDEX1_CHECK_CONDITION {
-                    return false;
-                }
-                match select_dependent(gv, &self.preferred) {
-                    Some(b) if b != *d => {
-                        let cb = dependent_condition(gv, &b);
-                        if cb * INDEX1_RESELECT_GAIN < cond && cb < GGL_ERROR_TEST_SINGULAR {
-                            self.set(Some(b))
-                        } else if cond > GGL_ERROR_TEST_SINGULAR {
-                            self.set(None)
-                        } else {
-                            false
-                        }
-                    }
-                    _ if cond > GGL_ERROR_TEST_SINGULAR => self.set(None),
+                let mut fresh = None;
+                let decision = PartitionPolicy::error_test_block(cond, || {
+                    let b = select_dependent(gv, &self.preferred).filter(|b| b != d)?;
+                    let cb = dependent_condition(gv, &b);
+                    fresh = Some(b);
+                    Some(cb)
+                });
+                match decision {
+                    Decision::Rechoose => self.set(fresh),
+                    Decision::Singular => self.set(None),
                     _ => false,
                 }
             }
@@ -224,11 +199,6 @@ pub(crate) fn restart_state(
     Ok((y, yp))
 }
 
-/// `κ(G_v M⁺ G_vᵀ)` at an output time above which a local maximum of κ, met while the
-/// compliant GGL runs, is recorded as a singular passage. Measured on the four-bar chains
-/// (output step 0.05 s): upright κ ≈ 10, at the output nearest an alignment κ ≳ 1e3.
-pub const PASSAGE_CONDITION: f64 = 300.0;
-
 /// Finds the peaks of κ over the output times (one output of delay) and locates each peak
 /// between the outputs: near a rank loss `s = κ^{-1/2}` (the ratio of the smallest to the
 /// largest singular value of `M^{-1/2} G_vᵀ`) falls linearly to zero, `s ≈ a |t − t*|`, so
@@ -287,10 +257,6 @@ impl PeakFinder {
         })
     }
 }
-
-/// Singular passages handled per solve before a failure is reported as such (a guard against
-/// restarting forever at a configuration the compliant GGL cannot pass either).
-const MAX_SINGULAR_PASSAGES: usize = 10_000;
 
 /// The GGL on IDA with its compliant switch (see the module documentation).
 struct Ggl {
@@ -361,7 +327,7 @@ impl<'a> Formulation<'a> for Ggl {
                 let mut y = vec![0.0; self.y0.len()];
                 solver.dky(tf, &mut y)?;
                 let c = joint_conditioning(&self.gv_at(tf, &y), &self.sys.mass, &self.sys.rows);
-                (c.condition > SINGULAR_CONDITION).then_some((tf, name, c))
+                PartitionPolicy::is_singular(c.condition).then_some((tf, name, c))
             }
             _ => None,
         };
@@ -387,14 +353,7 @@ impl<'a> Formulation<'a> for Ggl {
             c.joints.join(", "),
             c.condition
         ));
-        summary.singular_passages.push(SingularPassage {
-            t: tf,
-            joints: c.joints,
-            condition: c.condition,
-            restarted_at: tr,
-            plain_again_at: None,
-            failure: name,
-        });
+        (summary.singular_passages).push(SingularPassage::begun(tf, c, tr, name));
         Ok(Next::Continue)
     }
 
@@ -446,7 +405,7 @@ impl<'a> Formulation<'a> for Ggl {
             .is_some_and(|p| p.plain_again_at.is_none());
         if RESUME_PLAIN_GGL && switched && eps > 0.0 && more {
             let kappa = joint_condition_number(&self.gv_at(t, y), &self.sys.mass);
-            if kappa < REGULAR_CONDITION {
+            if PartitionPolicy::is_regular(kappa) {
                 let (nq, nv, _) = self.tapes.dims;
                 let mut y = y.to_vec();
                 let yp = solver.ida().map(|i| i.yp().to_vec()).unwrap_or_default();
@@ -517,7 +476,10 @@ pub(crate) fn job<'a>(
     yp0.extend(&init.vdot);
     yp0.extend(std::iter::repeat_n(0.0, 2 * nc));
     let mut atol = vec![opts.atol; nq + nv];
-    atol.extend(std::iter::repeat_n(super::multiplier_atol(opts), 2 * nc));
+    atol.extend(std::iter::repeat_n(
+        crate::solve::formulation::shared::multiplier_atol(opts),
+        2 * nc,
+    ));
     let mut error_test = DependentErrorTest::new(
         !opts.ggl_dependent_velocity_error_test && nc > 0,
         ggl.id.clone(),
@@ -533,7 +495,11 @@ pub(crate) fn job<'a>(
     let dae = Arc::new(GglDae::shared(Arc::new(ggl), eps_start));
     let multipliers = Multipliers::Unknowns(nq + nv);
     let rows = OutputEval::new(&sys, tapes.clone(), &multipliers);
-    let events = super::events(&sys, &tapes, &super::solved_multipliers(&sys, &tapes));
+    let events = crate::solve::formulation::shared::events(
+        &sys,
+        &tapes,
+        &crate::solve::formulation::shared::solved_multipliers(&sys, &tapes),
+    );
     Job {
         formulation: Box::new(Ggl {
             monitor: init.redundant_joints.is_empty(),

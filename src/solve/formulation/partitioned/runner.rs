@@ -1,4 +1,4 @@
-//! The partitioned formulation ([`crate::dae::partitioned`]): the chapter's degrees of freedom
+//! The partitioned formulation ([`crate::solve::formulation::partitioned`]): the chapter's degrees of freedom
 //! as states, the ODE `[q_I, v_I]' = f(t, q_I, v_I)` whose right-hand side recovers the
 //! dependent coordinates by Newton on `g(q_I, q_D) = 0` and the dependent velocities from
 //! `G_v v = 0`, on CVODE (Adams or BDF) or ARKODE (explicit Runge–Kutta). Recoveries: the
@@ -11,58 +11,29 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use crate::dae::{
-    consistent_state_from, joint_conditioning, ConsistentState, ConstraintExprs, GglDae,
-    GglFormulation, MechanicsTapes, Partition, PartitionError, PartitionedRhs, PartitionedSystem,
-};
+use crate::dae::{consistent_state_from, ConstraintExprs, MechanicsTapes};
 use crate::mech::MultibodySystem;
+use crate::partition::causal::CausalPartition;
+use crate::partition::thresholds::{
+    MAX_RETRIES, MAX_SWITCHINGS_PER_OUTPUT, REPARTITION_CONDITION, REPARTITION_GROWTH,
+    STIFFNESS_LIMIT, TYPICAL_CONDITION,
+};
+use crate::partition::PartitionPolicy;
+use crate::partition::{joint_conditioning, Partition, PartitionError};
 use crate::settings::Integrator;
+use crate::solve::formulation::shared::JobStart;
 use crate::solve::formulation::{
     Ending, Formulation, ImplicitProblem, Next, Problem, ReducedProblem, Start,
 };
 use crate::solve::formulation::{Events, Job};
+use crate::solve::formulation::{GglDae, GglFormulation, PartitionedRhs, PartitionedSystem};
 use crate::solve::options::SolveOptions;
-use crate::solve::partition::CausalPartition;
 use crate::solve::reactions::Multipliers;
 use crate::solve::rows::OutputEval;
 use crate::solve::solution::{SingularPassage, Summary};
 use crate::solve::solver::Solver;
 use crate::solve::SolveError;
 use crate::sundials::{CallbackError, CvodeRootFn, SolverError};
-
-/// Condition estimate of the dependent block `G_v[:, D]` (largest over smallest pivot of its
-/// LU) above which the right-hand side asks for a new partition (or [`REPARTITION_GROWTH`] times the
-/// estimate at the start of the segment, if larger).
-pub const REPARTITION_CONDITION: f64 = 20.0;
-
-/// Growth of the re-choice threshold over the segment's starting estimate (and over the
-/// last threshold when a re-choice kept the partition).
-pub const REPARTITION_GROWTH: f64 = 3.0;
-
-/// Condition number of the best partition's dependent blocks above which no partition is
-/// taken as well conditioned: the compliant GGL carries the mechanism through. Relative to a
-/// mechanism whose best partition starts at [`TYPICAL_CONDITION`]; the thresholds scale with
-/// the starting condition where it is larger (units: the Andrews squeezer, in metres and
-/// radians over millimetre levers, starts at 7e2 and is regular).
-pub const SINGULAR_PARTITION: f64 = 60.0;
-
-/// The compliant GGL hands the mechanism back at the first output where the best partition's
-/// condition number is below this (scaled like [`SINGULAR_PARTITION`]).
-pub const REGULAR_PARTITION: f64 = 30.0;
-
-/// The starting condition number below which [`SINGULAR_PARTITION`] and
-/// [`REGULAR_PARTITION`] apply as they are (measured: planar pendulums, four-bars and
-/// slider-cranks start between 1 and 5).
-pub const TYPICAL_CONDITION: f64 = 5.0;
-
-/// `Integrator::Auto` takes BDF when `ρ̂ · Δt_out` exceeds this, where `ρ̂` is the infinity
-/// norm of the reduced ODE's Jacobian at the start (an upper bound of its spectral radius, by
-/// difference quotients) and `Δt_out` the mean output interval: an explicit method would then
-/// need more than about this many steps per output interval for stability alone.
-pub const STIFFNESS_LIMIT: f64 = 500.0;
-
-/// Failed segments from the same output after which the compliant GGL takes the passage.
-const MAX_RETRIES: usize = 2;
 
 /// The right-hand side shared by the integrator and the output rows and event functions, which
 /// complete their states from its last evaluation (its Newton warm start and tangent
@@ -115,15 +86,6 @@ fn newton_tolerance(opts: &SolveOptions, qscale: f64) -> f64 {
         .min(1e-2 * opts.atol.max(1e-300))
         .max(16.0 * f64::EPSILON * qscale)
 }
-
-/// How much better conditioned the numeric partition must be at the start for the causality's
-/// to be set aside there.
-const CAUSALITY_KEPT_GAIN: f64 = 10.0;
-
-/// Crossings of one switching function between two outputs after which it is released to
-/// the literal operation (a sliding mode, e.g. Coulomb friction at rest: each mode pushes the
-/// state back across the zero).
-pub const MAX_SWITCHINGS_PER_OUTPUT: u32 = 50;
 
 /// The modes of the loads' switching functions over a segment (`expr::switches`): set from the
 /// functions' signs at its start, flipped at their zeros (the root finder's direction), checked
@@ -288,7 +250,8 @@ impl<'a> Partitioned<'a> {
         let t = self.t_start;
         let gv = self.tapes.gv.matrix(t, &self.x);
         let redundant = full - kept.len();
-        let fresh = crate::dae::independent_rows(&gv, redundant, &[]).filter(|f| *f != kept)?;
+        let fresh =
+            crate::partition::independent_rows(&gv, redundant, &[]).filter(|f| *f != kept)?;
         summary.warnings.push(format!(
             "partitioned: independent joint rows re-selected at t = {t:.6} (left out: {})",
             (0..full)
@@ -307,7 +270,7 @@ impl<'a> Partitioned<'a> {
     fn passage(&mut self, summary: &mut Summary) -> Result<Start<'a>, SolveError> {
         let (nq, nv, nc) = self.tapes.dims;
         let t_start = self.t_start;
-        let eps = super::default_compliance(&self.sys, &self.opts);
+        let eps = crate::solve::formulation::shared::default_compliance(&self.sys, &self.opts);
         let ggl = match &self.ggl {
             Some(g) => g.clone(),
             None => {
@@ -323,18 +286,18 @@ impl<'a> Partitioned<'a> {
             cond.joints.join(", "),
             cond.condition
         ));
-        summary.singular_passages.push(SingularPassage {
-            t: t_start,
-            joints: cond.joints,
-            condition: cond.condition,
-            restarted_at: t_start,
-            plain_again_at: None,
-            failure: "no well-conditioned partition".into(),
-        });
-        let (y0, yp0) = super::ggl::restart_state(&self.sys, &self.tapes, eps, t_start, &self.x)?;
+        let failure = "no well-conditioned partition".to_string();
+        (summary.singular_passages).push(SingularPassage::begun(t_start, cond, t_start, failure));
+        let (y0, yp0) = crate::solve::formulation::ggl::runner::restart_state(
+            &self.sys,
+            &self.tapes,
+            eps,
+            t_start,
+            &self.x,
+        )?;
         let mut atol = vec![self.opts.atol; nq + nv];
         atol.extend(std::iter::repeat_n(
-            super::multiplier_atol(&self.opts),
+            crate::solve::formulation::shared::multiplier_atol(&self.opts),
             2 * nc,
         ));
         self.mode = Mode::Passage { t_in: t_start };
@@ -367,12 +330,14 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
                 let k = self.psys.condition(&p, t_start, &self.x);
                 (p, k)
             })
-            .filter(|(_, k)| *k <= SINGULAR_PARTITION * self.scale && self.stalls < MAX_RETRIES);
+            .filter(|(_, k)| {
+                PartitionPolicy::partition_usable(*k, self.scale) && self.stalls < MAX_RETRIES
+            });
         let choice = match choice {
             None => self.fresh_rows(summary).and_then(|()| {
                 self.choose(t_start, &self.x).and_then(|p| {
                     let k = self.psys.condition(&p, t_start, &self.x);
-                    (k <= SINGULAR_PARTITION * self.scale).then_some((p, k))
+                    PartitionPolicy::partition_usable(k, self.scale).then_some((p, k))
                 })
             }),
             some => some,
@@ -633,7 +598,7 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
                 let t_in = *t_in;
                 let xr = &full[..nq + nv];
                 let back = self.choose(t, xr).is_some_and(|p| {
-                    self.psys.condition(&p, t, xr) < REGULAR_PARTITION * self.scale
+                    PartitionPolicy::partition_regular(self.psys.condition(&p, t, xr), self.scale)
                 });
                 if !(back && more) {
                     return Ok(Next::Continue);
@@ -673,17 +638,17 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
 /// The partitioned formulation of `sys` from the consistent start `init`, with its rows and
 /// events; a mechanism with joints redundant everywhere (no partition exists at any time) is
 /// solved by the compliant GGL, and `summary.formulation` says so.
-pub(crate) fn job<'a>(
-    mut sys: MultibodySystem,
-    c: &'a ConstraintExprs,
-    tapes: MechanicsTapes,
-    init: &ConsistentState,
-    opts: &SolveOptions,
-    summary: &mut Summary,
-) -> Job<'a> {
+pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a> {
+    let JobStart {
+        mut sys,
+        c,
+        tapes,
+        init,
+        opts,
+        t0,
+        x,
+    } = start;
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let t0 = opts.output_times[0];
-    let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
     let causal = CausalPartition::new(&sys, t0);
     // redundant joints: the partition of the chapter's causality on an independent set of the
     // joint rows, the one the index-1 DAE takes (the causality's redundant junctions left out
@@ -693,12 +658,19 @@ pub(crate) fn job<'a>(
     let hint = causal.redundant_rows(&sys.rows);
     let kept = full
         .as_ref()
-        .and_then(|full| crate::dae::independent_rows(full, nc - init.rank.min(nc), &hint));
+        .and_then(|full| crate::partition::independent_rows(full, nc - init.rank.min(nc), &hint));
     // a loss of rank at the start's configuration only (a four-bar started on its aligned
     // configuration): a singular configuration, passed as every other (the rows left out would
     // be violated as soon as the mechanism moves: 3.0 m on such a four-bar, issue 34)
     let singular_start = kept.as_ref().is_some_and(|k| {
-        super::index1::starts_singular("partitioned", &tapes, (t0, &x), k, init, summary)
+        crate::solve::formulation::index1::runner::starts_singular(
+            "partitioned",
+            &tapes,
+            (t0, &x),
+            k,
+            init,
+            summary,
+        )
     });
     let psys = if init.redundant_joints.is_empty() || singular_start {
         PartitionedSystem::new(&mut sys, c)
@@ -707,23 +679,37 @@ pub(crate) fn job<'a>(
         let Some(kept) = kept else {
             // no regular set of rows at the start: the compliant GGL solves it (the summary
             // names what runs: no formulation silently becomes another)
-            let eps = super::default_compliance(&sys, opts);
+            let eps = crate::solve::formulation::shared::default_compliance(&sys, opts);
             let ggl = GglFormulation::build(&mut sys, c, eps);
             summary.formulation = "compliant_ggl".into();
             summary.warnings.push(format!(
                 "partitioned: redundant joints [{}] with no regular set of independent rows at t = {t0}; solved with the compliant GGL",
                 init.redundant_joints.join(", ")
             ));
-            return super::ggl::job(sys, ggl, tapes, init, (eps, eps), t0, opts);
+            return crate::solve::formulation::ggl::runner::job(
+                sys,
+                ggl,
+                tapes,
+                init,
+                (eps, eps),
+                t0,
+                opts,
+            );
         };
-        summary.warnings.push(super::index1::redundant_rows_warning(
-            "partitioned",
-            &sys,
+        summary.warnings.push(
+            crate::solve::formulation::index1::runner::redundant_rows_warning(
+                "partitioned",
+                &sys,
+                &kept,
+                t0,
+                init,
+            ),
+        );
+        let on_kept = crate::solve::formulation::index1::runner::multipliers_on_rows(
+            &full,
+            &init.lambda,
             &kept,
-            t0,
-            init,
-        ));
-        let on_kept = super::index1::multipliers_on_rows(&full, &init.lambda, &kept);
+        );
         first_lambda = vec![0.0; nc];
         for (&r, l) in kept.iter().zip(on_kept) {
             first_lambda[r] = l;
@@ -735,7 +721,7 @@ pub(crate) fn job<'a>(
     let qscale = 1.0 + init.q.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     let multipliers = Multipliers::Unknowns(nq + nv);
     let rows = OutputEval::new(&sys, tapes.clone(), &multipliers);
-    let events = super::events(&sys, &tapes, &multipliers);
+    let events = crate::solve::formulation::shared::events(&sys, &tapes, &multipliers);
     summary.solver = "CVODE".into();
     let mut first = x.clone();
     first.extend(&first_lambda);
@@ -751,14 +737,13 @@ pub(crate) fn job<'a>(
         .and_then(|d| psys.with_dependent_velocities(t0, &x, d))
         .filter(|p| {
             let k = psys.condition(p, t0, &x);
-            k <= REPARTITION_CONDITION
-                || choose(t0, &x)
-                    .is_none_or(|b| psys.condition(&b, t0, &x) * CAUSALITY_KEPT_GAIN >= k)
+            PartitionPolicy::causality_kept(k, || {
+                choose(t0, &x).map(|b| psys.condition(&b, t0, &x))
+            })
         });
     if from_causality.is_none() && nc > 0 && !sys.inertias.is_empty() && !singular_start {
-        summary.warnings.push(format!(
-            "partitioned: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
-        ));
+        let w = crate::partition::causal::not_regular_warning("partitioned", t0);
+        summary.warnings.push(w);
     }
     Job {
         formulation: Box::new(Partitioned {

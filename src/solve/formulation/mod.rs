@@ -1,37 +1,51 @@
-//! The one interface between a formulation and the executor ([`super::executor`]), after
+//! The one interface between a formulation and the executor (`super::executor`), after
 //! diffsol's problem/method split and argmin's executor: a formulation says *what* is
 //! integrated, the executor *how* (output times, events, budgets, partial rows, statistics,
 //! energy drift, streaming), for IDA, CVODE and ARKODE alike.
 //!
-//! A run is a sequence of segments. Each segment integrates one [`Problem`] from a time `t`:
+//! A run is a sequence of segments. Each segment integrates one `Problem` from a time `t`:
 //!
-//! * [`Problem::Implicit`]: the fully implicit DAE `F(t, y, y') = 0` on IDA, with its exact
-//!   iteration matrix `J = ∂F/∂y + c_j ∂F/∂y'` and its sparsity ([`DaeFormulation`]), the id
+//! * `Problem::Implicit`: the fully implicit DAE `F(t, y, y') = 0` on IDA, with its exact
+//!   iteration matrix `J = ∂F/∂y + c_j ∂F/∂y'` and its sparsity (`DaeFormulation`), the id
 //!   vector (differential or algebraic unknowns), per-unknown absolute tolerances and a
 //!   consistent start `(y₀, y₀')`; optionally the dependent blocks whose elimination solves
 //!   the Newton matrix (a Schur complement);
-//! * [`Problem::Explicit`]: the ODE `y' = f(t, y)` with its exact Jacobian `∂f/∂y` and
-//!   sparsity ([`ExplicitOde`]) on CVODE BDF;
-//! * [`Problem::Reduced`]: an ODE `y' = f(t, y)` on few states (the partitioned formulation's
+//! * `Problem::Explicit`: the ODE `y' = f(t, y)` with its exact Jacobian `∂f/∂y` and
+//!   sparsity (`ExplicitOde`) on CVODE BDF;
+//! * `Problem::Reduced`: an ODE `y' = f(t, y)` on few states (the partitioned formulation's
 //!   degrees of freedom) on CVODE (Adams or BDF, difference-quotient Jacobian) or ARKODE
 //!   (explicit Runge–Kutta), with root functions of its own (switching functions).
 //!
 //! The integrator's state `y` is completed into the *row state* `x = [q, v, …]` the output rows
-//! and events read ([`Formulation::row_state`]). The formulation keeps its own recoveries: the
-//! executor calls [`Formulation::recover`] when the integrator fails and
-//! [`Formulation::at_output`] after each output row, and the formulation answers with a
-//! [`Next`]: go on, restart with a fresh segment (index-1 re-selection of the dependent set,
+//! and events read (`Formulation::row_state`). The formulation keeps its own recoveries: the
+//! executor calls `Formulation::recover` when the integrator fails and
+//! `Formulation::at_output` after each output row, and the formulation answers with a
+//! `Next`: go on, restart with a fresh segment (index-1 re-selection of the dependent set,
 //! partitioned re-partition), or hand the rest of the run to another formulation (the `dae`
 //! formulation's hand-over to the GGL). A switch that keeps the integrator (the GGL's
 //! compliant switch at a singular passage: a new `ε` and a re-initialised IDA) is done in
-//! place through [`Solver`].
+//! place through `Solver`.
+
+pub mod decoupled;
+pub mod ggl;
+pub mod implicit;
+pub mod index1;
+pub mod partitioned;
+pub mod raw_graph;
+pub(crate) mod shared;
+
+pub use decoupled::DecoupledFormulation;
+pub use ggl::GglFormulation;
+pub use implicit::{DaeFormulation, GglDae, IdDae};
+pub use index1::{error_test_mask, EnergyInvariant, Index1Formulation};
+pub use partitioned::{PartitionedRhs, PartitionedSystem};
 
 use std::sync::Arc;
 
 use super::reactions::EventEval;
 use super::solution::Summary;
 use super::solver::Solver;
-use crate::dae::{DaeFormulation, ExplicitOde};
+use crate::dae::ExplicitOde;
 use crate::mech::EventFunction;
 use crate::settings::Integrator;
 use crate::solve::SolveError;

@@ -1,8 +1,10 @@
 //! A partition of a mechanism's coordinates and velocities into the ODE's states and the
 //! dependent unknowns (coordinate partitioning), and what its Newton solves for the dependent
 //! coordinates share: the failures, the limits, the tangent predictor and the branch test.
-//! Used by the partitioned right-hand side ([`super::partitioned`]) and the symbolic
-//! elimination ([`super::elimination`]).
+//! Used by the partitioned right-hand side ([`crate::solve::formulation::partitioned::equations`]) and the symbolic
+//! elimination ([`crate::solve::formulation::partitioned::elimination`]).
+
+use crate::partition::thresholds::BRANCH_FRACTION;
 
 /// Why a right-hand side of the partitioned ODE could not be evaluated.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -65,6 +67,25 @@ pub struct Partition {
 }
 
 impl Partition {
+    /// The names of the states: the independent coordinates, then the independent velocities.
+    pub fn state_names(&self, sys: &crate::mech::MultibodySystem) -> Vec<String> {
+        let q = self.ind_q.iter().map(|&i| sys.coords[i].name.clone());
+        q.chain(self.ind_v.iter().map(|&j| sys.velocities[j].name.clone()))
+            .collect()
+    }
+
+    /// The partition with the dependent coordinates `dep_q` (of `nq`) and velocities `dep_v`
+    /// (of `nv`); the independent ones are the rest, in order.
+    pub fn of_dependent((nq, nv): (usize, usize), dep_q: Vec<usize>, dep_v: Vec<usize>) -> Self {
+        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
+        Partition {
+            ind_q: rest(nq, &dep_q),
+            ind_v: rest(nv, &dep_v),
+            dep_q,
+            dep_v,
+        }
+    }
+
     /// Number of ODE states `|q_I| + |v_I|`.
     pub fn n_states(&self) -> usize {
         self.ind_q.len() + self.ind_v.len()
@@ -79,10 +100,6 @@ impl Partition {
             .collect()
     }
 }
-
-/// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
-/// that a right-hand side accepts (see [`PartitionError::Branch`]).
-pub const BRANCH_FRACTION: f64 = 0.5;
 
 /// Whether Newton's correction `corr` of the tangent prediction (of size `predicted`, for a
 /// move `moved` of the independent coordinates) means it converged on another branch of the
@@ -133,7 +150,7 @@ pub(crate) fn tangent_step(
 
 /// What a Newton solve for the dependent coordinates may take: its tolerance, its iterations,
 /// and the condition estimate above which the partition is to be re-chosen (the fields of a
-/// [`PartitionedRhs`] of the same names, handed to the elimination's Newton).
+/// [`PartitionedRhs`](crate::solve::formulation::PartitionedRhs) of the same names, handed to the elimination's Newton).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct NewtonLimits {
     pub(crate) tolerance: f64,
@@ -189,7 +206,7 @@ fn freely_rotating(
 }
 
 /// The velocities that IDA's error test measures even where they are dependent (index-1 DAE,
-/// [`super::index1::error_test_mask`]): every velocity of a freely rotating spatial body (its
+/// [`crate::solve::formulation::error_test_mask`]): every velocity of a freely rotating spatial body (its
 /// centre's `V` and its body-frame `ω`). Measured on the heavy top (5 s, rtol 1e-9 / 1e-10 /
 /// 1e-11, its centre's velocity the states): 822 / 1510 / 2200 × rtol with its dependent `ω_x,
 /// ω_y` and `V_z` out of the test, 579 / 218 / 1919 × with them in, at about the same steps

@@ -14,8 +14,9 @@ use std::sync::Arc;
 
 use crate::bond::equations::{BondEquations, VariableKind};
 use crate::bond::model::BondGraph;
-use crate::dae::{ExplicitOde, IdDae};
+use crate::dae::ExplicitOde;
 use crate::expr::Tape;
+use crate::solve::formulation::IdDae;
 use crate::solve::formulation::{ExplicitProblem, Formulation, ImplicitProblem, Problem, Start};
 use crate::solve::formulation::{Job, RowEval};
 use crate::solve::solution::Summary;

@@ -13,8 +13,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::compiled::{ExplicitOde, ImplicitDae};
 use crate::bond::equations::{BondEquations, EquationError, VariableKind};
+use crate::dae::compiled::{ExplicitOde, ImplicitDae};
 use crate::expr::Expr;
 
 impl BondEquations {

@@ -15,9 +15,9 @@
 //! Rows that fix an angle (prismatic, weld) get a torsional spring of the same numeric
 //! stiffness `k` (N·m/rad).
 
-use super::compiled::ExplicitOde;
 use crate::bond::decouple::{decouple, DecoupledGraph};
 use crate::bond::mechanics::read_mechanics_in;
+use crate::dae::compiled::ExplicitOde;
 use crate::expr::Expr;
 use crate::mech::{MechError, MultibodySystem};
 
@@ -115,7 +115,7 @@ impl DecoupledFormulation {
 /// its joint row carried), so the start excites no spurious spring oscillation of amplitude
 /// `λ/k` — which the error test would otherwise resolve at a cost growing like `√k`.
 pub fn prestressed_positions(
-    tapes: &super::MechanicsTapes,
+    tapes: &crate::dae::MechanicsTapes,
     t0: f64,
     q: &[f64],
     v: &[f64],
@@ -126,7 +126,7 @@ pub fn prestressed_positions(
     let target: Vec<f64> = lambda.iter().map(|l| l / stiffness).collect();
     let mut x: Vec<f64> = q.iter().chain(v).copied().collect();
     for _ in 0..10 {
-        let g = super::MechanicsTapes::eval(&tapes.g, t0, &x);
+        let g = crate::dae::MechanicsTapes::eval(&tapes.g, t0, &x);
         let r: Vec<f64> = g.iter().zip(&target).map(|(a, b)| a - b).collect();
         let scale = target.iter().fold(1e-300f64, |a, b| a.max(b.abs()));
         if r.iter().all(|e| e.abs() <= 1e-12 * scale + 1e-15) {

@@ -17,7 +17,7 @@
 //!   (M̃_II − M̃_IR B − Bᵀ M̃_RI + Bᵀ M̃_RR B) a_I = Q̃_I + M̃_IR c − Bᵀ (Q̃_R + M̃_RR c)
 //! ```
 //!
-//! the same reduced (Maggi) equations as [`super::partitioned`]'s, with the algebra of the
+//! the same reduced (Maggi) equations as [`super::equations`]'s, with the algebra of the
 //! eliminated rows done once, symbolically, instead of in every call: Newton runs on the loop
 //! closures only (none for a tree: the double pendulum's right-hand side is its Lagrange
 //! equations), and `M̃`, `Q̃` come from one compiled tape. The condition estimate the partition's
@@ -33,9 +33,11 @@
 
 use std::sync::Arc;
 
-use super::block_lu::BlockLu;
-use super::partition::{left_branch, tangent_step, NewtonLimits, Partition, PartitionError};
+use crate::dae::block_lu::BlockLu;
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
+use crate::partition::coordinates::{
+    left_branch, tangent_step, NewtonLimits, Partition, PartitionError,
+};
 
 /// Largest number of reduced coordinates `|z| = |q_I| + |q_R|` eliminated symbolically
 /// (`Jᵀ M J` has `|z|²` entries, each a sum over the eliminated coordinates).

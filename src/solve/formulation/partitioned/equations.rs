@@ -18,7 +18,7 @@
 //! which are the reduced (Maggi/Kane) equations `Rᵀ(M v' − Q) = 0` with `G_v v' + γ = 0`; one LU
 //! factorisation of `G_D` serves the velocities, `B`, `c` and the multipliers
 //! `G_Dᵀ λ = Q_D − M_D a_D`. `G_D` is factorised along its sparsity pattern with a pivot order
-//! kept between calls ([`super::block_lu`]), and so is the reduced mass matrix (`|v_I|`
+//! kept between calls ([`crate::dae::block_lu`]), and so is the reduced mass matrix (`|v_I|`
 //! square, dense pattern): no allocation per call, where nalgebra's decompositions take their
 //! matrix by value.
 
@@ -29,14 +29,14 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use super::block_lu::BlockLu;
 use super::elimination::{Elimination, EliminationInputs};
-use super::index1::{dependent_condition, select_dependent};
-use super::mechanics::{slots, ConstraintExprs, MatrixTape};
-use super::partition::{left_branch, tangent_step, NewtonLimits};
-pub use super::partition::{Partition, PartitionError};
+use crate::dae::block_lu::BlockLu;
+use crate::dae::mechanics::{slots, ConstraintExprs, MatrixTape};
 use crate::expr::{Expr, ExprGraph, StagedTape, Tape};
 use crate::mech::MultibodySystem;
+use crate::partition::coordinates::{left_branch, tangent_step, NewtonLimits};
+pub use crate::partition::coordinates::{Partition, PartitionError};
+use crate::partition::{dependent_condition, select_dependent};
 
 /// The compiled pieces of a multibody system that every partition shares.
 #[derive(Clone, Debug)]
@@ -72,14 +72,14 @@ pub struct PartitionedSystem {
     gv_is_gq: bool,
     /// Coordinates preferred as dependent (translations, as the seed's causality picks them).
     preferred_q: Vec<bool>,
-    /// Redundant joints: the rows kept (an independent set, [`super::independent_rows`]) and
+    /// Redundant joints: the rows kept (an independent set, [`crate::partition::independent_rows`]) and
     /// the number of all rows; the multipliers of the rows left out are reported as zero.
     kept_rows: Option<(Vec<usize>, usize)>,
 }
 
 impl PartitionedSystem {
     /// The system on the joint rows `kept` only, where the joints are redundant (`kept` an
-    /// independent set of rows, [`super::independent_rows`]): the rows left out follow from
+    /// independent set of rows, [`crate::partition::independent_rows`]): the rows left out follow from
     /// the kept ones, so the dependent block is square on `kept`; the multipliers of the rows
     /// left out are zero in [`PartitionedRhs::full_with_multipliers`] (their reactions are not
     /// determined by the motion).
@@ -139,7 +139,7 @@ impl PartitionedSystem {
             mass: sys.mass.clone(),
             identity_kinematics,
             gv_is_gq,
-            preferred_q: super::partition::preferred_coordinates(sys),
+            preferred_q: crate::partition::coordinates::preferred_coordinates(sys),
             kept_rows: None,
         }
     }
@@ -190,13 +190,7 @@ impl PartitionedSystem {
         } else {
             select_dependent(&gq, &self.preferred_q)?
         };
-        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
-        Some(Partition {
-            ind_q: rest(nq, &dep_q),
-            ind_v: rest(nv, &dep_v),
-            dep_q,
-            dep_v,
-        })
+        Some(Partition::of_dependent((nq, nv), dep_q, dep_v))
     }
 
     /// The partition whose dependent velocities are `dep_v` (the causality's differential
@@ -219,13 +213,7 @@ impl PartitionedSystem {
             let (gq, _) = self.jacobians(t, x);
             select_dependent(&gq, &self.preferred_q)?
         };
-        let rest = |n: usize, d: &[usize]| (0..n).filter(|i| !d.contains(i)).collect();
-        Some(Partition {
-            ind_q: rest(nq, &dep_q),
-            ind_v: rest(nv, &dep_v),
-            dep_q,
-            dep_v,
-        })
+        Some(Partition::of_dependent((nq, nv), dep_q, dep_v))
     }
 
     /// Condition number (2-norm) of the dependent blocks of `G_q` and `G_v` (the larger) at

@@ -5,8 +5,9 @@
 
 use std::sync::Arc;
 
-use crate::dae::{ConsistentState, DecoupledFormulation, ExplicitOde, MechanicsTapes};
+use crate::dae::{ConsistentState, ExplicitOde, MechanicsTapes};
 use crate::mech::MultibodySystem;
+use crate::solve::formulation::DecoupledFormulation;
 use crate::solve::formulation::Job;
 use crate::solve::formulation::{ExplicitProblem, Formulation, Problem, Start};
 use crate::solve::options::SolveOptions;
@@ -52,7 +53,7 @@ pub(crate) fn job<'a>(
     opts: &SolveOptions,
 ) -> Job<'a> {
     let t0 = opts.output_times[0];
-    let mut y0 = crate::dae::decoupled::prestressed_positions(
+    let mut y0 = crate::solve::formulation::decoupled::prestressed_positions(
         &tapes,
         t0,
         &init.q,
@@ -62,13 +63,13 @@ pub(crate) fn job<'a>(
     );
     y0.extend(&init.v);
     // the joint springs' forces, compiled only when reactions are read
-    let row_force = if super::needs_reactions(sys) {
+    let row_force = if crate::solve::formulation::shared::needs_reactions(sys) {
         &dec.row_force[..]
     } else {
         &[]
     };
     let multipliers = Multipliers::Springs(sys.graph.compile(row_force));
-    let events = super::events(sys, &tapes, &multipliers);
+    let events = crate::solve::formulation::shared::events(sys, &tapes, &multipliers);
     let rows = OutputEval::new(sys, tapes, &multipliers);
     let ode = Arc::new(dec.ode);
     Job {

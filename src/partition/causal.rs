@@ -6,7 +6,7 @@
 //! ([`crate::bond::causality::assign_causality_at`]) at the start, and again at the current
 //! configuration when a formulation re-chooses its partition: the assignment's pivots are the
 //! inertias best conditioned *at that state*, which the numeric choice
-//! ([`crate::dae::select_dependent`]) then takes first. No name heuristics: what
+//! ([`super::select_dependent`]) then takes first. No name heuristics: what
 //! `graph --causality` draws is the partition the solvers start from.
 
 use std::sync::Arc;
@@ -142,7 +142,7 @@ impl CausalPartition {
     }
 
     /// Which velocities the assignment at the configuration `q` at `t` puts in differential
-    /// causality: the preference of a re-choice there ([`crate::dae::select_dependent`] takes
+    /// causality: the preference of a re-choice there ([`super::select_dependent`] takes
     /// them first and completes the set by pivoting where they are not enough). All `false`
     /// when no assignment exists.
     pub fn preferred_at(&self, t: f64, q: &[f64]) -> Vec<bool> {
@@ -202,15 +202,10 @@ impl CausalPartition {
     }
 }
 
-/// The dependent block's `μ(D)` ([`crate::dae::dependent_condition`]) above which a fresh selection of dependent velocities is
-/// considered at the output times (between them the step watch of
-/// `crate::solve::runners::index1` examines IDA's steps).
-pub(crate) const INDEX1_CHECK_CONDITION: f64 = 10.0;
-
-/// The fresh selection replaces the current one when its condition is this many times smaller.
-/// The check happens at output times only, so it must fire well before the block is singular:
-/// the condition grows like `1/|cos θ|` as a dependent coordinate loses its grip (measured on a
-/// bead sliding along a pendulum bar: the dependent bead translation must change near the
-/// vertical, and a threshold of 1e4 on the current set alone let IDA run into the singular
-/// block between outputs).
-pub(crate) const INDEX1_RESELECT_GAIN: f64 = 10.0;
+/// The warning where the causality's dependent inertias are no regular block of the joint rows
+/// at the start `t0` (the `formulation` then chooses its dependent velocities numerically).
+pub(crate) fn not_regular_warning(formulation: &str, t0: f64) -> String {
+    format!(
+        "{formulation}: the causality's dependent inertias are not a regular block of the joint rows at t = {t0}; chosen numerically"
+    )
+}

@@ -1,22 +1,17 @@
-//! The runners: one module per formulation, each implementing [`super::formulation::Formulation`]
-//! over the equations `crate::dae` builds for it (`dae/ggl.rs` the GGL's residual, `runners/ggl.rs`
-//! its restarts, compliant switch and statistics) (no run
-//! loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
+//! What the runners share. Each formulation's runner implements [`super::Formulation`] over
+//! the equations of its own folder (`ggl/equations.rs` the GGL's residual, `ggl/runner.rs`
+//! its restarts, compliant switch and statistics) (no run loop: the executor runs them all): the GGL (plain and compliant), the index-1 DAE (`index1`
 //! and the chapter's `dae`), the partitioned ODE, the decoupled twin, and a raw bond graph's
 //! own equations. What the mechanism formulations share (their events, compliance and
 //! tolerances) is here.
 
-pub(crate) mod decoupled;
-pub(crate) mod ggl;
-pub(crate) mod index1;
-pub(crate) mod partitioned;
-pub(crate) mod raw_graph;
-
-use super::formulation::Events;
-use super::options::SolveOptions;
-use super::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
+use super::Events;
+use crate::dae::ConsistentState;
+use crate::dae::ConstraintExprs;
 use crate::dae::MechanicsTapes;
 use crate::mech::MultibodySystem;
+use crate::solve::options::SolveOptions;
+use crate::solve::reactions::{EventEval, Multipliers, ReactionEval, StateMultipliers};
 
 /// The scene's events with the reactions read from `multipliers` (`None`: the scene has none).
 pub(crate) fn events(
@@ -58,4 +53,40 @@ pub(crate) fn default_compliance(sys: &MultibodySystem, opts: &SolveOptions) -> 
 /// The absolute tolerance of the multipliers in IDA's Newton convergence test.
 pub(crate) fn multiplier_atol(opts: &SolveOptions) -> f64 {
     opts.multiplier_atol.unwrap_or(1e-2)
+}
+
+/// What a mechanism formulation's job starts from: the system, its constraint expressions and
+/// tapes, the consistent start (and its state `x = [q, v]` at `t0`, the first output time) and
+/// the options.
+pub(crate) struct JobStart<'a, 'b> {
+    pub sys: MultibodySystem,
+    pub c: &'a ConstraintExprs,
+    pub tapes: MechanicsTapes,
+    pub init: &'b ConsistentState,
+    pub opts: &'b SolveOptions,
+    pub t0: f64,
+    pub x: Vec<f64>,
+}
+
+impl<'a, 'b> JobStart<'a, 'b> {
+    /// The start of a job from the consistent start `init` at the first output time.
+    pub(crate) fn new(
+        sys: MultibodySystem,
+        c: &'a ConstraintExprs,
+        tapes: MechanicsTapes,
+        init: &'b ConsistentState,
+        opts: &'b SolveOptions,
+    ) -> Self {
+        let t0 = opts.output_times[0];
+        let x: Vec<f64> = init.q.iter().chain(&init.v).copied().collect();
+        JobStart {
+            sys,
+            c,
+            tapes,
+            init,
+            opts,
+            t0,
+            x,
+        }
+    }
 }
