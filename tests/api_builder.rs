@@ -15,7 +15,14 @@ fn double_pendulum_in_code() -> Scene {
             "Double pendulum of two hinged bars (seed 16.7-16.8, Fig. 19-21, 28): uniform bars 1 m, 1 kg, inertia 1/12, pivot at the origin, both horizontal at rest. The example of docs/scene-format.md.",
         )
         .gravity([0.0, -9.81])
-        .body(PlanarBody::bar("bar1", 1.0, 1.0).inertia(file_inertia).at([0.5, 0.0], 0.0))
+        // the file writes bar1's velocities (zeros): written, they are the user's
+        .body(
+            PlanarBody::bar("bar1", 1.0, 1.0)
+                .inertia(file_inertia)
+                .at([0.5, 0.0], 0.0)
+                .velocity([0.0, 0.0])
+                .angular_velocity(0.0),
+        )
         .body(PlanarBody::bar("bar2", 1.0, 1.0).inertia(file_inertia).at([1.5, 0.0], 0.0))
         .revolute("pivot", Ground.at([0.0, 0.0]), ("bar1", "O"))
         .revolute("knee", ("bar1", "A"), ("bar2", "O"))
@@ -155,6 +162,7 @@ fn free_body_built_in_code_equals_the_json_file() {
             SpatialBody::new("body", 1.0, [1.0, 2.0, 3.0])
                 .frame(BodyFrame::BodyFixed)
                 .point("tip", [0.0, 1.0, 0.0])
+                .velocity([0.0, 0.0, 0.0])
                 .angular_velocity([0.01, 1.0, 0.01]),
         )
         .t_end(20.0)

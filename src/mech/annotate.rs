@@ -566,16 +566,7 @@ fn rate_terms(
     junctions: &[ElementId],
     text: &dyn Fn(&ExprGraph, Expr) -> String,
 ) -> Vec<(ElementId, String)> {
-    let mut terms = Vec::new();
-    // the coordinates `h` mentions, in slot order (linear in the mechanism's size)
-    for s in eg.vars(h) {
-        let i = s as usize;
-        if (1..=nq).contains(&i) {
-            let d = eg.diff(h, s);
-            terms.push(eg.mul(d, sys.kinematics[i - 1]));
-        }
-    }
-    let rate = eg.sum(&terms);
+    let rate = super::system::time_rate(eg, &sys.kinematics, h);
     velocity_terms(eg, nq, rate, junctions, text)
 }
 

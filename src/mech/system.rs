@@ -256,23 +256,9 @@ impl MultibodySystem {
 
     /// `G_v(q) v` — the velocity-level constraints, built as `Σ_k ∂g_i/∂q_k · (K v)_k`.
     pub fn velocity_constraints(&mut self) -> Vec<Expr> {
-        let nq = self.nq();
-        let mut out = Vec::with_capacity(self.nc());
-        for i in 0..self.nc() {
-            let gi = self.constraints[i];
-            let mut terms = Vec::new();
-            // the coordinates the row mentions, in slot order (linear in the mechanism's size)
-            for slot in self.graph.vars(gi) {
-                let k = slot as usize;
-                if !(1..=nq).contains(&k) {
-                    continue;
-                }
-                let d = self.graph.diff(gi, slot);
-                terms.push(self.graph.mul(d, self.kinematics[k - 1]));
-            }
-            out.push(self.graph.sum(&terms));
-        }
-        out
+        (0..self.nc())
+            .map(|i| time_rate(&mut self.graph, &self.kinematics, self.constraints[i]))
+            .collect()
     }
 
     /// Rows of `G_v` as expressions: `G_v[i][j] = ∂(G_v v)_i / ∂v_j` (exact, since it is linear in `v`).
@@ -443,4 +429,20 @@ impl MultibodySystem {
     pub fn output_index(&self, name: &str) -> Option<usize> {
         self.outputs.iter().position(|c| c.name == name)
     }
+}
+
+/// The rate of a function of the coordinates along the motion, `ḣ = Σ_k ∂h/∂q_k · (K(q) v)_k`
+/// (`kinematics` the expressions `K(q) v`, one per coordinate, slots `1..=nq`), over the
+/// coordinates `h` mentions, in slot order (linear in the mechanism's size).
+pub fn time_rate(graph: &mut ExprGraph, kinematics: &[Expr], h: Expr) -> Expr {
+    let nq = kinematics.len();
+    let mut terms = Vec::new();
+    for slot in graph.vars(h) {
+        let k = slot as usize;
+        if (1..=nq).contains(&k) {
+            let d = graph.diff(h, slot);
+            terms.push(graph.mul(d, kinematics[k - 1]));
+        }
+    }
+    graph.sum(&terms)
 }
