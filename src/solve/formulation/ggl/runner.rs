@@ -282,6 +282,43 @@ impl Ggl {
         let (nq, nv, _) = self.tapes.dims;
         self.tapes.gv.matrix(t, &y[..nq + nv])
     }
+
+    /// Why IDA's Newton iteration failed at `t` (error `e`) where the GGL does not take it as a
+    /// singular passage: the joints' conditioning there `c`, and what passes instead. Regression
+    /// (the trial's F2): a change-point four-bar at rtol 1e-12, atol 1e-14 stopped with
+    /// `IDA_CONV_FAIL` and nothing else, where the partitioned formulation completes.
+    fn convergence_cause(
+        &self,
+        t: f64,
+        c: &crate::partition::JointConditioning,
+        e: &SolverError,
+        summary: &Summary,
+    ) -> String {
+        let compliant = self.dae.compliance() > 0.0;
+        let joints = if PartitionPolicy::names_singular(c.condition) {
+            format!(
+                "near a singular configuration of the joints [{}] (κ(G_v M⁺ G_vᵀ) = {:.1e})",
+                c.joints.join(", "),
+                c.condition
+            )
+        } else {
+            format!(
+                "with the joints regularly placed (κ(G_v M⁺ G_vᵀ) = {:.1e})",
+                c.condition
+            )
+        };
+        let passages = if summary.singular_passages.len() >= MAX_SINGULAR_PASSAGES {
+            format!(
+                "; {MAX_SINGULAR_PASSAGES} singular passages were already taken, the most a run takes"
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "ggl{}: IDA's Newton iteration failed at t = {t:.6} ({e}) {joints}{passages}: the GGL's Newton matrix, whose multiplier rows scale as 1/h², cannot resolve the corrections these tolerances ask for at the step size they need; a looser rtol or atol, or the partitioned formulation (an ODE in the degrees of freedom), may pass",
+            if compliant { " (compliant)" } else { "" },
+        )
+    }
 }
 
 /// IDA's id vector after a change of the dependent velocities out of the error test.
@@ -321,22 +358,44 @@ impl<'a> Formulation<'a> for Ggl {
     ) -> Result<Next<'a>, SolveError> {
         let (nq, nv, _) = self.tapes.dims;
         let eps_switch = self.eps_switch;
-        // a singular passage: plain GGL failed to converge near a rank-deficient G_v
-        let passage = match is_convergence_failure(e) {
-            Some((tf, name)) if self.dae.compliance() == 0.0 && eps_switch > 0.0 => {
+        let failure = is_convergence_failure(e);
+        // the joints' conditioning where IDA failed (the interpolated state at its time)
+        let conditioning = match &failure {
+            Some((tf, _)) => {
                 let mut y = vec![0.0; self.y0.len()];
-                solver.dky(tf, &mut y)?;
-                let c = joint_conditioning(&self.gv_at(tf, &y), &self.sys.mass, &self.sys.rows);
-                PartitionPolicy::is_singular(c.condition).then_some((tf, name, c))
+                solver.dky(*tf, &mut y)?;
+                Some(joint_conditioning(
+                    &self.gv_at(*tf, &y),
+                    &self.sys.mass,
+                    &self.sys.rows,
+                ))
+            }
+            None => None,
+        };
+        // a singular passage: plain GGL failed to converge near a rank-deficient G_v
+        let passage = match (&failure, &conditioning) {
+            (Some((tf, name)), Some(c))
+                if self.dae.compliance() == 0.0
+                    && eps_switch > 0.0
+                    && PartitionPolicy::is_singular(c.condition)
+                    && summary.singular_passages.len() < MAX_SINGULAR_PASSAGES =>
+            {
+                Some((*tf, name.clone(), c.clone()))
             }
             _ => None,
         };
         let Some((tf, name, c)) = passage else {
-            return Ok(Next::Fail);
+            // (the error test's failures keep their own hint: the executor's tolerance hint)
+            return Ok(match (failure, conditioning) {
+                (Some((tf, name)), Some(c)) if name == "IDA_CONV_FAIL" => {
+                    Next::FailWith(SolverError::Stalled {
+                        t: tf,
+                        cause: self.convergence_cause(tf, &c, e, summary),
+                    })
+                }
+                _ => Next::Fail,
+            });
         };
-        if summary.singular_passages.len() >= MAX_SINGULAR_PASSAGES {
-            return Ok(Next::Fail);
-        }
         // restart from the last output: the steps plain GGL accepted just before failing are
         // already degraded by the ill-conditioned Newton matrix (measured on the isosceles
         // slider-crank: restarting from the last accepted step left a crank-angle error 60
