@@ -232,7 +232,7 @@ fn regression_the_free_tops_body_rotation_was_its_states_and_its_error_3050_rtol
 /// Issue 46's must-show: the default within 1000 × rtol at rtol 1e-9, 1e-10 and 1e-11, and at
 /// tolerances between them (the global error of BDF scatters with the tolerance: one rtol alone
 /// is not a property). Measured with the dependent blocks' amplification in the error weights
-/// (`dae::amplification`): 191, 396 and 167 × rtol at 1e-9, 1e-10, 1e-11; 117, 271, 172 and
+/// (`partition::amplification`): 191, 396 and 167 × rtol at 1e-9, 1e-10, 1e-11; 117, 271, 172 and
 /// 237 × at 1.4e-9, 7e-10, 1.4e-10 and 7e-11 (822 / 1510 / 2200 × at the nominal three before
 /// the free top's centre velocity became its states, 579 / 218 / 1919 × before the weights).
 #[test]

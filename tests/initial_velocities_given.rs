@@ -49,6 +49,15 @@ fn first_row(json: &str) -> Solution {
     model.solve(&o).expect("solves")
 }
 
+/// The warning of the initial velocity projection.
+fn projection_warning(sol: &Solution) -> &str {
+    sol.summary
+        .warnings
+        .iter()
+        .find(|w| w.contains("initial velocities violate"))
+        .expect("the projection is reported")
+}
+
 #[test]
 fn regression_a_given_crank_angular_velocity_was_changed_by_the_projection() {
     let sol = first_row(&scene(r#", "angular_velocity": 4.0"#));
@@ -69,12 +78,7 @@ fn regression_a_given_crank_angular_velocity_was_changed_by_the_projection() {
     ] {
         assert!((v(c) - want).abs() < 1e-12, "{c}: {} (want {want})", v(c));
     }
-    let w = sol
-        .summary
-        .warnings
-        .iter()
-        .find(|w| w.contains("initial velocities violate"))
-        .expect("the projection is reported");
+    let w = projection_warning(&sol);
     assert!(w.contains("the scene gives are kept"), "{w}");
 }
 
@@ -91,12 +95,7 @@ fn written_velocities_that_contradict_a_joint_change_and_the_warning_says_so() {
     // whatever the projection chose, it lies on the ground pin: v_c = ω × (0, 0.15)
     let vx = sol.value(0, "crank.vx").expect("crank.vx");
     assert!((vx + 0.15 * omega).abs() < 1e-12, "{vx} vs {omega}");
-    let w = sol
-        .summary
-        .warnings
-        .iter()
-        .find(|w| w.contains("initial velocities violate"))
-        .expect("the projection is reported");
+    let w = projection_warning(&sol);
     assert!(w.contains("could not close the joints alone"), "{w}");
 }
 

@@ -8,7 +8,6 @@
 //! * [`block_lu`]: the dependent block's dense LU, planned once per partition.
 //! * [`compiled`]: residuals and right-hand sides compiled to tapes with exact Jacobians.
 
-pub mod amplification;
 pub mod block_lu;
 pub mod compiled;
 pub mod gram;

@@ -3,6 +3,8 @@
 //! decides a partition, a re-selection, a hand-over, a singular passage or the energy
 //! invariant ([`thresholds`], asked through [`PartitionPolicy`]).
 //!
+//! * [`amplification`]: how the dependent blocks amplify the independent unknowns' error, as
+//!   IDA's error weights.
 //! * [`select`]: the choice of dependent columns (Gram–Schmidt with column pivoting, the
 //!   causality's pivots first).
 //! * [`condition`]: `μ(D) = σ_max(G_v) / σ_min(G_D)`, its bounds.
@@ -13,6 +15,7 @@
 //! * `causal`: the causality's partition at a configuration (what `graph --causality` draws).
 //! * [`thresholds`]: every threshold, with the reason for its value, and [`PartitionPolicy`].
 
+pub mod amplification;
 pub(crate) mod causal;
 pub mod condition;
 pub mod coordinates;

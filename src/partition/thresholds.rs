@@ -428,3 +428,18 @@ impl PartitionPolicy {
         !(cond.is_nan() || cond >= LINEARIZE_SINGULAR_CONDITION)
     }
 }
+
+/// The largest dependent block (rows) whose amplification is computed at every step: a dense
+/// LU of `r × r` per step is below a tenth of a step's cost up to here (the N-link chains beyond
+/// keep IDA's plain weights; their blocks are triangular and amplify by at most the links'
+/// length ratios).
+pub const AMPLIFIED_ROWS: usize = 48;
+
+/// The output rows' completion (Newton on `g(q_I, q_D) = 0` for the dependent coordinates) stops
+/// once every joint row is within this fraction of the largest coordinate: rounding, a few ulps of
+/// the configuration's scale.
+pub const COMPLETION_TOLERANCE: f64 = 1e-15;
+
+/// Speeds and accelerations (in the scene's units) below which a mechanism counts as at rest at
+/// the start, where the energy invariant's multiplier has no grip (`dE/dμ` vanishes at rest).
+pub const AT_REST: f64 = 1e-12;

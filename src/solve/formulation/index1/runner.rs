@@ -34,9 +34,9 @@ use crate::dae::{
 use crate::mech::MultibodySystem;
 use crate::partition::causal::CausalPartition;
 use crate::partition::thresholds::{
-    BUILT_KEPT, ENERGY_DRIFT_TRIGGER, ENERGY_READS, ENERGY_TREND_FRACTION, EXAMINE_MOTION,
-    GRIP_ALERT, GRIP_EVERY_STEP_ROWS, GRIP_GROWTH, GRIP_RECHECK, INDEX1_CHECK_CONDITION,
-    INDEX1_RESELECT_GAIN, MOOT_MARGIN, SPARSE_GRIP_ROWS,
+    AT_REST, BUILT_KEPT, COMPLETION_TOLERANCE, ENERGY_DRIFT_TRIGGER, ENERGY_READS,
+    ENERGY_TREND_FRACTION, EXAMINE_MOTION, GRIP_ALERT, GRIP_EVERY_STEP_ROWS, GRIP_GROWTH,
+    GRIP_RECHECK, INDEX1_CHECK_CONDITION, INDEX1_RESELECT_GAIN, MOOT_MARGIN, SPARSE_GRIP_ROWS,
 };
 use crate::partition::{
     dependent_condition_bound, dependent_condition_bound_factors, independent_rows,
@@ -112,7 +112,10 @@ fn complete_dependent(
         b.vars.push(t);
         b.vars.extend_from_slice(&y[..nq + nv]);
         tapes.g.eval(&b.vars, &mut b.g_work, &mut b.g);
-        if rows.iter().all(|&k| b.g[k].abs() <= 1e-15 * scale) {
+        if rows
+            .iter()
+            .all(|&k| b.g[k].abs() <= COMPLETION_TOLERANCE * scale)
+        {
             break;
         }
         tapes
@@ -317,7 +320,7 @@ fn complete_dependent_sparse(
     let scale = y[..nq].iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for _ in 0..4 {
         let g = MechanicsTapes::eval(&tapes.g, t, &y[..nq + nv]);
-        if g.iter().all(|v| v.abs() <= 1e-15 * scale) {
+        if g.iter().all(|v| v.abs() <= COMPLETION_TOLERANCE * scale) {
             break;
         }
         let gq = tapes.gq.entries(t, &y[..nq + nv]);
@@ -822,7 +825,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             ));
         }
         let dae: Arc<dyn DaeFormulation> = Arc::new(f);
-        let weights = crate::dae::amplification::DependentAmplification::new(
+        let weights = crate::partition::amplification::DependentAmplification::new(
             (&self.tapes.gq, &self.tapes.gv),
             (&dependent, &coordinates, &self.rows),
             (nq, nv),
@@ -1057,7 +1060,7 @@ fn kept_energy(
         .iter()
         .chain(&init.vdot)
         .zip(sys.mass.iter().chain(&sys.mass))
-        .any(|(a, &m)| m != 0.0 && a.abs() > 1e-12);
+        .any(|(a, &m)| m != 0.0 && a.abs() > AT_REST);
     if !moving {
         return None;
     }

@@ -30,7 +30,7 @@
 //! with `y` dependent: `δy = −(x/y) δx = 0.75 δx`, so `x`'s weight grows by `y`'s times 0.75.
 //!
 //! ```
-//! use bondmech::dae::amplification::{raise_block, BlockColumns};
+//! use bondmech::partition::amplification::{raise_block, BlockColumns};
 //! use nalgebra::DMatrix;
 //! let g = DMatrix::from_row_slice(1, 2, &[1.2, -1.6]); // ∂(x² + y²)/∂(x, y)
 //! let mut w = vec![1.0, 2.0];
@@ -40,14 +40,9 @@
 //! assert_eq!(w[1], 2.0);
 //! ```
 
-use super::mechanics::MatrixTape;
+use super::thresholds::AMPLIFIED_ROWS;
+use crate::dae::mechanics::MatrixTape;
 use nalgebra::DMatrix;
-
-/// The largest dependent block (rows) whose amplification is computed at every step: a dense
-/// LU of `r × r` per step is below a tenth of a step's cost up to here (the N-link chains beyond
-/// keep IDA's plain weights; their blocks are triangular and amplify by at most the links'
-/// length ratios).
-pub const AMPLIFIED_ROWS: usize = 48;
 
 /// The raised error weights of one index-1 partition ([`DependentAmplification::raise`]).
 #[derive(Clone, Debug)]
