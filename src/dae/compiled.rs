@@ -55,6 +55,8 @@ pub struct Workspace {
     jac: Vec<f64>,
     /// The candidate rows of a selecting DAE (empty otherwise).
     rows: Vec<f64>,
+    /// The work buffer of a [`CompanionScalar`] (sized at its first evaluation).
+    work_s: Vec<f64>,
 }
 
 impl ImplicitDae {
@@ -183,6 +185,7 @@ impl ImplicitDae {
                     0
                 }
             ],
+            work_s: Vec::new(),
         }
     }
 
@@ -313,6 +316,7 @@ impl ExplicitOde {
             work_j: self.jacobian.workspace(),
             jac: vec![0.0; self.dy.len()],
             rows: Vec::new(),
+            work_s: Vec::new(),
         }
     }
 
@@ -346,6 +350,35 @@ impl ExplicitOde {
     /// Number of structural non-zeros of `∂f/∂y`.
     pub fn nonzeros(&self) -> usize {
         self.dy.len()
+    }
+}
+
+/// A scalar of an [`ImplicitDae`]'s variables `[t, y, y']`, read after one of its evaluations
+/// from the variables that evaluation loaded into the [`Workspace`] (no copy of `y` again).
+/// The GGL's compliant joints read their slip power with it.
+#[derive(Clone, Debug)]
+pub struct CompanionScalar {
+    tape: Arc<Tape>,
+}
+
+impl CompanionScalar {
+    /// Compiles `e` (an expression over the DAE's slots).
+    pub fn build(g: &mut ExprGraph, e: Expr) -> Self {
+        CompanionScalar {
+            tape: Arc::new(g.compile(&[e])),
+        }
+    }
+
+    /// The scalar at the variables of the last [`ImplicitDae::residual`] or
+    /// [`ImplicitDae::jacobian`] evaluated with `ws` (its buffer is allocated at the first
+    /// call only).
+    pub fn eval_loaded(&self, ws: &mut Workspace) -> f64 {
+        if ws.work_s.is_empty() {
+            ws.work_s = self.tape.workspace();
+        }
+        let mut out = [0.0];
+        self.tape.eval(&ws.vars, &mut ws.work_s, &mut out);
+        out[0]
     }
 }
 
