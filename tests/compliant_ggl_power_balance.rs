@@ -52,7 +52,7 @@ fn regression_the_compliant_joints_absorb_energy_at_large_multipliers() {
         y.extend(gvv.iter().map(|w| w / eps));
         y.extend(g.iter().map(|gk| gk / eps));
         let mut r = vec![0.0; n];
-        ggl.residual(&mut ws, eps, 0.0, &y, &vec![0.0; n], &mut r);
+        ggl.residual(&mut ws, (eps, true), 0.0, &y, &vec![0.0; n], &mut r);
         for k in 0..2 * nc {
             assert!(
                 r[nq + nv + k].abs() < 1e-9,

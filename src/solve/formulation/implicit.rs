@@ -16,7 +16,7 @@
 //! assert_eq!((f.len(), f.id().iter().filter(|&&d| d == 0.0).count()), (10, 4));
 //! ```
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 
 use super::GglFormulation;
@@ -80,6 +80,7 @@ pub struct GglDae {
     /// The compiled GGL residual.
     pub formulation: Arc<GglFormulation>,
     compliance: AtomicU64,
+    restoring: AtomicBool,
 }
 
 impl GglDae {
@@ -92,6 +93,7 @@ impl GglDae {
         GglDae {
             formulation,
             compliance: AtomicU64::new(eps.to_bits()),
+            restoring: AtomicBool::new(false),
         }
     }
     /// The current compliance `ε`.
@@ -101,6 +103,14 @@ impl GglDae {
     /// Sets the compliance used by later evaluations.
     pub fn set_compliance(&self, eps: f64) {
         self.compliance.store(eps.to_bits(), Ordering::Relaxed);
+    }
+    /// Whether the compliant joints give back the power they absorb
+    /// ([`GglFormulation::residual`]): set where the compliance carries a singular passage.
+    pub fn set_restoring(&self, on: bool) {
+        self.restoring.store(on, Ordering::Relaxed);
+    }
+    fn restoring(&self) -> bool {
+        self.restoring.load(Ordering::Relaxed)
     }
 }
 
@@ -116,7 +126,7 @@ impl DaeFormulation for GglDae {
     }
     fn residual(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) {
         self.formulation
-            .residual(ws, self.compliance(), t, y, yp, r);
+            .residual(ws, (self.compliance(), self.restoring()), t, y, yp, r);
     }
     fn jacobian(
         &self,
@@ -128,7 +138,7 @@ impl DaeFormulation for GglDae {
         put: &mut dyn FnMut(usize, usize, f64),
     ) {
         self.formulation
-            .jacobian(ws, self.compliance(), t, cj, y, yp, put);
+            .jacobian(ws, (self.compliance(), self.restoring()), t, cj, y, yp, put);
     }
     fn structure(&self) -> Vec<(usize, usize)> {
         self.formulation.structure()

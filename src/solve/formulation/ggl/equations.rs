@@ -27,7 +27,13 @@
 //! ```
 //!
 //! gives `p` back along the momentum, where it changes no joint row to first order (`G_v v ≈ 0`)
-//! — the counterpart of the energy invariant's `−μ M v` in the index-1 formulation. At rest
+//! — the counterpart of the energy invariant's `−μ M v` in the index-1 formulation. It is on
+//! where the compliance carries a singular passage ([`crate::solve::formulation::GglDae::set_restoring`]: the GGL's
+//! switch, the partitioned formulation's passage), not where the compliance is there from the
+//! start (`compliant_ggl`, redundant joints): `μ` is an algebraic unknown held to IDA's
+//! multiplier tolerance, and `∂E/∂q · G_qᵀ μ` carries that error `∂E/∂q · G_qᵀ` times over
+//! the whole run (Bricard's mechanism at rtol 1e-9 went from seconds to more than ten
+//! minutes with the rate on from the start). At rest
 //! both parts of `p` cancel (`Q = G_vᵀ λ`, so the slip power is `−ε |λ|²`), and `τ`
 //! ([`RESTORING_TIME`]) bounds `α` where the mechanism slows. The Newton matrix holds the
 //! rate's diagonal `−α M`; its rank-one couplings through `p` and `vᵀ M v` (relative size
@@ -162,11 +168,12 @@ impl GglFormulation {
     }
 
     /// `F(t, y, y')` with compliance `eps`: the compiled ε = 0 residual minus `ε μ` in the
-    /// position rows and `ε λ` in the velocity rows.
+    /// position rows and `ε λ` in the velocity rows, and where `restore` the restoring rate's
+    /// `α M v` in the dynamics rows.
     pub fn residual(
         &self,
         ws: &mut Workspace,
-        eps: f64,
+        (eps, restore): (f64, bool),
         t: f64,
         y: &[f64],
         yp: &[f64],
@@ -180,9 +187,11 @@ impl GglFormulation {
                 r[lam + k] -= eps * y[mu + k];
                 r[mu + k] -= eps * y[lam + k];
             }
-            let alpha = self.restoring_rate(ws, eps, y);
-            for (j, m) in self.mass.iter().enumerate() {
-                r[nq + j] -= alpha * m * y[nq + j];
+            if restore {
+                let alpha = self.restoring_rate(ws, eps, y);
+                for (j, m) in self.mass.iter().enumerate() {
+                    r[nq + j] -= alpha * m * y[nq + j];
+                }
             }
         }
     }
@@ -208,7 +217,7 @@ impl GglFormulation {
     pub fn jacobian(
         &self,
         ws: &mut Workspace,
-        eps: f64,
+        (eps, restore): (f64, bool),
         t: f64,
         cj: f64,
         y: &[f64],
@@ -223,9 +232,11 @@ impl GglFormulation {
                 put(lam + k, mu + k, -eps);
                 put(mu + k, lam + k, -eps);
             }
-            let alpha = self.restoring_rate(ws, eps, y);
-            for (j, m) in self.mass.iter().enumerate() {
-                put(nq + j, nq + j, -alpha * m);
+            if restore {
+                let alpha = self.restoring_rate(ws, eps, y);
+                for (j, m) in self.mass.iter().enumerate() {
+                    put(nq + j, nq + j, -alpha * m);
+                }
             }
         }
     }

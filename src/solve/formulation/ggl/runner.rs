@@ -402,6 +402,7 @@ impl<'a> Formulation<'a> for Ggl {
         // times that of the compliant GGL throughout)
         let (y, yp) = restart_state(&self.sys, &self.tapes, eps_switch, tr, &xr[..nq + nv])?;
         self.dae.set_compliance(eps_switch);
+        self.dae.set_restoring(true);
         solver.reinit_ida(tr, &y, &yp)?;
         if self.error_test.active && self.error_test.choose(&self.gv_at(tr, &y), eps_switch) {
             set_id(solver, &self.error_test.id())?;
@@ -470,6 +471,7 @@ impl<'a> Formulation<'a> for Ggl {
                 let yp = solver.ida().map(|i| i.yp().to_vec()).unwrap_or_default();
                 compliant_velocities(&self.tapes, nq, nv, 0.0, t, &mut y);
                 self.dae.set_compliance(0.0);
+                self.dae.set_restoring(false);
                 solver.reinit_ida(t, &y, &yp)?;
                 if let Some(ts) = self.compliant_since.take() {
                     self.compliant_time += t - ts;

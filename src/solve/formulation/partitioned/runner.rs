@@ -303,8 +303,10 @@ impl<'a> Partitioned<'a> {
         self.mode = Mode::Passage { t_in: t_start };
         self.stalls = 0;
         self.last_part = None;
+        let dae = Arc::new(GglDae::shared(ggl, eps));
+        dae.set_restoring(true);
         Ok(Start::Run(Problem::Implicit(ImplicitProblem {
-            dae: Arc::new(GglDae::shared(ggl, eps)),
+            dae,
             atol,
             y0,
             yp0,
@@ -488,9 +490,11 @@ impl<'a> Formulation<'a> for Partitioned<'a> {
                 x.extend_from_slice(s);
                 Ok(())
             }
-            Err(e) => Err(SolveError::Solver(SolverError::InvalidInput(format!(
-                "partitioned: completing the output row: {e}"
-            )))),
+            // not the input's fault: the solve stops at t with its rows so far
+            Err(e) => Err(SolveError::Solver(SolverError::Stalled {
+                t,
+                cause: format!("partitioned: completing the output row: {e}"),
+            })),
         }
     }
 
