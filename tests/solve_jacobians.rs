@@ -71,15 +71,19 @@ fn check_scene(name: &str, seed: u64) {
             let n = f.dae.n;
             let (y, yp) = (rng.vec(n), rng.vec(n));
             let mut ws = f.dae.workspace();
-            let dfdy = dense(n, |put| f.jacobian(&mut ws, eps, 0.3, 0.0, &y, &yp, put));
-            let with_cj = dense(n, |put| f.jacobian(&mut ws, eps, 0.3, 1.0, &y, &yp, put));
+            let dfdy = dense(n, |put| {
+                f.jacobian(&mut ws, (eps, false), 0.3, 0.0, &y, &yp, put)
+            });
+            let with_cj = dense(n, |put| {
+                f.jacobian(&mut ws, (eps, false), 0.3, 1.0, &y, &yp, put)
+            });
             let dfdyp = &with_cj - &dfdy;
             let mut r = vec![0.0; n];
             check(
                 &format!("{name} GGL ε = {eps} ∂F/∂y"),
                 &dfdy,
                 &mut |yy| {
-                    f.residual(&mut ws, eps, 0.3, yy, &yp, &mut r);
+                    f.residual(&mut ws, (eps, false), 0.3, yy, &yp, &mut r);
                     r.clone()
                 },
                 &y,
@@ -89,7 +93,7 @@ fn check_scene(name: &str, seed: u64) {
                 &format!("{name} GGL ε = {eps} ∂F/∂y'"),
                 &dfdyp,
                 &mut |pp| {
-                    f.residual(&mut ws, eps, 0.3, &y, pp, &mut r);
+                    f.residual(&mut ws, (eps, false), 0.3, &y, pp, &mut r);
                     r.clone()
                 },
                 &yp,

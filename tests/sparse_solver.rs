@@ -255,7 +255,7 @@ fn ggl_states(
     let (d1, d2) = (ggl.clone(), ggl.clone());
     let (mut w1, mut w2) = (d1.dae.workspace(), d2.dae.workspace());
     let residual = Box::new(move |t: f64, y: &[f64], yp: &[f64], r: &mut [f64]| {
-        d1.residual(&mut w1, eps, t, y, yp, r);
+        d1.residual(&mut w1, (eps, false), t, y, yp, r);
         Ok(())
     });
     let jacobian = Box::new(
@@ -265,7 +265,9 @@ fn ggl_states(
               yp: &[f64],
               j: &mut bondmech::sundials::DenseMatrixMut<'_>| {
             j.fill_zero();
-            d2.jacobian(&mut w2, eps, t, cj, y, yp, |r, c, v| j.add(r, c, v));
+            d2.jacobian(&mut w2, (eps, false), t, cj, y, yp, |r, c, v| {
+                j.add(r, c, v)
+            });
             Ok(())
         },
     );
@@ -363,7 +365,7 @@ fn newton_matrices(scene: &str, model: &Model) -> Vec<NewtonMatrix> {
                 format!("{name} at t = {t} (cj = {cj:.1e})"),
                 ggl.dae.n,
                 ggl.structure(),
-                |put| ggl.jacobian(&mut ws, e, *t, cj, y, yp, put),
+                |put| ggl.jacobian(&mut ws, (e, false), *t, cj, y, yp, put),
             ));
         }
         if let Some((dependent, f)) = &index1 {
