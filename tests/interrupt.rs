@@ -37,7 +37,10 @@ fn pendulum_scene() -> serde_json::Value {
 
 fn long_run(d: &Path) -> Child {
     std::fs::write(d.join("long.json"), pendulum_scene().to_string()).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_bondmech"))
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_bondmech"));
+    // the child's SIGINT and SIGTERM are its own, not the ones this test inherited (ignored
+    // under a non-interactive shell's background job)
+    support::signals::default_signals(&mut cmd)
         .current_dir(d)
         .args(["run", "long.json", "--t-end", "1e5"])
         .args(["--out", "o.csv", "--summary", "s.json"])

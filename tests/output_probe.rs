@@ -208,7 +208,11 @@ fn run(
     limit: Duration,
 ) -> Option<Output> {
     let mut cmd = Command::new(BIN);
-    cmd.args(args).stdin(Stdio::null()).stderr(Stdio::piped());
+    // the signals this test sends act on the child whatever the test inherited
+    support::signals::default_signals(&mut cmd)
+        .args(args)
+        .stdin(Stdio::null())
+        .stderr(Stdio::piped());
     let piped = stdout.is_none();
     match stdout {
         Some(f) => cmd.stdout(f),

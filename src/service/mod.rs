@@ -17,8 +17,9 @@
 //! | `GET /metrics` | Prometheus text |
 //! | `GET /openapi.json` | OpenAPI 3.1 |
 //!
-//! Errors are `application/problem+json` (RFC 9457, [`problem`]). Work runs on a bounded
-//! pool of blocking threads with a bounded queue in front ([`pool`]); a client that
+//! Errors are `application/problem+json` (RFC 9457, [`problem`]). A request's scene is parsed
+//! and validated on the blocking pool, never on the async workers ([`admit`]); solves run on a
+//! bounded pool of blocking threads with a bounded queue in front ([`pool`]); a client that
 //! disconnects stops its solve at the next output row; every request is checked against
 //! [`Limits`] before it is queued. The user documentation is `docs/service.md`.
 //!
@@ -34,6 +35,7 @@
 //! # Ok::<(), std::io::Error>(())
 //! ```
 
+mod admit;
 mod body;
 pub mod limits;
 pub mod metrics;
@@ -326,7 +328,9 @@ async fn serve(
 fn runtime(config: &Config) -> std::io::Result<tokio::runtime::Runtime> {
     tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
-        .max_blocking_threads(config.max_concurrent + 2)
+        // the solves (their slots and the fast lane's), and room for the admissions
+        // (`admit`: parsing and validating a request's scene) beside them
+        .max_blocking_threads(config.max_concurrent + pool::FAST_LANE_SLOTS + 2)
         .enable_all()
         .thread_name("bondmech-serve")
         .build()
