@@ -14,9 +14,10 @@
 //! - a nonlinear resistor's law of its own flow (`effort_law`, in `f`) or effort (`flow_law`,
 //!   in `e`) is evaluated at the start for flows or efforts of ±1e-3, ±1 and ±1e3: a law with
 //!   `e·f < 0` there is a negative resistance, refused;
-//! - warnings (not refusals): a modulus (`TF`, `GY`, `MTF`, `MGY`) that is 0 at the start (the
-//!   element transmits nothing there, and where the causality divides by it the first
-//!   evaluation fails), and a parameter written as a string holding a plain number
+//! - warnings (not refusals): a modulus (`TF`, `GY`, `MTF`, `MGY`) of time alone that is 0 at
+//!   the start (the element transmits nothing there, and where the causality divides by it the
+//!   first evaluation fails; a modulus of the state, such as a body-frame bar's gyrator, is 0
+//!   at rest by design), and a parameter written as a string holding a plain number
 //!   (`"stiffness": "100"`: read as the expression `100`, legal, but most likely meant as a
 //!   number).
 
@@ -182,7 +183,7 @@ pub fn check_over_span(
                 } else {
                     (value, source.as_str())
                 };
-                errors.push(BondError::ExpressionValue {
+                errors.push(BondError::ValueInRun {
                     path: format!("{}.{field}", element_path(i)),
                     element: e.name.clone(),
                     expr: excerpt(text, 0),
@@ -219,7 +220,7 @@ fn check_law(
             vars.extend(c.names.iter().map(|_| x));
             let y = c.graph.eval(c.expr, &vars);
             if y.is_finite() && y * x < 0.0 {
-                return Some(BondError::ExpressionValue {
+                return Some(BondError::ValueInRun {
                     path: format!("{}.{field}", element_path(i)),
                     element: name.to_string(),
                     expr: excerpt(source, 0),
@@ -238,7 +239,7 @@ fn check_law(
 }
 
 /// Warnings about a raw bond graph's parameters, each starting with its JSON path: a modulus
-/// that is 0 at `t_start`, and a parameter written as a string holding a plain number.
+/// of time alone that is 0 at `t_start`, and a parameter written as a string holding a plain number.
 pub fn warnings(graph: &BondGraph, raw: Option<&Value>, t_start: f64) -> Vec<String> {
     let mut out = Vec::new();
     for (i, e) in graph.elements.iter().enumerate() {
@@ -248,17 +249,13 @@ pub fn warnings(graph: &BondGraph, raw: Option<&Value>, t_start: f64) -> Vec<Str
         ) {
             continue;
         }
+        // a modulus of time alone (one of the state is the model's own coupling: a body-frame
+        // bar's gyrator `12*p_J` is 0 at rest, as it should be)
         let value = match &e.parameter {
             Some(Parameter::Const(v)) => Some((*v, None)),
-            Some(Parameter::Expr(s)) => compile(s).and_then(|c| {
-                let states: Option<Vec<f64>> =
-                    c.names.iter().map(|n| initial_state(graph, n)).collect();
-                states.map(|st| {
-                    let mut vars = vec![t_start];
-                    vars.extend(st);
-                    (c.graph.eval(c.expr, &vars), Some(s.as_str()))
-                })
-            }),
+            Some(Parameter::Expr(s)) => compile(s)
+                .filter(|c| c.names.is_empty())
+                .map(|c| (c.graph.eval(c.expr, &[t_start]), Some(s.as_str()))),
             _ => None,
         };
         if let Some((0.0, source)) = value {

@@ -87,9 +87,12 @@ pub(crate) fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
 fn read_stdin() -> Result<String, Error> {
     let name = Path::new("standard input");
     bondmech::scene::read_text_from(std::io::stdin().lock(), name).map_err(|e| match e {
-        bondmech::scene::SceneError::Empty { .. } => Error::Options(
-            "standard input is empty (closed, or /dev/null): pipe a scene into `bondmech run -` (`cat scene.json | bondmech run -`), or give the scene's file instead of '-'".into(),
-        ),
+        bondmech::scene::SceneError::Empty { .. } => Error::Io {
+            path: "standard input".into(),
+            source: std::io::Error::other(
+                "is empty (closed, or /dev/null): pipe a scene into `bondmech run -` (`cat scene.json | bondmech run -`), or give the scene's file instead of '-'",
+            ),
+        },
         e => Error::from(e),
     })
 }

@@ -114,28 +114,29 @@ pub struct ServeArgs {
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub addr: SocketAddr,
     /// Solves running at once (default: the number of cores).
-    #[arg(long = "max-concurrent")]
+    #[arg(allow_negative_numbers = true, long = "max-concurrent")]
     pub max_concurrent: Option<usize>,
     /// Requests waiting for a solve slot; beyond it, 503 with Retry-After.
-    #[arg(long, default_value_t = 64)]
+    #[arg(allow_negative_numbers = true, long, default_value_t = 64)]
     pub queue: usize,
     /// Largest request body in bytes (413 above it).
-    #[arg(long = "max-body", default_value_t = 1 << 20)]
+    #[arg(allow_negative_numbers = true, long = "max-body", default_value_t = 1 << 20)]
     pub max_body: u64,
     /// Wall-clock budget of one solve in seconds (422 with the rows so far past it).
-    #[arg(long = "max-solve-seconds", default_value_t = 60.0)]
+    #[arg(allow_negative_numbers = true, long = "max-solve-seconds", default_value_t = 60.0)]
     pub max_solve_seconds: f64,
-    /// Most bodies + joints + springs + loads + outputs + bond graph elements and bonds.
-    #[arg(long = "max-elements", default_value_t = 512)]
+    /// Most bodies + joints + springs + loads + outputs + events + drivers + bond graph
+    /// elements and bonds.
+    #[arg(allow_negative_numbers = true, long = "max-elements", default_value_t = 512)]
     pub max_elements: usize,
     /// Longest string (expression) in a scene, in bytes.
-    #[arg(long = "max-expression-length", default_value_t = 4096)]
+    #[arg(allow_negative_numbers = true, long = "max-expression-length", default_value_t = 4096)]
     pub max_expression_length: usize,
     /// Most output rows per run.
-    #[arg(long = "max-rows", default_value_t = 100_000)]
+    #[arg(allow_negative_numbers = true, long = "max-rows", default_value_t = 100_000)]
     pub max_rows: usize,
     /// Seconds in-flight solves may finish after SIGTERM/Ctrl-C.
-    #[arg(long = "shutdown-grace", default_value_t = 10.0)]
+    #[arg(allow_negative_numbers = true, long = "shutdown-grace", default_value_t = 10.0)]
     pub shutdown_grace: f64,
 }
 

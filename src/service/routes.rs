@@ -109,7 +109,12 @@ pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Nex
     }
     let _active = Active(&app, counted);
     let start = std::time::Instant::now();
-    let mut resp = next.run(req).await;
+    let query_len = req.uri().query().map_or(0, str::len);
+    let mut resp = if query_len > MAX_QUERY_BYTES {
+        query_too_long(query_len).into_response()
+    } else {
+        next.run(req).await
+    };
     let status = resp.status().as_u16();
     app.metrics.request(route, status);
     app.metrics
@@ -125,6 +130,25 @@ pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Nex
         );
     }
     resp
+}
+
+/// Longest query string a request may carry, in bytes: the routes take a few short
+/// parameters. (A request line over 64 KiB is refused before any route sees it, by the HTTP
+/// layer, with a bare `414 URI Too Long`.)
+pub const MAX_QUERY_BYTES: usize = 8192;
+
+/// 414 for a query string over [`MAX_QUERY_BYTES`], naming the limit and what the routes take.
+fn query_too_long(len: usize) -> Problem {
+    Problem::new(
+        StatusCode::URI_TOO_LONG,
+        "query-too-long",
+        "Query string too long",
+        format!(
+            "the query string is {len} bytes, over the limit of {MAX_QUERY_BYTES} bytes: the routes take a few short parameters (rtol, t_end, format, …; see /openapi.json), the scene goes in the body"
+        ),
+    )
+    .with("limit", "max_query_bytes")
+    .with("limit_value", MAX_QUERY_BYTES)
 }
 
 /// Turns a handler's result into a response, counting refusals.
