@@ -265,7 +265,10 @@ fn regression_children_inherited_an_ignored_sigint_and_waited_30_s() {
     let mut plain = plain;
     let _ = plain.kill();
     let _ = plain.wait();
-    assert!(theirs, "a plain child inherits the ignored SIGINT (the cause)");
+    assert!(
+        theirs,
+        "a plain child inherits the ignored SIGINT (the cause)"
+    );
     assert!(!ours, "the run's SIGINT is its own");
     wait_for_rows(&d);
     signal(&child, "INT");

@@ -156,7 +156,10 @@ fn regression_equilibrium_json_onto_its_scene_overwrote_it() {
         "--json",
         p.to_str().unwrap(),
     ]);
-    assert_refused(&o, &["--json", "pendulum.json", "is an input of this command"]);
+    assert_refused(
+        &o,
+        &["--json", "pendulum.json", "is an input of this command"],
+    );
     assert_eq!(std::fs::read(&p).unwrap(), before, "the scene is unchanged");
     // and elsewhere it writes a whole JSON document
     let out = d.join("eq.json");
@@ -188,7 +191,10 @@ fn regression_linearize_json_and_bode_onto_one_file_kept_one_of_them() {
         "--bode",
         x.to_str().unwrap(),
     ]);
-    assert_refused(&o, &["--bode", "--json", "x.svg", "give each output its own file"]);
+    assert_refused(
+        &o,
+        &["--bode", "--json", "x.svg", "give each output its own file"],
+    );
     assert!(!x.exists(), "nothing written");
     // each on its own file: both written
     let j = d.join("x.json");
@@ -201,7 +207,10 @@ fn regression_linearize_json_and_bode_onto_one_file_kept_one_of_them() {
         x.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(std::fs::read_to_string(&x).unwrap().trim_end().ends_with("</svg>"));
+    assert!(std::fs::read_to_string(&x)
+        .unwrap()
+        .trim_end()
+        .ends_with("</svg>"));
     serde_json::from_slice::<Value>(&std::fs::read(&j).unwrap()).unwrap();
 }
 
@@ -289,8 +298,9 @@ fn regression_modulus_zero_at_t0_ran_without_a_word() {
     v["solve"]["t_end"] = json!(1.0);
     let w = run_warnings(&v);
     assert!(
-        w.iter().any(|w| w.starts_with("bond_graph.elements[4].modulus")
-            && w.contains("is 0 at t_start = 0")),
+        w.iter()
+            .any(|w| w.starts_with("bond_graph.elements[4].modulus")
+                && w.contains("is 0 at t_start = 0")),
         "{w:?}"
     );
     // the command line says it on standard error
@@ -320,9 +330,10 @@ fn regression_stiffness_given_as_a_string_of_a_number_ran_without_a_word() {
     v["bond_graph"]["elements"][3]["stiffness"] = json!("6");
     let w = run_warnings(&v);
     assert!(
-        w.iter().any(|w| w.starts_with("bond_graph.elements[3].stiffness")
-            && w.contains("a string holding a number")
-            && w.contains("without quotes")),
+        w.iter()
+            .any(|w| w.starts_with("bond_graph.elements[3].stiffness")
+                && w.contains("a string holding a number")
+                && w.contains("without quotes")),
         "{w:?}"
     );
     // the same motion as the number
@@ -398,7 +409,13 @@ fn regression_graph_as_scene_on_a_body_frame_scene_was_accepted_silently() {
     let (a, b) = (solve(&v), solve(&g));
     assert_eq!(a.times.len(), b.times.len());
     let mut worst = 0.0f64;
-    for col in ["bar1.angle", "bar2.angle", "bar2.A.x", "bar2.A.y", "bar1.omega"] {
+    for col in [
+        "bar1.angle",
+        "bar2.angle",
+        "bar2.A.x",
+        "bar2.A.y",
+        "bar1.omega",
+    ] {
         let (x, y) = (a.column(col).unwrap(), b.column(col).unwrap());
         for (p, q) in x.iter().zip(&y) {
             worst = worst.max((p - q).abs());
@@ -430,9 +447,11 @@ fn regression_graph_as_scene_on_a_body_frame_scene_was_accepted_silently() {
 #[test]
 fn regression_max_steps_2_pow_64_minus_1_was_accepted() {
     // 2⁶⁴ − 1 as a JSON number
-    let text = scene_json("pendulum.json")
-        .to_string()
-        .replacen("\"rtol\"", "\"max_steps\": 18446744073709551615, \"rtol\"", 1);
+    let text = scene_json("pendulum.json").to_string().replacen(
+        "\"rtol\"",
+        "\"max_steps\": 18446744073709551615, \"rtol\"",
+        1,
+    );
     let e = Scene::from_json_str(&text).unwrap_err().to_string();
     assert!(
         e.contains("solve.max_steps") && e.contains("must be <= 1e15"),
@@ -446,7 +465,10 @@ fn regression_max_steps_2_pow_64_minus_1_was_accepted() {
         "18446744073709551615",
         "--table",
     ]);
-    assert_refused(&o, &["--max-steps", "must be <= 1e15", "leave max_steps out"]);
+    assert_refused(
+        &o,
+        &["--max-steps", "must be <= 1e15", "leave max_steps out"],
+    );
     let server = start(bondmech::service::Config {
         addr: "127.0.0.1:0".parse().unwrap(),
         ..Default::default()
@@ -459,7 +481,13 @@ fn regression_max_steps_2_pow_64_minus_1_was_accepted() {
     let pr = r.problem(422);
     assert_eq!(pr["parameter"], "max_steps", "{pr}");
     // a large budget that means something still runs
-    let o = run(&["run", p.to_str().unwrap(), "--max-steps", "1000000000", "--table"]);
+    let o = run(&[
+        "run",
+        p.to_str().unwrap(),
+        "--max-steps",
+        "1000000000",
+        "--table",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
@@ -467,21 +495,27 @@ fn regression_max_steps_2_pow_64_minus_1_was_accepted() {
 fn regression_body_or_point_name_with_a_comma_broke_the_csv_header() {
     let mut v = scene_json("pendulum.json");
     v["bodies"][0]["points"]["P,1"] = json!([0.5, 0.0]);
-    let e = Scene::from_json_str(&v.to_string()).unwrap_err().to_string();
+    let e = Scene::from_json_str(&v.to_string())
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("bodies[0].points.P,1") && e.contains("must not contain ','"),
         "{e}"
     );
     let mut v = scene_json("pendulum.json");
     v["bodies"][0]["name"] = json!("bar,1");
-    let e = Scene::from_json_str(&v.to_string()).unwrap_err().to_string();
+    let e = Scene::from_json_str(&v.to_string())
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("bodies[0].name") && e.contains("'bar,1' must not contain ','"),
         "{e}"
     );
     let mut v = scene_json("pendulum.json");
     v["joints"][0]["name"] = json!("pin,a");
-    let e = Scene::from_json_str(&v.to_string()).unwrap_err().to_string();
+    let e = Scene::from_json_str(&v.to_string())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("joints[0].name") && e.contains("','"), "{e}");
 }
 
@@ -515,7 +549,10 @@ fn regression_scene_from_dev_zero_was_read_for_64_mib_and_called_too_long() {
     // an empty file is called empty
     let e = d.join("empty.json");
     std::fs::write(&e, "").unwrap();
-    assert_refused(&run(&["run", e.to_str().unwrap()]), &["empty.json", "is empty"]);
+    assert_refused(
+        &run(&["run", e.to_str().unwrap()]),
+        &["empty.json", "is empty"],
+    );
 }
 
 #[test]
@@ -523,7 +560,11 @@ fn regression_negative_atol_was_taken_for_a_flag() {
     let p = scene_path("pendulum.json");
     let o = run(&["run", p.to_str().unwrap(), "--atol", "-1", "--table"]);
     assert_refused(&o, &["--atol", "solve.atol", "-1"]);
-    assert!(!stderr(&o).contains("unexpected argument"), "{}", stderr(&o));
+    assert!(
+        !stderr(&o).contains("unexpected argument"),
+        "{}",
+        stderr(&o)
+    );
     let o = run(&["run", p.to_str().unwrap(), "--t-end", "-2", "--table"]);
     assert_refused(&o, &["--t-end", "-2"]);
 }
@@ -532,7 +573,10 @@ fn regression_negative_atol_was_taken_for_a_flag() {
 fn regression_set_with_an_empty_path_was_vague() {
     let p = scene_path("pendulum.json");
     let o = run(&["run", p.to_str().unwrap(), "--set", "=1", "--table"]);
-    assert_refused(&o, &["'=1'", "the path before '=' is empty", "bodies[0].mass=2"]);
+    assert_refused(
+        &o,
+        &["'=1'", "the path before '=' is empty", "bodies[0].mass=2"],
+    );
     let o = run(&["run", p.to_str().unwrap(), "--set", "", "--table"]);
     assert_refused(&o, &["empty: expected PATH=JSON"]);
 }
@@ -546,7 +590,10 @@ fn regression_closed_standard_input_was_vague() {
         .arg(BIN)
         .output()
         .unwrap();
-    assert_refused(&o, &["standard input", "is empty (closed, or /dev/null)", "run -"]);
+    assert_refused(
+        &o,
+        &["standard input", "is empty (closed, or /dev/null)", "run -"],
+    );
     let o = run_with(&["run", "-"], Some(Vec::new()));
     assert_refused(&o, &["standard input", "is empty"]);
 }
@@ -555,8 +602,18 @@ fn regression_closed_standard_input_was_vague() {
 fn regression_serve_max_body_0_was_vague() {
     let t0 = Instant::now();
     let o = run(&["serve", "--addr", "127.0.0.1:0", "--max-body", "0"]);
-    assert_refused(&o, &["--max-body", "must be at least 1", "refuse every request body"]);
-    assert!(t0.elapsed() < Duration::from_secs(20), "it did not start serving");
+    assert_refused(
+        &o,
+        &[
+            "--max-body",
+            "must be at least 1",
+            "refuse every request body",
+        ],
+    );
+    assert!(
+        t0.elapsed() < Duration::from_secs(20),
+        "it did not start serving"
+    );
 }
 
 /// A chain of `n` masses joined by springs: about 4n elements.
@@ -570,8 +627,10 @@ fn chain_graph(n: usize) -> Value {
     }
     for i in 0..n - 1 {
         els.push(json!({"name": format!("z{i}"), "kind": "0"}));
-        els.push(json!({"name": format!("k{i}"), "kind": "C", "stiffness": 1.0,
-                        "initial": if i == 0 { 0.1 } else { 0.0 }}));
+        els.push(
+            json!({"name": format!("k{i}"), "kind": "C", "stiffness": 1.0,
+                        "initial": if i == 0 { 0.1 } else { 0.0 }}),
+        );
         bonds.push(json!({"from": format!("v{i}"), "to": format!("z{i}")}));
         bonds.push(json!({"from": format!("z{i}"), "to": format!("v{}", i + 1)}));
         bonds.push(json!({"from": format!("z{i}"), "to": format!("k{i}")}));
@@ -646,12 +705,19 @@ fn regression_max_wall_seconds_1e300_was_vague_in_the_query_and_the_scene() {
         ..Default::default()
     });
     let text = std::fs::read(scene_path("pendulum.json")).unwrap();
-    let r = post(server.addr(), "/v1/run?max_wall_seconds=1e300&t_end=0.1", &text);
+    let r = post(
+        server.addr(),
+        "/v1/run?max_wall_seconds=1e300&t_end=0.1",
+        &text,
+    );
     let pr = r.problem(422);
     assert_eq!(pr["parameter"], "max_wall_seconds", "{pr}");
     assert!(
         pr["detail"].as_str().unwrap().contains("must be <= 1e9")
-            && pr["detail"].as_str().unwrap().contains("leave the setting out"),
+            && pr["detail"]
+                .as_str()
+                .unwrap()
+                .contains("leave the setting out"),
         "{pr}"
     );
     let mut v = scene_json("pendulum.json");
@@ -680,7 +746,8 @@ fn regression_huge_query_string_was_answered_414_without_a_word() {
     let pr = r.problem(414);
     let detail = pr["detail"].as_str().unwrap();
     assert!(
-        detail.contains("over the limit of 8192 bytes") && detail.contains("the scene goes in the body"),
+        detail.contains("over the limit of 8192 bytes")
+            && detail.contains("the scene goes in the body"),
         "{pr}"
     );
     assert_eq!(pr["limit"], "max_query_bytes");
@@ -747,7 +814,10 @@ fn regression_1e7_output_rows_ran_for_minutes_without_a_word() {
         "{err}"
     );
     // the warning comes before the work, and the budget still bounds it
-    assert!(err.find("warning").unwrap() < err.find("max_wall_seconds").unwrap(), "{err}");
+    assert!(
+        err.find("warning").unwrap() < err.find("max_wall_seconds").unwrap(),
+        "{err}"
+    );
     assert_eq!(o.status.code(), Some(1), "{err}");
     // a run of a million rows less one says nothing
     let o = run(&[

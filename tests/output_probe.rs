@@ -761,7 +761,12 @@ fn regression_two_outputs_onto_one_path_kept_one_of_them() {
     let i = inputs.iscene.display().to_string();
     // (command, its arguments before the outputs, the two flags, the extension)
     let cases: &[(&str, Vec<&str>, [&str; 2], &str)] = &[
-        ("run", vec![&s, "--t-end", "0.2"], ["--out", "--summary"], "csv"),
+        (
+            "run",
+            vec![&s, "--t-end", "0.2"],
+            ["--out", "--summary"],
+            "csv",
+        ),
         (
             "animate",
             vec![&s, "--t-end", "0.2"],
@@ -807,7 +812,9 @@ fn regression_two_outputs_onto_one_path_kept_one_of_them() {
             if !(err.contains(f1) && err.contains(f2) && err.contains(&format!("out.{ext}"))
                 || err.contains(f1) && err.contains(f2) && err.contains(&format!("link.{ext}")))
             {
-                bad.push(format!("{case}: the error names neither both flags nor the file: {err}"));
+                bad.push(format!(
+                    "{case}: the error names neither both flags nor the file: {err}"
+                ));
             }
             match how {
                 "new" if first.exists() => bad.push(format!("{case}: the file was made")),

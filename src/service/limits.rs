@@ -137,7 +137,10 @@ pub fn check_document(doc: &Value, limits: &Limits) -> Result<(), Problem> {
         .iter()
         .map(|k| (*k, len(doc.get(*k))))
         .chain([
-            ("bond_graph.elements", len(bg.and_then(|g| g.get("elements")))),
+            (
+                "bond_graph.elements",
+                len(bg.and_then(|g| g.get("elements"))),
+            ),
             ("bond_graph.bonds", len(bg.and_then(|g| g.get("bonds")))),
         ])
         .filter(|(_, n)| *n > 0)

@@ -18,7 +18,7 @@
 //! | `GET /openapi.json` | OpenAPI 3.1 |
 //!
 //! Errors are `application/problem+json` (RFC 9457, [`problem`]). A request's scene is parsed
-//! and validated on the blocking pool, never on the async workers ([`admit`]); solves run on a
+//! and validated on the blocking pool, never on the async workers (module `admit`); solves run on a
 //! bounded pool of blocking threads with a bounded queue in front ([`pool`]); a client that
 //! disconnects stops its solve at the next output row; every request is checked against
 //! [`Limits`] before it is queued. The user documentation is `docs/service.md`.
@@ -123,20 +123,40 @@ pub struct ServeArgs {
     #[arg(allow_negative_numbers = true, long = "max-body", default_value_t = 1 << 20)]
     pub max_body: u64,
     /// Wall-clock budget of one solve in seconds (422 with the rows so far past it).
-    #[arg(allow_negative_numbers = true, long = "max-solve-seconds", default_value_t = 60.0)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-solve-seconds",
+        default_value_t = 60.0
+    )]
     pub max_solve_seconds: f64,
     /// Most bodies + joints + springs + loads + outputs + events + drivers + bond graph
     /// elements and bonds.
-    #[arg(allow_negative_numbers = true, long = "max-elements", default_value_t = 512)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-elements",
+        default_value_t = 512
+    )]
     pub max_elements: usize,
     /// Longest string (expression) in a scene, in bytes.
-    #[arg(allow_negative_numbers = true, long = "max-expression-length", default_value_t = 4096)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-expression-length",
+        default_value_t = 4096
+    )]
     pub max_expression_length: usize,
     /// Most output rows per run.
-    #[arg(allow_negative_numbers = true, long = "max-rows", default_value_t = 100_000)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-rows",
+        default_value_t = 100_000
+    )]
     pub max_rows: usize,
     /// Seconds in-flight solves may finish after SIGTERM/Ctrl-C.
-    #[arg(allow_negative_numbers = true, long = "shutdown-grace", default_value_t = 10.0)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "shutdown-grace",
+        default_value_t = 10.0
+    )]
     pub shutdown_grace: f64,
 }
 

@@ -62,9 +62,9 @@ pub(crate) struct SteppingState {
     /// Consecutive internal steps that did not advance the time (`t + h == t`).
     pub(crate) stalled: u32,
     /// The time and step count where the current window of [`COLLAPSE_WINDOW`] steps began
-    /// ([`collapsed`]).
+    /// (`collapsed`).
     pub(crate) window: (f64, u32),
-    /// The largest mean step of a window so far ([`collapsed`]).
+    /// The largest mean step of a window so far (`collapsed`).
     pub(crate) widest: f64,
 }
 
@@ -75,7 +75,7 @@ pub(crate) struct SteppingState {
 /// evaluations) names the culprit before this count is reached.
 pub const MAX_STALLED_STEPS: u32 = 100;
 
-/// Steps over which the pace of a solve is measured ([`collapsed`]).
+/// Steps over which the pace of a solve is measured (the collapse check of the stepping loop).
 pub const COLLAPSE_WINDOW: u32 = 1000;
 
 /// Steps still needed to reach the next output, at the pace of the last [`COLLAPSE_WINDOW`],
@@ -84,7 +84,7 @@ pub const COLLAPSE_WINDOW: u32 = 1000;
 pub const COLLAPSED_STEPS_TO_GO: f64 = 1e9;
 
 /// How far the mean step of a window must have fallen below the largest one of the run for a
-/// slow pace to be a collapse ([`collapsed`]): a run whose steps are small all along (a long
+/// slow pace to be a collapse: a run whose steps are small all along (a long
 /// horizon with one output at its end) is slow, not collapsing; a model running away
 /// (`exp(1e6*t)` as a torque: its steps halve each time their number doubles) shrinks its steps
 /// by orders of magnitude within a fraction of a second.
