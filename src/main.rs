@@ -82,13 +82,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
             )
         }
         Command::Equilibrium { scene, set, json } => {
+            // never onto the scene (nor a link to it), checked before any work
+            check_outputs(&[&scene], &[("--json", json.as_deref())])?;
             let model = Model::new(&read_scene_with(&scene, &set)?)?;
             let eq = model.equilibrium()?;
             if let Some(path) = json {
                 let text = serde_json::to_string_pretty(&eq.to_json())
                     .map_err(|e| options_error(e.to_string()))?;
-                std::fs::write(&path, text + "\n")
-                    .map_err(|e| options_error(format!("cannot write {}: {e}", path.display())))?;
+                write(&path, &(text + "\n"))?;
             }
             Ok(stdout_write(&eq.table())?)
         }
@@ -111,6 +112,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     )));
                 }
             }
+            // never onto the scene (nor a link to it), nor both outputs onto one file
+            check_outputs(
+                &[&scene],
+                &[("--json", json.as_deref()), ("--bode", bode.as_deref())],
+            )?;
             let scene = read_scene_with(&scene, &set)?;
             let options = bondmech::LinearizeOptions {
                 at,
@@ -121,8 +127,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if let Some(path) = json {
                 let text = serde_json::to_string_pretty(&lm.to_json())
                     .map_err(|e| options_error(e.to_string()))?;
-                std::fs::write(&path, text + "\n")
-                    .map_err(|e| options_error(format!("cannot write {}: {e}", path.display())))?;
+                write(&path, &(text + "\n"))?;
             }
             if let Some(path) = bode {
                 bondmech::report::bode::bode_svg(&lm, &scene.name, &path)

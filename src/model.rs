@@ -119,12 +119,16 @@ impl Model {
         crate::mech::size::check_scene_memory(scene, scene.solve.formulation)?;
         let kind = if scene.bond_graph.is_some() {
             let graph = scene_bond_graph(scene)?;
+            let warnings = crate::solve::bond_run::scene_bond_graph_warnings(scene, &graph);
             if graph.displacements.is_empty() {
-                Kind::BondGraph(Box::new(graph), empty_system())
+                let mut sys = empty_system();
+                sys.warnings = warnings;
+                Kind::BondGraph(Box::new(graph), sys)
             } else {
                 // a mechanism's graph (named coordinates, joint closures): solved as one
-                let sys = crate::mech::annotate::system_from_graph(&graph)
+                let mut sys = crate::mech::annotate::system_from_graph(&graph)
                     .map_err(|e| Error::BondGraph(e.to_string()))?;
+                sys.warnings.extend(warnings);
                 for (i, o) in scene.outputs.iter().enumerate() {
                     let known = ["energy", "constraint_error"].contains(&o.as_str())
                         || sys
@@ -375,11 +379,15 @@ impl Model {
                 solve_system(sys.clone(), opts, self.build_cpu_seconds, observer)
                     .map_err(|e| Error::from(crate::solve::non_finite::name_in_mechanism(sys, e)))
             }
-            Kind::BondGraph(g, _) => {
+            Kind::BondGraph(g, sys) => {
                 let mut sol = solve_bond_graph_streaming(g, opts, observer).map_err(|e| {
-                    e.map_partial(|p| p.summary.build_cpu_seconds += self.build_cpu_seconds)
+                    e.map_partial(|p| {
+                        p.summary.build_cpu_seconds += self.build_cpu_seconds;
+                        p.summary.warnings.extend(sys.warnings.iter().cloned());
+                    })
                 })?;
                 sol.summary.build_cpu_seconds += self.build_cpu_seconds;
+                sol.summary.warnings.extend(sys.warnings.iter().cloned());
                 Ok(sol)
             }
         }

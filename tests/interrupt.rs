@@ -37,7 +37,10 @@ fn pendulum_scene() -> serde_json::Value {
 
 fn long_run(d: &Path) -> Child {
     std::fs::write(d.join("long.json"), pendulum_scene().to_string()).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_bondmech"))
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_bondmech"));
+    // the child's SIGINT and SIGTERM are its own, not the ones this test inherited (ignored
+    // under a non-interactive shell's background job)
+    support::signals::default_signals(&mut cmd)
         .current_dir(d)
         .args(["run", "long.json", "--t-end", "1e5"])
         .args(["--out", "o.csv", "--summary", "s.json"])
@@ -227,5 +230,50 @@ fn a_second_signal_exits_at_once_leaving_no_temp_file() {
         let (_, rows) = read_csv(&text);
         assert!(!rows.is_empty());
     }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The SIGINT bit of `SigIgn` in `/proc/PID/status`: whether `pid` ignores SIGINT.
+fn ignores_sigint(pid: u32) -> bool {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let mask = status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigIgn:"))
+        .map(|m| u64::from_str_radix(m.trim(), 16).unwrap())
+        .unwrap();
+    mask & (1 << (libc::SIGINT - 1)) != 0
+}
+
+/// Issue 51: started as a background job of a non-interactive shell (SIGINT ignored, as
+/// `./scripts/test-all.sh &` in a script and some CI runners do), the tests' children inherited
+/// the ignored SIGINT, which bondmech rightly keeps: two tests waited 30 s and failed. Here the
+/// test process itself ignores SIGINT while it starts the run: the child gets the default
+/// disposition (`support::signals::default_signals`), so the SIGINT stops it with its rows
+/// kept and exit 130, while a child started without it inherits the ignored SIGINT.
+#[test]
+fn regression_children_inherited_an_ignored_sigint_and_waited_30_s() {
+    // SAFETY: `signal(2)` with SIG_IGN installs no handler code; the previous disposition is
+    // put back below. Other tests of this binary send SIGINT only to their own children.
+    let previous = unsafe { libc::signal(libc::SIGINT, libc::SIG_IGN) };
+    assert_ne!(previous, libc::SIG_ERR);
+    let d = dir("ignored");
+    let child = long_run(&d);
+    let plain = Command::new("sleep").arg("30").spawn().unwrap();
+    let (ours, theirs) = (ignores_sigint(child.id()), ignores_sigint(plain.id()));
+    // SAFETY: as above; `previous` is the disposition `signal` returned.
+    unsafe { libc::signal(libc::SIGINT, previous) };
+    let mut plain = plain;
+    let _ = plain.kill();
+    let _ = plain.wait();
+    assert!(
+        theirs,
+        "a plain child inherits the ignored SIGINT (the cause)"
+    );
+    assert!(!ours, "the run's SIGINT is its own");
+    wait_for_rows(&d);
+    signal(&child, "INT");
+    let (code, err) = finish(child);
+    assert_eq!(code, Some(130), "{err}");
+    assert!(err.contains("SIGINT received"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -204,13 +204,24 @@ fn regression_t_end_flag_refused_output_times_after_it() {
 #[test]
 fn regression_formulation_decoupled_was_silently_ignored() {
     // a raw bond graph's twin is now solved (its joint rows opened, issue 24): the summary
-    // names what ran
+    // names what ran. The graph needs joint rows: the pendulum's graph (`graph --as-scene`)
     let summary = std::env::temp_dir().join(format!("bondmech-dec-{}.json", std::process::id()));
+    let pendulum_graph = tmp("pendulum_graph.json");
+    let out = bondmech(&[
+        "graph",
+        &scene("pendulum.json"),
+        "--as-scene",
+        "--out",
+        pendulum_graph.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
     let out = bondmech(&[
         "run",
-        &scene("bg_mass_spring_damper.json"),
+        pendulum_graph.to_str().unwrap(),
         "--formulation",
         "decoupled",
+        "--t-end",
+        "0.2",
         "--summary",
         summary.to_str().unwrap(),
     ]);
@@ -218,7 +229,20 @@ fn regression_formulation_decoupled_was_silently_ignored() {
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
     assert_eq!(s["formulation"], "decoupled");
-    // where it cannot apply it is refused by name, never silently replaced
+    // where it cannot apply it is refused by name, never silently replaced: a graph without
+    // joint rows has nothing to decouple (issue 51: it ran as is, named "decoupled")
+    let out = bondmech(&[
+        "run",
+        &scene("bg_mass_spring_damper.json"),
+        "--formulation",
+        "decoupled",
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("nothing to decouple"),
+        "{}",
+        stderr(&out)
+    );
     let out = bondmech(&[
         "run",
         &scene("bg_mass_spring_damper.json"),
@@ -243,8 +267,10 @@ fn regression_formulation_decoupled_was_silently_ignored() {
         stderr(&out)
     );
     // a raw bond graph scene asking for it in its own solve section gets it too
-    let mut v = bundled("bg_mass_spring_damper.json");
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(&pendulum_graph).unwrap()).unwrap();
     v["solve"]["formulation"] = json!("decoupled");
+    v["solve"]["t_end"] = json!(0.2);
     let out = bondmech(&[
         "run",
         &write_scene("bg_dec.json", &v),

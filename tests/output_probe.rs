@@ -1,5 +1,6 @@
 //! Issue 38, "the project's own probe over every command and output flag": each command that
-//! writes (`run`, `compare`, `sweep`, `sweep-merge`, `graph`, `plot`, `animate`, `fmu`, and the
+//! writes (`run`, `compare`, `sweep`, `sweep-merge`, `graph`, `plot`, `animate`, `fmu`,
+//! `equilibrium` and `linearize` (issue 51: their `--json` overwrote the scene), and the
 //! CSV, text and JSON they print on standard output) is pointed at every kind of output a user
 //! can give — a new regular file, an existing one, a symbolic link to one, a FIFO with a reader,
 //! a null device and a full device (made with `mknod` in the test's own directory, as root;
@@ -167,6 +168,29 @@ const PROBES: &[Probe] = &[
         args: &["sweep-merge", "SHARD", "--out", "OUT"],
         kind: Kind::Dir,
     },
+    // issue 51: `--json` onto the scene overwrote it
+    Probe {
+        name: "equilibrium --json",
+        args: &["equilibrium", "SCENE", "--json", "OUT"],
+        kind: Kind::File("json"),
+    },
+    Probe {
+        name: "linearize --json",
+        args: &["linearize", "SCENE", "--json", "OUT"],
+        kind: Kind::File("json"),
+    },
+    Probe {
+        name: "linearize --bode",
+        args: &[
+            "linearize",
+            "ISCENE",
+            "--json",
+            "OTHER.json",
+            "--bode",
+            "OUT",
+        ],
+        kind: Kind::File("svg"),
+    },
 ];
 
 /// The kinds of target an output is pointed at.
@@ -208,7 +232,11 @@ fn run(
     limit: Duration,
 ) -> Option<Output> {
     let mut cmd = Command::new(BIN);
-    cmd.args(args).stdin(Stdio::null()).stderr(Stdio::piped());
+    // the signals this test sends act on the child whatever the test inherited
+    support::signals::default_signals(&mut cmd)
+        .args(args)
+        .stdin(Stdio::null())
+        .stderr(Stdio::piped());
     let piped = stdout.is_none();
     match stdout {
         Some(f) => cmd.stdout(f),
@@ -336,9 +364,11 @@ fn complete_dir(d: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// The inputs the probes read: a copy of the pendulum, a CSV of it, a sweep shard.
+/// The inputs the probes read: a copy of the pendulum, the pendulum with an input torque (for
+/// a Bode plot), a CSV of it, a sweep shard.
 struct Inputs {
     scene: PathBuf,
+    iscene: PathBuf,
     csv: PathBuf,
     shard: PathBuf,
     lib: PathBuf,
@@ -348,6 +378,14 @@ impl Inputs {
     fn make(d: &Path) -> Inputs {
         let scene_path = d.join("pendulum.json");
         std::fs::copy(scene("pendulum.json"), &scene_path).unwrap();
+        let iscene = d.join("pendulum_input.json");
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&scene_path).unwrap()).unwrap();
+        v["inputs"] = serde_json::json!([{"name": "tau", "start": 0.0}]);
+        v["loads"] = serde_json::json!([
+            {"name": "motor", "type": "torque", "body": "bar", "value": "tau"}
+        ]);
+        std::fs::write(&iscene, v.to_string()).unwrap();
         let csv = d.join("pendulum.csv");
         let o = run(
             &strings(&[
@@ -394,6 +432,7 @@ impl Inputs {
         .expect("the FMU library of this build");
         Inputs {
             scene: scene_path,
+            iscene,
             csv,
             shard,
             lib,
@@ -404,6 +443,7 @@ impl Inputs {
     fn snapshot(&self) -> Vec<(PathBuf, Vec<u8>)> {
         let mut v = vec![
             (self.scene.clone(), std::fs::read(&self.scene).unwrap()),
+            (self.iscene.clone(), std::fs::read(&self.iscene).unwrap()),
             (self.csv.clone(), std::fs::read(&self.csv).unwrap()),
         ];
         for e in std::fs::read_dir(&self.shard).unwrap() {
@@ -512,6 +552,7 @@ fn check_probe(root: &Path, inputs: &Inputs, probe: &Probe, target: Target) -> V
     let input = match probe.args[0] {
         "plot" => inputs.csv.clone(),
         "sweep-merge" => inputs.shard.clone(),
+        _ if probe.args.contains(&"ISCENE") => inputs.iscene.clone(),
         _ => inputs.scene.clone(),
     };
     let Some((out, reader)) = make_target(&d, target, probe.kind, &input) else {
@@ -529,12 +570,14 @@ fn check_probe(root: &Path, inputs: &Inputs, probe: &Probe, target: Target) -> V
         .iter()
         .map(|a| match *a {
             "SCENE" => inputs.scene.display().to_string(),
+            "ISCENE" => inputs.iscene.display().to_string(),
             "CSV" => inputs.csv.display().to_string(),
             "SHARD" => inputs.shard.display().to_string(),
             "LIB" => inputs.lib.display().to_string(),
             "OUT" => out.display().to_string(),
             "OTHER.csv" => d.join("other.csv").display().to_string(),
             "OTHER.svg" => d.join("other.svg").display().to_string(),
+            "OTHER.json" => d.join("other.json").display().to_string(),
             a => a.to_string(),
         })
         .collect();
@@ -703,6 +746,91 @@ fn every_command_and_output_flag_onto_every_kind_of_target_loses_nothing() {
         jobs.len(),
         problems.join("\n")
     );
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Issue 51: `linearize --json x.svg --bode x.svg` silently kept one of the two outputs. Every
+/// command with two output flags, both given one path (a file that exists, one that does not,
+/// and the same file through a symbolic link): refused before any work, naming both flags and
+/// the path; the file left as it was (or not made), the inputs unchanged.
+#[test]
+fn regression_two_outputs_onto_one_path_kept_one_of_them() {
+    let root = fresh_dir("outprobe", "twice");
+    let inputs = Inputs::make(&root);
+    let s = inputs.scene.display().to_string();
+    let i = inputs.iscene.display().to_string();
+    // (command, its arguments before the outputs, the two flags, the extension)
+    let cases: &[(&str, Vec<&str>, [&str; 2], &str)] = &[
+        (
+            "run",
+            vec![&s, "--t-end", "0.2"],
+            ["--out", "--summary"],
+            "csv",
+        ),
+        (
+            "animate",
+            vec![&s, "--t-end", "0.2"],
+            ["--out", "--frames"],
+            "json",
+        ),
+        ("linearize", vec![&i], ["--json", "--bode"], "svg"),
+    ];
+    let mut bad = Vec::new();
+    for (k, (cmd, pre, [f1, f2], ext)) in cases.iter().enumerate() {
+        for how in ["existing", "new", "link"] {
+            let d = root.join(format!("{cmd}-{how}-{k}"));
+            std::fs::create_dir_all(&d).unwrap();
+            let first = d.join(format!("out.{ext}"));
+            let second = match how {
+                "existing" => {
+                    std::fs::write(&first, OLD).unwrap();
+                    first.clone()
+                }
+                "new" => first.clone(),
+                _ => {
+                    std::fs::write(&first, OLD).unwrap();
+                    let l = d.join(format!("link.{ext}"));
+                    std::os::unix::fs::symlink(&first, &l).unwrap();
+                    l
+                }
+            };
+            let before = inputs.snapshot();
+            let mut args = vec![cmd.to_string()];
+            args.extend(pre.iter().map(|a| a.to_string()));
+            args.extend([
+                f1.to_string(),
+                first.display().to_string(),
+                f2.to_string(),
+                second.display().to_string(),
+            ]);
+            let o = run(&args, None, None, Duration::from_secs(60)).expect("no hang");
+            let err = String::from_utf8_lossy(&o.stderr).into_owned();
+            let case = format!("{cmd} {f1} {f2} onto one {how} file");
+            if o.status.success() {
+                bad.push(format!("{case}: exit 0"));
+            }
+            if !(err.contains(f1) && err.contains(f2) && err.contains(&format!("out.{ext}"))
+                || err.contains(f1) && err.contains(f2) && err.contains(&format!("link.{ext}")))
+            {
+                bad.push(format!(
+                    "{case}: the error names neither both flags nor the file: {err}"
+                ));
+            }
+            match how {
+                "new" if first.exists() => bad.push(format!("{case}: the file was made")),
+                "existing" | "link" if std::fs::read(&first).unwrap() != OLD => {
+                    bad.push(format!("{case}: the file changed"))
+                }
+                _ => {}
+            }
+            for (p, b) in &before {
+                if std::fs::read(p).ok().as_deref() != Some(b.as_slice()) {
+                    bad.push(format!("{case}: input {} changed", p.display()));
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
     let _ = std::fs::remove_dir_all(&root);
 }
 

@@ -2,6 +2,8 @@
 //! (graceful shutdown); a bad flag is refused with a message naming it.
 
 mod service_support;
+#[path = "support/signals.rs"]
+mod signals;
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -11,7 +13,8 @@ use service_support::*;
 
 #[test]
 fn serve_answers_and_exits_cleanly_on_sigterm() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bondmech"))
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_bondmech"));
+    let mut child = signals::default_signals(&mut cmd)
         .args(["serve", "--addr", "127.0.0.1:0", "--max-concurrent", "1"])
         .stderr(Stdio::piped())
         .spawn()

@@ -142,6 +142,9 @@ def test_ctrl_c_interrupts_a_long_solve(double_pendulum_path):
     if threading.current_thread() is not threading.main_thread():
         pytest.skip("signals are handled on the main thread")
     scene = bondmech.load(double_pendulum_path).set("solve.output_step", 0.5)
+    # the test sets its own SIGINT disposition: started with SIGINT ignored (a background job
+    # of a non-interactive shell, issue 51) Python installs no KeyboardInterrupt handler
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
     start = time.monotonic()
     timer.start()
@@ -150,5 +153,6 @@ def test_ctrl_c_interrupts_a_long_solve(double_pendulum_path):
             scene.run(t_end=1e4, rtol=1e-10)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     # it stopped soon after the signal, long before the 10⁴ s of motion
     assert time.monotonic() - start < 5.0

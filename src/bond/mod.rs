@@ -25,6 +25,7 @@ pub mod json;
 pub mod mechanics;
 pub mod model;
 pub mod orient;
+pub mod parameter_span;
 pub mod rank;
 pub mod validate;
 

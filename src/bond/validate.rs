@@ -235,6 +235,23 @@ pub enum BondError {
         /// The rule it breaks.
         rule: &'static str,
     },
+    /// An expression-valued parameter (or a resistor's law) whose value at time `t` of the run
+    /// breaks its rule ([`crate::bond::parameter_span::check_over_span`]).
+    #[error("{path}: '{element}': {expr} evaluates to {value} at t = {t}: {rule}")]
+    ValueInRun {
+        /// JSON path of the parameter.
+        path: String,
+        /// Element name.
+        element: String,
+        /// The expression (cut when long).
+        expr: String,
+        /// The time it was evaluated at.
+        t: f64,
+        /// Its value there.
+        value: f64,
+        /// The rule it breaks.
+        rule: &'static str,
+    },
     /// A TF/GY/MTF/MGY modulus that is identically zero (a constant 0 or an expression that
     /// simplifies to 0): the equations divide by it (`e₂ = e₁/m`, `f₁ = f₂/m`, `f = e/r`).
     #[error("{path}: {kind} element '{element}': modulus is identically zero (the equations divide by it)")]

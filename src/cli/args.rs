@@ -26,22 +26,22 @@ pub(crate) struct SolveArgs {
     #[arg(long, value_enum)]
     pub(crate) formulation: Option<FormulationKind>,
     /// Relative tolerance (solve.rtol).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, long)]
     pub(crate) rtol: Option<f64>,
     /// Absolute tolerance (solve.atol).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, long)]
     pub(crate) atol: Option<f64>,
     /// End time in s (solve.t_end); the scene's output times after it are dropped.
-    #[arg(long = "t-end")]
+    #[arg(allow_negative_numbers = true, long = "t-end")]
     pub(crate) t_end: Option<f64>,
     /// Joint stiffness of the decoupled twin in N/m (solve.joint_stiffness).
-    #[arg(long = "joint-stiffness")]
+    #[arg(allow_negative_numbers = true, long = "joint-stiffness")]
     pub(crate) joint_stiffness: Option<f64>,
     /// Step budget of the whole run (solve.max_steps; none by default).
-    #[arg(long = "max-steps")]
+    #[arg(allow_negative_numbers = true, long = "max-steps")]
     pub(crate) max_steps: Option<u64>,
     /// Wall-clock budget of the whole run in s (solve.max_wall_seconds; none by default).
-    #[arg(long = "max-wall-seconds")]
+    #[arg(allow_negative_numbers = true, long = "max-wall-seconds")]
     pub(crate) max_wall_seconds: Option<f64>,
     /// Linear solver of the Newton iterations: auto, dense, sparse (faer) or klu
     /// (solve.linear_solver; auto by default: dense for small systems, sparse for large).
@@ -160,11 +160,11 @@ pub(crate) enum Command {
         #[arg(long, default_value = "motion.svg")]
         out: PathBuf,
         /// Frames per second of playback.
-        #[arg(long, default_value_t = 30.0)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 30.0)]
         fps: f64,
         /// Seconds of motion per second of playback (0.5: slow motion). Default: 1, or slower
         /// (said on the page) when a body would turn more than 15° in one frame of playback.
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, long)]
         speed: Option<f64>,
         /// Orthographic view (default: xy for a planar scene, iso for a spatial one).
         #[arg(long, value_enum)]
@@ -255,13 +255,13 @@ pub(crate) struct SweepArgs {
     #[arg(long)]
     pub(crate) quick: bool,
     /// Error the smallest sufficient joint stiffness must reach.
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, long)]
     pub(crate) accuracy: Option<f64>,
     /// Timed runs per point (median reported).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, long)]
     pub(crate) repeats: Option<usize>,
     /// End time of every run (default: the scene's; --quick: the scene's, at most 1 s).
-    #[arg(long = "t-end")]
+    #[arg(allow_negative_numbers = true, long = "t-end")]
     pub(crate) t_end: Option<f64>,
     /// An independent reference solution (CSV as `run` writes it: `t,<columns>`); errors are
     /// measured against it, at its times, instead of against GGL at a tight tolerance.

@@ -88,8 +88,11 @@ fn to_error(e: FmuError) -> Error {
 
 /// Writes the FMU and prints what it holds.
 pub fn export(args: &FmuArgs) -> Result<(), Error> {
-    // the FMU never replaces the scene it is made from (nor a link to it), checked before work
-    bondmech::output::check_outputs(&[&args.scene], &[("--out", Some(&args.out))])?;
+    // the FMU never replaces the scene it is made from, nor the shared library it packs (nor a
+    // link to either), checked before work
+    let mut inputs = vec![args.scene.as_path()];
+    inputs.extend(args.library.as_deref());
+    bondmech::output::check_outputs(&inputs, &[("--out", Some(&args.out))])?;
     let (text, stem) = bondmech::scene::path::read_scene_text(&args.scene)?;
     let options = ExportOptions {
         fmi: if args.fmi == "2" {

@@ -30,7 +30,15 @@ pub(crate) fn graph(args: GraphArgs) -> Result<(), CliError> {
             }
         }
         check_outputs(&[&scene], &[("--out", out.as_deref())])?;
-        let v = bondmech::graph::bond_graph_scene(&read_scene(&scene)?)?;
+        let scene = read_scene(&scene)?;
+        // what a raw graph cannot carry is said, not dropped silently
+        if !scene.events.is_empty() {
+            super::output::print_warnings(&[format!(
+                "events: the scene's {} events are not carried over by --as-scene (a raw bond graph scene has none; add them to the written scene by hand)",
+                scene.events.len()
+            )]);
+        }
+        let v = bondmech::graph::bond_graph_scene(&scene)?;
         let text = serde_json::to_string_pretty(&v).expect("scene serialises") + "\n";
         return match out {
             Some(p) => Ok(write(&p, &text)?),

@@ -63,6 +63,29 @@ impl RowSink {
     }
 }
 
+/// Output rows from which `run` says up front what the run will write and how long that takes
+/// (issue 51: 1e7 rows, the most a scene may ask for, took minutes without a word, which a
+/// user cannot tell from a hang).
+pub(crate) const MANY_ROWS: usize = 1_000_000;
+
+/// Bytes of one CSV value (17 significant digits, exponent, separator).
+const CSV_VALUE_BYTES: usize = 25;
+
+/// The warning for a run of `rows` output rows of `columns` columns (with `t`), from
+/// [`MANY_ROWS`] on: the rows, the CSV's size, the time per row, and how to ask for fewer.
+pub(crate) fn many_rows_warning(rows: usize, columns: usize) -> Option<String> {
+    if rows < MANY_ROWS {
+        return None;
+    }
+    let gb = (rows * columns * CSV_VALUE_BYTES) as f64 / 1e9;
+    Some(format!(
+        "{rows} output rows of {columns} columns (about {gb:.1} GB of CSV): each row costs a few microseconds to compute and write besides the solve itself, so this run takes minutes; the rows stream to the output as they are computed (Ctrl-C keeps those written). For fewer rows raise solve.output_step (--set solve.output_step=…); to bound the run, --max-wall-seconds"
+    ))
+}
+
+/// Events `--table` lists by name and time (the rest are counted).
+const TABLE_EVENTS: usize = 20;
+
 /// Writes the summary JSON atomically.
 pub(crate) fn write_summary(path: &Path, summary: &bondmech::Summary) -> Result<(), Error> {
     let j = serde_json::to_string_pretty(summary).expect("summary serialises");
@@ -87,6 +110,9 @@ pub(crate) fn run_command(
     let (model, mut opts) = load(args)?;
     opts.keep_rows = table || plot.is_some();
     let columns = model.row_columns(&opts)?;
+    if let Some(w) = many_rows_warning(opts.output_times.len(), columns.len() + 1) {
+        print_warnings(&[w]);
+    }
     let mut sink = match (out, no_csv) {
         (None, true) => None,
         (out, _) => Some(RowSink::new(out, &columns)?),
@@ -190,8 +216,16 @@ pub(crate) fn run_command(
             s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
             s.max_constraint_error
         ));
-        for e in &s.events {
+        // a short table lists a few events; the summary (`--summary`) has them all
+        for e in s.events.iter().take(TABLE_EVENTS) {
             text.push_str(&format!("event {} at t = {}\n", e.name, e.t));
+        }
+        if s.events.len() > TABLE_EVENTS {
+            text.push_str(&format!(
+                "… and {} more events (summary.events lists all {}: --summary FILE.json)\n",
+                s.events.len() - TABLE_EVENTS,
+                s.events.len()
+            ));
         }
         stdout_write(&text)?;
     }

@@ -1,7 +1,6 @@
 //! Reading a scene (a file or standard input, `--set` applied) and writing the solve flags into
 //! its `solve` section, so that a flag obeys the scene's own rules.
 
-use std::io::Read;
 use std::path::Path;
 
 use bondmech::scene::SolveOverrides;
@@ -82,14 +81,18 @@ pub(crate) fn load(args: &SolveArgs) -> Result<(Model, SolveOptions), Error> {
     Ok((model, opts))
 }
 
-/// The whole of standard input.
+/// The whole of standard input, with a scene file's checks ([`bondmech::scene::read_text_from`]:
+/// size, binary data, UTF-8); an empty one — closed (`<&-`: the process starts with
+/// `/dev/null` there) or empty — is refused saying how to give a scene.
 fn read_stdin() -> Result<String, Error> {
-    let mut text = String::new();
-    std::io::stdin()
-        .read_to_string(&mut text)
-        .map_err(|source| Error::Io {
+    let name = Path::new("standard input");
+    bondmech::scene::read_text_from(std::io::stdin().lock(), name).map_err(|e| match e {
+        bondmech::scene::SceneError::Empty { .. } => Error::Io {
             path: "standard input".into(),
-            source,
-        })?;
-    Ok(text)
+            source: std::io::Error::other(
+                "is empty (closed, or /dev/null): pipe a scene into `bondmech run -` (`cat scene.json | bondmech run -`), or give the scene's file instead of '-'",
+            ),
+        },
+        e => Error::from(e),
+    })
 }

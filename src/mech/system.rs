@@ -128,6 +128,10 @@ pub struct LoadTerm {
     pub expr: Expr,
 }
 
+/// A load of time above this magnitude and growing is a runaway where the steps collapse
+/// ([`MultibodySystem::load_runaway`]).
+pub const RUNAWAY_VALUE: f64 = 1e12;
+
 /// A value of the model that evaluates to NaN or ±∞, named after the scene field that
 /// produced it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -408,6 +412,47 @@ impl MultibodySystem {
             }
         }
         None
+    }
+
+    /// A load of time alone that grows without bound at `t` (`exp(1e6*t)`): its magnitude
+    /// above [`RUNAWAY_VALUE`] and growing, named with the time it doubles in and, at that
+    /// exponential pace, the time it overflows a double. The culprit of a collapsed step
+    /// ([`crate::sundials::SolverError::StepCollapse`]).
+    pub fn load_runaway(&self, t: f64) -> Option<NonFiniteValue> {
+        let mut g = self.graph.clone();
+        let mut vars = vec![0.0; 1 + self.coords.len() + self.velocities.len()];
+        vars[0] = t;
+        let of_time: Vec<&LoadTerm> = self
+            .load_terms
+            .iter()
+            .filter(|l| g.vars(l.expr).iter().all(|&s| s == 0))
+            .collect();
+        of_time
+            .into_iter()
+            .map(|l| {
+                let value = g.eval(l.expr, &vars);
+                let d = g.diff(l.expr, 0);
+                (l, value, g.eval(d, &vars))
+            })
+            .filter(|(_, value, rate)| {
+                value.is_finite() && value.abs() > RUNAWAY_VALUE && value * rate > 0.0
+            })
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .map(|(l, value, rate)| {
+                let relative = (rate / value).abs();
+                let overflow = t + (f64::MAX / value.abs()).ln() / relative;
+                NonFiniteValue {
+                    path: l.path.clone(),
+                    what: format!(
+                        "load '{}', {}, grows without bound: it doubles every {:.1e} s and at that pace overflows by t ≈ {overflow:.2e}",
+                        l.load,
+                        crate::expr::excerpt(&l.source, 0),
+                        std::f64::consts::LN_2 / relative,
+                    ),
+                    t,
+                    value,
+                }
+            })
     }
 
     /// Names of every joint's reaction columns, in order, then every driver's columns (the

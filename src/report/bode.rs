@@ -115,114 +115,123 @@ pub fn bode_svg(lm: &LinearModel, name: &str, path: &Path) -> Result<()> {
     let (m0, m1) = range(series.iter().flatten().map(|p| p.1), false);
     let (p0, p1) = range(series.iter().flatten().map(|p| p.2), false);
 
-    let root = SVGBackend::new(path, (800 + LEGEND_WIDTH, 720)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let (plots, legend_area) = root.split_horizontally(800);
-    let plots = plots
-        .titled(
-            &format!("{name}: frequency response at {}", lm.at),
-            ("sans-serif", 20),
-        )
-        .map_err(err)?;
-    let (top, bottom) = plots.split_vertically(340);
-    let colour = |i: usize| series_colour(i).stroke_width(2);
-    for (area, (y0, y1), desc, pick) in [
-        (&top, (m0, m1), "magnitude (dB)", 1usize),
-        (&bottom, (p0, p1), "phase (deg)", 2usize),
-    ] {
-        let mut chart = ChartBuilder::on(area)
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d((f0..f1).log_scale(), y0..y1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("frequency f (Hz)")
-            .y_desc(desc)
-            .label_style(("sans-serif", 13))
-            .axis_desc_style(("sans-serif", 15))
-            .light_line_style(RGBColor(245, 245, 245))
-            .x_label_formatter(&|v| frequency_label(*v))
-            .y_label_formatter(&|v| tick_label(*v, y0, y1))
-            .draw()
-            .map_err(err)?;
-        for (i, s) in series.iter().enumerate() {
-            let pts = s.iter().map(|p| (p.0, if pick == 1 { p.1 } else { p.2 }));
-            chart
-                .draw_series(LineSeries::new(pts, colour(i)))
-                .map_err(err)?;
-        }
-        // the resonances: a dashed line at each oscillating mode's natural frequency
-        for &(k, fr) in &resonances {
-            let grey = RGBColor(110, 110, 110);
-            let steps = 24;
-            for s in 0..steps {
-                if s % 2 == 1 {
-                    continue;
-                }
-                let a = y0 + (y1 - y0) * s as f64 / steps as f64;
-                let b = y0 + (y1 - y0) * (s + 1) as f64 / steps as f64;
-                chart
-                    .draw_series(std::iter::once(PathElement::new(
-                        vec![(fr, a), (fr, b)],
-                        grey.stroke_width(1),
-                    )))
-                    .map_err(err)?;
-            }
-            if pick == 1 {
-                chart
-                    .plotting_area()
-                    .draw(
-                        &(EmptyElement::at((fr, y1))
-                            + Text::new(
-                                format!("mode {k}"),
-                                (4, 4 + 14 * ((k as i32 - 1) % 3)),
-                                ("sans-serif", 12).into_font().color(&grey),
-                            )),
-                    )
-                    .map_err(err)?;
-            }
-        }
-    }
-    let legend: Vec<LegendEntry> = names
-        .iter()
-        .enumerate()
-        .map(|(i, n)| (n.clone(), colour(i)))
-        .collect();
-    legend_area
-        .draw(&Text::new(
-            "input → output",
-            (8, 40),
-            ("sans-serif", 13).into_font().color(&BLACK),
-        ))
-        .map_err(err)?;
-    draw_legend(&legend_area, &legend, 72).map_err(err)?;
-    let notes: Vec<String> = lm
-        .modes
-        .iter()
-        .enumerate()
-        .map(|(k, m)| {
-            format!(
-                "mode {}: {:.4} Hz, ζ {}",
-                k + 1,
-                m.frequency_hz,
-                m.damping_ratio
-                    .map_or_else(|| "-".to_string(), |z| format!("{z:.3}"))
+    // drawn into memory, then written beside the target and renamed into place: a failed
+    // write never leaves a cut drawing where a previous one was
+    let mut text = String::new();
+    {
+        let root =
+            SVGBackend::with_string(&mut text, (800 + LEGEND_WIDTH, 720)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (plots, legend_area) = root.split_horizontally(800);
+        let plots = plots
+            .titled(
+                &format!("{name}: frequency response at {}", lm.at),
+                ("sans-serif", 20),
             )
-        })
-        .collect();
-    for (i, t) in notes.iter().enumerate() {
+            .map_err(err)?;
+        let (top, bottom) = plots.split_vertically(340);
+        let colour = |i: usize| series_colour(i).stroke_width(2);
+        for (area, (y0, y1), desc, pick) in [
+            (&top, (m0, m1), "magnitude (dB)", 1usize),
+            (&bottom, (p0, p1), "phase (deg)", 2usize),
+        ] {
+            let mut chart = ChartBuilder::on(area)
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d((f0..f1).log_scale(), y0..y1)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc("frequency f (Hz)")
+                .y_desc(desc)
+                .label_style(("sans-serif", 13))
+                .axis_desc_style(("sans-serif", 15))
+                .light_line_style(RGBColor(245, 245, 245))
+                .x_label_formatter(&|v| frequency_label(*v))
+                .y_label_formatter(&|v| tick_label(*v, y0, y1))
+                .draw()
+                .map_err(err)?;
+            for (i, s) in series.iter().enumerate() {
+                let pts = s.iter().map(|p| (p.0, if pick == 1 { p.1 } else { p.2 }));
+                chart
+                    .draw_series(LineSeries::new(pts, colour(i)))
+                    .map_err(err)?;
+            }
+            // the resonances: a dashed line at each oscillating mode's natural frequency
+            for &(k, fr) in &resonances {
+                let grey = RGBColor(110, 110, 110);
+                let steps = 24;
+                for s in 0..steps {
+                    if s % 2 == 1 {
+                        continue;
+                    }
+                    let a = y0 + (y1 - y0) * s as f64 / steps as f64;
+                    let b = y0 + (y1 - y0) * (s + 1) as f64 / steps as f64;
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(
+                            vec![(fr, a), (fr, b)],
+                            grey.stroke_width(1),
+                        )))
+                        .map_err(err)?;
+                }
+                if pick == 1 {
+                    chart
+                        .plotting_area()
+                        .draw(
+                            &(EmptyElement::at((fr, y1))
+                                + Text::new(
+                                    format!("mode {k}"),
+                                    (4, 4 + 14 * ((k as i32 - 1) % 3)),
+                                    ("sans-serif", 12).into_font().color(&grey),
+                                )),
+                        )
+                        .map_err(err)?;
+                }
+            }
+        }
+        let legend: Vec<LegendEntry> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.clone(), colour(i)))
+            .collect();
         legend_area
             .draw(&Text::new(
-                t.clone(),
-                (8, 100 + 20 * (legend.len() as i32 + i as i32)),
+                "input → output",
+                (8, 40),
                 ("sans-serif", 13).into_font().color(&BLACK),
             ))
             .map_err(err)?;
+        draw_legend(&legend_area, &legend, 72).map_err(err)?;
+        let notes: Vec<String> = lm
+            .modes
+            .iter()
+            .enumerate()
+            .map(|(k, m)| {
+                format!(
+                    "mode {}: {:.4} Hz, ζ {}",
+                    k + 1,
+                    m.frequency_hz,
+                    m.damping_ratio
+                        .map_or_else(|| "-".to_string(), |z| format!("{z:.3}"))
+                )
+            })
+            .collect();
+        for (i, t) in notes.iter().enumerate() {
+            legend_area
+                .draw(&Text::new(
+                    t.clone(),
+                    (8, 100 + 20 * (legend.len() as i32 + i as i32)),
+                    ("sans-serif", 13).into_font().color(&BLACK),
+                ))
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
     }
-    root.present().map_err(err)?;
-    Ok(())
+    crate::output::write_atomic(path, text.as_bytes()).map_err(|source| ReportError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 #[cfg(test)]

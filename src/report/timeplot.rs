@@ -181,8 +181,9 @@ pub fn plot_solution_with(
     } else {
         opts.title.clone()
     };
-    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
-    let mut written = Vec::new();
+    // every drawing's file first: the CSV drawn from never gets replaced by one (by path,
+    // link or inode), and nothing is written when one would
+    let mut drawings = Vec::new();
     for group in GROUPS {
         let cols: Vec<usize> = picked
             .iter()
@@ -193,11 +194,16 @@ pub fn plot_solution_with(
             continue;
         }
         let path = dir.join(format!("{}.svg", group.file));
-        if Path::new(source) == path {
+        if crate::output::same_file(Path::new(source), &path) {
             return Err(ReportError::WouldOverwrite {
                 path: path.display().to_string(),
             });
         }
+        drawings.push((group, cols, path));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+    let mut written = Vec::new();
+    for (group, cols, path) in drawings {
         plot_group_svg(sol, &title, &group, &cols, &path)?;
         written.push(path);
     }

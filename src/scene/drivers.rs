@@ -181,6 +181,8 @@ pub(crate) fn validate(p: &mut Problems, scene: &Scene) {
         let np = field(&path, "name");
         if d.name.is_empty() || d.name.contains('`') {
             p.push(&np, "must be a non-empty name without '`'");
+        } else if d.name.contains(',') {
+            p.push(&np, super::validate::comma_in_name(&d.name));
         } else if names.contains(&d.name.as_str()) {
             p.push(&np, format!("duplicate driver name '{}'", d.name));
         } else if scene.joints.iter().any(|j| j.name == d.name) {

@@ -57,6 +57,23 @@ pub enum SceneError {
         /// The underlying I/O error.
         source: std::io::Error,
     },
+    /// The scene text is empty: an empty file, or standard input closed or empty.
+    #[error("'{}' is empty: a scene is a JSON object ({{\"bodies\": [...], ...}} or {{\"bond_graph\": {{...}}}}, docs/scene-format.md)", path.display())]
+    Empty {
+        /// The file (or `standard input`).
+        path: PathBuf,
+    },
+    /// The bytes read are not JSON text: a NUL byte (binary data, a device such as
+    /// `/dev/zero`, refused as soon as it is read) or bytes that are not UTF-8.
+    #[error("'{}': byte {offset} {why}", path.display())]
+    NotText {
+        /// The file (or `standard input`).
+        path: PathBuf,
+        /// Offset of the first offending byte.
+        offset: usize,
+        /// What the byte says about the data.
+        why: &'static str,
+    },
 }
 
 impl SceneError {
@@ -64,7 +81,10 @@ impl SceneError {
     pub fn problems(&self) -> &[Problem] {
         match self {
             SceneError::Invalid { problems } => problems,
-            SceneError::Io { .. } | SceneError::Path(_) => &[],
+            SceneError::Io { .. }
+            | SceneError::Path(_)
+            | SceneError::Empty { .. }
+            | SceneError::NotText { .. } => &[],
         }
     }
 }

@@ -110,19 +110,47 @@ impl Scene {
 
 /// Reads scene text from `reader` (`path` names it in errors), refusing more than
 /// [`validate::MAX_SCENE_BYTES`] at once: a 10 GB file is not read into memory to be refused.
+/// Binary data is refused at its first NUL byte, as soon as it is read (`/dev/zero` is not
+/// read for 64 MiB to be called too long), text that is not UTF-8 at its first bad byte, and
+/// an empty text (an empty file, a closed standard input) as empty — each naming `path`.
 pub fn read_text_from(reader: impl std::io::Read, path: &Path) -> Result<String, SceneError> {
     use std::io::Read;
-    let mut text = String::new();
-    reader
-        .take(validate::MAX_SCENE_BYTES as u64 + 1)
-        .read_to_string(&mut text)
-        .map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-    validate::check_text_length(text.len()).map_err(|e| SceneError::Invalid {
+    let io = |source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut bytes: Vec<u8> = Vec::new();
+    let mut reader = reader.take(validate::MAX_SCENE_BYTES as u64 + 1);
+    let mut chunk = vec![0u8; 64 * 1024];
+    loop {
+        let n = match reader.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(io(e)),
+        };
+        if let Some(k) = chunk[..n].iter().position(|&b| b == 0) {
+            return Err(SceneError::NotText {
+                path: path.to_path_buf(),
+                offset: bytes.len() + k,
+                why: "is a NUL byte: this is binary data, not a JSON scene (a device such as /dev/zero, or a binary file)",
+            });
+        }
+        bytes.extend_from_slice(&chunk[..n]);
+    }
+    validate::check_text_length(bytes.len()).map_err(|e| SceneError::Invalid {
         problems: vec![Problem::new(e.path(), e.to_string())],
     })?;
+    let text = String::from_utf8(bytes).map_err(|e| SceneError::NotText {
+        path: path.to_path_buf(),
+        offset: e.utf8_error().valid_up_to(),
+        why: "is not UTF-8: a scene is JSON text in UTF-8",
+    })?;
+    if text.trim().is_empty() {
+        return Err(SceneError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
     Ok(text)
 }
 

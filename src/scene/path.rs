@@ -85,7 +85,7 @@ impl ScenePath {
         if t.is_empty() {
             return Err(PathError::Syntax {
                 path: text.into(),
-                message: "empty path".into(),
+                message: "empty path: name a field, e.g. bodies[0].mass or solve.rtol".into(),
             });
         }
         let chars: Vec<char> = t.chars().collect();
@@ -262,9 +262,19 @@ pub fn parse_assignment(text: &str) -> Result<Assignment, PathError> {
         assignment: text.to_string(),
         message,
     };
+    if text.trim().is_empty() {
+        return Err(bad(
+            "empty: expected PATH=JSON, e.g. bodies[0].mass=2 or solve.rtol=1e-9".into(),
+        ));
+    }
     let (p, v) = text
         .split_once('=')
         .ok_or_else(|| bad("expected PATH=JSON, e.g. bodies[0].mass=2".into()))?;
+    if p.trim().is_empty() {
+        return Err(bad(
+            "the path before '=' is empty: name the field to change, e.g. bodies[0].mass=2 or solve.rtol=1e-9 (paths: docs/scene-format.md §17)".into(),
+        ));
+    }
     let path = ScenePath::parse(p)?;
     if v.trim().is_empty() {
         return Err(bad("no value after '=' (give a JSON value)".into()));

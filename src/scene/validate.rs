@@ -418,6 +418,16 @@ fn vec_len(p: &mut Problems, path: &str, v: &[f64], n: usize) {
     }
 }
 
+/// Why a name that becomes part of an output column (a body, point, joint or driver name)
+/// may not hold a comma: column lists (`--columns`, `outputs`, the service's `output=`) are
+/// comma-separated, and a CSV header cell holding one must be quoted, which tools reading the
+/// header by splitting it on commas get wrong.
+pub fn comma_in_name(name: &str) -> String {
+    format!(
+        "'{name}' must not contain ',' (it names output columns, and column lists and CSV headers are comma-separated)"
+    )
+}
+
 fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bool) {
     let dim = scene.dimension;
     let path = index("bodies", i);
@@ -442,6 +452,8 @@ fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bo
                 b.name
             ),
         );
+    } else if b.name.contains(',') {
+        p.push(&np, comma_in_name(&b.name));
     } else if duplicate {
         p.push(&np, format!("duplicate body name '{}'", b.name));
     }
@@ -475,6 +487,8 @@ fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bo
                 &path_k,
                 "a point name must be non-empty and contain no '.' and no '`'",
             );
+        } else if name.contains(',') {
+            p.push(&path_k, comma_in_name(name));
         }
         vec_len(p, &path_k, c, dim.coords());
         magnitudes(p, &path_k, c, MAX_COORDINATE, COORDINATE_WHY);
@@ -600,6 +614,8 @@ fn joint(p: &mut Problems, scene: &Indexed<'_>, path: &str, j: &Joint) {
                 j.name
             ),
         );
+    } else if j.name.contains(',') {
+        p.push(field(path, "name"), comma_in_name(&j.name));
     }
     attachment(p, scene, path, &j.bodies, &j.points);
     j.kind.validate(p, scene.dimension, path, &j.bodies);
@@ -804,8 +820,8 @@ fn solve(p: &mut Problems, s: &SolveSettings, length: Option<f64>) {
         check_joint_stiffness(s.joint_stiffness),
     );
     non_negative(p, "solve.joint_damping", s.joint_damping);
-    if s.max_steps == Some(0) {
-        p.push("solve.max_steps", "must be a positive integer (got 0)");
+    if let Some(n) = s.max_steps {
+        bound(p, "solve.max_steps", check_max_steps(n));
     }
     if let Some(w) = s.max_wall_seconds {
         bound(p, "solve.max_wall_seconds", check_wall_seconds(w));
@@ -1115,6 +1131,27 @@ pub fn check_wall_seconds(value: f64) -> Result<(), BoundError> {
             value,
             max: MAX_WALL_SECONDS,
             why: "a longer budget is no budget (leave the setting out for none)",
+        });
+    }
+    Ok(())
+}
+
+/// Largest step budget (`solve.max_steps`, `--max-steps`, the service's `?max_steps=`): 1e15
+/// internal steps, some 30 years at a microsecond per step. A larger number (2⁶⁴ − 1, the
+/// largest a JSON reader may hand over) is no budget, which is said by leaving it out.
+pub const MAX_STEPS: f64 = 1e15;
+
+/// A step budget: a whole number `>= 1`, at most [`MAX_STEPS`].
+pub fn check_max_steps(value: u64) -> Result<(), BoundError> {
+    let v = value as f64;
+    if value == 0 {
+        return Err(BoundError::NotPositive { value: v });
+    }
+    if v > MAX_STEPS {
+        return Err(BoundError::TooLarge {
+            value: v,
+            max: MAX_STEPS,
+            why: "a larger budget is no budget, some 30 years of steps (leave max_steps out for none)",
         });
     }
     Ok(())

@@ -17,8 +17,8 @@ use crate::scene::Scene;
 pub struct Limits {
     /// Largest request body in bytes (413 above it).
     pub max_body: u64,
-    /// Largest number of bodies + joints + springs + loads + outputs + bond graph elements and
-    /// bonds in one scene.
+    /// Largest number of bodies + joints + springs + loads + outputs + events + drivers + bond
+    /// graph elements and bonds in one scene.
     pub max_elements: usize,
     /// Longest string in a scene, in bytes (expressions and names; `description` and `comment`
     /// are free text, bounded by `max_body` only).
@@ -133,18 +133,30 @@ pub fn parse_json(body: &[u8]) -> Result<Value, Problem> {
 pub fn check_document(doc: &Value, limits: &Limits) -> Result<(), Problem> {
     let len = |v: Option<&Value>| v.and_then(Value::as_array).map_or(0, Vec::len);
     let bg = doc.get("bond_graph");
-    let elements = ["bodies", "joints", "springs", "loads", "outputs"]
+    let lists: Vec<(&str, usize)> = ELEMENT_LISTS
         .iter()
-        .map(|k| len(doc.get(*k)))
-        .sum::<usize>()
-        + len(bg.and_then(|g| g.get("elements")))
-        + len(bg.and_then(|g| g.get("bonds")));
+        .map(|k| (*k, len(doc.get(*k))))
+        .chain([
+            (
+                "bond_graph.elements",
+                len(bg.and_then(|g| g.get("elements"))),
+            ),
+            ("bond_graph.bonds", len(bg.and_then(|g| g.get("bonds")))),
+        ])
+        .filter(|(_, n)| *n > 0)
+        .collect();
+    let elements: usize = lists.iter().map(|(_, n)| n).sum();
     if elements > limits.max_elements {
+        let counted = lists
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ");
         return Err(Problem::limit(
             "max_elements",
             limits.max_elements,
             format!(
-                "the scene has {elements} elements (bodies, joints, springs, loads, outputs, bond graph elements and bonds), over the limit max_elements = {}",
+                "the scene has {elements} elements ({counted}), over this server's limit max_elements = {} (set by `bondmech serve --max-elements`); the command line has no such limit",
                 limits.max_elements
             ),
         ));
@@ -162,6 +174,11 @@ pub fn check_document(doc: &Value, limits: &Limits) -> Result<(), Problem> {
     }
     Ok(())
 }
+
+/// The scene's lists counted against `max_elements`, besides a bond graph's elements and bonds.
+pub const ELEMENT_LISTS: [&str; 7] = [
+    "bodies", "joints", "springs", "loads", "outputs", "events", "drivers",
+];
 
 /// Keys whose strings are free text, not expressions or names: bounded by `max_body` only.
 const FREE_TEXT: [&str; 2] = ["description", "comment"];

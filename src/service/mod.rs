@@ -17,8 +17,9 @@
 //! | `GET /metrics` | Prometheus text |
 //! | `GET /openapi.json` | OpenAPI 3.1 |
 //!
-//! Errors are `application/problem+json` (RFC 9457, [`problem`]). Work runs on a bounded
-//! pool of blocking threads with a bounded queue in front ([`pool`]); a client that
+//! Errors are `application/problem+json` (RFC 9457, [`problem`]). A request's scene is parsed
+//! and validated on the blocking pool, never on the async workers (module `admit`); solves run on a
+//! bounded pool of blocking threads with a bounded queue in front ([`pool`]); a client that
 //! disconnects stops its solve at the next output row; every request is checked against
 //! [`Limits`] before it is queued. The user documentation is `docs/service.md`.
 //!
@@ -34,6 +35,7 @@
 //! # Ok::<(), std::io::Error>(())
 //! ```
 
+mod admit;
 mod body;
 pub mod limits;
 pub mod metrics;
@@ -112,28 +114,49 @@ pub struct ServeArgs {
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub addr: SocketAddr,
     /// Solves running at once (default: the number of cores).
-    #[arg(long = "max-concurrent")]
+    #[arg(allow_negative_numbers = true, long = "max-concurrent")]
     pub max_concurrent: Option<usize>,
     /// Requests waiting for a solve slot; beyond it, 503 with Retry-After.
-    #[arg(long, default_value_t = 64)]
+    #[arg(allow_negative_numbers = true, long, default_value_t = 64)]
     pub queue: usize,
     /// Largest request body in bytes (413 above it).
-    #[arg(long = "max-body", default_value_t = 1 << 20)]
+    #[arg(allow_negative_numbers = true, long = "max-body", default_value_t = 1 << 20)]
     pub max_body: u64,
     /// Wall-clock budget of one solve in seconds (422 with the rows so far past it).
-    #[arg(long = "max-solve-seconds", default_value_t = 60.0)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-solve-seconds",
+        default_value_t = 60.0
+    )]
     pub max_solve_seconds: f64,
-    /// Most bodies + joints + springs + loads + outputs + bond graph elements and bonds.
-    #[arg(long = "max-elements", default_value_t = 512)]
+    /// Most bodies + joints + springs + loads + outputs + events + drivers + bond graph
+    /// elements and bonds.
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-elements",
+        default_value_t = 512
+    )]
     pub max_elements: usize,
     /// Longest string (expression) in a scene, in bytes.
-    #[arg(long = "max-expression-length", default_value_t = 4096)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-expression-length",
+        default_value_t = 4096
+    )]
     pub max_expression_length: usize,
     /// Most output rows per run.
-    #[arg(long = "max-rows", default_value_t = 100_000)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "max-rows",
+        default_value_t = 100_000
+    )]
     pub max_rows: usize,
     /// Seconds in-flight solves may finish after SIGTERM/Ctrl-C.
-    #[arg(long = "shutdown-grace", default_value_t = 10.0)]
+    #[arg(
+        allow_negative_numbers = true,
+        long = "shutdown-grace",
+        default_value_t = 10.0
+    )]
     pub shutdown_grace: f64,
 }
 
@@ -326,7 +349,9 @@ async fn serve(
 fn runtime(config: &Config) -> std::io::Result<tokio::runtime::Runtime> {
     tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
-        .max_blocking_threads(config.max_concurrent + 2)
+        // the solves (their slots and the fast lane's), and room for the admissions
+        // (`admit`: parsing and validating a request's scene) beside them
+        .max_blocking_threads(config.max_concurrent + pool::FAST_LANE_SLOTS + 2)
         .enable_all()
         .thread_name("bondmech-serve")
         .build()

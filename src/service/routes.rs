@@ -1,5 +1,7 @@
-//! The handlers: each checks the request (query, body, limits) on the async side, takes a solve
-//! slot, and does the work on a blocking thread through the library's [`crate::model::Model`] API.
+//! The handlers: each checks its query on the async side, reads the body there, has the scene
+//! parsed, validated and checked against the limits on the blocking pool ([`super::admit`]),
+//! takes a solve slot, and does the work on a blocking thread through the library's
+//! [`crate::model::Model`] API.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -12,7 +14,7 @@ use axum::response::{IntoResponse, Response};
 use tokio::sync::{mpsc, oneshot};
 
 use super::body::ChannelBody;
-use super::limits::{check_document, check_rows, parse_json, read_body};
+use super::limits::check_rows;
 use super::metrics::Rejection;
 use super::pool::{join, CancelOnDrop, StopFlags};
 use super::problem::Problem;
@@ -107,7 +109,12 @@ pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Nex
     }
     let _active = Active(&app, counted);
     let start = std::time::Instant::now();
-    let mut resp = next.run(req).await;
+    let query_len = req.uri().query().map_or(0, str::len);
+    let mut resp = if query_len > MAX_QUERY_BYTES {
+        query_too_long(query_len).into_response()
+    } else {
+        next.run(req).await
+    };
     let status = resp.status().as_u16();
     app.metrics.request(route, status);
     app.metrics
@@ -123,6 +130,25 @@ pub async fn count_requests(State(app): State<Arc<App>>, req: Request, next: Nex
         );
     }
     resp
+}
+
+/// Longest query string a request may carry, in bytes: the routes take a few short
+/// parameters. (A request line over 64 KiB is refused before any route sees it, by the HTTP
+/// layer, with a bare `414 URI Too Long`.)
+pub const MAX_QUERY_BYTES: usize = 8192;
+
+/// 414 for a query string over [`MAX_QUERY_BYTES`], naming the limit and what the routes take.
+fn query_too_long(len: usize) -> Problem {
+    Problem::new(
+        StatusCode::URI_TOO_LONG,
+        "query-too-long",
+        "Query string too long",
+        format!(
+            "the query string is {len} bytes, over the limit of {MAX_QUERY_BYTES} bytes: the routes take a few short parameters (rtol, t_end, format, …; see /openapi.json), the scene goes in the body"
+        ),
+    )
+    .with("limit", "max_query_bytes")
+    .with("limit_value", MAX_QUERY_BYTES)
 }
 
 /// Turns a handler's result into a response, counting refusals.
@@ -165,35 +191,14 @@ fn not_shutting_down(app: &App) -> Result<(), Problem> {
     Ok(())
 }
 
-/// Reads, parses and validates the scene in the body, and checks it against the limits.
+/// Reads the body, then parses and validates the scene in it and checks it against the
+/// limits on the blocking pool ([`super::admit`]).
 pub(super) async fn scene_from(
     app: &App,
     headers: &HeaderMap,
     body: Body,
 ) -> Result<Scene, Problem> {
-    let bytes = read_body(headers, body, &app.limits).await?;
-    let doc = parse_json(&bytes)?;
-    check_document(&doc, &app.limits)?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        Problem::new(
-            StatusCode::BAD_REQUEST,
-            "malformed-json",
-            "Malformed JSON",
-            format!("the body is not UTF-8: {e}"),
-        )
-    })?;
-    Scene::from_json_str(text).map_err(|e| {
-        let problems: Vec<(String, String)> = e
-            .problems()
-            .iter()
-            .map(|p| (p.path.clone(), p.message.clone()))
-            .collect();
-        if problems.is_empty() {
-            invalid_scene([(String::new(), e.to_string())])
-        } else {
-            invalid_scene(problems)
-        }
-    })
+    super::admit::scene(app, headers, body, |scene, _| Ok(scene)).await
 }
 
 /// `GET /healthz`: version and the linked SUNDIALS; 503 while shutting down (readiness).
@@ -277,15 +282,8 @@ async fn run_inner(
     let params = Params::parse(q.as_deref(), &allowed)?;
     let format = params.choice("format", &["json", "csv", "ndjson"])?;
     let solve = SolveParams::from(&params)?;
-    let mut scene = scene_from(app, headers, body).await?;
-    // the server's row limit first (it counts the rows without making them), then the
-    // scene's own rules on the query's values
-    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
-    solve.apply_to_scene(&mut scene)?;
-    let slot = app
-        .pool
-        .acquire_for(super::pool::estimated_cost(&scene))
-        .await?;
+    let (scene, cost) = admit_solve(app, headers, body, solve).await?;
+    let slot = app.pool.acquire_for(cost).await?;
     let stop = app.stop_flags();
     let mut guard = CancelOnDrop::new(&stop);
     if format == "ndjson" {
@@ -325,6 +323,24 @@ async fn run_inner(
     let r = join(job).await;
     guard.disarm();
     r
+}
+
+/// The scene of a solving route with its query applied, and its estimated cost, made on the
+/// blocking pool ([`super::admit`]): the server's row limit first (it counts the rows without
+/// making them), then the scene's own rules on the query's values.
+async fn admit_solve(
+    app: &App,
+    headers: &HeaderMap,
+    body: Body,
+    solve: SolveParams,
+) -> Result<(Scene, f64), Problem> {
+    super::admit::scene(app, headers, body, move |mut scene, limits| {
+        check_rows(&scene, solve.overrides.t_end, limits)?;
+        solve.apply_to_scene(&mut scene)?;
+        let cost = super::pool::estimated_cost(&scene);
+        Ok((scene, cost))
+    })
+    .await
 }
 
 /// Sends one NDJSON line; `false` when the client has gone.
@@ -417,11 +433,7 @@ async fn compare_inner(
     not_shutting_down(app)?;
     let params = Params::parse(q.as_deref(), &SOLVE_PARAMS)?;
     let solve = SolveParams::from(&params)?;
-    let mut scene = scene_from(app, headers, body).await?;
-    // the server's row limit first (it counts the rows without making them), then the
-    // scene's own rules on the query's values
-    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
-    solve.apply_to_scene(&mut scene)?;
+    let (scene, _) = admit_solve(app, headers, body, solve).await?;
     let slot = app.pool.acquire().await?;
     let limits = app.limits.clone();
     let job = app.pool.spawn(slot, move || {
@@ -650,14 +662,19 @@ async fn sweep_inner(
         }
         cfg.repeats = r as usize;
     }
-    let mut scene = scene_from(app, headers, body).await?;
-    check_rows(&scene, cfg.t_end, &app.limits)?;
-    if scene.bond_graph.is_some() {
-        return Err(invalid_scene([(
-            "bond_graph".to_string(),
-            "sweep needs bodies and joints (a raw bond graph has no decoupled twin)".to_string(),
-        )]));
-    }
+    let t_end = cfg.t_end;
+    let mut scene = super::admit::scene(app, headers, body, move |scene, limits| {
+        check_rows(&scene, t_end, limits)?;
+        if scene.bond_graph.is_some() {
+            return Err(invalid_scene([(
+                "bond_graph".to_string(),
+                "sweep needs bodies and joints (a raw bond graph has no decoupled twin)"
+                    .to_string(),
+            )]));
+        }
+        Ok(scene)
+    })
+    .await?;
     // the whole sweep within the budget: each of its solves (accuracy and timed runs) gets a
     // share
     let budget = Budget::of(&scene, &app.limits);
@@ -766,26 +783,27 @@ async fn animate_inner(
         }
     }
     let solve = SolveParams::from(&params)?;
-    let mut scene = scene_from(app, headers, body).await?;
-    if scene.bodies.is_empty() {
-        return Err(invalid_scene([(
-            "bond_graph".to_string(),
-            "animate needs a scene with bodies (a raw bond graph has no geometry to draw)"
-                .to_string(),
-        )]));
-    }
-    if format == "view3d" && scene.dimension != crate::scene::Dimension::Spatial {
-        return Err(invalid_value(
-            "format",
-            "format=view3d: the 3D view needs a spatial scene (\"dimension\": 3); a planar scene is drawn as SVG (format=svg)",
-        ));
-    }
-    check_rows(&scene, solve.overrides.t_end, &app.limits)?;
-    solve.apply_to_scene(&mut scene)?;
-    let slot = app
-        .pool
-        .acquire_for(super::pool::estimated_cost(&scene))
-        .await?;
+    let (scene, cost) = super::admit::scene(app, headers, body, move |mut scene, limits| {
+        if scene.bodies.is_empty() {
+            return Err(invalid_scene([(
+                "bond_graph".to_string(),
+                "animate needs a scene with bodies (a raw bond graph has no geometry to draw)"
+                    .to_string(),
+            )]));
+        }
+        if format == "view3d" && scene.dimension != crate::scene::Dimension::Spatial {
+            return Err(invalid_value(
+                "format",
+                "format=view3d: the 3D view needs a spatial scene (\"dimension\": 3); a planar scene is drawn as SVG (format=svg)",
+            ));
+        }
+        check_rows(&scene, solve.overrides.t_end, limits)?;
+        solve.apply_to_scene(&mut scene)?;
+        let cost = super::pool::estimated_cost(&scene);
+        Ok((scene, cost))
+    })
+    .await?;
+    let slot = app.pool.acquire_for(cost).await?;
     let limits = app.limits.clone();
     let stop = app.stop_flags();
     let mut guard = CancelOnDrop::new(&stop);

@@ -55,6 +55,21 @@ fn validation_error(e: crate::bond::ValidationErrors) -> SolveError {
     )
 }
 
+/// The scene's `"bond_graph"` JSON (`null` when it has none).
+fn raw_value(scene: &Scene) -> &serde_json::Value {
+    scene
+        .bond_graph
+        .as_ref()
+        .unwrap_or(&serde_json::Value::Null)
+}
+
+/// Warnings about the parameters of a scene's raw bond graph `g` (a modulus 0 at the start, a
+/// number written as a string), each starting with its JSON path
+/// ([`crate::bond::parameter_span::warnings`]).
+pub fn scene_bond_graph_warnings(scene: &Scene, g: &BondGraph) -> Vec<String> {
+    crate::bond::parameter_span::warnings(g, Some(raw_value(scene)), scene.solve.t_start)
+}
+
 /// The raw bond graph of a scene (`"bond_graph"`), validated.
 pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, SolveError> {
     let raw = scene
@@ -63,7 +78,16 @@ pub fn scene_bond_graph(scene: &Scene) -> Result<BondGraph, SolveError> {
         .ok_or_else(|| SolveError::BondGraph("the scene has no bond_graph".into()))?;
     let raw = RawBondGraph::from_value(raw).map_err(validation_error)?;
     let g = raw.to_graph().map_err(validation_error)?;
-    let errors = crate::bond::validate::check_expression_values(&g, scene.solve.t_start);
+    let mut errors = crate::bond::validate::check_expression_values(&g, scene.solve.t_start);
+    if errors.is_empty() {
+        // expressions of t over the whole run, of the states at the start, resistor laws
+        errors = crate::bond::parameter_span::check_over_span(
+            &g,
+            Some(raw_value(scene)),
+            scene.solve.t_start,
+            scene.solve.t_end,
+        );
+    }
     if !errors.is_empty() {
         return Err(validation_error(crate::bond::ValidationErrors(errors)));
     }
@@ -115,6 +139,13 @@ fn graph_solved<'a>(
     }
     let twin = crate::bond::decouple::decouple(g, opts.joint_stiffness, opts.joint_damping)
         .map_err(|e| SolveError::Options(format!("formulation 'decoupled': {e}")))?;
+    // a graph without joint rows has nothing to decouple: refused by name, never run as is
+    // under a name that says otherwise
+    if twin.springs.is_empty() {
+        return Err(SolveError::Options(
+            "formulation 'decoupled': this raw bond graph has no joint rows (no Sf = 0, no two-bond 1-junction holding a constraint) to replace by stiff springs, so there is nothing to decouple; leave --formulation out (its own equations are solved as they are)".into(),
+        ));
+    }
     Ok(std::borrow::Cow::Owned(twin.graph))
 }
 

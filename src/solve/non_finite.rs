@@ -21,6 +21,10 @@ pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: SolveError) -> SolveEr
     match e {
         SolveError::Incomplete { cause, partial } => {
             let cause = match *cause {
+                // a collapsed step: the load running away, else the unknown that is
+                SolveError::Solver(s @ SolverError::StepCollapse { .. }) => {
+                    collapse_culprit(sys, s)
+                }
                 SolveError::Solver(
                     s @ (SolverError::NoProgress { .. } | SolverError::Flag { .. }),
                 ) => match s.time().and_then(|t| sys.load_pole(t)) {
@@ -39,6 +43,56 @@ pub(crate) fn name_in_mechanism(sys: &MultibodySystem, e: SolveError) -> SolveEr
             }
         }
         other => other,
+    }
+}
+
+/// A [`SolverError::StepCollapse`] traced to its cause: a load of time that grows without
+/// bound there ([`MultibodySystem::load_runaway`]) or has a pole, else the unknown of the
+/// motion (`bar.omega`) the largest component of the state is.
+fn collapse_culprit(sys: &MultibodySystem, s: SolverError) -> SolveError {
+    let SolverError::StepCollapse {
+        t,
+        h,
+        tout,
+        steps_to_go,
+        index,
+        value,
+    } = s
+    else {
+        return SolveError::Solver(s);
+    };
+    let pace = format!(
+        "the step size collapsed to {h:.1e} s, {steps_to_go:.1e} steps from the next output at t = {tout}"
+    );
+    let culprit = match sys.load_runaway(t).or_else(|| sys.load_pole(t)) {
+        Some(mut c) => {
+            c.what = format!("{}; {pace}", c.what);
+            c
+        }
+        None => {
+            let nq = sys.nq();
+            let name = if index < nq {
+                sys.coords.get(index).map(|c| c.name.clone())
+            } else {
+                sys.velocities.get(index - nq).map(|c| c.name.clone())
+            };
+            match name {
+                Some(name) => NonFiniteValue {
+                    path: name,
+                    what: format!(
+                        "the largest unknown of the motion: it runs away, a state or load growing without bound; {pace}"
+                    ),
+                    t,
+                    value,
+                },
+                None => return SolveError::Solver(s),
+            }
+        }
+    };
+    SolveError::NonFinite {
+        culprit: Box::new(culprit),
+        stuck: true,
+        solver: Box::new(s),
     }
 }
 
@@ -87,10 +141,14 @@ pub(crate) fn name_in_bond_graph(g: &BondGraph, eq: &BondEquations, e: SolverErr
         t, y, stuck, index, ..
     } = &e
     else {
-        return match e
-            .time()
-            .filter(|_| matches!(e, SolverError::NoProgress { .. } | SolverError::Flag { .. }))
-        {
+        return match e.time().filter(|_| {
+            matches!(
+                e,
+                SolverError::NoProgress { .. }
+                    | SolverError::StepCollapse { .. }
+                    | SolverError::Flag { .. }
+            )
+        }) {
             Some(t) => match bond_graph_pole(g, eq, t) {
                 Some(culprit) => SolveError::NonFinite {
                     culprit: Box::new(culprit),

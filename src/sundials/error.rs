@@ -116,6 +116,29 @@ pub enum SolverError {
         /// Steps that did not advance it.
         steps: u32,
     },
+    /// The step size collapsed: over the last [`stepping::COLLAPSE_WINDOW`] steps the mean
+    /// step `h` is so small that reaching the next output `tout` would take more than
+    /// [`stepping::COLLAPSED_STEPS_TO_GO`] steps (a model whose state or load grows without
+    /// bound: `exp(1e6*t)` as a torque turns the body faster than any step can follow long
+    /// before the value overflows). `index` and `value`: the state's largest component there.
+    ///
+    /// [`stepping::COLLAPSE_WINDOW`]: crate::sundials::stepping::COLLAPSE_WINDOW
+    /// [`stepping::COLLAPSED_STEPS_TO_GO`]: crate::sundials::stepping::COLLAPSED_STEPS_TO_GO
+    #[error("the step size collapsed at t = {t:e}: the last steps were {h:.1e} s on average, so the next output at t = {tout} is {steps_to_go:.1e} steps away (the largest unknown is {value:.3e}, component {index}: the model is running away, a state or load growing without bound)")]
+    StepCollapse {
+        /// Time reached.
+        t: f64,
+        /// Mean step of the last window.
+        h: f64,
+        /// The next output time.
+        tout: f64,
+        /// Steps still needed at that pace.
+        steps_to_go: f64,
+        /// Index of the state's largest component.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
     /// The formulation's equations stopped the steps at `t` (a failure or a step size
     /// collapse it has diagnosed), `cause` naming what degraded (the block, the joints).
     #[error("the formulation cannot go on at t = {t}: {cause}")]
@@ -147,6 +170,7 @@ impl SolverError {
             | SolverError::WallClock { t, .. }
             | SolverError::Interrupted { t, .. }
             | SolverError::NoProgress { t, .. }
+            | SolverError::StepCollapse { t, .. }
             | SolverError::Stalled { t, .. }
             | SolverError::NonFinite { t, .. } => Some(*t),
             SolverError::InvalidInput(_) => None,

@@ -61,6 +61,11 @@ pub(crate) struct SteppingState {
     pub(crate) steps_used: u64,
     /// Consecutive internal steps that did not advance the time (`t + h == t`).
     pub(crate) stalled: u32,
+    /// The time and step count where the current window of [`COLLAPSE_WINDOW`] steps began
+    /// (`collapsed`).
+    pub(crate) window: (f64, u32),
+    /// The largest mean step of a window so far (`collapsed`).
+    pub(crate) widest: f64,
 }
 
 /// Consecutive internal steps that leave the time where it was (`t + h == t` in floating
@@ -69,6 +74,60 @@ pub(crate) struct SteppingState {
 /// Steps shrinking against a non-finite value stall too; the non-finite detection (25
 /// evaluations) names the culprit before this count is reached.
 pub const MAX_STALLED_STEPS: u32 = 100;
+
+/// Steps over which the pace of a solve is measured (the collapse check of the stepping loop).
+pub const COLLAPSE_WINDOW: u32 = 1000;
+
+/// Steps still needed to reach the next output, at the pace of the last [`COLLAPSE_WINDOW`],
+/// beyond which a step size that has shrunk by [`COLLAPSE_SHRINK`] has collapsed: 1e9 steps
+/// are a quarter of an hour at the fastest (a microsecond each), hours on most models.
+pub const COLLAPSED_STEPS_TO_GO: f64 = 1e9;
+
+/// How far the mean step of a window must have fallen below the largest one of the run for a
+/// slow pace to be a collapse: a run whose steps are small all along (a long
+/// horizon with one output at its end) is slow, not collapsing; a model running away
+/// (`exp(1e6*t)` as a torque: its steps halve each time their number doubles) shrinks its steps
+/// by orders of magnitude within a fraction of a second.
+pub const COLLAPSE_SHRINK: f64 = 1e-3;
+
+/// Measures the pace over windows of [`COLLAPSE_WINDOW`] steps: `Some((h, steps_to_go))` when
+/// the mean step `h` of the window just ended is below [`COLLAPSE_SHRINK`] times the largest
+/// window mean of the run and, at that pace, reaching `tout` would take more than
+/// [`COLLAPSED_STEPS_TO_GO`] steps. (Measured on a pendulum driven by `exp(1e6*t)`: the steps
+/// fall from 3e-8 s to 1e-11 s within 1e5 steps, half a second; without this check the run
+/// stepped for minutes before IDA gave up with `IDA_TOO_MUCH_ACC`.)
+fn collapsed(d: &mut SteppingState, after: f64, tout: f64) -> Option<(f64, f64)> {
+    d.window.1 += 1;
+    if d.window.1 < COLLAPSE_WINDOW {
+        return None;
+    }
+    let (t0, n) = d.window;
+    d.window = (after, 0);
+    let h = (after - t0) / f64::from(n);
+    d.widest = d.widest.max(h);
+    let to_go = (tout - after) / h;
+    (h > 0.0 && h < COLLAPSE_SHRINK * d.widest && to_go > COLLAPSED_STEPS_TO_GO)
+        .then_some((h, to_go))
+}
+
+/// The [`SolverError::StepCollapse`] at `t` (the state `y` there: its largest component is
+/// named).
+fn collapse_error(t: f64, (h, steps_to_go): (f64, f64), tout: f64, y: &[f64]) -> SolverError {
+    let (index, value) = y
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .unwrap_or((0, 0.0));
+    SolverError::StepCollapse {
+        t,
+        h,
+        tout,
+        steps_to_go,
+        index,
+        value,
+    }
+}
 
 /// Counts a step from `before` to `after`: `Err(NoProgress)` after [`MAX_STALLED_STEPS`] in a
 /// row that did not advance the time.
@@ -104,12 +163,15 @@ impl SteppingState {
             wall_used: Duration::ZERO,
             steps_used: 0,
             stalled: 0,
+            window: (t0, 0),
+            widest: 0.0,
         }
     }
 
     pub(crate) fn restart(&mut self, t0: f64) {
         self.t = t0;
         self.pending = None;
+        self.window = (t0, 0);
     }
 }
 
@@ -228,6 +290,11 @@ fn solve_to_inner<S: Stepper>(
         s.stepping().steps_used += 1;
         let after = s.current_time();
         check_progress(s.stepping(), tn, after)?;
+        if after > tn {
+            if let Some(pace) = collapsed(s.stepping(), after, tout) {
+                return Err(collapse_error(after, pace, tout, s.state()));
+            }
+        }
         let event = match raw {
             RawEvent::Success => {
                 // every accepted step is watched, the one that passes `tout` too (after the
@@ -289,6 +356,11 @@ fn step_inner<S: Stepper>(s: &mut S, tout: f64, start: Instant) -> Result<Step, 
     s.stepping().steps_used += 1;
     let after = s.current_time();
     check_progress(s.stepping(), tn, after)?;
+    if after > tn {
+        if let Some(pace) = collapsed(s.stepping(), after, tout) {
+            return Err(collapse_error(after, pace, tout, s.state()));
+        }
+    }
     let event = match raw {
         RawEvent::Success => StepEvent::Reached,
         RawEvent::Root => StepEvent::Root(s.root_info()),

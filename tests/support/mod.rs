@@ -6,4 +6,5 @@
 pub mod bond;
 pub mod cli;
 pub mod nodes;
+pub mod signals;
 pub mod solve;
