@@ -54,7 +54,7 @@ use crate::mech::MultibodySystem;
 /// puts into the Newton matrix stays small against `c_j M` at any step IDA takes there. At a
 /// passage the part not given back is `|p| τ / vᵀ M v` of the power: 1e-5 on the
 /// change-point four-bar (`p` ≈ 0.1 W, `vᵀ M v` ≈ 10 J).
-const RESTORING_TIME: f64 = 1e-3;
+pub const RESTORING_TIME: f64 = 1e-3;
 
 /// The GGL residual of a multibody system, compiled with its exact Jacobian.
 #[derive(Clone, Debug)]
