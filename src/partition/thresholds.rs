@@ -258,6 +258,13 @@ pub const SPARSE_GRIP_TOP_WARM_STEPS: usize = 4;
 /// Lanczos steps per eigenvalue on the sparse path before the dense singular values decide.
 pub const SPARSE_GRIP_ITERATIONS: usize = 200;
 
+// ---- The `dae` runner's look at the joints when its block degrades ----
+
+/// Growth of the dependent block's condition over the one the step watch last kept above
+/// which the `dae` formulation asks whether the joints approach a singular configuration
+/// (`κ(G_v M⁺ G_vᵀ)` against [`DAE_HANDOVER_RISE`]): the block degrades before the joints do.
+pub const HANDOVER_LOOK_GROWTH: f64 = 2.0;
+
 // ---- linearize ----
 
 /// The dependent block's condition at and above which `linearize` refuses the operating point

@@ -15,7 +15,7 @@
 //! effort is the actuator's torque or force. The mechanism side is
 //! [`crate::mech::geometry`]; the scene side (reading and checking) is here.
 
-use super::error::{field, index, Problems};
+use super::error::{comma_in_name, field, index, Problems};
 use super::fields::{number, Fields};
 use super::model::Scene;
 use super::tree::Json;
@@ -182,7 +182,7 @@ pub(crate) fn validate(p: &mut Problems, scene: &Scene) {
         if d.name.is_empty() || d.name.contains('`') {
             p.push(&np, "must be a non-empty name without '`'");
         } else if d.name.contains(',') {
-            p.push(&np, super::validate::comma_in_name(&d.name));
+            p.push(&np, comma_in_name(&d.name));
         } else if names.contains(&d.name.as_str()) {
             p.push(&np, format!("duplicate driver name '{}'", d.name));
         } else if scene.joints.iter().any(|j| j.name == d.name) {

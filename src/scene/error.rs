@@ -226,3 +226,13 @@ fn list(v: &[String]) -> String {
         v.join(", ")
     }
 }
+
+/// Why a name that becomes part of an output column (a body, point, joint or driver name)
+/// may not hold a comma: column lists (`--columns`, `outputs`, the service's `output=`) are
+/// comma-separated, and a CSV header cell holding one must be quoted, which tools reading the
+/// header by splitting it on commas get wrong.
+pub fn comma_in_name(name: &str) -> String {
+    format!(
+        "'{name}' must not contain ',' (it names output columns, and column lists and CSV headers are comma-separated)"
+    )
+}

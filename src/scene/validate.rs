@@ -21,7 +21,7 @@
 //!
 //! Warnings (not refusals): bodies that no joint, spring or load touches.
 
-use super::error::{field, index, Problem, Problems};
+use super::error::{comma_in_name, field, index, Problem, Problems};
 use super::model::*;
 
 /// Largest number of output times a scene may ask for.
@@ -416,16 +416,6 @@ fn vec_len(p: &mut Problems, path: &str, v: &[f64], n: usize) {
     for (k, x) in v.iter().enumerate() {
         finite(p, &index(path, k), *x);
     }
-}
-
-/// Why a name that becomes part of an output column (a body, point, joint or driver name)
-/// may not hold a comma: column lists (`--columns`, `outputs`, the service's `output=`) are
-/// comma-separated, and a CSV header cell holding one must be quoted, which tools reading the
-/// header by splitting it on commas get wrong.
-pub fn comma_in_name(name: &str) -> String {
-    format!(
-        "'{name}' must not contain ',' (it names output columns, and column lists and CSV headers are comma-separated)"
-    )
 }
 
 fn body(p: &mut Problems, scene: &Indexed<'_>, i: usize, b: &Body, duplicate: bool) {

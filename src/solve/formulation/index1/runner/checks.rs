@@ -4,6 +4,7 @@
 //! hand-over — each decision asked of [`crate::partition::PartitionPolicy`].
 
 use super::*;
+use crate::partition::thresholds::HANDOVER_LOOK_GROWTH;
 
 impl<'a> Index1<'a> {
     /// Restarts the run at `t` (state `x = [q, v]`) with a fresh choice, and says so in the
@@ -287,7 +288,7 @@ impl<'a> Index1<'a> {
             let what = format!("independent joint rows (grip {grip:.1e}, fresh {fresh:.1e})");
             return self.reselect_at(t, x, &what, summary);
         }
-        if self.hands_over && cond > 2.0 * self.watch.block {
+        if self.hands_over && cond > HANDOVER_LOOK_GROWTH * self.watch.block {
             // the partition degrades: are the joints approaching a singular configuration?
             let kappa = gv.joint_condition_number(&self.sys.mass);
             // best ≤ cond: a fresh choice only matters above the hand-over's threshold
