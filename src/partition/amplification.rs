@@ -51,9 +51,12 @@ pub struct DependentAmplification {
     gv: MatrixTape,
     nq: usize,
     /// The velocities' block `G_v[R, D]` and the coordinates' `G_q[R, D_q]` (`None` where the
-    /// dependent coordinates do not square the rows).
-    velocities: BlockColumns,
-    coordinates: Option<BlockColumns>,
+    /// dependent coordinates do not square the rows), each with its `B`.
+    velocities: (BlockColumns, Amplification),
+    coordinates: Option<(BlockColumns, Amplification)>,
+    /// The coordinates' block is the velocities' (`q' = v`, so `G_q = G_v`, and the same
+    /// dependent and measured columns): one elimination serves both.
+    shared: bool,
     vars: Vec<f64>,
     gq_work: (Vec<f64>, Vec<f64>),
     gv_work: (Vec<f64>, Vec<f64>),
@@ -64,23 +67,30 @@ pub struct DependentAmplification {
 
 impl DependentAmplification {
     /// The amplification of the partition `(dependent velocities, dependent coordinates, joint
-    /// rows)` with IDA's mask `id` (`None` where the block is larger than [`AMPLIFIED_ROWS`]).
+    /// rows)` with IDA's mask `id` (`None` where the block is larger than [`AMPLIFIED_ROWS`]);
+    /// `rates_are_velocities`: the coordinates' rates are the velocities (`q' = v`, planar
+    /// mechanisms and points), so `G_q = G_v`.
     pub fn new(
         (gq, gv): (&MatrixTape, &MatrixTape),
         (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
         (nq, nv): (usize, usize),
         id: &[f64],
+        rates_are_velocities: bool,
     ) -> Option<DependentAmplification> {
         if rows.is_empty() || rows.len() > AMPLIFIED_ROWS || id.len() < nq + nv {
             return None;
         }
+        let velocities = BlockColumns::new(rows, dependent, &id[nq..nq + nv]);
+        let coordinates = (coordinates.len() == rows.len())
+            .then(|| BlockColumns::new(rows, coordinates, &id[..nq]));
+        let shared = rates_are_velocities && coordinates.as_ref() == Some(&velocities);
         Some(DependentAmplification {
             gq: gq.clone(),
             gv: gv.clone(),
             nq,
-            velocities: BlockColumns::new(rows, dependent, &id[nq..nq + nv]),
-            coordinates: (coordinates.len() == rows.len())
-                .then(|| BlockColumns::new(rows, coordinates, &id[..nq])),
+            velocities: (velocities, Amplification::default()),
+            coordinates: coordinates.map(|c| (c, Amplification::default())),
+            shared,
             vars: Vec::new(),
             gq_work: gq.workspace(),
             gv_work: gv.workspace(),
@@ -91,18 +101,70 @@ impl DependentAmplification {
     }
 
     /// Raises IDA's weights `w` (of `y = [q, v, …]` at time `t`) by the dependent velocities'
-    /// and coordinates' amplification of the independent ones' error.
+    /// and coordinates' amplification of the independent ones' error, `B` eliminated at
+    /// `(t, y)` (once for both where they share their block).
+    ///
+    /// Eliminating `B` only when IDA refreshes its Newton matrix was tried (a five-bar spent
+    /// 29 k instructions a step here, a third of its integration): the spherical pendulum's
+    /// error grew 3–6× (its `B = x/y` turns within a few steps near a re-selection), so `B`
+    /// follows every step.
     pub fn raise(&mut self, t: f64, y: &[f64], w: &mut [f64]) {
         let nq = self.nq;
         let nv = self.gv.cols;
         let x = &y[..nq + nv];
         self.gv
             .matrix_into(t, x, (&mut self.vars, &mut self.gv_work), &mut self.gv_m);
-        raise_block(&self.gv_m, &self.velocities, nq, w, &mut self.scratch);
-        if let Some(cols) = &self.coordinates {
-            self.gq
-                .matrix_into(t, x, (&mut self.vars, &mut self.gq_work), &mut self.gq_m);
-            raise_block(&self.gq_m, cols, 0, w, &mut self.scratch);
+        let (cols, b) = &mut self.velocities;
+        b.eliminate(&self.gv_m, cols, &mut self.scratch);
+        b.raise(cols, nq, w);
+        if let Some((cols, b)) = &mut self.coordinates {
+            if self.shared {
+                self.velocities.1.raise(cols, 0, w);
+            } else {
+                self.gq
+                    .matrix_into(t, x, (&mut self.vars, &mut self.gq_work), &mut self.gq_m);
+                b.eliminate(&self.gq_m, cols, &mut self.scratch);
+                b.raise(cols, 0, w);
+            }
+        }
+    }
+}
+
+/// `B = g[R, D]⁻¹ g[R, J]` of one block, the rows of the dependent columns out of the error
+/// test only (`None`: the block is singular or does not square its rows).
+#[derive(Clone, Debug, Default)]
+pub struct Amplification {
+    /// Row-major, `unmeasured × measured`.
+    b: Option<Vec<f64>>,
+}
+
+impl Amplification {
+    /// Eliminates `B` from `g` (one Gaussian elimination with partial pivoting of
+    /// `[g[R, D] | g[R, J]]` in `scratch`, reused: no allocation once it has grown).
+    pub fn eliminate(&mut self, g: &DMatrix<f64>, cols: &BlockColumns, scratch: &mut Vec<f64>) {
+        let mut b = self.b.take().unwrap_or_default();
+        if eliminate_block(g, cols, scratch, &mut b) {
+            self.b = Some(b);
+        }
+    }
+
+    /// Raises the weights `w[offset + j]` of the measured columns `j` by
+    /// `Σ_k (w_k B_kj)²` over the dependent columns `k` out of the error test.
+    pub fn raise(&self, cols: &BlockColumns, offset: usize, w: &mut [f64]) {
+        let Some(b) = &self.b else {
+            return;
+        };
+        let m = cols.measured.len();
+        for (c, &j) in cols.measured.iter().enumerate() {
+            let s: f64 = cols
+                .unmeasured
+                .iter()
+                .enumerate()
+                .map(|(u, &(_, k))| (w[offset + k] * b[u * m + c]).powi(2))
+                .sum();
+            if s.is_finite() {
+                w[offset + j] = (w[offset + j].powi(2) + s).sqrt();
+            }
         }
     }
 }
@@ -110,7 +172,7 @@ impl DependentAmplification {
 /// The columns of one block of [`raise_block`]: the joint rows, the dependent columns, the
 /// measured independent columns `J` and the dependent columns out of the error test (by their
 /// place in `dependent`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BlockColumns {
     rows: Vec<usize>,
     dependent: Vec<usize>,
@@ -140,9 +202,8 @@ impl BlockColumns {
 
 /// Raises the weights `w[offset + j]` of the measured columns `j` of `g` (outside the dependent
 /// ones), by `Σ_k (w_k B_kj)²` over the dependent columns `k` out of the error test,
-/// `B = g[R, D]⁻¹ g[R, J]` (nothing where the block is singular or `D` does not square `R`).
-/// One Gaussian elimination with partial pivoting of `[g[R, D] | g[R, J]]` in `scratch`
-/// (reused: no allocation once it has grown).
+/// `B = g[R, D]⁻¹ g[R, J]` (nothing where the block is singular or `D` does not square `R`):
+/// [`Amplification::eliminate`], then [`Amplification::raise`].
 pub fn raise_block(
     g: &DMatrix<f64>,
     cols: &BlockColumns,
@@ -150,10 +211,24 @@ pub fn raise_block(
     w: &mut [f64],
     scratch: &mut Vec<f64>,
 ) {
+    let mut b = Amplification::default();
+    b.eliminate(g, cols, scratch);
+    b.raise(cols, offset, w);
+}
+
+/// `B = g[R, D]⁻¹ g[R, J]`'s rows of the unmeasured dependent columns into `out`
+/// (`unmeasured × measured`, row-major); `false` where the block is singular, does not square
+/// `R`, or nothing is to raise.
+fn eliminate_block(
+    g: &DMatrix<f64>,
+    cols: &BlockColumns,
+    scratch: &mut Vec<f64>,
+    out: &mut Vec<f64>,
+) -> bool {
     let (rows, dependent) = (&cols.rows, &cols.dependent);
     let r = rows.len();
     if dependent.len() != r || cols.unmeasured.is_empty() || cols.measured.is_empty() {
-        return;
+        return false;
     }
     let width = r + cols.measured.len();
     scratch.clear();
@@ -169,29 +244,31 @@ pub fn raise_block(
             line[r + c] = g[(row, j)];
         }
     }
-    // forward elimination with partial pivoting on the block's columns
+    // forward elimination with partial pivoting on the block's columns (row slices, so the
+    // inner update is one bounds-checked zip: 11 k instructions a step on a five-bar's 10 × 12
+    // block when indexed entry by entry)
     for p in 0..r {
-        let pivot_row = (p..r)
-            .max_by(|&a, &b| {
-                scratch[a * width + p]
-                    .abs()
-                    .total_cmp(&scratch[b * width + p].abs())
-            })
-            .unwrap_or(p);
-        let pivot = scratch[pivot_row * width + p];
-        if pivot.is_nan() || pivot.abs() <= scale * f64::EPSILON * r as f64 {
-            return;
-        }
-        if pivot_row != p {
-            for c in 0..width {
-                scratch.swap(p * width + c, pivot_row * width + c);
+        let mut pivot_row = p;
+        for a in p + 1..r {
+            if scratch[a * width + p].abs() > scratch[pivot_row * width + p].abs() {
+                pivot_row = a;
             }
         }
-        for a in p + 1..r {
-            let f = scratch[a * width + p] / pivot;
+        let pivot = scratch[pivot_row * width + p];
+        if pivot.is_nan() || pivot.abs() <= scale * f64::EPSILON * r as f64 {
+            return false;
+        }
+        if pivot_row != p {
+            let (top, bottom) = scratch.split_at_mut(pivot_row * width);
+            top[p * width..(p + 1) * width].swap_with_slice(&mut bottom[..width]);
+        }
+        let (top, bottom) = scratch.split_at_mut((p + 1) * width);
+        let prow = &top[p * width + p..(p + 1) * width];
+        for line in bottom[..(r - p - 1) * width].chunks_exact_mut(width) {
+            let f = line[p] / pivot;
             if f != 0.0 {
-                for c in p..width {
-                    scratch[a * width + c] -= f * scratch[p * width + c];
+                for (x, y) in line[p..].iter_mut().zip(prow) {
+                    *x -= f * y;
                 }
             }
         }
@@ -207,14 +284,10 @@ pub fn raise_block(
             scratch[p * width + c] = v / pivot;
         }
     }
-    for (c, &j) in cols.measured.iter().enumerate() {
-        let s: f64 = cols
-            .unmeasured
-            .iter()
-            .map(|&(a, k)| (w[offset + k] * scratch[a * width + r + c]).powi(2))
-            .sum();
-        if s.is_finite() {
-            w[offset + j] = (w[offset + j].powi(2) + s).sqrt();
-        }
+    let m = cols.measured.len();
+    out.clear();
+    for &(a, _) in &cols.unmeasured {
+        out.extend_from_slice(&scratch[a * width + r..a * width + r + m]);
     }
+    true
 }

@@ -36,6 +36,10 @@ pub(crate) struct CausalPartition {
     start_t: f64,
     start_values: Vec<f64>,
     start_mask: Vec<bool>,
+    /// The last query of [`Self::preferred_at`] away from the start: its time, displacement
+    /// values and answer (a re-choice asks at its step, and the segment it restarts asks again
+    /// at the same state: one graph assignment, not two).
+    last: std::sync::Mutex<Option<(f64, Vec<f64>, Vec<bool>)>>,
 }
 
 impl CausalPartition {
@@ -69,6 +73,7 @@ impl CausalPartition {
             start_t: t0,
             start_values: Vec::new(),
             start_mask: Vec::new(),
+            last: std::sync::Mutex::new(None),
         };
         cp.start = cp.report(t0);
         if let (Some(g), Some(r)) = (cp.graph.as_deref(), cp.start.as_ref()) {
@@ -160,6 +165,13 @@ impl CausalPartition {
         {
             return self.start_mask.clone();
         }
+        let key: Vec<f64> = self.displacement_vars.iter().map(|&(_, i)| q[i]).collect();
+        let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((lt, lv, lm)) = last.as_ref() {
+            if *lt == t && *lv == key {
+                return lm.clone();
+            }
+        }
         let values = |name: &str| {
             self.displacement_vars
                 .iter()
@@ -172,6 +184,7 @@ impl CausalPartition {
                 mask[j] = true;
             }
         }
+        *last = Some((t, key, mask.clone()));
         mask
     }
 

@@ -605,6 +605,24 @@ struct EnergyWatch {
     /// decision does not depend on the output times asked for.
     next_read: f64,
     spacing: f64,
+    /// The tape's workspace and outputs, reused by every read.
+    work: Vec<f64>,
+    out: Vec<f64>,
+}
+
+impl EnergyWatch {
+    /// `[E, kinetic, ∂E/∂x…]` at `(t, x)`, `x = [q, v]`, into `self.out` (no allocation), the
+    /// largest kinetic energy and gradient met updated; returns `(E, kinetic)`.
+    fn read(&mut self, t: f64, x: &[f64]) -> (f64, f64) {
+        self.tape
+            .eval_parts(&[&[t], x], &mut self.work, &mut self.out);
+        let (e, kinetic) = (self.out[0], self.out[1]);
+        self.kinetic_max = self.kinetic_max.max(kinetic);
+        self.gradient_max = self
+            .gradient_max
+            .max(self.out[2..].iter().map(|d| d.abs()).sum());
+        (e, kinetic)
+    }
 }
 
 impl<'a> Index1<'a> {
@@ -830,6 +848,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             (&dependent, &coordinates, &self.rows),
             (nq, nv),
             dae.id(),
+            q_rates_are_v(&self.sys),
         )
         .map(|mut a| {
             Box::new(move |t: f64, y: &[f64], w: &mut [f64]| {
@@ -935,8 +954,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
         summary: &mut Summary,
     ) -> Result<Next<'a>, SolveError> {
         if self.energy_due.take() == Some(t) {
-            let x = self.completed(t, y);
-            if let Some(next) = self.energy_check(t, x, summary)? {
+            if let Some(next) = self.energy_check(t, y, summary)? {
                 self.watched = None;
                 return Ok(next);
             }
@@ -1246,6 +1264,8 @@ pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a>
             (
                 None,
                 (spacing > 0.0).then(|| EnergyWatch {
+                    work: tape.workspace(),
+                    out: vec![0.0; tape.n_outputs()],
                     tape,
                     e_start: e0,
                     t_start: t0,

@@ -345,24 +345,28 @@ impl<'a> Index1<'a> {
         Ok(None)
     }
 
-    /// The energy watch at IDA's step `(t, x)`, `x = [q, v]` completed (read on the watch's own
-    /// schedule, [`ENERGY_READS`]): where the energy's drift, projected to the end of the run,
-    /// exceeds [`ENERGY_DRIFT_TRIGGER`] × what the tolerances promise, the run gives the energy
-    /// lost back (scaling the velocities, at a step where the mechanism moves) and keeps it
-    /// from here on as an invariant (restarting at `t`).
+    /// The energy watch at IDA's step `(t, y)` (read on the watch's own schedule,
+    /// [`ENERGY_READS`]): where the energy's drift, projected to the end of the run, exceeds
+    /// [`ENERGY_DRIFT_TRIGGER`] × what the tolerances promise, the run gives the energy lost
+    /// back (scaling the velocities, at a step where the mechanism moves) and keeps it from
+    /// here on as an invariant (restarting at `t`).
+    ///
+    /// The watch reads the step as IDA holds it, its dependent coordinates and velocities on
+    /// the joints to the Newton tolerance (an energy error of order rtol, against a trigger of
+    /// [`ENERGY_DRIFT_TRIGGER`] × rtol); only a read that fires completes the row to rounding
+    /// first. Measured: completing every read cost a five-bar (rtol 1e-9, 992 steps, 745
+    /// reads) 20 M instructions, 14 % of its integration.
     pub(super) fn energy_check(
         &mut self,
         t: f64,
-        mut x: Vec<f64>,
+        y: &[f64],
         summary: &mut Summary,
     ) -> Result<Option<Next<'a>>, SolveError> {
+        let (nq, nv, _) = self.tapes.dims;
         let Some(w) = self.energy_watch.as_mut() else {
             return Ok(None);
         };
-        let ek = MechanicsTapes::eval(&w.tape, t, &x);
-        let (e, kinetic) = (ek[0], ek[1]);
-        w.kinetic_max = w.kinetic_max.max(kinetic);
-        w.gradient_max = w.gradient_max.max(ek[2..].iter().map(|d| d.abs()).sum());
+        let (e, _) = w.read(t, &y[..nq + nv]);
         let scale = w.e_start.abs().max(w.kinetic_max);
         // what the tolerances promise: rtol of the energy, atol on each coordinate and velocity
         let promise = self.opts.rtol * scale + self.opts.atol * w.gradient_max;
@@ -388,6 +392,12 @@ impl<'a> Index1<'a> {
         {
             return Ok(None);
         }
+        // the trigger fired: the row completed to rounding, and its energy read again
+        let mut x = self.completed(t, y);
+        let Some(w) = self.energy_watch.as_mut() else {
+            return Ok(None);
+        };
+        let (e, kinetic) = w.read(t, &x);
         // the energy lost so far is given back by scaling the velocities (the joints' rows
         // `G_v v = 0` are linear in v: the scaled state is on them), at a step where the
         // mechanism moves well (a turning point would need a large factor): until then, wait
@@ -397,7 +407,6 @@ impl<'a> Index1<'a> {
             return Ok(None);
         }
         let e_start = w.e_start;
-        let nq = self.nq();
         let factor = factor2.sqrt();
         for v in &mut x[nq..] {
             *v *= factor;
