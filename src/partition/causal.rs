@@ -15,6 +15,10 @@ use crate::bond::causality::{assign_causality_at, reassign_differential_at, Caus
 use crate::bond::model::BondGraph;
 use crate::mech::MultibodySystem;
 
+/// One answer of [`CausalPartition::preferred_at`]: the time, the displacement variables'
+/// values, and the preference.
+type PreferenceAt = (f64, Vec<f64>, Vec<bool>);
+
 /// The causality of a mechanism's bond graph, evaluated at its configurations.
 pub(crate) struct CausalPartition {
     /// The assignment at the start time (what `graph --causality` reports).
@@ -39,7 +43,7 @@ pub(crate) struct CausalPartition {
     /// The last query of [`Self::preferred_at`] away from the start: its time, displacement
     /// values and answer (a re-choice asks at its step, and the segment it restarts asks again
     /// at the same state: one graph assignment, not two).
-    last: std::sync::Mutex<Option<(f64, Vec<f64>, Vec<bool>)>>,
+    last: std::sync::Mutex<Option<PreferenceAt>>,
 }
 
 impl CausalPartition {
