@@ -83,7 +83,11 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
 }
 
 /// [`linearize`] of the built `model`, without its clock.
-fn linearize_model(model: &Model, scene: &Scene, options: &LinearizeOptions) -> Result<LinearModel> {
+fn linearize_model(
+    model: &Model,
+    scene: &Scene,
+    options: &LinearizeOptions,
+) -> Result<LinearModel> {
     let sys0 = model.mechanism().ok_or(LinearizeError::RawGraph)?;
     for (name, b) in &sys0.bodies {
         if matches!(b, BodyKinematics::Spatial { .. }) {

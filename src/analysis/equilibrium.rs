@@ -164,7 +164,13 @@ fn mass_normalised_eigenvalues(kr: &DMatrix<f64>, z: &DMatrix<f64>, mass: &[f64]
             let s = (&s + s.transpose()) * 0.5;
             s.symmetric_eigen().eigenvalues.iter().copied().collect()
         }
-        None => kr.symmetric_eigen().eigenvalues.iter().copied().collect(),
+        None => kr
+            .clone()
+            .symmetric_eigen()
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect(),
     };
     eig.sort_by(f64::total_cmp);
     eig

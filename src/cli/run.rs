@@ -217,10 +217,7 @@ pub(crate) fn run_command(
             s.max_constraint_error
         ));
         if let Some(w) = s.driver_work {
-            text.push_str(&format!(
-                "driver work {w:.6e} J ({})\n",
-                s.driver_work_note
-            ));
+            text.push_str(&format!("driver work {w:.6e} J ({})\n", s.driver_work_note));
         }
         // a short table lists a few events; the summary (`--summary`) has them all
         for e in s.events.iter().take(TABLE_EVENTS) {

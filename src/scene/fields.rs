@@ -153,7 +153,10 @@ pub(crate) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>>
 /// The candidate closest to `name` when it is within the edit distance [`unknown_field`]
 /// allows (a third of the longer name, at least 1, 2 from 5 letters), compared as written and
 /// then in lower case: what a "did you mean" names for a mistyped joint, output or column.
-pub(crate) fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub(crate) fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     let lower = name.trim().to_lowercase();
     candidates
         .into_iter()
@@ -172,7 +175,10 @@ pub(crate) fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = 
 }
 
 /// `" (did you mean 'x'?)"` for [`did_you_mean`], or nothing.
-pub(crate) fn did_you_mean_note<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+pub(crate) fn did_you_mean_note<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> String {
     did_you_mean(name, candidates).map_or_else(String::new, |c| format!(" (did you mean '{c}'?)"))
 }
 
