@@ -444,9 +444,9 @@ fn conical_spherical_pendulum_linearized_at_a_time_matches_its_closed_form() {
     }
     let scale = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let mut worst = 0.0f64;
-    for i in 0..4 {
-        for k in 0..4 {
-            worst = worst.max((lm.a[(i, k)] - a[i][k]).abs());
+    for (i, row) in a.iter().enumerate() {
+        for (k, want) in row.iter().enumerate() {
+            worst = worst.max((lm.a[(i, k)] - want).abs());
         }
     }
     eprintln!("conical pendulum at t = {t_at}: A off the closed form by {worst:.2e} of {scale:.2}");
