@@ -963,3 +963,35 @@ fn linearize_route_equals_the_cli_json_and_names_bad_parameters() {
     );
     server.shutdown().unwrap();
 }
+
+/// Issue 48: a scene `linearize` refuses (a spatial rigid body) is titled as a refusal, not "The
+/// solve failed", and an unknown output names the query parameter `output`, not the CLI's flag.
+#[test]
+fn linearize_refusal_is_titled_as_one_and_names_the_query_parameter() {
+    let server = start(Config::default());
+    let p = post(
+        server.addr(),
+        "/v1/linearize",
+        scene_text("heavy_top.json").as_bytes(),
+    )
+    .problem(422);
+    assert_eq!(p["title"], "The scene cannot be linearized", "{p}");
+    assert_eq!(p["type"], "urn:bondmech:problem:linearize-refused", "{p}");
+    assert!(
+        p["detail"].as_str().unwrap().contains("bodies 'top'"),
+        "{p}"
+    );
+    let p = post(
+        server.addr(),
+        "/v1/linearize?output=crank.angel",
+        scene_text("four_bar.json").as_bytes(),
+    )
+    .problem(422);
+    let detail = p["detail"].as_str().unwrap();
+    assert!(
+        detail.starts_with("output 'crank.angel'")
+            && detail.contains("did you mean 'crank.angle'?"),
+        "{p}"
+    );
+    server.shutdown().unwrap();
+}
