@@ -39,7 +39,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::analysis::linear_model::{
-    modes_of, LinearModel, LinearizeError, LinearizeOptions, OperatingPoint,
+    eigenvalues_of, modes_of, LinearModel, LinearizeError, LinearizeOptions, OperatingPoint,
+    AT_REST,
 };
 use crate::dae::ConstraintExprs;
 use crate::error::{Error, Result};
@@ -75,6 +76,18 @@ use crate::solve::formulation::PartitionedSystem;
 /// ```
 pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearModel> {
     let model = Model::new(scene)?;
+    let clock = cpu_time::ThreadTime::now();
+    let mut lm = linearize_model(&model, scene, options)?;
+    lm.cpu_seconds = clock.elapsed().as_secs_f64();
+    Ok(lm)
+}
+
+/// [`linearize`] of the built `model`, without its clock.
+fn linearize_model(
+    model: &Model,
+    scene: &Scene,
+    options: &LinearizeOptions,
+) -> Result<LinearModel> {
     let sys0 = model.mechanism().ok_or(LinearizeError::RawGraph)?;
     for (name, b) in &sys0.bodies {
         if matches!(b, BodyKinematics::Spatial { .. }) {
@@ -100,7 +113,7 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let tapes = crate::dae::MechanicsTapes::new(&mut sys, &c, None);
 
     // the operating point (t, q, v)
-    let (t, x) = operating_point(&model, sys0, &tapes, options.at, t_start)?;
+    let (t, x) = operating_point(model, sys0, &tapes, options.at, t_start)?;
     let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
 
     // the partition at the operating point
@@ -264,7 +277,22 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
     let dm = &yz * &zu;
 
     let states = part.state_names(sys0);
-    let modes = modes_of(&a, &states, part.ind_q.len());
+    // an equilibrium: at rest and not accelerating; elsewhere A's eigenvalues are not modes
+    let fastest = x[nq..]
+        .iter()
+        .chain(&acc)
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let equilibrium = matches!(options.at, OperatingPoint::Equilibrium) || fastest <= AT_REST;
+    let mut notes = notes;
+    let modes = if equilibrium {
+        modes_of(&a, &states, part.ind_q.len())
+    } else {
+        notes.push(format!(
+            "the operating point at t = {t} moves (largest velocity or acceleration {fastest:.3e}): it is not an equilibrium, so A's eigenvalues (eigenvalues) tell how deviations grow or turn at that instant, not modes of vibration (no frequencies, no damping ratios)"
+        ));
+        Vec::new()
+    };
+    let eigenvalues = eigenvalues_of(&a);
     Ok(LinearModel {
         at: options.at.to_string(),
         t,
@@ -282,8 +310,11 @@ pub fn linearize(scene: &Scene, options: &LinearizeOptions) -> Result<LinearMode
         b,
         c: cm,
         d: dm,
+        equilibrium,
+        eigenvalues,
         modes,
         notes,
+        cpu_seconds: 0.0,
     })
 }
 
@@ -307,6 +338,15 @@ fn operating_point(
         OperatingPoint::Time(tt) => {
             if tt < t_start {
                 return Err(LinearizeError::BeforeStart { t: tt, t_start }.into());
+            }
+            let t_end = model
+                .default_options()
+                .output_times
+                .last()
+                .copied()
+                .unwrap_or(t_start);
+            if tt > t_end {
+                return Err(LinearizeError::AfterEnd { t: tt, t_end }.into());
             }
             let x0 = if tt == t_start {
                 sys.initial_state()
@@ -568,8 +608,17 @@ fn resolve_outputs(
             "constraint_error is zero on the joints; it has no linearization".to_string()
         } else {
             let cols: Vec<&str> = sys.outputs.iter().map(|o| o.name.as_str()).collect();
+            let drivers: Vec<String> = sys.drivers.iter().flat_map(|d| d.columns()).collect();
+            let note = crate::scene::did_you_mean_note(
+                name,
+                states
+                    .iter()
+                    .map(String::as_str)
+                    .chain(cols.iter().copied())
+                    .chain(drivers.iter().map(String::as_str)),
+            );
             format!(
-                "not a column of the scene's run CSV (columns: {})",
+                "not a column of the scene's run CSV{note} (columns: {})",
                 cols.join(", ")
             )
         };

@@ -269,10 +269,12 @@ fn regression_a_bar_released_horizontal_stalled_and_now_hangs_down() {
     assert!(e.coordinate("bar.x").unwrap().abs() < 1e-10, "{e:?}");
     let fy = e.reactions.iter().find(|(k, _)| k == "pivot.Fy").unwrap().1;
     assert!((fy - G).abs() < 1e-9, "the pin carries the weight: {fy}");
-    // one DOF: the reduced stiffness on the unit velocity direction (v_x, v_y, ω) ∝ (a, 0, 1)
-    // is m g a / (1 + a²)
+    // one DOF: the stiffness eigenvalue is mass-normalised (issue 48: it was K_r's own on the
+    // unit velocity direction, m g a / (1 + a²), metres and radians mixed), the squared
+    // frequency of the small swings, ω² = m g a / J_O with J_O = J + m a² (1/12 + 1/4)
     let k = e.stiffness_eigenvalues[0];
-    assert!((k - G * 0.5 / 1.25).abs() < 1e-9, "{k}");
+    let want = G * 0.5 / (1.0 / 12.0 + 0.25);
+    assert!((k - want).abs() < 1e-9 * want, "{k} vs {want}");
 
     let e = equilibrium(&read("double_pendulum"));
     assert!(e.converged && e.stable, "{e:?}");

@@ -68,7 +68,8 @@ class Scene:
     def equilibrium(self) -> Dict[str, Any]:
         """The static equilibrium nearest the scene's configuration (the ``bondmech
         equilibrium --json`` document): converged, iterations, residual, coordinates,
-        reactions, drivers, stable, stiffness_eigenvalues."""
+        reactions, drivers, stable, stability ("stable", "neutral", "unstable"),
+        stiffness_eigenvalues (omega^2, 1/s^2, mass-normalised), cpu_seconds."""
     def linearize(
         self,
         at: str = "equilibrium",
@@ -78,7 +79,8 @@ class Scene:
         """The linear model x' = A x + B u, y = C x + D u about an operating point
         ("equilibrium" or "t=T"), the ``bondmech linearize --json`` document with A, B, C, D
         as 2-D numpy arrays: at, t, operating_point, states, inputs, outputs, A, B, C, D,
-        modes (eigenvalue, omega_n, frequency_hz, damping_ratio, shape), notes."""
+        equilibrium, eigenvalues, modes (eigenvalue, omega_n, frequency_hz, damping_ratio,
+        multiplicity, shape; empty about a moving operating point), notes, cpu_seconds."""
 
 def compare(
     scene: Scene,

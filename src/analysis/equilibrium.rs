@@ -47,10 +47,21 @@ pub struct Equilibrium {
     pub reactions: Vec<(String, f64)>,
     /// The drivers' efforts keyed by their columns (`motor.torque`, `push.force`).
     pub drivers: Vec<(String, f64)>,
-    /// `K_r` positive definite.
+    /// `K_r` positive definite ([`Stability::Stable`]).
     pub stable: bool,
-    /// Eigenvalues of the reduced tangent stiffness `K_r`, ascending.
+    /// Stable, neutral (no eigenvalue below zero, one at zero: a free wheel, a mechanism
+    /// that may rest anywhere along a degree of freedom) or unstable.
+    pub stability: Stability,
+    /// The squared natural frequencies `ω²` (1/s²) of the small motions about the equilibrium,
+    /// ascending: the generalized eigenvalues of the reduced tangent stiffness and mass,
+    /// `K_r z = ω² M_r z`, `K_r = Zᵀ K Z`, `M_r = Zᵀ M Z` on the degrees of freedom (`Z` the
+    /// null space of `G_v`) — independent of the coordinates and their units (a bar on a pin:
+    /// `V''(θ) / J_pivot`). A negative one is an unstable direction (`−ω²` its growth rate
+    /// squared). Where `M_r` is singular (a degree of freedom without inertia) the eigenvalues
+    /// of `K_r` itself (N/m, N·m/rad, mixed).
     pub stiffness_eigenvalues: Vec<f64>,
+    /// CPU seconds of the search (this thread; the scene's model building excluded).
+    pub cpu_seconds: f64,
     /// The multipliers λ (one per constraint row).
     pub multipliers: Vec<f64>,
 }
@@ -66,7 +77,8 @@ impl Equilibrium {
 
     /// The JSON document `bondmech equilibrium --json` writes: `converged`, `iterations`,
     /// `residual`, `coordinates`, `reactions`, `drivers` (objects keyed by column name),
-    /// `stable`, `stiffness_eigenvalues`.
+    /// `stable`, `stability` (`stable`, `neutral`, `unstable`), `stiffness_eigenvalues` (`ω²`,
+    /// 1/s²), `cpu_seconds`.
     pub fn to_json(&self) -> serde_json::Value {
         let obj = |v: &[(String, f64)]| {
             serde_json::Value::Object(
@@ -83,9 +95,85 @@ impl Equilibrium {
             "reactions": obj(&self.reactions),
             "drivers": obj(&self.drivers),
             "stable": self.stable,
+            "stability": self.stability.name(),
             "stiffness_eigenvalues": self.stiffness_eigenvalues,
+            "cpu_seconds": self.cpu_seconds,
         })
     }
+}
+
+/// What the reduced stiffness says of an equilibrium.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stability {
+    /// Every `ω²` above zero: a minimum of the potential on the degrees of freedom.
+    Stable,
+    /// No `ω²` below zero and at least one at zero (within [`NEUTRAL_OMEGA2`] of the largest):
+    /// to first order the mechanism may rest anywhere along that direction.
+    Neutral,
+    /// Some `ω²` below zero.
+    Unstable,
+}
+
+/// `|ω²| ≤ NEUTRAL_OMEGA2 · max(1, max |ω²|)` (1/s²) counts as zero: rounding in `K_r`
+/// (its entries are sums of products of the loads and lever arms) is some 1e-14 of its size.
+pub const NEUTRAL_OMEGA2: f64 = 1e-9;
+
+impl Stability {
+    /// The stability of the squared natural frequencies `eig`.
+    pub fn of(eig: &[f64]) -> Self {
+        let emax = eig.iter().fold(1.0f64, |a, b| a.max(b.abs()));
+        let zero = NEUTRAL_OMEGA2 * emax;
+        if eig.iter().any(|&e| e < -zero) {
+            Stability::Unstable
+        } else if eig.iter().any(|&e| e.abs() <= zero) {
+            Stability::Neutral
+        } else {
+            Stability::Stable
+        }
+    }
+
+    /// `stable`, `neutral` or `unstable`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stability::Stable => "stable",
+            Stability::Neutral => "neutral",
+            Stability::Unstable => "unstable",
+        }
+    }
+}
+
+/// The generalized eigenvalues of `K_r = kr` and `M_r = Zᵀ diag(mass) Z`, ascending:
+/// `K_r z = ω² M_r z` by Cholesky `M_r = L Lᵀ` and the symmetric `L⁻¹ K_r L⁻ᵀ`; the
+/// eigenvalues of `K_r` where `M_r` is not positive definite.
+fn mass_normalised_eigenvalues(kr: &DMatrix<f64>, z: &DMatrix<f64>, mass: &[f64]) -> Vec<f64> {
+    if kr.nrows() == 0 {
+        return Vec::new();
+    }
+    let m = DMatrix::from_diagonal(&DVector::from_column_slice(mass));
+    let mr = z.transpose() * m * z;
+    let mr = (&mr + mr.transpose()) * 0.5;
+    let mut eig: Vec<f64> = match mr.cholesky() {
+        Some(ch) => {
+            let l = ch.l();
+            let linv = l
+                .clone()
+                .try_inverse()
+                .unwrap_or_else(|| DMatrix::identity(l.nrows(), l.ncols()));
+            let s = &linv * kr * linv.transpose();
+            let s = (&s + s.transpose()) * 0.5;
+            s.symmetric_eigen().eigenvalues.iter().copied().collect()
+        }
+        None => kr
+            .clone()
+            .symmetric_eigen()
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect(),
+    };
+    eig.sort_by(f64::total_cmp);
+    eig
 }
 
 /// Why no equilibrium was found.
@@ -120,6 +208,14 @@ pub enum EquilibriumError {
 /// The static equilibrium of `sys` nearest its initial configuration, with the loads, drivers
 /// and inputs at `t0` (see the module documentation).
 pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, EquilibriumError> {
+    let clock = cpu_time::ThreadTime::now();
+    let mut eq = solve_equilibrium(sys, t0)?;
+    eq.cpu_seconds = clock.elapsed().as_secs_f64();
+    Ok(eq)
+}
+
+/// [`equilibrium`] without its clock.
+fn solve_equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, EquilibriumError> {
     let mut sys = sys.clone();
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
     let c = ConstraintExprs::derive(&mut sys);
@@ -332,16 +428,11 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
             }
         }
     }
-    // the reduced tangent stiffness
-    let (kr, _, _) = reduced(&vars);
-    let mut eig: Vec<f64> = if kr.nrows() > 0 {
-        kr.symmetric_eigen().eigenvalues.iter().copied().collect()
-    } else {
-        Vec::new()
-    };
-    eig.sort_by(f64::total_cmp);
-    let emax = eig.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    let stable = eig.iter().all(|&e| e > 1e-9 * emax.max(1e-300));
+    // the reduced tangent stiffness, mass-normalised: K_r z = ω² M_r z on the DOF
+    let (kr, z, _) = reduced(&vars);
+    let eig = mass_normalised_eigenvalues(&kr, &z, &sys.mass);
+    let stability = Stability::of(&eig);
+    let stable = stability == Stability::Stable;
     // reactions and drivers from the multipliers
     let mut y: Vec<f64> = vars[1..].to_vec();
     y.truncate(nq + nv + nc);
@@ -361,12 +452,7 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
         converged: true,
         iterations,
         residual: norm(&r),
-        coordinates: sys
-            .coords
-            .iter()
-            .zip(&vars[1..1 + nq])
-            .map(|(c, &v)| (c.name.clone(), v))
-            .collect(),
+        coordinates: run_coordinates(&sys, &vars[1..1 + nq]),
         reactions: reactions.to_vec(),
         drivers: drivers
             .iter()
@@ -374,9 +460,43 @@ pub fn equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equili
             .cloned()
             .collect(),
         stable,
+        stability,
         stiffness_eigenvalues: eig,
+        cpu_seconds: 0.0,
         multipliers: vars[1 + nq + nv..].to_vec(),
     })
+}
+
+/// The coordinates `q` keyed as the run CSV names them: a spatial body's Euler parameters
+/// `e0…e3` (integrated, of any norm: the attitude is `e / |e|`, and the effort balance does
+/// not fix the scale) become the unit quaternion `q = e / |e|` under `qw, qx, qy, qz`; every
+/// other coordinate keeps its column's name.
+fn run_coordinates(sys: &MultibodySystem, q: &[f64]) -> Vec<(String, f64)> {
+    let mut out: Vec<(String, f64)> = sys
+        .coords
+        .iter()
+        .zip(q)
+        .map(|(c, &v)| (c.name.clone(), v))
+        .collect();
+    for (body, _) in &sys.bodies {
+        let at: Vec<usize> = (0..4)
+            .filter_map(|k| {
+                let name = format!("{body}.e{k}");
+                out.iter().position(|(n, _)| *n == name)
+            })
+            .collect();
+        if at.len() != 4 {
+            continue;
+        }
+        let norm = at.iter().map(|&i| out[i].1 * out[i].1).sum::<f64>().sqrt();
+        for (&i, n) in at.iter().zip(["qw", "qx", "qy", "qz"]) {
+            out[i].0 = format!("{body}.{n}");
+            if norm > 0.0 {
+                out[i].1 /= norm;
+            }
+        }
+    }
+    out
 }
 
 /// An orthonormal basis (columns) of the null space of `a` (`rows × cols`).

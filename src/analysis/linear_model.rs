@@ -95,6 +95,14 @@ pub enum LinearizeError {
         /// `solve.t_start`.
         t_start: f64,
     },
+    /// `--at t=T` after the scene's end.
+    #[error("--at t={t}: after the scene's end t_end = {t_end} (the operating point is a state the scene's solve reaches, within [t_start, t_end]: give T in that span, or lengthen it with --set solve.t_end=…)")]
+    AfterEnd {
+        /// The time asked for.
+        t: f64,
+        /// The scene's last output time (`solve.t_end`).
+        t_end: f64,
+    },
     /// An output column the linear model cannot have.
     #[error("--output '{name}': {why}")]
     UnknownOutput {
@@ -139,6 +147,12 @@ pub enum LinearizeError {
     NonFinite(String),
 }
 
+/// Velocities (m/s, rad/s) and accelerations (m/s², rad/s²) at or below this size count as
+/// zero when `--at t=T` asks whether the operating point is an equilibrium: the solve's own
+/// accuracy at its default tolerances is far below it, and a motion that slow is at rest for
+/// every mechanism bondmech models.
+pub const AT_REST: f64 = 1e-6;
+
 /// One mode of the linear model: an eigenvalue `λ` of `A` (one per conjugate pair, the one with
 /// `Im λ ≥ 0`, or a real one) and its eigenvector.
 #[derive(Clone, Debug, PartialEq)]
@@ -151,6 +165,9 @@ pub struct Mode {
     pub frequency_hz: f64,
     /// `ζ = −Re λ / |λ|`; `None` for `λ = 0`.
     pub damping_ratio: Option<f64>,
+    /// How many times `λ` is an eigenvalue of `A` (its algebraic multiplicity); a repeated
+    /// eigenvalue lists one mode per dimension of its eigenspace, each with this count.
+    pub multiplicity: usize,
     /// The eigenvector on the states, scaled so that its largest displacement component is
     /// `1 + 0i` (its largest component when no displacement moves).
     pub shape: Vec<(String, Complex<f64>)>,
@@ -180,10 +197,21 @@ pub struct LinearModel {
     pub c: DMatrix<f64>,
     /// `D` (outputs × inputs).
     pub d: DMatrix<f64>,
-    /// The modes, ascending by `ω_n`.
+    /// Whether the operating point is a static equilibrium (at rest, no acceleration):
+    /// `--at equilibrium`, or a state at `--at t=T` where every velocity and acceleration is
+    /// below [`AT_REST`]. Only there are `A`'s eigenvalues modes.
+    pub equilibrium: bool,
+    /// Every eigenvalue of `A` (repeated ones as often as they are), ascending by `|λ|`.
+    pub eigenvalues: Vec<(f64, f64)>,
+    /// The modes, ascending by `ω_n` (about an equilibrium; empty about a moving operating
+    /// point, where `A`'s eigenvalues describe how deviations grow or turn at that instant
+    /// and are not modes: no frequencies, no damping ratios).
     pub modes: Vec<Mode>,
     /// Remarks (e.g. the partition at the operating point is not the start's).
     pub notes: Vec<String>,
+    /// CPU seconds of the linearization (this thread: the operating point's equilibrium
+    /// search or solve included, the scene's first model building excluded).
+    pub cpu_seconds: f64,
 }
 
 impl LinearModel {
@@ -232,6 +260,7 @@ impl LinearModel {
                     "omega_n": m.omega_n,
                     "frequency_hz": m.frequency_hz,
                     "damping_ratio": m.damping_ratio,
+                    "multiplicity": m.multiplicity,
                     "shape": shape,
                 })
             })
@@ -252,44 +281,88 @@ impl LinearModel {
             "B": rows(&self.b),
             "C": rows(&self.c),
             "D": rows(&self.d),
+            "equilibrium": self.equilibrium,
+            "eigenvalues": self
+                .eigenvalues
+                .iter()
+                .map(|e| serde_json::json!([e.0, e.1]))
+                .collect::<Vec<_>>(),
             "modes": modes,
             "notes": self.notes,
+            "cpu_seconds": self.cpu_seconds,
         })
     }
 }
 
 /// The modes of `a`: one per conjugate pair (`Im λ > 0`) and per real eigenvalue, ascending by
-/// `|λ|`, each with its eigenvector (the null vector of `A − λI` by a complex SVD) scaled so
-/// that its largest displacement component (of the first `n_coords` states) is 1, or its
-/// largest component where the displacements do not move.
+/// `|λ|`, each with its eigenvector scaled so that its largest displacement component (of the
+/// first `n_coords` states) is 1, or its largest component where the displacements do not move.
+///
+/// A repeated eigenvalue (eigenvalues of `A` within `1e-6 ‖A‖` of each other, one cluster of
+/// algebraic multiplicity `m`) gets a basis of its eigenspace, the null space of `A − λ̄ I`
+/// (`λ̄` the cluster's mean): the right singular vectors of `A − λ̄ I` whose singular values are
+/// below `1e-6 ‖A‖` — as many modes as the eigenspace has dimensions (the geometric
+/// multiplicity, `m` for a semisimple eigenvalue, fewer where `A` is defective), each with
+/// [`Mode::multiplicity`] `m`. The basis is brought to the form in which each vector has one
+/// displacement component that the others lack (Gauss–Jordan on the largest displacement
+/// components), so a spherical pendulum's two modes at `√(g/L)` are its two planes, not one
+/// plane twice.
 pub(crate) fn modes_of(a: &DMatrix<f64>, states: &[String], n_coords: usize) -> Vec<Mode> {
     let n = a.nrows();
     if n == 0 {
         return Vec::new();
     }
+    let zero = Complex::new(0.0, 0.0);
+    let scale = a.norm().max(f64::MIN_POSITIVE);
+    let tol = 1e-6 * scale;
     let eig = a.clone().complex_eigenvalues();
-    let mut modes: Vec<Mode> = eig
-        .iter()
-        .filter(|l| l.im >= 0.0)
-        .map(|&l| {
-            let m = DMatrix::from_fn(n, n, |i, j| {
-                let d = if i == j { l } else { Complex::new(0.0, 0.0) };
-                Complex::new(a[(i, j)], 0.0) - d
-            });
-            let svd = m.svd(false, true);
-            let k = svd
-                .singular_values
-                .iter()
-                .enumerate()
-                .min_by(|x, y| x.1.total_cmp(y.1))
-                .map_or(0, |(k, _)| k);
-            let vt = svd.v_t.expect("asked for");
-            let mut shape: Vec<Complex<f64>> = (0..n).map(|i| vt[(k, i)].conj()).collect();
+    let upper: Vec<Complex<f64>> = eig.iter().copied().filter(|l| l.im >= 0.0).collect();
+    // clusters of (numerically) equal eigenvalues, one per distinct λ with Im λ ≥ 0; a real
+    // eigenvalue's conjugate is itself, a complex one's is counted on its own side
+    let mut clusters: Vec<Vec<Complex<f64>>> = Vec::new();
+    for &l in &upper {
+        match clusters
+            .iter_mut()
+            .find(|c| c.iter().any(|&m| (m - l).norm() <= tol))
+        {
+            Some(c) => c.push(l),
+            None => clusters.push(vec![l]),
+        }
+    }
+    let mut modes: Vec<Mode> = Vec::new();
+    for cluster in clusters {
+        let multiplicity = cluster.len();
+        let mut l = cluster.iter().fold(zero, |acc, &x| acc + x) / (multiplicity as f64);
+        if cluster.iter().all(|x| x.im == 0.0) {
+            l.im = 0.0;
+        }
+        let m = DMatrix::from_fn(n, n, |i, j| {
+            let d = if i == j { l } else { zero };
+            Complex::new(a[(i, j)], 0.0) - d
+        });
+        let svd = m.svd(false, true);
+        let vt = svd.v_t.expect("asked for");
+        let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+        order.sort_by(|&x, &y| svd.singular_values[x].total_cmp(&svd.singular_values[y]));
+        // the eigenspace: the singular values at the cluster's accuracy, at least one and at
+        // most the algebraic multiplicity
+        let dim = order
+            .iter()
+            .take(multiplicity)
+            .filter(|&&k| svd.singular_values[k] <= tol)
+            .count()
+            .max(1);
+        let mut basis: Vec<Vec<Complex<f64>>> = order[..dim]
+            .iter()
+            .map(|&k| (0..n).map(|i| vt[(k, i)].conj()).collect())
+            .collect();
+        eigenspace_pivots(&mut basis, n_coords.min(n));
+        for mut shape in basis {
             let largest = |v: &[Complex<f64>]| {
                 v.iter()
                     .copied()
                     .max_by(|x, y| x.norm().total_cmp(&y.norm()))
-                    .unwrap_or(Complex::new(0.0, 0.0))
+                    .unwrap_or(zero)
             };
             let overall = largest(&shape);
             let coords = largest(&shape[..n_coords.min(n)]);
@@ -304,16 +377,81 @@ pub(crate) fn modes_of(a: &DMatrix<f64>, states: &[String], n_coords: usize) -> 
                 }
             }
             let w = l.norm();
-            Mode {
+            modes.push(Mode {
                 eigenvalue: (l.re, l.im),
                 omega_n: w,
                 frequency_hz: w / (2.0 * std::f64::consts::PI),
                 // (+ 0.0: an undamped mode's ζ is 0, not −0)
                 damping_ratio: (w > 0.0).then(|| -l.re / w + 0.0),
+                multiplicity,
                 shape: states.iter().cloned().zip(shape).collect(),
-            }
-        })
-        .collect();
+            });
+        }
+    }
     modes.sort_by(|x, y| x.omega_n.total_cmp(&y.omega_n));
     modes
+}
+
+/// Gauss–Jordan on a basis of an eigenspace (vectors of length `n`): vector `k` gets its
+/// pivot at the largest remaining component (among the first `n_coords`, the displacements,
+/// where they move) and that component is cleared from the others, so each vector has a
+/// component the others lack (the span, hence the eigenspace, is unchanged; independent).
+fn eigenspace_pivots(basis: &mut [Vec<Complex<f64>>], n_coords: usize) {
+    let k = basis.len();
+    if k < 2 {
+        return;
+    }
+    let mut used: Vec<usize> = Vec::new();
+    for p in 0..k {
+        let pick = |range: std::ops::Range<usize>, v: &[Complex<f64>]| {
+            range
+                .filter(|i| !used.contains(i))
+                .max_by(|&x, &y| v[x].norm().total_cmp(&v[y].norm()))
+        };
+        let v = basis[p].clone();
+        let vmax = v.iter().map(|c| c.norm()).fold(0.0, f64::max);
+        let i = match pick(0..n_coords, &v) {
+            Some(i) if v[i].norm() > 1e-6 * vmax => i,
+            _ => match pick(0..v.len(), &v) {
+                Some(i) => i,
+                None => return,
+            },
+        };
+        let piv = v[i];
+        if piv.norm() == 0.0 {
+            return;
+        }
+        for c in basis[p].iter_mut() {
+            *c /= piv;
+        }
+        let row = basis[p].clone();
+        for (q, other) in basis.iter_mut().enumerate() {
+            if q != p {
+                let f = other[i];
+                for (c, r) in other.iter_mut().zip(&row) {
+                    *c -= f * r;
+                }
+            }
+        }
+        used.push(i);
+    }
+}
+
+/// Every eigenvalue of `a`, ascending by `|λ|` (ties by the imaginary part).
+pub(crate) fn eigenvalues_of(a: &DMatrix<f64>) -> Vec<(f64, f64)> {
+    if a.nrows() == 0 {
+        return Vec::new();
+    }
+    let mut e: Vec<(f64, f64)> = a
+        .clone()
+        .complex_eigenvalues()
+        .iter()
+        .map(|l| (l.re, l.im))
+        .collect();
+    e.sort_by(|x, y| {
+        x.0.hypot(x.1)
+            .total_cmp(&y.0.hypot(y.1))
+            .then(x.1.total_cmp(&y.1))
+    });
+    e
 }

@@ -216,6 +216,9 @@ pub(crate) fn run_command(
             s.formulation, s.steps, s.residual_evals, s.jacobian_evals, s.cpu_seconds,
             s.max_constraint_error
         ));
+        if let Some(w) = s.driver_work {
+            text.push_str(&format!("driver work {w:.6e} J ({})\n", s.driver_work_note));
+        }
         // a short table lists a few events; the summary (`--summary`) has them all
         for e in s.events.iter().take(TABLE_EVENTS) {
             text.push_str(&format!("event {} at t = {}\n", e.name, e.t));

@@ -66,6 +66,21 @@ pub enum InitError {
         /// Which coordinates are undetermined.
         what: String,
     },
+    /// Drivers whose rows depend on each other and on the joints' rows: they over-constrain
+    /// the mechanism (a redundant driver row is a contradiction, whatever the two motions).
+    #[error("at t = {t}: {drivers} over-constrain the mechanism: their rows are linearly dependent with each other and the joints [{joints}] (a self-stress of the drivers through those joints, rank of G_v {rank} for {rows} rows); each driver takes a degree of freedom, and a degree of freedom driven twice is a contradiction unless the two motions agree for ever, which bondmech does not assume — drive it once (remove one of the drivers, or free a joint)")]
+    ConflictingDrivers {
+        /// Time of the check (the start).
+        t: f64,
+        /// The drivers, `drivers[i] 'name' (joint 'J')`, comma-separated.
+        drivers: String,
+        /// The joints whose rows take part with them, comma-separated.
+        joints: String,
+        /// Rank of `G_v` there.
+        rank: usize,
+        /// Rows of `G_v` (joints' and drivers').
+        rows: usize,
+    },
     /// Something evaluated to NaN or infinity.
     #[error("at t = {t}: the state evaluates to a non-finite value in {what}")]
     NonFinite {
@@ -186,6 +201,98 @@ pub fn dependent_joints(a: &DMatrix<f64>, rows: &[ConstraintRow]) -> Vec<String>
     joints
 }
 
+/// Drivers that over-constrain the mechanism at `(t0, x)`: the joints' self-stress — the left
+/// null space `N` of `G_v` (`Nᵀ G_v = 0`), the eigenvectors of `G_v G_vᵀ` of relatively zero
+/// eigenvalue — restricted to the combinations that load a driver row (`N w` for `w` in the
+/// row space of `N`'s driver rows), where the loss of rank holds along the motion
+/// ([`rank_loss_persists`], so a singular configuration at the start is not taken for one).
+/// Such a combination says that one driver's row `G_d v = ṡ_d(t)` is fixed by the others' and
+/// the joints' rows: the two prescriptions contradict each other unless they agree at every
+/// instant; bondmech refuses them whether or not they agree (`docs/scene-format.md` §23).
+/// `None` when no driver row takes part in a redundancy.
+pub fn conflicting_drivers(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+    x: &[f64],
+) -> Option<InitError> {
+    if sys.drivers.is_empty() {
+        return None;
+    }
+    let gv = tapes.gv.matrix(t0, x);
+    let m = gv.nrows();
+    if m == 0 {
+        return None;
+    }
+    let eig = (&gv * gv.transpose()).symmetric_eigen();
+    let lmax = eig.eigenvalues.amax().max(1e-300);
+    let null: Vec<usize> = (0..m)
+        .filter(|&k| eig.eigenvalues[k].abs() <= 1e-12 * lmax)
+        .collect();
+    if null.is_empty() {
+        return None;
+    }
+    let n = DMatrix::from_fn(m, null.len(), |i, k| eig.eigenvectors[(i, null[k])]);
+    let drows: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
+    let nd = DMatrix::from_fn(drows.len(), null.len(), |i, k| n[(drows[i], k)]);
+    let svd = nd.svd(false, true);
+    let vt = svd.v_t?;
+    let conflicts: Vec<DVector<f64>> = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .filter(|(_, &s)| s > 1e-6)
+        .map(|(k, _)| &n * vt.row(k).transpose())
+        .collect();
+    if conflicts.is_empty() {
+        return None;
+    }
+    let rank = m - null.len();
+    // the rank's loss holds along the motion: the independent rows (joints first) kept
+    let mut kept: Vec<usize> = Vec::new();
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    let order = (0..m)
+        .filter(|i| !drows.contains(i))
+        .chain(drows.iter().copied());
+    let scale = gv.norm().max(1e-300);
+    for i in order {
+        let mut r: DVector<f64> = gv.row(i).transpose();
+        for b in &basis {
+            let c = b.dot(&r);
+            r -= b * c;
+        }
+        let nr = r.norm();
+        if nr > 1e-9 * scale && basis.len() < rank {
+            basis.push(r / nr);
+            kept.push(i);
+        }
+    }
+    kept.sort_unstable();
+    if !rank_loss_persists(tapes, t0, x, &kept, rank) {
+        return None;
+    }
+    let involved = |i: usize| conflicts.iter().any(|c| c[i].abs() > 1e-6 * c.amax());
+    let drivers: Vec<String> = sys
+        .drivers
+        .iter()
+        .filter(|d| involved(d.row))
+        .map(|d| format!("drivers[{}] '{}' (joint '{}')", d.index, d.name, d.joint))
+        .collect();
+    let mut joints: Vec<String> = Vec::new();
+    for i in (0..m).filter(|i| !drows.contains(i) && involved(*i)) {
+        if !joints.contains(&sys.rows[i].joint) {
+            joints.push(sys.rows[i].joint.clone());
+        }
+    }
+    Some(InitError::ConflictingDrivers {
+        t: t0,
+        drivers: drivers.join(" and "),
+        joints: joints.join(", "),
+        rank,
+        rows: m,
+    })
+}
+
 /// Projects the user's initial state onto the constraints (see the module documentation).
 pub fn consistent_state(
     sys: &MultibodySystem,
@@ -266,6 +373,9 @@ fn project(
             break;
         }
         if iterations >= 60 {
+            if let Some(e) = conflicting_drivers(sys, tapes, t0, &x0) {
+                return Err(e);
+            }
             let r = &sys.rows[worst.0];
             let mut open: Vec<&str> = Vec::new();
             for (row, v) in sys.rows.iter().zip(&g) {
@@ -318,6 +428,11 @@ fn project(
         x[nq + j] -= dv[j];
     }
     let velocity_correction = dv.norm();
+    if rank < nc {
+        if let Some(e) = conflicting_drivers(sys, tapes, t0, &x) {
+            return Err(e);
+        }
+    }
     let redundant_joints = if rank < nc {
         dependent_joints(&gv, &sys.rows)
     } else {

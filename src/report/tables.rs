@@ -49,9 +49,17 @@ impl LinearModel {
         for n in &self.notes {
             t.push_str(&format!("note: {n}\n"));
         }
+        t.push_str(&format!("CPU {:.3e} s\n", self.cpu_seconds));
+        if !self.equilibrium {
+            t.push_str("eigenvalues of A (1/s), about a moving operating point:\n");
+            for (re, im) in &self.eigenvalues {
+                t.push_str(&format!("  {re:+.6e} {im:+.6e}i\n"));
+            }
+            return t;
+        }
         t.push_str(&format!(
-            "{:>4}  {:>24}  {:>14}  {:>14}  {:>12}  shape\n",
-            "mode", "eigenvalue (1/s)", "omega_n (rad/s)", "frequency (Hz)", "damping"
+            "{:>4}  {:>24}  {:>14}  {:>14}  {:>12}  {:>4}  shape\n",
+            "mode", "eigenvalue (1/s)", "omega_n (rad/s)", "frequency (Hz)", "damping", "mult"
         ));
         for (k, m) in self.modes.iter().enumerate() {
             let ev = if m.eigenvalue.1 == 0.0 {
@@ -75,12 +83,13 @@ impl LinearModel {
                 })
                 .collect();
             t.push_str(&format!(
-                "{:>4}  {:>24}  {:>14.6}  {:>14.6}  {:>12}  {}\n",
+                "{:>4}  {:>24}  {:>14.6}  {:>14.6}  {:>12}  {:>4}  {}\n",
                 k + 1,
                 ev,
                 m.omega_n,
                 m.frequency_hz,
                 zeta,
+                m.multiplicity,
                 shape.join(", ")
             ));
         }
@@ -102,7 +111,7 @@ impl Equilibrium {
             },
             self.iterations,
             self.residual,
-            if self.stable { "stable" } else { "unstable" }
+            self.stability.name()
         );
         for (what, list) in [
             ("coordinates", &self.coordinates),
@@ -117,9 +126,10 @@ impl Equilibrium {
             }
         }
         t.push_str(&format!(
-            "stiffness eigenvalues: {:?}\n",
+            "stiffness eigenvalues (ω² = generalized eigenvalues of K_r and M_r on the DOF, 1/s²): {:?}\n",
             self.stiffness_eigenvalues
         ));
+        t.push_str(&format!("CPU {:.3e} s\n", self.cpu_seconds));
         t
     }
 }

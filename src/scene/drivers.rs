@@ -201,8 +201,12 @@ pub(crate) fn validate(p: &mut Problems, scene: &Scene) {
             None => p.push(
                 &jp,
                 format!(
-                    "no joint named '{}' (joints: {})",
+                    "no joint named '{}'{} (joints: {})",
                     d.joint,
+                    super::fields::did_you_mean_note(
+                        &d.joint,
+                        scene.joints.iter().map(|j| j.name.as_str())
+                    ),
                     scene
                         .joints
                         .iter()

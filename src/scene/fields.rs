@@ -150,6 +150,38 @@ pub(crate) fn vector(p: &mut Problems, path: &str, j: &Json) -> Option<Vec<f64>>
     ok.then_some(out)
 }
 
+/// The candidate closest to `name` when it is within the edit distance [`unknown_field`]
+/// allows (a third of the longer name, at least 1, 2 from 5 letters), compared as written and
+/// then in lower case: what a "did you mean" names for a mistyped joint, output or column.
+pub(crate) fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    let lower = name.trim().to_lowercase();
+    candidates
+        .into_iter()
+        .filter(|c| *c != name)
+        .map(|c| {
+            let d = crate::bond::json::edit_distance(name, c)
+                .min(crate::bond::json::edit_distance(&lower, &c.to_lowercase()));
+            (d, c)
+        })
+        .min()
+        .filter(|(d, c)| {
+            let longer = c.len().max(name.len());
+            *d <= (longer / 3).max(if longer >= 5 { 2 } else { 1 })
+        })
+        .map(|(_, c)| c)
+}
+
+/// `" (did you mean 'x'?)"` for [`did_you_mean`], or nothing.
+pub(crate) fn did_you_mean_note<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> String {
+    did_you_mean(name, candidates).map_or_else(String::new, |c| format!(" (did you mean '{c}'?)"))
+}
+
 /// `unknown field (did you mean "gravity"? expected one of: …)`: the closest allowed key when
 /// one is within an edit distance of a third of the longer name (at least 1, 2 from 5
 /// letters), compared in lower case with `-` and spaces read as `_`.

@@ -55,6 +55,7 @@ pub mod validate;
 mod write;
 
 pub use error::{Problem, SceneError};
+pub(crate) use fields::did_you_mean_note;
 pub use joint_kind::{JointKind, JOINT_TYPES};
 pub use model::*;
 pub use overrides::{OverrideProblem, SolveOverrides};

@@ -829,7 +829,8 @@ fn output(p: &mut Problems, scene: &Indexed<'_>, path: &str, o: &str) {
                 p.push(
                     path,
                     format!(
-                        "unknown output '{o}' (expected body.point, body.column or one of: {})",
+                        "unknown output '{o}'{} (expected body.point, body.column or one of: {})",
+                        super::fields::did_you_mean_note(o, SCALAR_OUTPUTS.iter().copied()),
                         SCALAR_OUTPUTS.join(", ")
                     ),
                 );
@@ -839,7 +840,11 @@ fn output(p: &mut Problems, scene: &Indexed<'_>, path: &str, o: &str) {
         Some(_) if scene.bond_graph.is_some() => {}
         Some((b, rest)) => {
             let Some(bi) = scene.body_index(b) else {
-                p.push(path, format!("unknown body '{b}'"));
+                let note = super::fields::did_you_mean_note(
+                    b,
+                    scene.bodies.iter().map(|x| x.name.as_str()),
+                );
+                p.push(path, format!("unknown body '{b}'{note}"));
                 return;
             };
             let body = &scene.bodies[bi];
@@ -853,7 +858,8 @@ fn output(p: &mut Problems, scene: &Indexed<'_>, path: &str, o: &str) {
                     p.push(
                         path,
                         format!(
-                            "body '{b}' has no point '{pt}' (it has: {})",
+                            "body '{b}' has no point '{pt}'{} (it has: {})",
+                            super::fields::did_you_mean_note(pt, body.point_names()),
                             some_names(body.point_names())
                         ),
                     );
@@ -872,8 +878,13 @@ fn output(p: &mut Problems, scene: &Indexed<'_>, path: &str, o: &str) {
                 p.push(
                     path,
                     format!(
-                        "body '{b}' has no point '{rest}' (it has: {})",
-                        some_names(body.point_names())
+                        "body '{b}' has no point '{rest}'{} (it has: {}; nor is it a body column: {})",
+                        super::fields::did_you_mean_note(
+                            rest,
+                            body.point_names().chain(BODY_COLUMNS.iter().copied())
+                        ),
+                        some_names(body.point_names()),
+                        BODY_COLUMNS.join(", ")
                     ),
                 );
             }

@@ -582,15 +582,22 @@ async fn linearize_inner(
     let job = app.pool.spawn(slot, move || {
         let budget = Budget::of(&scene, &limits);
         use crate::analysis::linear_model::LinearizeError as L;
+        // the library's messages name the CLI's flags (`--output`, `--at`); here the query
+        // parameters are `output` and `at`
+        let query = |e: &crate::Error, flag: &str| {
+            e.to_string()
+                .replacen(&format!("--{flag} "), &format!("{flag} "), 1)
+                .replacen(&format!("--{flag}="), &format!("{flag}="), 1)
+        };
         let lm = crate::linearize(&scene, &options).map_err(|e| match &e {
-            crate::Error::Linearize(L::UnknownOutput { .. }) => {
-                super::solve::invalid_value("output", e.to_string())
+            crate::Error::Linearize(L::UnknownOutput { name, why }) => {
+                super::solve::invalid_value("output", format!("output '{name}': {why}"))
             }
             crate::Error::Linearize(L::States(_)) => {
                 super::solve::invalid_value("states", e.to_string())
             }
-            crate::Error::Linearize(L::BeforeStart { .. }) => {
-                super::solve::invalid_value("at", e.to_string())
+            crate::Error::Linearize(L::BeforeStart { .. } | L::AfterEnd { .. }) => {
+                super::solve::invalid_value("at", query(&e, "at"))
             }
             _ => library_problem(&e, budget),
         })?;

@@ -338,6 +338,8 @@ pub fn library_problem(e: &Error, budget: Budget) -> Problem {
         Error::Init(_) => ("initialisation-failed", "No consistent initial state"),
         Error::Options(_) | Error::Report(_) => ("invalid-options", "Invalid solve options"),
         Error::BondGraph(_) => ("invalid-bond-graph", "Invalid bond graph"),
+        Error::Linearize(_) => ("linearize-refused", "The scene cannot be linearized"),
+        Error::Equilibrium(_) => ("no-equilibrium", "No static equilibrium"),
         _ => ("solve-failed", "The solve failed"),
     };
     unprocessable(kind, title, e.to_string())

@@ -383,6 +383,7 @@ impl Run<'_> {
             self.rows.energy_exchange().as_deref(),
         );
         summary.driver_work = self.rows.driver_work();
+        summary.driver_work_note = self.rows.driver_work_note();
         f.finish(summary, solver, self.sol.times.last().copied(), ending);
     }
 

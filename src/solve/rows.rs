@@ -30,10 +30,9 @@ pub(crate) struct OutputEval {
     /// Output indices of each spatial body's `(ψ, θ, φ)`.
     cardan: Vec<[usize; 3]>,
     want_constraint_error: bool,
-    /// Joint reaction columns (`"outputs": ["reactions"]`), written before `constraint_error`.
+    /// Joint reaction columns (`"outputs": ["reactions"]`) and the drivers' columns after them,
+    /// written before `constraint_error`.
     reactions: Option<ReactionEval>,
-    /// The drivers' columns, written after the reactions.
-    drivers: Option<ReactionEval>,
     vars: Vec<f64>,
     work: Vec<f64>,
     work_g: Vec<f64>,
@@ -50,6 +49,8 @@ pub(crate) struct OutputEval {
     power_columns: Vec<usize>,
     /// The drivers' work so far and the last row's `(t, Σ P)`.
     driver_work: (f64, Option<(f64, f64)>),
+    /// The rows the work was summed over and their largest spacing (s).
+    driver_rows: (usize, f64),
 }
 
 impl OutputEval {
@@ -75,14 +76,12 @@ impl OutputEval {
                 ])
             })
             .collect();
-        let reactions = sys
-            .reaction_outputs
-            .then(|| ReactionEval::new(sys, &tapes.gv, multipliers.clone(), (true, false)));
-        // the drivers' efforts always, from the multipliers solved at the row's state
-        // (`[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`: the dynamics of the motion the rows hold, not
-        // IDA's interpolant of λ, which its error test leaves out — a DOF-0 run's steps are
-        // long) or, in the twin, from its joint springs
-        let drivers = (!sys.drivers.is_empty()).then(|| {
+        // the joints' reactions and the drivers' efforts, one evaluator: from the multipliers
+        // solved at the row's state (`[M G_vᵀ; G_v 0] [v'; λ] = [Q; −γ]`, the dynamics of the
+        // motion the row holds, as every formulation's row state `[q, v]` is exact at the row:
+        // never IDA's interpolant of λ, which its error test leaves out — a DOF-0 run's steps
+        // are long) or, in the twin, from its joint springs
+        let reactions = (sys.reaction_outputs || !sys.drivers.is_empty()).then(|| {
             let source = match multipliers {
                 Multipliers::Springs(_) => multipliers.clone(),
                 _ => Multipliers::FromState(Box::new(StateMultipliers::new(
@@ -91,7 +90,7 @@ impl OutputEval {
                     sys.mass.clone(),
                 ))),
             };
-            ReactionEval::new(sys, &tapes.gv, source, (false, true))
+            ReactionEval::new(sys, &tapes.gv, source, (sys.reaction_outputs, true))
         });
         let n_out = tapes.outputs.n_outputs();
         let nc = tapes.dims.2;
@@ -107,7 +106,6 @@ impl OutputEval {
             cardan,
             want_constraint_error: true,
             reactions,
-            drivers,
             energy0: None,
             energy_dev: 0.0,
             kinetic_max: 0.0,
@@ -120,6 +118,7 @@ impl OutputEval {
                 .filter_map(|d| columns.iter().position(|c| *c == d.columns()[1]))
                 .collect(),
             driver_work: (0.0, None),
+            driver_rows: (0, 0.0),
         }
     }
 
@@ -180,11 +179,6 @@ impl OutputEval {
             row.resize(at + r.n_columns, 0.0);
             r.eval(t, x, &mut row[at..]);
         }
-        if let Some(r) = &mut self.drivers {
-            let at = row.len();
-            row.resize(at + r.n_columns, 0.0);
-            r.eval(t, x, &mut row[at..]);
-        }
         if self.want_constraint_error {
             row.push(ge);
         }
@@ -193,7 +187,9 @@ impl OutputEval {
             let (w, last) = &mut self.driver_work;
             if let Some((t0, p0)) = *last {
                 *w += 0.5 * (t - t0) * (p + p0);
+                self.driver_rows.1 = self.driver_rows.1.max(t - t0);
             }
+            self.driver_rows.0 += 1;
             *last = Some((t, p));
         }
         row
@@ -227,5 +223,14 @@ impl RowEval for OutputEval {
     }
     fn driver_work(&self) -> Option<f64> {
         (!self.power_columns.is_empty()).then_some(self.driver_work.0)
+    }
+    fn driver_work_note(&self) -> String {
+        if self.power_columns.is_empty() {
+            return String::new();
+        }
+        let (n, h) = self.driver_rows;
+        format!(
+            "the trapezoidal rule on the {n} rows' <driver>.power (largest spacing {h:e} s): its error is O(h²) in the output spacing (a smooth power's, h² T max|P''| / 12), not the solver's; a finer output_step makes it smaller"
+        )
     }
 }

@@ -67,11 +67,9 @@ fn solve_from_first_output(
     };
     // initial velocities that violate the joints are projected onto them: say by how much
     if init.velocity_correction > crate::mech::geometry::INITIAL_VIOLATION_WARNING {
-        summary.warnings.push(format!(
-            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction){}",
-            init.velocity_correction,
-            velocity_change_note(&sys, &init.v)
-        ));
+        if let Some(w) = velocity_warning(&sys, &tapes, t0, &init) {
+            summary.warnings.push(w);
+        }
     }
     // the chapter's index-1 DAE and the partitioned ODE leave redundant rows out of their
     // dependent block (and say so); the other IDA formulations take the compliant GGL
@@ -145,6 +143,59 @@ fn solve_from_first_output(
     let mut sol = result.map_err(|e| e.map_partial(|p| p.summary.build_cpu_seconds += build))?;
     sol.summary.build_cpu_seconds += build;
     Ok(sol)
+}
+
+/// The warning for an initial velocity projection, or `None` where the projection only set the
+/// drivers' prescribed rates from velocities the scene does not give (a driven scene at rest:
+/// nothing the user wrote was wrong). The rows `G_v v₀ + b` at the user's velocities `v₀` (on
+/// the projected positions) tell which rows were open: a joint's row (`b = 0`) — the initial
+/// velocities violate the joints — or only drivers' rows (`b = −ṡ(t₀)`), which is worth a
+/// warning only where the scene gives velocities that disagree with the prescribed rates.
+fn velocity_warning(
+    sys: &MultibodySystem,
+    tapes: &MechanicsTapes,
+    t0: f64,
+    init: &crate::dae::ConsistentState,
+) -> Option<String> {
+    let tol = crate::mech::geometry::INITIAL_VIOLATION_WARNING;
+    let change = || velocity_change_note(sys, &init.v);
+    let mut x: Vec<f64> = init.q.clone();
+    x.extend(sys.velocities.iter().map(|c| c.initial));
+    let gv = tapes.gv.matrix(t0, &x);
+    let v0 = nalgebra::DVector::from_column_slice(&x[init.q.len()..]);
+    let mut r = &gv * &v0;
+    if tapes.bias.is_some() {
+        r += nalgebra::DVector::from_vec(tapes.bias_at(t0, &x));
+    }
+    let driver_rows: Vec<usize> = sys.drivers.iter().map(|d| d.row).collect();
+    let joint_open = (0..r.len()).any(|i| !driver_rows.contains(&i) && r[i].abs() > tol);
+    if joint_open || driver_rows.is_empty() {
+        return Some(format!(
+            "the initial velocities violate the joints: projected onto them before starting, changed by {:.3e} (norm of the change of all velocity coordinates, m/s and rad/s: summary.initial_velocity_correction){}",
+            init.velocity_correction,
+            change()
+        ));
+    }
+    // velocities the scene gives, not all zero (zeros written out are a start at rest)
+    let given = sys
+        .given_velocities
+        .iter()
+        .zip(&sys.velocities)
+        .any(|(&g, c)| g && c.initial != 0.0);
+    let open: Vec<String> = sys
+        .drivers
+        .iter()
+        .filter(|d| r[d.row].abs() > tol)
+        .map(|d| format!("drivers[{}] '{}'", d.index, d.name))
+        .collect();
+    (given && !open.is_empty()).then(|| {
+        format!(
+            "the initial velocities disagree with the prescribed rates of [{}]: projected onto them before starting, changed by {:.3e} (summary.initial_velocity_correction){}",
+            open.join(", "),
+            init.velocity_correction,
+            change()
+        )
+    })
 }
 
 /// What the initial projection did to the velocities `v` (projected from the scene's): the

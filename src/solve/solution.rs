@@ -57,6 +57,10 @@ pub struct Summary {
     /// rule on the rows' `<driver>.power` columns: the energy balance of a driven scene is
     /// `E(t) − E(0) = W_drivers + W_loads − W_dampers`; `None` (JSON `null`) without drivers.
     pub driver_work: Option<f64>,
+    /// How `driver_work` was summed: the trapezoidal rule on the rows, how many and their
+    /// largest spacing (its error is the rule's, O(h²) in the output spacing, not the
+    /// solver's); empty without drivers.
+    pub driver_work_note: String,
     /// Degrees of freedom left by the joints and drivers at the start (`n_v − rank G_v`).
     pub dof: usize,
     /// The drivers take every degree of freedom (`dof` 0): a kinematic analysis — positions by

@@ -272,6 +272,11 @@ pub(crate) trait RowEval {
     fn driver_work(&self) -> Option<f64> {
         None
     }
+    /// How [`RowEval::driver_work`] was computed (the rule, the rows, the largest spacing),
+    /// empty without drivers.
+    fn driver_work_note(&self) -> String {
+        String::new()
+    }
 }
 
 /// The scene's events: their functions over the row state and what each does.

@@ -580,8 +580,12 @@ struct Index1<'a> {
     built: Vec<(PartitionKey, Index1Formulation)>,
 }
 
-/// The kind of the index-1 DAE's re-selection warnings ([`Summary::routine_warning`]).
-const RESELECTION_WARNING: &str = "index1: partition re-selected";
+/// The kind of the index-1 DAE's re-selection warnings ([`Summary::routine_warning`]),
+/// labelled with the formulation that ran (`dae: partition re-selected` under the default,
+/// `index1: …` under `index1`).
+fn reselection_warning(formulation: &str) -> String {
+    format!("{formulation}: partition re-selected")
+}
 
 /// `(dependent velocities, joint rows)` of a segment: the formulation built for them serves
 /// every choice of dependent coordinates ([`Index1Formulation::with_coordinates`]).

@@ -17,10 +17,8 @@ impl<'a> Index1<'a> {
         summary: &mut Summary,
     ) -> Result<Option<Next<'a>>, SolveError> {
         self.restart_from(t, x)?;
-        summary.routine_warning(
-            RESELECTION_WARNING,
-            format!("{RESELECTION_WARNING} at t = {t:.6} — {what}"),
-        );
+        let kind = reselection_warning(&summary.formulation);
+        summary.routine_warning(&kind, format!("{kind} at t = {t:.6} — {what}"));
         Ok(Some(Next::Restart(t)))
     }
 
@@ -462,10 +460,11 @@ impl<'a> Index1<'a> {
             let xs = me.state_x();
             me.x.copy_from_slice(&xs);
             me.restarted_at = Some(t);
+            let kind = reselection_warning(&summary.formulation);
             summary.routine_warning(
-                RESELECTION_WARNING,
+                &kind,
                 format!(
-                    "{RESELECTION_WARNING} at t = {t:.6} between outputs — dependent {what} ({why}; condition {c:.1e})"
+                    "{kind} at t = {t:.6} between outputs — dependent {what} ({why}; condition {c:.1e})"
                 ),
             );
             Ok(Next::Restart(t))
@@ -515,7 +514,8 @@ impl<'a> Index1<'a> {
             )
         };
         format!(
-            "index1: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; {joints}",
+            "{}: IDA failed at t = {t:.6} ({e}); the dependent block [{}] has condition {cond:.1e} there and no better block exists; {joints}",
+            self.opts.formulation.name(),
             dependent.join(", "),
         )
     }
