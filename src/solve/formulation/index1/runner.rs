@@ -609,6 +609,9 @@ struct EnergyWatch {
     /// decision does not depend on the output times asked for.
     next_read: f64,
     spacing: f64,
+    /// The trigger has fired at a step where the mechanism barely moves: the watch reads at
+    /// every step until it moves well enough to take its energy back.
+    pending: bool,
     /// The tape's workspace and outputs, reused by every read.
     work: Vec<f64>,
     out: Vec<f64>,
@@ -927,7 +930,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
             return false;
         }
         if let Some(w) = self.energy_watch.as_mut() {
-            if t >= w.next_read {
+            if w.pending || t >= w.next_read {
                 while w.next_read <= t {
                     w.next_read += w.spacing;
                 }
@@ -1276,6 +1279,7 @@ pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a>
                     kinetic_max: ek[1],
                     gradient_max: ek[2..].iter().map(|d| d.abs()).sum(),
                     next_read: t0 + spacing,
+                    pending: false,
                     spacing,
                 }),
             )

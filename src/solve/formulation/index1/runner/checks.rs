@@ -396,6 +396,9 @@ impl<'a> Index1<'a> {
         let potential = e - kinetic;
         let factor2 = (w.e_start - potential) / kinetic;
         if !(kinetic >= 0.25 * w.kinetic_max && (0.5..2.0).contains(&factor2)) {
+            // the next steps read again, so the energy is taken back as soon as the mechanism
+            // moves, not a read spacing later ([`ENERGY_READS`])
+            w.pending = true;
             return Ok(None);
         }
         let e_start = w.e_start;
