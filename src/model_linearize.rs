@@ -45,13 +45,14 @@ use crate::analysis::linear_model::{
 use crate::dae::ConstraintExprs;
 use crate::error::{Error, Result};
 use crate::expr::{Expr, Tape};
-use crate::mech::body::BodyKinematics;
 use crate::mech::MultibodySystem;
 use crate::model::Model;
 use crate::partition::PartitionPolicy;
 use crate::partition::{dependent_condition, select_dependent};
 use crate::scene::Scene;
 use crate::solve::formulation::PartitionedSystem;
+
+mod chart;
 
 /// The linear model of `scene` about `options.at` (see the module documentation).
 ///
@@ -89,11 +90,6 @@ fn linearize_model(
     options: &LinearizeOptions,
 ) -> Result<LinearModel> {
     let sys0 = model.mechanism().ok_or(LinearizeError::RawGraph)?;
-    for (name, b) in &sys0.bodies {
-        if matches!(b, BodyKinematics::Spatial { .. }) {
-            return Err(LinearizeError::Spatial { body: name.clone() }.into());
-        }
-    }
     for u in &scene.inputs {
         for (i, d) in scene.drivers.iter().enumerate() {
             if crate::scene::inputs::replace_name(&d.value, &u.name, "(0)") != d.value {
@@ -116,17 +112,31 @@ fn linearize_model(
     let (t, x) = operating_point(model, sys0, &tapes, options.at, t_start)?;
     let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
 
-    // the partition at the operating point
-    let (part, notes) = choose_partition(sys0, options.states.as_deref(), t_start, t, &x)?;
-
     // accelerations and multipliers there: [M G_vᵀ; G_v 0][v'; λ] = [Q; −γ]
     let (acc, lambda) = accelerations_and_multipliers(sys0, &tapes, t, &x)?;
+
+    // the spatial bodies' attitudes in a three-angle chart about the operating point
+    // (chart::Chart), and the partition at the operating point
+    let chart = chart::Chart::new(sys0, &x, &acc);
+    let (part, notes, states) = match &chart {
+        Some(ch) => {
+            let part = chart_partition(sys0, ch, options.states.as_deref(), t, &x)?;
+            let names = ch.state_names(&part);
+            (part, Vec::new(), names)
+        }
+        None => {
+            let (part, notes) =
+                choose_partition(sys0, options.states.as_deref(), t_start, t, &x)?;
+            let names = part.state_names(sys0);
+            (part, notes, names)
+        }
+    };
 
     // symbolic E(z), f(z), y(z) and their derivatives by z = [q, v, v', λ]
     let nz = nq + 2 * nv + nc;
     let a_slot = |j: usize| (1 + nq + nv + j) as u32;
     let l_slot = |i: usize| (1 + nq + 2 * nv + i) as u32;
-    let outputs = resolve_outputs(sys0, &mut sys.graph, &part, &options.outputs, l_slot(0))?;
+    let outputs = resolve_outputs(sys0, &mut sys.graph, &states, &options.outputs, l_slot(0))?;
     let g = &mut sys.graph;
     let mut e_rows: Vec<Expr> = c.g.clone();
     e_rows.extend(c.gvv.iter().copied());
@@ -204,6 +214,16 @@ fn linearize_model(
         }
     }
 
+    // in the chart: E_z̃ = E_z ∂z/∂z̃, y_z̃ likewise, the coordinates' rates by z̃
+    let (ez, yz, fz, nq, nz) = match &chart {
+        Some(ch) => {
+            let nzt = ch.p.ncols();
+            (&ez * &ch.p, &yz * &ch.p, ch.rates(&fz), ch.nq(), nzt)
+        }
+        None => (ez, yz, fz, nq, nz),
+    };
+    let mut yz = yz;
+
     // z's split: x = [q_I, v_I], w = [q_D, v_D, v', λ]
     let x_z: Vec<usize> = part
         .ind_q
@@ -276,9 +296,8 @@ fn linearize_model(
     let cm = &yz * &zx;
     let dm = &yz * &zu;
 
-    let states = part.state_names(sys0);
     // an equilibrium: at rest and not accelerating; elsewhere A's eigenvalues are not modes
-    let fastest = x[nq..]
+    let fastest = x[sys0.nq()..]
         .iter()
         .chain(&acc)
         .fold(0.0f64, |m, v| m.max(v.abs()));
@@ -450,6 +469,99 @@ fn choose_partition(
     Ok((part, notes))
 }
 
+/// The partition in the spatial bodies' chart ([`chart::Chart`]) at the operating point
+/// `(t, x)`: the translations dependent where the joints allow (the seed's causality), the
+/// attitude angles and the other coordinates independent; or the named independent chart
+/// coordinates and velocities. Refused where the joints' Jacobian loses rank or its dependent
+/// block is nearly singular.
+fn chart_partition(
+    sys0: &MultibodySystem,
+    ch: &chart::Chart,
+    states: Option<&[String]>,
+    t: f64,
+    x: &[f64],
+) -> Result<crate::partition::Partition> {
+    let singular = |why: String| Error::from(LinearizeError::Singular { t, why });
+    let mut sp = sys0.clone();
+    let cp = ConstraintExprs::derive(&mut sp);
+    let psys = PartitionedSystem::new(&mut sp, &cp);
+    let (gq, gv) = psys.jacobians(t, x);
+    let (gq, gv) = ch.jacobians(&gq, &gv);
+    let (nq, nv) = (gq.ncols(), gv.ncols());
+    let rest = |n: usize, i: &[usize]| (0..n).filter(|k| !i.contains(k)).collect::<Vec<_>>();
+    let (dep_q, dep_v) = match states {
+        Some(names) => {
+            let mut ind_q = Vec::new();
+            let mut ind_v = Vec::new();
+            for n in names {
+                if let Some(i) = ch.q_names.iter().position(|c| c == n) {
+                    ind_q.push(i);
+                } else if let Some(j) = ch.v_names.iter().position(|c| c == n) {
+                    ind_v.push(j);
+                } else {
+                    let known: Vec<&str> = ch
+                        .q_names
+                        .iter()
+                        .chain(&ch.v_names)
+                        .map(String::as_str)
+                        .collect();
+                    return Err(LinearizeError::States(format!(
+                        "'{n}' is not a coordinate or velocity of the chart (a spatial body's attitude is its rotation vector B.rx, B.ry, B.rz and its space-frame angular velocity B.wX, B.wY, B.wZ; they are {})",
+                        known.join(", ")
+                    ))
+                    .into());
+                }
+            }
+            ind_q.sort_unstable();
+            ind_q.dedup();
+            ind_v.sort_unstable();
+            ind_v.dedup();
+            count_given(ind_q.len(), nq.saturating_sub(gq.nrows()), "coordinates")?;
+            let dep_v = if ind_v.is_empty() {
+                let preferred: Vec<bool> = (0..nv).map(|j| !ch.is_angular(j)).collect();
+                select_dependent(&gv, &preferred).ok_or_else(|| {
+                    LinearizeError::States("the joints' velocity Jacobian loses rank".into())
+                })?
+            } else {
+                count_given(ind_v.len(), nv.saturating_sub(gv.nrows()), "velocities")?;
+                rest(nv, &ind_v)
+            };
+            (rest(nq, &ind_q), dep_v)
+        }
+        None => {
+            let lost = || {
+                singular(format!(
+                    "the joints' Jacobian loses rank (joints {}): a singular configuration, or redundant joints",
+                    joint_list(sys0)
+                ))
+            };
+            let preferred_q: Vec<bool> = (0..nq).map(|a| !ch.is_angle(a)).collect();
+            let preferred_v: Vec<bool> = (0..nv).map(|j| !ch.is_angular(j)).collect();
+            let dep_q = select_dependent(&gq, &preferred_q).ok_or_else(lost)?;
+            let dep_v = select_dependent(&gv, &preferred_v).ok_or_else(lost)?;
+            (dep_q, dep_v)
+        }
+    };
+    let mut dep_q = dep_q;
+    let mut dep_v = dep_v;
+    dep_q.sort_unstable();
+    dep_v.sort_unstable();
+    let part = crate::partition::Partition {
+        ind_q: rest(nq, &dep_q),
+        ind_v: rest(nv, &dep_v),
+        dep_q,
+        dep_v,
+    };
+    let cond = dependent_condition(&gq, &part.dep_q).max(dependent_condition(&gv, &part.dep_v));
+    if !PartitionPolicy::linearizable(cond) {
+        return Err(singular(format!(
+            "the dependent block of the joints' Jacobian has condition {cond:.1e} (joints {}): a singular configuration",
+            joint_list(sys0)
+        )));
+    }
+    Ok(part)
+}
+
 /// The accelerations and multipliers at `(t, x)`: `[M G_vᵀ; G_v 0][v'; λ] = [Q; −γ]`.
 fn accelerations_and_multipliers(
     sys: &MultibodySystem,
@@ -569,11 +681,10 @@ fn joint_list(sys: &MultibodySystem) -> String {
 fn resolve_outputs(
     sys: &MultibodySystem,
     graph: &mut crate::expr::ExprGraph,
-    part: &crate::partition::Partition,
+    states: &[String],
     asked: &[String],
     lambda0: u32,
 ) -> Result<Vec<(String, Option<Expr>, usize)>> {
-    let states = part.state_names(sys);
     if asked.is_empty() {
         return Ok(states
             .iter()
