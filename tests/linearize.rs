@@ -520,16 +520,26 @@ fn bad_requests_are_refused_naming_what_is_wrong() {
         e.contains("states: 1 independent coordinates given, the joints leave 2"),
         "{e}"
     );
-    // a spatial rigid body is refused, naming it
+    // a spatial rigid body is no longer refused (issue 48): its attitude is linearized in a
+    // rotation-vector chart (tests/linearize_spatial.rs checks the numbers); the bundled top,
+    // tilted and spinning, is a moving operating point
     let top = Scene::from_path(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenes/heavy_top.json"
     ))
     .unwrap();
-    let e = linearize(&top, &LinearizeOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("spatial rigid body"), "{e}");
+    let lm = linearize(
+        &top,
+        &LinearizeOptions {
+            at: OperatingPoint::Time(0.0),
+            ..LinearizeOptions::default()
+        },
+    )
+    .unwrap();
+    assert!(!lm.equilibrium);
+    assert_eq!(lm.states.len(), 6, "{:?}", lm.states);
+    assert!(lm.states.iter().any(|s| s == "top.rx"), "{:?}", lm.states);
+    assert!(lm.states.iter().all(|s| !s.contains(".e")), "{:?}", lm.states);
 }
 
 #[test]

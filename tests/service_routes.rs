@@ -964,21 +964,22 @@ fn linearize_route_equals_the_cli_json_and_names_bad_parameters() {
     server.shutdown().unwrap();
 }
 
-/// Issue 48: a scene `linearize` refuses (a spatial rigid body) is titled as a refusal, not "The
-/// solve failed", and an unknown output names the query parameter `output`, not the CLI's flag.
+/// Issue 48: a scene `linearize` refuses (a raw bond graph; spatial rigid bodies, refused
+/// before, are linearized now) is titled as a refusal, not "The solve failed", and an unknown
+/// output names the query parameter `output`, not the CLI's flag.
 #[test]
 fn linearize_refusal_is_titled_as_one_and_names_the_query_parameter() {
     let server = start(Config::default());
     let p = post(
         server.addr(),
         "/v1/linearize",
-        scene_text("heavy_top.json").as_bytes(),
+        scene_text("bg_mass_spring_damper.json").as_bytes(),
     )
     .problem(422);
     assert_eq!(p["title"], "The scene cannot be linearized", "{p}");
     assert_eq!(p["type"], "urn:bondmech:problem:linearize-refused", "{p}");
     assert!(
-        p["detail"].as_str().unwrap().contains("bodies 'top'"),
+        p["detail"].as_str().unwrap().contains("raw bond graph"),
         "{p}"
     );
     let p = post(

@@ -114,12 +114,6 @@ pub enum LinearizeError {
     /// A raw bond graph scene.
     #[error("linearize needs bodies and joints (a raw bond graph has no coordinates)")]
     RawGraph,
-    /// A spatial rigid body (its attitude is a quaternion).
-    #[error("bodies '{body}': a spatial rigid body's attitude is a quaternion (four coordinates for three rotations), which has no minimal state here; linearize takes planar bodies and spatial point masses")]
-    Spatial {
-        /// The body's name.
-        body: String,
-    },
     /// An input used in a driver's prescribed motion.
     #[error("inputs '{input}' is used by drivers[{driver}] ('{name}'): an input that moves a joint enters through its rates, which a linear model ẋ = A x + B u does not have; use it in loads only")]
     InputInDriver {
