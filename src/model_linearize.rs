@@ -32,6 +32,11 @@
 //! with `M_r = Tᵀ M T`, `K_r = −Tᵀ ∂(Q − G_vᵀλ)/∂q T`, `D_r = −Tᵀ ∂Q/∂v T` and
 //! `T = [I; −G_D⁻¹ G_I]`.
 //!
+//! Spatial rigid bodies: their Euler parameters `e0…e3` (four coordinates, three degrees of
+//! freedom) and body-frame `ω` are replaced by a rotation-vector chart about the operating point
+//! and the space-frame angular velocity ([`chart`]): `E_z`, `f_z`, `y_z` above are chained
+//! through `∂z/∂z̃` at the operating point, and the partition is chosen in the chart.
+//!
 //! Inputs enter the loads only (scene `"inputs"`, §22); `∂Q/∂u_k` is exact: the scene is built
 //! once more with the input replaced by `u_k⁰ + (t − t*)`, whose `∂Q/∂t` at `t*` is
 //! `∂Q/∂t + ∂Q/∂u_k` (both symbolic derivatives), less the scene's own `∂Q/∂t`.
@@ -215,14 +220,13 @@ fn linearize_model(
     }
 
     // in the chart: E_z̃ = E_z ∂z/∂z̃, y_z̃ likewise, the coordinates' rates by z̃
-    let (ez, yz, fz, nq, nz) = match &chart {
+    let (ez, mut yz, fz, nq, nz) = match &chart {
         Some(ch) => {
             let nzt = ch.p.ncols();
             (&ez * &ch.p, &yz * &ch.p, ch.rates(&fz), ch.nq(), nzt)
         }
         None => (ez, yz, fz, nq, nz),
     };
-    let mut yz = yz;
 
     // z's split: x = [q_I, v_I], w = [q_D, v_D, v', λ]
     let x_z: Vec<usize> = part
