@@ -307,6 +307,13 @@ fn linearize_model(
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let equilibrium = matches!(options.at, OperatingPoint::Equilibrium) || fastest <= AT_REST;
     let mut notes = notes;
+    let eigenvalues = eigenvalues_of(&a);
+    if eigenvalues.iter().any(|e| !(e.0.is_finite() && e.1.is_finite())) {
+        return Err(LinearizeError::NonFinite(
+            "the eigenvalues of A (the QR iteration does not converge)".into(),
+        )
+        .into());
+    }
     let modes = if equilibrium {
         modes_of(&a, &states, part.ind_q.len())
     } else {
@@ -315,7 +322,6 @@ fn linearize_model(
         ));
         Vec::new()
     };
-    let eigenvalues = eigenvalues_of(&a);
     Ok(LinearModel {
         at: options.at.to_string(),
         t,

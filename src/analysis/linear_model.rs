@@ -309,7 +309,7 @@ pub(crate) fn modes_of(a: &DMatrix<f64>, states: &[String], n_coords: usize) -> 
     let zero = Complex::new(0.0, 0.0);
     let scale = a.norm().max(f64::MIN_POSITIVE);
     let tol = 1e-6 * scale;
-    let eig = a.clone().complex_eigenvalues();
+    let eig = complex_eigenvalues(a);
     let upper: Vec<Complex<f64>> = eig.iter().copied().filter(|l| l.im >= 0.0).collect();
     // clusters of (numerically) equal eigenvalues, one per distinct λ with Im λ ≥ 0; a real
     // eigenvalue's conjugate is itself, a complex one's is counted on its own side
@@ -431,14 +431,35 @@ fn eigenspace_pivots(basis: &mut [Vec<Complex<f64>>], n_coords: usize) {
     }
 }
 
+/// The eigenvalues of `a` by nalgebra's real Schur form with a bounded number of QR sweeps:
+/// its `complex_eigenvalues()` iterates without bound and does not return on some matrices
+/// (a sleeping top's `A` below its stability threshold, issue 48). Where the sweeps stall the
+/// matrix is shifted, `a + σ I` (the same eigenvectors, eigenvalues moved by `σ`, another path
+/// for the iteration), and `σ` taken back; NaNs where every try stalls.
+pub(crate) fn complex_eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
+    let n = a.nrows();
+    let scale = a.amax().max(f64::MIN_POSITIVE);
+    let sweeps = 100 * n.max(1);
+    for shift in [0.0, 1e-3, -2e-3, 0.37, -0.61, 1.7] {
+        let sigma = shift * scale;
+        let m = a + DMatrix::identity(n, n) * sigma;
+        if let Some(schur) = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, sweeps) {
+            return schur
+                .complex_eigenvalues()
+                .iter()
+                .map(|l| Complex::new(l.re - sigma, l.im))
+                .collect();
+        }
+    }
+    vec![Complex::new(f64::NAN, f64::NAN); n]
+}
+
 /// Every eigenvalue of `a`, ascending by `|λ|` (ties by the imaginary part).
 pub(crate) fn eigenvalues_of(a: &DMatrix<f64>) -> Vec<(f64, f64)> {
     if a.nrows() == 0 {
         return Vec::new();
     }
-    let mut e: Vec<(f64, f64)> = a
-        .clone()
-        .complex_eigenvalues()
+    let mut e: Vec<(f64, f64)> = complex_eigenvalues(a)
         .iter()
         .map(|l| (l.re, l.im))
         .collect();

@@ -30,8 +30,7 @@ pub fn largest_eigenvalue(model: &Model, opts: &SolveOptions) -> Result<f64> {
     let mut ws = dec.ode.workspace();
     dec.ode
         .jacobian(&mut ws, t0, &y0, |r, c, v| jm[(r, c)] += v);
-    Ok(jm
-        .complex_eigenvalues()
+    Ok(crate::analysis::linear_model::complex_eigenvalues(&jm)
         .iter()
         .fold(0.0f64, |a, z| a.max(z.norm())))
 }
