@@ -130,8 +130,7 @@ fn linearize_model(
             (part, Vec::new(), names)
         }
         None => {
-            let (part, notes) =
-                choose_partition(sys0, options.states.as_deref(), t_start, t, &x)?;
+            let (part, notes) = choose_partition(sys0, options.states.as_deref(), t_start, t, &x)?;
             let names = part.state_names(sys0);
             (part, notes, names)
         }
@@ -308,7 +307,10 @@ fn linearize_model(
     let equilibrium = matches!(options.at, OperatingPoint::Equilibrium) || fastest <= AT_REST;
     let mut notes = notes;
     let eigenvalues = eigenvalues_of(&a);
-    if eigenvalues.iter().any(|e| !(e.0.is_finite() && e.1.is_finite())) {
+    if eigenvalues
+        .iter()
+        .any(|e| !(e.0.is_finite() && e.1.is_finite()))
+    {
         return Err(LinearizeError::NonFinite(
             "the eigenvalues of A (the QR iteration does not converge)".into(),
         )

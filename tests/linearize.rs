@@ -539,7 +539,11 @@ fn bad_requests_are_refused_naming_what_is_wrong() {
     assert!(!lm.equilibrium);
     assert_eq!(lm.states.len(), 6, "{:?}", lm.states);
     assert!(lm.states.iter().any(|s| s == "top.rx"), "{:?}", lm.states);
-    assert!(lm.states.iter().all(|s| !s.contains(".e")), "{:?}", lm.states);
+    assert!(
+        lm.states.iter().all(|s| !s.contains(".e")),
+        "{:?}",
+        lm.states
+    );
 }
 
 #[test]

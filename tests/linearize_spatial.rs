@@ -160,7 +160,9 @@ fn sleeping_top_stability_threshold_is_found_where_the_closed_form_puts_it() {
         }
         let found = 0.5 * (lo + hi);
         let e = rel(found, threshold);
-        println!("axis {axis}: threshold {found:.12} rad/s, closed form {threshold:.12}, rel {e:.1e}");
+        println!(
+            "axis {axis}: threshold {found:.12} rad/s, closed form {threshold:.12}, rel {e:.1e}"
+        );
         assert!(e < 1e-6, "{found} vs {threshold}");
         // just above and below, the eigenvalues say so
         assert!(unstable(threshold * (1.0 - 1e-6)) && !unstable(threshold * (1.0 + 1e-6)));
@@ -181,7 +183,10 @@ fn hanging_rigid_spherical_pendulum_swings_at_the_compound_pendulum_frequency() 
         let freq = frequencies(&lm, 1e-6 * w);
         assert_eq!(freq.len(), 2, "{name}: {:?}", lm.eigenvalues);
         for f in &freq {
-            println!("{name}: {f:.12} vs √(mgl/J_pivot) {w:.12}, rel {:.1e}", rel(*f, w));
+            println!(
+                "{name}: {f:.12} vs √(mgl/J_pivot) {w:.12}, rel {:.1e}",
+                rel(*f, w)
+            );
             assert!(rel(*f, w) < 1e-9, "{name}: {f} vs {w}");
         }
         assert!(lm.eigenvalues.iter().all(|e| e.0.abs() < 1e-9 * w));
