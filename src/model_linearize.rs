@@ -327,12 +327,15 @@ fn linearize_model(
     Ok(LinearModel {
         at: options.at.to_string(),
         t,
-        operating_point: sys0
-            .coords
-            .iter()
-            .chain(&sys0.velocities)
-            .zip(&x)
-            .map(|(c, &v)| (c.name.clone(), v))
+        // the run CSV's names: a spatial body's unit quaternion as qw…qz (§23)
+        operating_point: crate::analysis::equilibrium::run_coordinates(sys0, &x[..sys0.nq()])
+            .into_iter()
+            .chain(
+                sys0.velocities
+                    .iter()
+                    .zip(&x[sys0.nq()..])
+                    .map(|(c, &v)| (c.name.clone(), v)),
+            )
             .collect(),
         states,
         inputs: scene.inputs.iter().map(|u| u.name.clone()).collect(),

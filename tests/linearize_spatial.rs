@@ -262,6 +262,10 @@ fn spatial_states_are_named_by_the_chart_and_can_be_chosen() {
         ..LinearizeOptions::default()
     };
     let lm = linearize(&scene(&v), &named).unwrap();
+    // the operating point under the run CSV's names, the quaternion of unit norm
+    let op = |n: &str| lm.operating_point.iter().find(|(k, _)| k == n).map(|p| p.1);
+    assert_eq!(op("top.qw"), Some(1.0), "{:?}", lm.operating_point);
+    assert!(op("top.e0").is_none());
     assert_eq!(
         lm.states,
         ["top.rx", "top.ry", "top.rz", "top.wX", "top.wY", "top.wZ"]

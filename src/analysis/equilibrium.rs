@@ -471,7 +471,7 @@ fn solve_equilibrium(sys: &MultibodySystem, t0: f64) -> Result<Equilibrium, Equi
 /// `e0…e3` (integrated, of any norm: the attitude is `e / |e|`, and the effort balance does
 /// not fix the scale) become the unit quaternion `q = e / |e|` under `qw, qx, qy, qz`; every
 /// other coordinate keeps its column's name.
-fn run_coordinates(sys: &MultibodySystem, q: &[f64]) -> Vec<(String, f64)> {
+pub(crate) fn run_coordinates(sys: &MultibodySystem, q: &[f64]) -> Vec<(String, f64)> {
     let mut out: Vec<(String, f64)> = sys
         .coords
         .iter()
