@@ -60,7 +60,8 @@
 //! | [`scene`] | the JSON scene format, validated with paths to the bad field; [`scene::path`] changes one field (`--set`) |
 //! | [`mech`] | bodies, joints, springs, loads → the mechanism's complete bond graph, read as the multibody system |
 //! | [`dae`] | what every formulation shares: the constraint calculus, the mechanics rows `M a − Q + G_vᵀ λ` and `G_v a + γ` written once, consistent initialisation, compiled tapes |
-//! | [`partition`] | the one owner of the partition: dependent velocities and coordinates, conditioning, redundant rows, every threshold that decides them, [`partition::PartitionPolicy`] |
+//! | [`partition`] | the one owner of the partition: dependent velocities and coordinates, conditioning, redundant rows, [`partition::PartitionPolicy`] |
+//! | [`thresholds`] | every threshold that decides a partition, a re-selection, a hand-over, the energy invariant or a rank under them, each with the reason for its value |
 //! | [`solve`] | one `Formulation` trait, one folder per formulation ([`solve::formulation`]: GGL, index 1, partitioned, twin, raw graph; equations and runner), one executor on IDA, CVODE or ARKODE: outputs, events, budgets, statistics; its own `SolveError` |
 //! | [`analysis`] | what the analyses find: the static equilibrium (and its search), the linear model about an operating point and its modes ([`linearize`] computes it) |
 //! | [`report`] | DAE vs decoupled comparisons, the data, CSV, JSON and SVG of tolerance, stiffness and parameter sweeps ([`report::vary`]), plots, animations |
@@ -93,6 +94,7 @@ pub mod solve;
 pub mod study;
 #[allow(unsafe_code)]
 pub mod sundials;
+pub mod thresholds;
 pub mod trajectory;
 
 pub use analysis::linear_model::{LinearModel, LinearizeOptions, OperatingPoint};

@@ -416,6 +416,42 @@ fn count_given(given: usize, left: usize, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// The indices of the named independent coordinates and velocities (each list sorted, without
+/// repeats), refused naming the first name that is neither; `what` follows "is not a coordinate
+/// or velocity" in that refusal and opens the parenthesis that lists the known names (it ends
+/// in "they are ").
+fn given_states(
+    names: &[String],
+    q_names: &[impl AsRef<str>],
+    v_names: &[impl AsRef<str>],
+    what: &str,
+) -> Result<(Vec<usize>, Vec<usize>)> {
+    let (mut ind_q, mut ind_v) = (Vec::new(), Vec::new());
+    for n in names {
+        if let Some(i) = q_names.iter().position(|c| c.as_ref() == n) {
+            ind_q.push(i);
+        } else if let Some(j) = v_names.iter().position(|c| c.as_ref() == n) {
+            ind_v.push(j);
+        } else {
+            let known: Vec<&str> = q_names
+                .iter()
+                .map(AsRef::as_ref)
+                .chain(v_names.iter().map(AsRef::as_ref))
+                .collect();
+            return Err(LinearizeError::States(format!(
+                "'{n}' is not a coordinate or velocity{what}{})",
+                known.join(", ")
+            ))
+            .into());
+        }
+    }
+    for ind in [&mut ind_q, &mut ind_v] {
+        ind.sort_unstable();
+        ind.dedup();
+    }
+    Ok((ind_q, ind_v))
+}
+
 /// The partition at the operating point `(t, x)`: the causality's there (with a note when it
 /// is not the start's), or the one whose independent coordinates are named; refused where the
 /// joints' Jacobian loses rank or its dependent block is nearly singular.
@@ -506,31 +542,12 @@ fn chart_partition(
     let rest = |n: usize, i: &[usize]| (0..n).filter(|k| !i.contains(k)).collect::<Vec<_>>();
     let (dep_q, dep_v) = match states {
         Some(names) => {
-            let mut ind_q = Vec::new();
-            let mut ind_v = Vec::new();
-            for n in names {
-                if let Some(i) = ch.q_names.iter().position(|c| c == n) {
-                    ind_q.push(i);
-                } else if let Some(j) = ch.v_names.iter().position(|c| c == n) {
-                    ind_v.push(j);
-                } else {
-                    let known: Vec<&str> = ch
-                        .q_names
-                        .iter()
-                        .chain(&ch.v_names)
-                        .map(String::as_str)
-                        .collect();
-                    return Err(LinearizeError::States(format!(
-                        "'{n}' is not a coordinate or velocity of the chart (a spatial body's attitude is its rotation vector B.rx, B.ry, B.rz and its space-frame angular velocity B.wX, B.wY, B.wZ; they are {})",
-                        known.join(", ")
-                    ))
-                    .into());
-                }
-            }
-            ind_q.sort_unstable();
-            ind_q.dedup();
-            ind_v.sort_unstable();
-            ind_v.dedup();
+            let (ind_q, ind_v) = given_states(
+                names,
+                &ch.q_names,
+                &ch.v_names,
+                " of the chart (a spatial body's attitude is its rotation vector B.rx, B.ry, B.rz and its space-frame angular velocity B.wX, B.wY, B.wZ; they are ",
+            )?;
             count_given(ind_q.len(), nq.saturating_sub(gq.nrows()), "coordinates")?;
             let dep_v = if ind_v.is_empty() {
                 let preferred: Vec<bool> = (0..nv).map(|j| !ch.is_angular(j)).collect();
@@ -766,31 +783,9 @@ fn named_partition(
     names: &[String],
 ) -> Result<crate::partition::Partition> {
     let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
-    let mut ind_q = Vec::new();
-    let mut ind_v = Vec::new();
-    for n in names {
-        if let Some(i) = sys.coords.iter().position(|c| c.name == *n) {
-            ind_q.push(i);
-        } else if let Some(j) = sys.velocities.iter().position(|c| c.name == *n) {
-            ind_v.push(j);
-        } else {
-            let known: Vec<&str> = sys
-                .coords
-                .iter()
-                .chain(&sys.velocities)
-                .map(|c| c.name.as_str())
-                .collect();
-            return Err(LinearizeError::States(format!(
-                "'{n}' is not a coordinate or velocity (they are {})",
-                known.join(", ")
-            ))
-            .into());
-        }
-    }
-    ind_q.sort_unstable();
-    ind_q.dedup();
-    ind_v.sort_unstable();
-    ind_v.dedup();
+    let q_names: Vec<&str> = sys.coords.iter().map(|c| c.name.as_str()).collect();
+    let v_names: Vec<&str> = sys.velocities.iter().map(|c| c.name.as_str()).collect();
+    let (ind_q, mut ind_v) = given_states(names, &q_names, &v_names, " (they are ")?;
     count_given(ind_q.len(), nq - nc, "coordinates")?;
     let (gq, gv) = psys.jacobians(t, x);
     // q' = v: each coordinate's rate is its own velocity

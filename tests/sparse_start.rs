@@ -3,9 +3,9 @@
 //! pseudo-inverses (nalgebra's SVD, computed here independently), and its fallback to the SVD
 //! when joints are redundant.
 
-use bondmech::dae::init::SPARSE_START_UNKNOWNS;
 use bondmech::dae::{consistent_state_from, ConstraintExprs, MechanicsTapes};
 use bondmech::report::generate::n_link_pendulum_json;
+use bondmech::thresholds::SPARSE_START_UNKNOWNS;
 use bondmech::{Model, Scene};
 use nalgebra::{DMatrix, DVector};
 

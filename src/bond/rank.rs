@@ -26,8 +26,10 @@ use std::collections::{BTreeMap, BinaryHeap};
 use super::model::{BondGraph, BondId, ElementId, ElementKind, Parameter};
 use crate::expr::ExprGraph;
 
-/// Entries below `TOLERANCE × (largest entry of the matrix)` count as zero.
-pub const TOLERANCE: f64 = 1e-9;
+/// Entries below `TOLERANCE × (largest entry of the matrix)` count as zero: the causality's
+/// numeric rank tolerance, defined with the other thresholds that decide a partition
+/// ([`crate::thresholds::CAUSALITY_RANK_TOLERANCE`]).
+pub use crate::thresholds::CAUSALITY_RANK_TOLERANCE as TOLERANCE;
 
 /// Values of the variables a modulus may reference (`t`, states, displacements, signals).
 pub type Valuation<'a> = &'a dyn Fn(&str) -> Option<f64>;

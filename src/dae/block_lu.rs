@@ -30,9 +30,7 @@
 //! assert!((b[0] - 1.0).abs() < 1e-15 && (b[1] - 2.0).abs() < 1e-15);
 //! ```
 
-/// Largest growth of the pivot ratio over the planned one before the pivot order is
-/// re-chosen at the current values.
-pub const REPLAN_GROWTH: f64 = 2.0;
+use crate::thresholds::REPLAN_GROWTH;
 
 /// The matrix has a zero (or non-finite) pivot even with a fresh pivot order.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]

@@ -13,9 +13,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
 use nalgebra::DMatrix;
 
-/// Lanczos steps on `A` for the first, rough `λ_max` of [`SparseGram::extreme_eigenvalues`]
-/// (its Ritz value is a lower bound; the shift that follows need only exceed `λ_max`).
-pub const ROUGH_STEPS: usize = 20;
+use crate::thresholds::ROUGH_STEPS;
 
 /// `A = G W Gᵀ` in sparse form with its Cholesky factor.
 pub struct SparseGram {

@@ -17,6 +17,7 @@ use nalgebra::{DMatrix, DVector};
 use super::gram::SparseGram;
 use super::mechanics::MechanicsTapes;
 use crate::mech::{ConstraintRow, MultibodySystem};
+use crate::thresholds::{RANK_TOL, SPARSE_START_CONDITION, SPARSE_START_UNKNOWNS};
 
 /// A state that satisfies the position, velocity and acceleration constraints.
 #[derive(Clone, Debug, PartialEq)]
@@ -162,9 +163,6 @@ fn scale_spread(sys: &MultibodySystem, gv: &DMatrix<f64>) -> String {
     ));
     text
 }
-
-/// Relative threshold below which a singular value counts as zero.
-const RANK_TOL: f64 = 1e-9;
 
 fn pinv_apply(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize) {
     if a.nrows() == 0 || a.ncols() == 0 {
@@ -581,15 +579,6 @@ pub(crate) fn dynamics_system(
         }
     }
 }
-
-/// Size `nv + nc` from which the velocity and acceleration steps use sparse Cholesky
-/// factorisations instead of dense SVDs (below it the SVDs cost little and keep every small
-/// scene's start bit for bit as it was).
-pub const SPARSE_START_UNKNOWNS: usize = 200;
-
-/// Largest `κ(G_v G_vᵀ)` (estimated) for which the sparse path trusts `G_v` to have full row
-/// rank; beyond it the SVD decides the rank (redundant joints).
-const SPARSE_START_CONDITION: f64 = 1e12;
 
 /// `Err(NonFinite)` naming `what` at `t` unless every value is finite.
 fn finite_at(t: f64, values: impl IntoIterator<Item = f64>, what: &str) -> Result<(), InitError> {

@@ -19,7 +19,7 @@
 //! compressed sparse columns: its term is [`SPARSE_BYTES_PER_UNKNOWN`] per unknown (entries,
 //! their row indices and the LU factors' fill), linear in the size instead of quadratic. The
 //! consistent start of a large mechanism takes sparse Cholesky factorisations when its joints
-//! have full rank ([`crate::dae::init::SPARSE_START_UNKNOWNS`]), but falls back to the dense
+//! have full rank ([`crate::thresholds::SPARSE_START_UNKNOWNS`]), but falls back to the dense
 //! SVD with redundant joints, which the scene does not tell; the estimate keeps that dense
 //! fallback, so it then bounds the size accepted: for planar chains
 //! (`nv + nc = 5 N`, `n = 10 N`) its `4 (nv + nc)²` equals the dense Newton matrix's `n²`, for

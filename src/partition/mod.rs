@@ -23,7 +23,7 @@ pub mod grip;
 pub mod redundancy;
 pub mod select;
 pub mod singular;
-pub mod thresholds;
+pub use crate::thresholds;
 
 pub use condition::{
     block_condition_bound, dependent_condition, dependent_condition_bound,

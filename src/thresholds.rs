@@ -1,5 +1,6 @@
-//! Every threshold that decides a partition, a re-selection, a hand-over, a singular passage or
-//! the energy invariant, each with the reason for its value; and [`PartitionPolicy`], the one
+//! Every threshold that decides a partition, a re-selection, a hand-over, a singular passage,
+//! the energy invariant or a rank under them (the initial projection's, the block LU's), each
+//! with the reason for its value; and [`PartitionPolicy`], the one
 //! place the runners and `linearize` ask (`equilibrium` chooses no partition: it solves
 //! every joint row for `q` and `λ`) (the comparisons are the ones the
 //! runners made themselves, in the same order, so the numbers are unchanged).
@@ -36,7 +37,7 @@ pub const DAE_HANDOVER_RISE: f64 = 10.0;
 pub const DAE_HANDOVER_CONDITION: f64 = 1e3;
 
 /// How much better a fresh set of independent joint rows must hold the rank
-/// ([`redundant_row_grip`](super::redundant_row_grip)) than the running one for a restart with it: the grip of the rows
+/// ([`redundant_row_grip`](crate::partition::redundant_row_grip)) than the running one for a restart with it: the grip of the rows
 /// left out falls like `|sin φ|` as the self-stress turns away from them, and a fresh set is
 /// taken while the running one still holds a quarter of it.
 pub const REDUNDANT_ROWS_GAIN: f64 = 4.0;
@@ -199,7 +200,7 @@ pub const MAX_SWITCHINGS_PER_OUTPUT: u32 = 50;
 // ---- The partitioned Newton's branch test ----
 
 /// Largest Newton correction after the tangent predictor, as a fraction of the prediction,
-/// that a right-hand side accepts (see [`PartitionError::Branch`](super::PartitionError::Branch)).
+/// that a right-hand side accepts (see [`PartitionError::Branch`](crate::partition::PartitionError::Branch)).
 pub const BRANCH_FRACTION: f64 = 0.5;
 
 // ---- The joints' conditioning (singular configurations) and its sparse path ----
@@ -210,8 +211,8 @@ pub const NEAR_NULL_RATIO: f64 = 100.0;
 /// Share of an eigenvector's largest entry above which a row counts as involved.
 pub const INVOLVED_SHARE: f64 = 0.05;
 
-/// Joint rows from which [`joint_condition_number`](super::joint_condition_number) takes the sparse path
-/// ([`sparse_joint_condition_number`](super::sparse_joint_condition_number)); below it the dense eigenvalues cost little. Measured
+/// Joint rows from which [`joint_condition_number`](crate::partition::joint_condition_number) takes the sparse path
+/// ([`sparse_joint_condition_number`](crate::partition::sparse_joint_condition_number)); below it the dense eigenvalues cost little. Measured
 /// on four-bar chains (`cargo bench --bench sparse`, `BONDMECH_SPARSE_BENCH=monitor`): the
 /// sparse path breaks even between 32 and 50 rows, is 1.4× cheaper at 62 and 5× at 242.
 pub const SPARSE_CONDITION_ROWS: usize = 60;
@@ -225,7 +226,7 @@ pub const SPARSE_CONDITION_ITERATIONS: usize = 200;
 
 // ---- The dependent block's grip at scale (sparse path) ----
 
-/// Joint rows from which [`JointRows`](super::JointRows) reads `G_v` by its non-zeros and measures the dependent
+/// Joint rows from which [`JointRows`](crate::partition::JointRows) reads `G_v` by its non-zeros and measures the dependent
 /// block's grip by sparse Cholesky factors and Lanczos iterations (linear in the size of a
 /// chain) instead of dense singular values (cubic): the size from which the joints' condition
 /// monitor takes its sparse path ([`SPARSE_CONDITION_ROWS`]). Measured
@@ -255,7 +256,7 @@ pub const SPARSE_GRIP_TOP_TOL: f64 = 1e-2;
 pub const SPARSE_GRIP_TOP_STEPS: usize = 16;
 
 /// Lanczos steps for `λ_max(G_v G_vᵀ)` from the previous output's Ritz vector
-/// ([`JointRows::with_hints`](super::JointRows::with_hints)): the Krylov space holds that vector, so the Ritz value is at
+/// ([`JointRows::with_hints`](crate::partition::JointRows::with_hints)): the Krylov space holds that vector, so the Ritz value is at
 /// least its Rayleigh quotient at the new state — as close to the top as the last estimate
 /// was where the motion between outputs is smooth — and the steps refine it. On the N-link
 /// pendulum the 16 cold steps at every output were 6 % of the run at N = 128.
@@ -456,3 +457,45 @@ pub const COMPLETION_TOLERANCE: f64 = 1e-15;
 /// Speeds and accelerations (in the scene's units) below which a mechanism counts as at rest at
 /// the start, where the energy invariant's multiplier has no grip (`dE/dμ` vanishes at rest).
 pub const AT_REST: f64 = 1e-12;
+
+// ---- The causality's numeric rank (`bond/rank.rs`): which inertias the junction structure makes dependent ----
+
+/// Entries below `CAUSALITY_RANK_TOLERANCE × (largest entry of the matrix)` count as zero in
+/// the causality's elimination of the flow constraints on the inertia flows (`bond/rank.rs`):
+/// it decides which inertias get differential causality at a configuration (what `graph
+/// --causality` draws, the partition every solver starts from). The constraint rows' entries
+/// are ±1 and the transformers' moduli (lever arms of order one): a modulus that vanishes at a
+/// dead centre falls below 1e-9 only within ~1e-9 rad of it, where any partition but one
+/// through the vanishing column is as good; rounding in the eliminated rows stays near 1e-15.
+pub const CAUSALITY_RANK_TOLERANCE: f64 = 1e-9;
+
+// ---- The initial projection and the block LU (`dae/`): rank tests that decide which rows and pivots are kept ----
+
+/// Relative threshold below which a singular value counts as zero in the initial projection's
+/// rank tests (`dae/init.rs`): `σ ≤ RANK_TOL · σ_max`. Double precision tells apart about
+/// 1e-16 relative; a joint Jacobian assembled from lengths and angles of order one carries
+/// rounding of some 1e-14 in its smallest singular values at a regular configuration, so 1e-9
+/// leaves five orders of margin below a regular rank while a redundant joint's row (exactly
+/// dependent, rounded) falls well under it.
+pub const RANK_TOL: f64 = 1e-9;
+
+/// Size `nv + nc` from which the initial projection's velocity and acceleration steps use
+/// sparse Cholesky factorisations instead of dense SVDs (below it the SVDs cost little and
+/// keep every small scene's start bit for bit as it was).
+pub const SPARSE_START_UNKNOWNS: usize = 200;
+
+/// Largest `κ(G_v G_vᵀ)` (estimated) for which the initial projection's sparse path trusts
+/// `G_v` to have full row rank; beyond it the SVD decides the rank (redundant joints). The
+/// Cholesky of `G_v G_vᵀ` loses `log10 κ` digits: at 1e12 four remain, enough for a start
+/// projected again by IDA's own consistent initialisation.
+pub const SPARSE_START_CONDITION: f64 = 1e12;
+
+/// Largest growth of the block LU's pivot ratio (`dae/block_lu.rs`) over the planned one
+/// before the pivot order is re-chosen at the current values: a factor two leaves the planned
+/// order within one bit of the best one's stability, and re-planning costs a symbolic pass.
+pub const REPLAN_GROWTH: f64 = 2.0;
+
+/// Lanczos steps on `A` for the first, rough `λ_max` of the sparse Gram matrix's extreme
+/// eigenvalues (`dae/gram.rs`; its Ritz value is a lower bound; the shift that follows need only
+/// exceed `λ_max`).
+pub const ROUGH_STEPS: usize = 20;
