@@ -1,5 +1,6 @@
 //! DAE against decoupled twin, side by side.
 
+use crate::solve::formulation::shared::joints_in_words;
 use serde::Serialize;
 
 use crate::solve::{Solution, Summary};
@@ -406,7 +407,7 @@ impl Comparison {
                 "singular passage at t = {:.6}: κ(G M⁻¹ Gᵀ) = {:.1e}, joints [{}]; {how}\n",
                 p.t,
                 p.condition,
-                p.joints.join(", "),
+                joints_in_words(&p.joints),
             ));
         }
         let v = &self.verdict;

@@ -90,3 +90,42 @@ impl<'a, 'b> JobStart<'a, 'b> {
         }
     }
 }
+
+/// The joints a warning names, in words a reader can take in: every name up to
+/// [`LISTED_JOINTS`], else the first four, an ellipsis, the last two and how many there are
+/// (`pivot0, pivot1, pivot2, pivot3, …, left39, right39 (121 joints)`); the run's JSON keeps
+/// the whole list (`singular_passages[].joints`).
+///
+/// ```text
+/// [a, b]                      → "a, b"
+/// [j0, j1, …, j120] (121)     → "j0, j1, j2, j3, …, j119, j120 (121 joints)"
+/// ```
+pub(crate) fn joints_in_words(names: &[String]) -> String {
+    if names.len() <= LISTED_JOINTS {
+        return names.join(", ");
+    }
+    let n = names.len();
+    format!(
+        "{}, …, {} ({n} joints)",
+        names[..4].join(", "),
+        names[n - 2..].join(", ")
+    )
+}
+
+/// The most joints a warning lists by name ([`joints_in_words`]).
+pub(crate) const LISTED_JOINTS: usize = 8;
+
+#[cfg(test)]
+mod tests {
+    use super::joints_in_words;
+
+    #[test]
+    fn a_warning_about_121_joints_names_six_and_counts_them() {
+        let names: Vec<String> = (0..121).map(|i| format!("j{i}")).collect();
+        assert_eq!(
+            joints_in_words(&names),
+            "j0, j1, j2, j3, …, j119, j120 (121 joints)"
+        );
+        assert_eq!(joints_in_words(&names[..8]), names[..8].join(", "));
+    }
+}

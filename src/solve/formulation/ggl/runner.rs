@@ -11,6 +11,7 @@
 //! (ε = `1e-10 / m_ref` unless given) and a [`SingularPassage`] is recorded (time, joints, κ).
 //! Joints redundant everywhere use the compliant GGL from the start.
 
+use crate::solve::formulation::shared::joints_in_words;
 use std::sync::Arc;
 
 use nalgebra::DMatrix;
@@ -298,7 +299,7 @@ impl Ggl {
         let joints = if PartitionPolicy::names_singular(c.condition) {
             format!(
                 "near a singular configuration of the joints [{}] (κ(G_v M⁺ G_vᵀ) = {:.1e})",
-                c.joints.join(", "),
+                joints_in_words(&c.joints),
                 c.condition
             )
         } else {
@@ -410,7 +411,7 @@ impl<'a> Formulation<'a> for Ggl {
         self.compliant_since = Some(tr);
         summary.warnings.push(format!(
             "singular configuration at t = {tf:.6}: joints [{}] lose independence (κ = {:.1e}, {name}); continued with the compliant GGL (ε = {eps_switch:.1e}) from t = {tr}",
-            c.joints.join(", "),
+            joints_in_words(&c.joints),
             c.condition
         ));
         (summary.singular_passages).push(SingularPassage::begun(tf, c, tr, name));
@@ -450,7 +451,7 @@ impl<'a> Formulation<'a> for Ggl {
                     summary.warnings.push(format!(
                         "singular configuration at t = {:.6}: joints [{}] lose independence (κ peak {:.1e}); carried through by the compliant GGL (ε = {:.1e})",
                         p.t,
-                        p.joints.join(", "),
+                        joints_in_words(&p.joints),
                         p.condition,
                         eps
                     ));

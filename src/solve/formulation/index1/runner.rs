@@ -20,6 +20,7 @@
 //! GGL only where no regular dependent block exists (the joints approach a singular
 //! configuration); `index1` then stops with the block, the joints and the time named.
 
+use crate::solve::formulation::shared::joints_in_words;
 use std::sync::Arc;
 
 use cpu_time::ThreadTime;
@@ -197,7 +198,7 @@ pub(crate) fn starts_singular(
     }
     summary.warnings.push(format!(
         "{formulation}: the joints [{}] lose rank at t = {t0} but regain it as the mechanism moves: a singular configuration, not redundant joints",
-        init.redundant_joints.join(", ")
+        joints_in_words(&init.redundant_joints)
     ));
     true
 }
@@ -217,9 +218,9 @@ pub(crate) fn redundant_rows_warning(
         .collect();
     format!(
         "{formulation}: the joint rows [{}] are redundant at t = {t0} (a combination of the others); the motion is solved from the other {} rows, and the reactions of joints [{}] are not unique: those reported take the redundant rows' forces as zero",
-        left.join(", "),
+        joints_in_words(&left),
         kept.len(),
-        init.redundant_joints.join(", ")
+        joints_in_words(&init.redundant_joints)
     )
 }
 
@@ -749,7 +750,7 @@ impl<'a> Formulation<'a> for Index1<'a> {
                 t: t_start,
                 what: format!(
                     "joints [{}] lose rank (κ = {:.1e}): no set of dependent velocities exists; use the ggl formulation",
-                    c.joints.join(", "),
+                    joints_in_words(&c.joints),
                     c.condition
                 ),
             })

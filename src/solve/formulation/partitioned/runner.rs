@@ -8,6 +8,7 @@
 //! `select`) are root functions: at a zero the segment is integrated again to it with the old
 //! modes and restarted with the new ones.
 
+use crate::solve::formulation::shared::joints_in_words;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -283,7 +284,7 @@ impl<'a> Partitioned<'a> {
         let cond = joint_conditioning(&gv, &self.sys.mass, &self.sys.rows);
         summary.warnings.push(format!(
             "partitioned: no well-conditioned partition at t = {t_start:.6} (joints [{}], κ = {:.1e}); the compliant GGL (ε = {eps:.1e}) carries the passage",
-            cond.joints.join(", "),
+            joints_in_words(&cond.joints),
             cond.condition
         ));
         let failure = "no well-conditioned partition".to_string();
@@ -688,7 +689,7 @@ pub(crate) fn job<'a>(start: JobStart<'a, '_>, summary: &mut Summary) -> Job<'a>
             summary.formulation = "compliant_ggl".into();
             summary.warnings.push(format!(
                 "partitioned: redundant joints [{}] with no regular set of independent rows at t = {t0}; solved with the compliant GGL",
-                init.redundant_joints.join(", ")
+                joints_in_words(&init.redundant_joints)
             ));
             return crate::solve::formulation::ggl::runner::job(
                 sys,

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::partition::thresholds::HANDOVER_LOOK_GROWTH;
+use crate::solve::formulation::shared::joints_in_words;
 
 impl<'a> Index1<'a> {
     /// Restarts the run at `t` (state `x = [q, v]`) with a fresh choice, and says so in the
@@ -504,7 +505,7 @@ impl<'a> Index1<'a> {
         let joints = if PartitionPolicy::names_singular(c.condition) {
             format!(
                 "the joints [{}] are near a singular configuration (κ(G_v M⁺ G_vᵀ) = {:.1e}): the dae and ggl formulations pass singular configurations",
-                c.joints.join(", "),
+                joints_in_words(&c.joints),
                 c.condition
             )
         } else {
