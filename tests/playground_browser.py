@@ -816,6 +816,9 @@ def main():
             "var s = document.querySelector('#graph svg'); var t = Array.from(s.querySelectorAll('text')).slice(0, 20)"
             ".map(x => x.getBoundingClientRect().height).filter(h => h > 0); return t.length ? Math.min.apply(null, t) : 0")
         check(graph_box >= 6, f"the chain's bond graph opens at a readable size (labels {graph_box:.1f} px high)")
+        nodes = driver.execute_script("return document.querySelectorAll('#graph svg g.node').length")
+        check(driver.find_element(By.ID, "graph-collapse").is_selected() and 0 < nodes <= 2 * 100 + 10,
+              f"the chain's bond graph is collapsed, one node per body and joint ({nodes} nodes)")
         shot(driver, "chain_100")
 
         # ---- a narrow window: the panels stack, the animation is wide, its text readable

@@ -202,6 +202,7 @@ pub fn document() -> Value {
             "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
                 query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
                 query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),
+                query("collapse", "One node per body or joint (true) or every element (false); default: collapsed above 200 elements.", json!({"type": "boolean"})),
             ], json!({
                 "description": "The drawing or the report.",
                 "content": {

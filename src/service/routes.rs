@@ -681,7 +681,7 @@ async fn compare_ndjson(
     stream_response(started_rx, rx).await
 }
 
-/// `POST /v1/graph?format=dot|svg|causality&decoupled=false`.
+/// `POST /v1/graph?format=dot|svg|causality&decoupled=false&collapse=true|false`.
 pub async fn graph(
     State(app): State<Arc<App>>,
     RawQuery(q): RawQuery,
@@ -699,9 +699,11 @@ async fn graph_inner(
     body: Body,
 ) -> Result<Response, Problem> {
     not_shutting_down(app)?;
-    let params = Params::parse(q.as_deref(), &["format", "decoupled"])?;
+    let params = Params::parse(q.as_deref(), &["format", "decoupled", "collapse"])?;
     let format = params.choice("format", &["dot", "svg", "causality"])?;
     let decoupled = params.flag("decoupled")?.unwrap_or(false);
+    // one node per body or joint (`true`), every element (`false`), or by the graph's size
+    let collapse = params.flag("collapse")?;
     let scene = scene_from(app, headers, body).await?;
     let slot = app.pool.acquire_for(0.0).await?;
     let limits = app.limits.clone();
@@ -716,16 +718,20 @@ async fn graph_inner(
         let g = model
             .scene_graph(variant)
             .map_err(|e| library_problem(&e, budget))?;
+        let dot = match collapse {
+            Some(c) => g.dot_with(c),
+            None => g.dot(),
+        };
         Ok(match format {
             "causality" => {
                 let text = serde_json::to_string_pretty(&g.report()).unwrap_or_default() + "\n";
                 with_type(text, JSON)
             }
             "svg" => with_type(
-                super::svg::render(&g.dot(), budget.duration())?,
+                super::svg::render(&dot, budget.duration())?,
                 "image/svg+xml",
             ),
-            _ => with_type(g.dot(), "text/vnd.graphviz; charset=utf-8"),
+            _ => with_type(dot, "text/vnd.graphviz; charset=utf-8"),
         })
     });
     join(job).await

@@ -400,9 +400,10 @@
     hideError();
     return state.controller.signal;
   }
-  function current(signal) { return state.controller && state.controller.signal === signal; }
+  // whether the work of `signal` is still the page's (work started without one always is)
+  function current(signal) { return signal === undefined || !!(state.controller && state.controller.signal === signal); }
   function end(signal) {
-    if (current(signal)) {
+    if (state.controller && state.controller.signal === signal) {
       state.controller = null;
       cancelButton.disabled = true;
     }
@@ -444,6 +445,7 @@
     state.run = null;
     state.twin = null;
     state.zoom = null;
+    collapseSet = false;
     stopMode();
     hideError();
     clear(summary);
@@ -1282,7 +1284,8 @@
       tr.dataset.mode = String(i);
       tr.appendChild(el('td', String(i + 1)));
       tr.appendChild(el('td', num(m.frequency_hz, 4), 'frequency'));
-      tr.appendChild(el('td', m.damping_ratio === null ? '—' : num(m.damping_ratio, 3)));
+      // a damping ratio at rounding level (an undamped mode's 1e-16) reads as 0
+      tr.appendChild(el('td', m.damping_ratio === null ? '—' : Math.abs(m.damping_ratio) < 1e-12 ? '0' : num(m.damping_ratio, 3)));
       var shape = lm.states.slice(0, ndisp).filter(function (s) { return m.shape[s]; }).map(function (s) {
         var c = m.shape[s], mag = Math.hypot(c[0], c[1]), sign = c[0] < 0 ? -1 : 1;
         return s + ' ' + num(sign * mag, 3);
@@ -1464,10 +1467,14 @@
 
   // ---------------------------------------------------------------- bond graph, zoom and pan
   var view = null; // {x, y, w, h, base}
+  // many bodies: one node per body (and per joint) unless asked otherwise
+  var collapseBox = $('graph-collapse'), collapseSet = false;
   function loadGraph(body, signal) {
     hint(graph, 'drawing the bond graph…');
     view = null;
-    return post('/v1/graph?format=svg', body, signal).then(function (r) {
+    var doc = sceneDoc();
+    if (!collapseSet) collapseBox.checked = !!(doc && Array.isArray(doc.bodies) && doc.bodies.length > 12);
+    return post('/v1/graph?format=svg&collapse=' + (collapseBox.checked ? 'true' : 'false'), body, signal).then(function (r) {
       if (!current(signal)) return null;
       if (!r.ok) return readProblem(r).then(function (p) { if (current(signal)) hint(graph, 'no bond graph: ' + problemText(p)); });
       return r.text().then(function (text) {
@@ -1527,6 +1534,10 @@
   function endDrag() { drag = null; graph.classList.remove('dragging'); }
   graph.addEventListener('pointerup', endDrag);
   graph.addEventListener('pointercancel', endDrag);
+  collapseBox.addEventListener('change', function () {
+    collapseSet = true;
+    if (state.run && state.run.source === editor.value) loadGraph(editor.value, state.controller ? state.controller.signal : undefined);
+  });
   $('graph-zoom-in').addEventListener('click', function () { zoom(1 / 1.4); });
   $('graph-zoom-out').addEventListener('click', function () { zoom(1.4); });
   $('graph-reset').addEventListener('click', function () {
