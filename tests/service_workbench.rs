@@ -23,8 +23,12 @@ fn tmp(name: &str) -> std::path::PathBuf {
 /// The command line's animation of the rows `bondmech run` wrote for `scene` (with `flags`),
 /// drawn by `animate --csv` (no solve).
 fn cli_animation_of_csv(scene: &str, flags: &[&str], ext: &str) -> String {
-    let csv = tmp(&format!("{scene}{}.csv", flags.join("")));
-    let out = tmp(&format!("{scene}{}.{ext}", flags.join("")));
+    let stem: String = format!("{scene}{}", flags.join(""))
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let csv = tmp(&format!("{stem}.csv"));
+    let out = tmp(&format!("{stem}.{ext}"));
     let mut args = vec!["run", scene, "--out"];
     let csv_s = csv.display().to_string();
     args.push(&csv_s);
@@ -64,7 +68,14 @@ fn a_streamed_run_draws_its_animation_from_its_own_rows() {
     let svg = anim["svg"].as_str().unwrap();
     let reference = cli_animation_of_csv(&path, &[], "svg");
     assert_eq!(svg, reference, "the run's animation is the CLI's of the run's CSV");
-    assert_eq!(svg.matches("class=\"body\"").count(), 2, "two bodies drawn");
+    let bodies: std::collections::BTreeSet<&str> = svg
+        .match_indices("data-body=\"")
+        .map(|(i, m)| {
+            let rest = &svg[i + m.len()..];
+            &rest[..rest.find('"').unwrap()]
+        })
+        .collect();
+    assert_eq!(bodies.len(), 2, "two bodies drawn ({bodies:?})");
     // one solve, not two
     let after = get(server.addr(), "/metrics").text();
     let solves_after = metric(&after, "bondmech_solve_seconds_count").unwrap_or(0.0);

@@ -646,6 +646,12 @@ async fn compare_ndjson(
                 metrics.cancelled();
                 return Ok(());
             }
+            if k % every != 0 {
+                send_line(
+                    &tx,
+                    &serde_json::json!({"progress": {"solve": name, "rows": k, "of": n}}),
+                );
+            }
             match r {
                 Ok(_) if shutdown.load(Ordering::SeqCst) => {
                     fail(
