@@ -566,9 +566,11 @@
   }
   // The run's own panels: summary, plot, the animation drawn from the run's rows.
   function runPanels(body, signal, doc) {
-    var kind = animateKind(doc);
+    var kind = animateKind(doc), t0 = performance.now();
     return streamRun(body, signal, kind).then(function (run) {
       if (!current(signal)) return run;
+      // the page's own clock of the phases (read by the browser test)
+      document.body.dataset.streamMs = String(Math.round(performance.now() - t0));
       run.source = body;
       state.run = run;
       showSummary(run);
@@ -580,6 +582,7 @@
         else if (!run.animation) hint(animation, 'no animation: the service sent none');
         else if (run.animation.error) hint(animation, 'no animation: ' + problemText(run.animation.error));
         else showAnimation(run.animation);
+        document.body.dataset.animationMs = String(Math.round(performance.now() - t0));
       }
       return run;
     });
