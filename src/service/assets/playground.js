@@ -301,7 +301,7 @@
   }
   var lastValidation = { valid: true, errors: [] };
   function showProblems(v, text) {
-    if (v) lastValidation = v;
+    if (v) { lastValidation = v; v.text = text; }
     v = lastValidation;
     text = text === undefined ? editor.value : text;
     clear(problems);
@@ -380,7 +380,26 @@
   function flagParameter(p) {
     if (p && (p.parameter === 'rtol' || p.parameter === 't_end')) setField(p.parameter, p.detail || problemText(p));
   }
+  // Broken JSON is not sent: the page says where it breaks (the validation's message, or the
+  // browser's parser's position as a line and column).
+  function jsonOk() {
+    var text = editor.value;
+    try { JSON.parse(text); return true; } catch (e) {
+      var v = lastValidation, msg;
+      if (v && v.text === text && v.line !== undefined) {
+        msg = (v.errors || []).map(function (x) { return x.message; }).join('; ') + ' (line ' + v.line + ', column ' + v.column + ')';
+      } else {
+        var m = /position (\d+)/.exec(e.message), lc = m ? lineCol(text, +m[1]) : null;
+        msg = e.message + (lc ? ' (line ' + lc.line + ', column ' + lc.column + ')' : '');
+      }
+      showError('the scene is not valid JSON: ' + msg);
+      setStatus('not run: the scene is not valid JSON');
+      document.body.dataset.state = 'failed';
+      return false;
+    }
+  }
   function fieldsOk() {
+    if (!jsonOk()) return false;
     var bad = Object.keys(state.fields).filter(function (k) { return state.fields[k]; });
     if (bad.length) {
       showError(bad.map(function (k) { return state.fields[k]; }).join('\n'));
@@ -1166,6 +1185,7 @@
 
   // ---------------------------------------------------------------- equilibrium
   function doEquilibrium() {
+    if (!jsonOk()) return Promise.resolve();
     var signal = begin('equilibrium'), body = editor.value, doc = sceneDoc();
     setStatus('finding the equilibrium…');
     document.body.dataset.state = 'analysing';
@@ -1180,6 +1200,7 @@
     }).catch(function (e) { failed(e, signal); }).then(function () { end(signal); });
   }
   function showEquilibrium(eq, doc) {
+    stopMode();
     clear(eqResult);
     if (eq.problem) {
       eqResult.appendChild(el('p', 'no equilibrium: ' + problemText(eq.problem), 'unstable'));
@@ -1241,6 +1262,7 @@
     return { doc: d, input: name, body: d.bodies[0].name };
   }
   function doLinearize() {
+    if (!jsonOk()) return Promise.resolve();
     var signal = begin('linearize'), body = editor.value, doc = sceneDoc();
     setStatus('linearizing…');
     document.body.dataset.state = 'analysing';
@@ -1405,12 +1427,14 @@
     var freqs = (modal && !modal.problem ? modal.modes : lm.modes).map(function (m) { return m.frequency_hz; }).filter(function (f) { return f > 0 && isFinite(f); });
     var lo = freqs.length ? Math.pow(10, Math.floor(Math.log10(Math.min.apply(null, freqs))) - 1) : 0.01;
     var hi = freqs.length ? Math.pow(10, Math.ceil(Math.log10(Math.max.apply(null, freqs))) + 1) : 100;
-    var decades = Math.log10(hi / lo), N = Math.round(150 * decades);
+    var decades = Math.log10(hi / lo), N = Math.round(150 * decades), EPS = 1e-3;
     var series = [];
     outRows.forEach(function (i) { for (var u = 0; u < nu; u++) series.push({ out: i, inp: u, pts: [] }); });
     for (var s = 0; s <= N; s++) {
       var f = lo * Math.pow(10, decades * s / N), w = 2 * Math.PI * f;
-      var Mr = lm.A.map(function (r) { return r.map(function (a) { return -a; }); });
+      // s = (ε + i)·2πf, ε = 1e-3: a hair right of the imaginary axis, so that an undamped
+      // resonance is a finite peak and the phase turns the way a little damping turns it
+      var Mr = lm.A.map(function (r, i) { return r.map(function (a, j) { return (i === j ? EPS * w : 0) - a; }); });
       var Mi = lm.A.map(function (r, i) { return r.map(function (a, j) { return i === j ? w : 0; }); });
       var cols = [];
       for (var u = 0; u < nu; u++) {
@@ -1433,6 +1457,7 @@
     var svg = svgEl('svg', { viewBox: '0 0 ' + W + ' ' + H, role: 'img', 'font-size': 12, 'aria-label': 'Bode plot', 'class': 'bode' });
     var inputName = added ? 'torque ' + added.input + ' on ' + added.body + ' (N·m, added for this plot)' : lm.inputs.join(', ');
     svg.appendChild(svgEl('text', { x: L, y: 14, fill: '#223' }, 'Bode plot: input ' + inputName));
+    svg.appendChild(svgEl('text', { x: W - R + 10, y: T + 2 * PH + GAP - 4, fill: '#778', 'font-size': 10 }, 'at s = (0.001 + i)·2πf'));
     [['magnitude (dB)', 1], ['phase (deg)', 2]].forEach(function (spec, p) {
       var top = T + p * (PH + GAP), k = spec[1], ymin = Infinity, ymax = -Infinity;
       series.forEach(function (sr) { sr.pts.forEach(function (q) { ymin = Math.min(ymin, q[k]); ymax = Math.max(ymax, q[k]); }); });
@@ -1451,7 +1476,7 @@
       }
       freqs.forEach(function (f) {
         svg.appendChild(svgEl('line', { x1: X(f), x2: X(f), y1: top, y2: top + PH, stroke: '#e6007e', 'stroke-dasharray': '4 3', 'class': 'mode-mark', 'data-frequency': f }));
-        if (p === 0) svg.appendChild(svgEl('text', { x: X(f) + 3, y: top + 12, fill: '#e6007e', 'font-size': 11 }, num(f, 3) + ' Hz'));
+        if (p === 0) svg.appendChild(svgEl('text', { x: X(f) + 3, y: top + 12 + 12 * (freqs.indexOf(f) % 2), fill: '#e6007e', 'font-size': 11 }, num(f, 3) + ' Hz'));
       });
       svg.appendChild(svgEl('text', { x: 14, y: top + PH / 2, 'text-anchor': 'middle', fill: '#223', transform: 'rotate(-90 14 ' + (top + PH / 2) + ')', 'class': 'axis-label' }, spec[0]));
       series.forEach(function (sr, j) {
