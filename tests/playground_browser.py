@@ -655,6 +655,10 @@ def main():
         check(body_text.count(detail) == 1, f"the failure's message is shown once ({body_text.count(detail)} times: {detail[:60]})")
         set_editor(driver, json.dumps(failing, indent=1))
         check(not driver.find_element(By.ID, "run-error").is_displayed(), "the next edit clears the failure")
+        stale = driver.find_elements(By.ID, "stale-note")
+        summary_now = driver.find_element(By.ID, "summary").text
+        check(stale and stale[0].is_displayed() and "failed: " not in summary_now,
+              f"…and the results on show say they are of the scene before the edit ({summary_now.splitlines()[:2]})")
         errors = console_errors(driver)
         check(not errors, f"no console errors {errors}")
 

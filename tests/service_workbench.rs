@@ -67,7 +67,10 @@ fn a_streamed_run_draws_its_animation_from_its_own_rows() {
     // the picture `bondmech animate --csv` draws from the rows `bondmech run` writes: the same
     let svg = anim["svg"].as_str().unwrap();
     let reference = cli_animation_of_csv(&path, &[], "svg");
-    assert_eq!(svg, reference, "the run's animation is the CLI's of the run's CSV");
+    assert_eq!(
+        svg, reference,
+        "the run's animation is the CLI's of the run's CSV"
+    );
     let bodies: std::collections::BTreeSet<&str> = svg
         .match_indices("data-body=\"")
         .map(|(i, m)| {
@@ -127,10 +130,21 @@ fn a_spatial_run_sends_the_3d_view_of_its_rows_and_bad_animate_values_are_refuse
     assert!(detail.contains("no geometry"), "{detail}");
     // an unknown value is a 400 naming it; animate without ndjson is a 422 naming the format
     let scene = scene_text("pendulum.json");
-    let p = post(server.addr(), "/v1/run?format=ndjson&animate=gif", scene.as_bytes()).problem(400);
-    assert!(p["detail"].as_str().unwrap().contains("svg or view3d"), "{p}");
+    let p = post(
+        server.addr(),
+        "/v1/run?format=ndjson&animate=gif",
+        scene.as_bytes(),
+    )
+    .problem(400);
+    assert!(
+        p["detail"].as_str().unwrap().contains("svg or view3d"),
+        "{p}"
+    );
     let p = post(server.addr(), "/v1/run?animate=svg", scene.as_bytes()).problem(422);
-    assert!(p["detail"].as_str().unwrap().contains("format=ndjson"), "{p}");
+    assert!(
+        p["detail"].as_str().unwrap().contains("format=ndjson"),
+        "{p}"
+    );
     assert_eq!(p["parameter"], "animate");
     server.shutdown().unwrap();
 }
@@ -140,8 +154,11 @@ fn a_streamed_comparison_solves_each_once_with_progress_and_sends_the_twin() {
     let server = start(Config::default());
     let path = scene_path("four_bar.json");
     let scene = scene_text("four_bar.json");
-    let before = metric(&get(server.addr(), "/metrics").text(), "bondmech_solve_seconds_count")
-        .unwrap_or(0.0);
+    let before = metric(
+        &get(server.addr(), "/metrics").text(),
+        "bondmech_solve_seconds_count",
+    )
+    .unwrap_or(0.0);
     let r = post(
         server.addr(),
         "/v1/compare?format=ndjson&animate=svg&t_end=1",
@@ -162,24 +179,22 @@ fn a_streamed_comparison_solves_each_once_with_progress_and_sends_the_twin() {
             )
         })
         .collect();
-    let (_, cli_csv_twin, _) = cli(&[
-        "run",
-        &path,
-        "--t-end",
-        "1",
-        "--formulation",
-        "decoupled",
-    ]);
+    let (_, cli_csv_twin, _) = cli(&["run", &path, "--t-end", "1", "--formulation", "decoupled"]);
     let (header, twin_rows) = parse_csv(&cli_csv_twin);
     let n = twin_rows.len() as u64;
     assert!(progress.iter().any(|p| p.0 == "dae" && p.1 == 0));
     assert!(progress.iter().any(|p| p.0 == "dae" && p.1 > 0 && p.1 < n));
     assert!(progress.iter().any(|p| p.0 == "twin" && p.1 == 0));
-    assert!(progress.iter().any(|p| p.0 == "twin" && p.1 == n && p.2 == n));
+    assert!(progress
+        .iter()
+        .any(|p| p.0 == "twin" && p.1 == n && p.2 == n));
     let first_twin = progress.iter().position(|p| p.0 == "twin").unwrap();
     assert!(progress[..first_twin].iter().all(|p| p.0 == "dae"));
     // the twin's rows: the command line's decoupled run, value for value
-    let twin = l.iter().find_map(|v| v.get("twin")).expect("the twin's run");
+    let twin = l
+        .iter()
+        .find_map(|v| v.get("twin"))
+        .expect("the twin's run");
     let cols: Vec<&str> = twin["columns"]
         .as_array()
         .unwrap()
@@ -196,8 +211,11 @@ fn a_streamed_comparison_solves_each_once_with_progress_and_sends_the_twin() {
         .as_str()
         .unwrap()
         .to_string();
-    let reference =
-        cli_animation_of_csv(&path, &["--t-end", "1", "--formulation", "decoupled"], "svg");
+    let reference = cli_animation_of_csv(
+        &path,
+        &["--t-end", "1", "--formulation", "decoupled"],
+        "svg",
+    );
     assert_eq!(svg, reference);
     // the verdict last, as `compare --json` gives it
     let cmp = &l.last().unwrap()["compare"];
@@ -205,16 +223,23 @@ fn a_streamed_comparison_solves_each_once_with_progress_and_sends_the_twin() {
     let cmp_s = cmp_file.display().to_string();
     let (ok, _, err) = cli(&["compare", &path, "--t-end", "1", "--json", &cmp_s]);
     assert!(ok, "{err}");
-    let cli_cmp: Value = serde_json::from_str(&std::fs::read_to_string(&cmp_file).unwrap()).unwrap();
+    let cli_cmp: Value =
+        serde_json::from_str(&std::fs::read_to_string(&cmp_file).unwrap()).unwrap();
     std::fs::remove_file(&cmp_file).ok();
-    assert_eq!(cmp["verdict"]["recommended"], cli_cmp["verdict"]["recommended"]);
+    assert_eq!(
+        cmp["verdict"]["recommended"],
+        cli_cmp["verdict"]["recommended"]
+    );
     assert_eq!(
         cmp["verdict"]["max_position_difference"],
         cli_cmp["verdict"]["max_position_difference"]
     );
     // two solves in all (the DAE and the twin)
-    let after = metric(&get(server.addr(), "/metrics").text(), "bondmech_solve_seconds_count")
-        .unwrap_or(0.0);
+    let after = metric(
+        &get(server.addr(), "/metrics").text(),
+        "bondmech_solve_seconds_count",
+    )
+    .unwrap_or(0.0);
     assert!(after - before <= 2.0, "{before} → {after}");
     // a raw bond graph has no twin: an ordinary error answer before any line
     let p = post(
@@ -223,6 +248,9 @@ fn a_streamed_comparison_solves_each_once_with_progress_and_sends_the_twin() {
         scene_text("bg_dc_motor.json").as_bytes(),
     )
     .problem(422);
-    assert!(p["detail"].as_str().unwrap().contains("decoupled twin"), "{p}");
+    assert!(
+        p["detail"].as_str().unwrap().contains("decoupled twin"),
+        "{p}"
+    );
     server.shutdown().unwrap();
 }

@@ -568,16 +568,17 @@ async fn compare_ndjson(
     let shutdown = app.stop_flags().shutdown;
     drop(app.pool.spawn(slot, move || {
         let mut started = Some(started_tx);
-        let fail = |p: Problem, started: &mut Option<oneshot::Sender<Result<(), Problem>>>| {
-            match started.take() {
+        let fail =
+            |p: Problem, started: &mut Option<oneshot::Sender<Result<(), Problem>>>| match started
+                .take()
+            {
                 Some(s) => {
                     let _ = s.send(Err(p));
                 }
                 None => {
                     send_line(&tx, &serde_json::json!({"error": p.to_json()}));
                 }
-            }
-        };
+            };
         let budget = Budget::of(&scene, &limits);
         let model = match Model::new(&scene) {
             Ok(m) => m,
@@ -655,7 +656,10 @@ async fn compare_ndjson(
             match r {
                 Ok(_) if shutdown.load(Ordering::SeqCst) => {
                     fail(
-                        Problem::unavailable("the server is shutting down: the comparison was stopped", 1),
+                        Problem::unavailable(
+                            "the server is shutting down: the comparison was stopped",
+                            1,
+                        ),
                         &mut started,
                     );
                     return Ok(());

@@ -286,11 +286,28 @@
       if (!edited.parentNode) picker.appendChild(edited);
       picker.value = '';
     }
-    // a failure shown for the text before this edit is no longer about the text on show
+    // a failure shown for the text before this edit is no longer about the text on show, and
+    // the results on show say they are of the text before the edits
     hideError();
+    markStale();
     if (editor.value.split('\n').length !== gutterLines) drawGutter();
     if (validateTimer) clearTimeout(validateTimer);
     validateTimer = setTimeout(validate, 120);
+  }
+  function markStale() {
+    var stale = !!(state.run && state.run.source !== undefined && state.run.source !== editor.value);
+    document.body.classList.toggle('stale', stale);
+    var note = $('stale-note');
+    if (stale && !note) {
+      note = el('p', 'these results are of the scene before your edits: run again', 'stale-note');
+      note.id = 'stale-note';
+      summary.parentNode.insertBefore(note, summary);
+      Array.prototype.forEach.call(summary.querySelectorAll('dd.warn'), function (d) {
+        if (/^failed/.test(d.textContent)) d.textContent = d.textContent.replace(/^failed/, 'the run before your edits failed');
+      });
+    } else if (!stale && note) {
+      note.parentNode.removeChild(note);
+    }
   }
   function validate() {
     var seq = ++state.validation, text = editor.value;
@@ -335,7 +352,7 @@
       }
       li.appendChild(document.createTextNode(e.message));
       if (e.place) {
-        li.appendChild(el('span', ' (line ' + e.place.line + ', column ' + e.place.column + ')', 'where'));
+        if (!/\bline \d+/.test(e.message)) li.appendChild(el('span', ' (line ' + e.place.line + ', column ' + e.place.column + ')', 'where'));
         li.dataset.line = String(e.place.line);
         var p = { line: e.place.line, column: e.place.column, start: e.place.start, end: e.place.end, text: (e.path ? e.path + ': ' : '') + e.message };
         state.problems.push(p);
@@ -465,6 +482,7 @@
     state.twin = null;
     state.zoom = null;
     collapseSet = false;
+    markStale();
     stopMode();
     hideError();
     clear(summary);
@@ -612,10 +630,15 @@
   function coordinateOf(s) {
     var m = /^(.*)\.(I_[A-Za-z]+)$/.exec(s);
     if (m && STATE_COORD[m[2]]) return m[1] + '.' + STATE_COORD[m[2]];
+    // a spatial body's rotational inertia about its own axis: the body turning about it
+    m = /^(.*)\.I_3_([xyz])$/.exec(s);
+    if (m) return m[1] + ' turning about its ' + m[2] + ' axis';
     return s;
   }
   function showSummary(run) {
     clear(summary);
+    document.body.classList.remove('stale');
+    if ($('stale-note')) $('stale-note').parentNode.removeChild($('stale-note'));
     var s = run.summary || {};
     function row(k, v, cls) {
       summary.appendChild(el('dt', k));
@@ -632,8 +655,11 @@
     }
     var coords = (s.states || []).map(coordinateOf);
     var dof = s.dof !== undefined ? s.dof : coords.length;
-    row('states', s.kinematic_analysis ? 'no degree of freedom left by the drivers: a kinematic analysis'
-      : dof + ' DOF' + (coords.length ? ': ' + coords.join(', ') : ''));
+    // many coordinates: the first few and the last, all of them in the tooltip
+    var listed = coords.length > 10 ? coords.slice(0, 6).concat(['…', coords[coords.length - 1]]) : coords;
+    var statesRow = row('states', s.kinematic_analysis ? 'no degree of freedom left by the drivers: a kinematic analysis'
+      : dof + ' DOF' + (coords.length ? ': ' + listed.join(', ') : ''));
+    if (listed !== coords) statesRow.title = coords.join(', ');
     row('formulation', s.formulation + (s.solver ? ', solved by ' + s.solver : '') + (s.linear_solver ? ' (' + s.linear_solver + ' linear solver)' : ''));
     row('steps', s.steps + ' steps, ' + s.nonlinear_iterations + ' Newton iterations');
     row('CPU', num(s.cpu_seconds * 1e3, 3) + ' ms');
@@ -676,8 +702,11 @@
     chosenColumns().forEach(function (n) { keep[n] = true; });
     clear(plotColumns);
     if (!run.columns) return;
-    var names = run.columns.slice(1);
-    names.forEach(function (n) { if (keep[n]) any = true; });
+    var names = run.columns.slice(1), have = {};
+    names.forEach(function (n) { have[n] = true; });
+    // the choice is kept for a run of the same columns (a scene re-run), else the defaults
+    var kept = Object.keys(keep);
+    any = kept.length > 0 && kept.every(function (n) { return have[n]; });
     var defaults = {};
     defaultColumns(names).forEach(function (n) { defaults[n] = true; });
     var frag = document.createDocumentFragment();
@@ -997,6 +1026,7 @@
     state.anim = null;
     presets.hidden = true;
     time.disabled = true; play.disabled = true; play.textContent = 'play';
+    time.value = time.min;
     readout.textContent = '';
     if (plotGeom) plotGeom.cursor.setAttribute('display', 'none');
   }
