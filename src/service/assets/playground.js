@@ -303,7 +303,7 @@
       note.id = 'stale-note';
       summary.parentNode.insertBefore(note, summary);
       Array.prototype.forEach.call(summary.querySelectorAll('dd.warn'), function (d) {
-        if (/^failed/.test(d.textContent)) d.textContent = d.textContent.replace(/^failed/, 'the run before your edits failed');
+        if (/^failed: /.test(d.textContent)) d.textContent = d.textContent.replace(/^failed: /, 'the run before your edits stopped: ');
       });
     } else if (!stale && note) {
       note.parentNode.removeChild(note);
