@@ -1549,8 +1549,8 @@
         graph.appendChild(svg);
         // a long, thin graph (a chain of many bodies): open on its first part at a readable size
         var r2 = graph.getBoundingClientRect(), aspect = vb[2] / vb[3], box = r2.width / Math.max(r2.height, 1);
-        if (aspect > 3 * box) { view.w = vb[3] * box * 1.2; view.h = vb[3] * 1.2; view.y = vb[1] - 0.1 * vb[3]; }
-        else if (1 / aspect > 3 / box) { view.h = vb[2] / box * 1.2; view.w = vb[2] * 1.2; view.x = vb[0] - 0.1 * vb[2]; }
+        if (aspect > 3 * box) { view.h = vb[3] * 2; view.w = view.h * box; view.y = vb[1] - 0.5 * vb[3]; }
+        else if (1 / aspect > 3 / box) { view.w = vb[2] * 2; view.h = view.w / box; view.x = vb[0] - 0.5 * vb[2]; }
         applyView();
       });
     });
