@@ -631,7 +631,7 @@
     var m = /^(.*)\.(I_[A-Za-z]+)$/.exec(s);
     if (m && STATE_COORD[m[2]]) return m[1] + '.' + STATE_COORD[m[2]];
     // a spatial body's rotational inertia about its own axis: the body turning about it
-    m = /^(.*)\.I_3_([xyz])$/.exec(s);
+    m = /^(.*)\.I_(?:3|J)_([xyz])$/.exec(s);
     if (m) return m[1] + ' turning about its ' + m[2] + ' axis';
     return s;
   }
@@ -740,7 +740,15 @@
     }
     return out;
   }
-  function tickLabel(v) { return (Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3)) ? v.toExponential(1) : String(+v.toPrecision(6)); }
+  // a tick's label with as many decimals as the spacing of the ticks needs (`step`)
+  function tickLabel(v, step) {
+    if (step > 0 && v !== 0) {
+      var decimals = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
+      if (Math.abs(v) < 1e4 && decimals <= 9 && (Math.abs(v) >= 1e-3 || decimals <= 4)) return v.toFixed(decimals);
+    }
+    return (Math.abs(v) >= 1e4 || (v !== 0 && Math.abs(v) < 1e-3)) ? v.toExponential(1) : String(+v.toPrecision(6));
+  }
+  function tickStep(list) { return list.length > 1 ? list[1] - list[0] : 0; }
   // the twin's value of column k at time t (its rows are at the same output times; else linear)
   function twinAt(rows, k, t, hintIndex) {
     var r = rows[hintIndex];
@@ -818,9 +826,10 @@
       var Y = function (y) { return T + (ymax - y) / (ymax - ymin) * Hp; };
       var g = svgEl('g', { 'class': 'panel', 'data-unit': p.unit });
       g.appendChild(svgEl('rect', { x: L, y: T, width: W - L - R, height: Hp, fill: p.difference ? '#fdfaf5' : '#fbfbfd', stroke: '#ccd' }));
-      ticks(ymin, ymax, 4).forEach(function (ty) {
+      var yt = ticks(ymin, ymax, 4), ys = tickStep(yt);
+      yt.forEach(function (ty) {
         g.appendChild(svgEl('line', { x1: L, x2: W - R, y1: Y(ty), y2: Y(ty), stroke: '#e3e6ec' }));
-        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(ty)));
+        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(ty, ys)));
       });
       ticks(t0, t1, 8).forEach(function (tt) {
         g.appendChild(svgEl('line', { x1: X(tt), x2: X(tt), y1: T, y2: T + Hp, stroke: '#eef0f4' }));
