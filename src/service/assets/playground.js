@@ -290,6 +290,7 @@
     // the results on show say they are of the text before the edits
     hideError();
     markStale();
+    if (!state.controller && /^(not run|failed|comparison failed)/.test(status.textContent)) setStatus('');
     if (editor.value.split('\n').length !== gutterLines) drawGutter();
     if (validateTimer) clearTimeout(validateTimer);
     validateTimer = setTimeout(validate, 120);
