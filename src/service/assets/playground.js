@@ -686,6 +686,10 @@
   }
 
   // ---------------------------------------------------------------- plot
+  // the bodies' colours of the animation (`report::palette::body_colour`, its first 20)
+  var BODY_COLOURS = ['#1f77b4', '#2ca02c', '#9467bd', '#8c564b', '#bcbd22', '#17becf', '#ff7f0e', '#7f7f7f',
+    '#393b79', '#637939', '#8c6d31', '#843c39', '#7b4173', '#5254a3', '#6b6ecf', '#9c9ede', '#b5cf6b', '#e7ba52',
+    '#ad494a', '#ce6dbd'];
   var PALETTE = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2'];
   function chosenColumns() {
     return Array.prototype.filter.call(plotColumns.querySelectorAll('input[type=checkbox]'), function (c) { return c.checked; })
@@ -1145,7 +1149,7 @@
       var centre = world(b, [0, 0]);
       if (!centre) return;
       var names = Object.keys(b.points || {}), ws = names.map(function (n) { return world(b, b.points[n]); });
-      shapes.push({ body: b, centre: centre, pts: ws, colour: PALETTE[i % PALETTE.length] });
+      shapes.push({ body: b, centre: centre, pts: ws, colour: BODY_COLOURS[i % BODY_COLOURS.length] });
       pts.push(centre);
       ws.forEach(function (w) { pts.push(w); });
     });
