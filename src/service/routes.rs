@@ -629,7 +629,7 @@ async fn compare_ndjson(
             let mut gone = false;
             let r = model.solve_streaming(o, &mut |_| {
                 k += 1;
-                if k % every == 0
+                if k.is_multiple_of(every)
                     && !send_line(
                         &tx,
                         &serde_json::json!({"progress": {"solve": name, "rows": k, "of": n}}),
@@ -647,7 +647,7 @@ async fn compare_ndjson(
                 metrics.cancelled();
                 return Ok(());
             }
-            if k % every != 0 {
+            if !k.is_multiple_of(every) {
                 send_line(
                     &tx,
                     &serde_json::json!({"progress": {"solve": name, "rows": k, "of": n}}),
