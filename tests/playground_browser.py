@@ -830,6 +830,7 @@ def main():
         nodes = driver.execute_script("return document.querySelectorAll('#graph svg g.node').length")
         check(driver.find_element(By.ID, "graph-collapse").is_selected() and 0 < nodes <= 2 * 100 + 10,
               f"the chain's bond graph is collapsed, one node per body and joint ({nodes} nodes)")
+        scrub(0.9)
         shot(driver, "chain_100")
 
         # ---- a narrow window: the panels stack, the animation is wide, its text readable

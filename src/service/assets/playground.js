@@ -832,9 +832,16 @@
       var g = svgEl('g', { 'class': 'panel', 'data-unit': p.unit });
       g.appendChild(svgEl('rect', { x: L, y: T, width: W - L - R, height: Hp, fill: p.difference ? '#fdfaf5' : '#fbfbfd', stroke: '#ccd' }));
       var yt = ticks(ymin, ymax, 4), ys = tickStep(yt);
+      // values that vary by less than a ten-thousandth of their size: drawn about an offset
+      // (the axis says so), so that the tick labels stay short
+      var mid = (ymin + ymax) / 2, offset = 0, axisLabel = p.label;
+      if (ys > 0 && Math.abs(mid) / ys > 1e4) {
+        offset = Number(mid.toPrecision(Math.max(1, Math.ceil(Math.log10(Math.abs(mid) / ys)) - 2)));
+        axisLabel = p.label + ' − (' + String(offset) + ')';
+      }
       yt.forEach(function (ty) {
         g.appendChild(svgEl('line', { x1: L, x2: W - R, y1: Y(ty), y2: Y(ty), stroke: '#e3e6ec' }));
-        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(ty, ys)));
+        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(offset ? Number((ty - offset).toPrecision(6)) : ty, ys)));
       });
       ticks(t0, t1, 8).forEach(function (tt) {
         g.appendChild(svgEl('line', { x1: X(tt), x2: X(tt), y1: T, y2: T + Hp, stroke: '#eef0f4' }));
@@ -842,7 +849,7 @@
       });
       // the axis label, with its unit
       g.appendChild(svgEl('text', { 'class': 'axis-label', x: 14, y: T + Hp / 2, 'text-anchor': 'middle', fill: '#223',
-        transform: 'rotate(-90 14 ' + (T + Hp / 2) + ')' }, p.label));
+        transform: 'rotate(-90 14 ' + (T + Hp / 2) + ')' }, axisLabel));
       var stride = Math.max(1, Math.floor(run.rows.length / 3000));
       p.series.forEach(function (s, m) {
         var pts = [];
