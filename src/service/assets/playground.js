@@ -841,7 +841,7 @@
       }
       yt.forEach(function (ty) {
         g.appendChild(svgEl('line', { x1: L, x2: W - R, y1: Y(ty), y2: Y(ty), stroke: '#e3e6ec' }));
-        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(offset ? Number((ty - offset).toPrecision(6)) : ty, ys)));
+        g.appendChild(svgEl('text', { x: L - 6, y: Y(ty) + 4, 'text-anchor': 'end', fill: '#445' }, tickLabel(offset ? (Math.abs(ty - offset) < 1e-6 * ys ? 0 : Number((ty - offset).toPrecision(6))) : ty, ys)));
       });
       ticks(t0, t1, 8).forEach(function (tt) {
         g.appendChild(svgEl('line', { x1: X(tt), x2: X(tt), y1: T, y2: T + Hp, stroke: '#eef0f4' }));
