@@ -129,6 +129,21 @@ pub fn document() -> Value {
         "json (default): columns, rows, summary; csv: the command line's CSV; ndjson: a {columns, rows} line, one row array per output time as it is computed, then {summary} (or {error}).",
         json!({"type": "string", "enum": ["json", "csv", "ndjson"], "default": "json"}),
     ));
+    let animate_line = || {
+        query(
+            "animate",
+            "With format=ndjson: also draw the motion from the solve's own rows (no second solve), sent as one more line before the last: svg (the /v1/animate SVG) or view3d (a spatial scene's 3D view data); {\"error\": problem} on that line when it cannot be drawn.",
+            json!({"type": "string", "enum": ["svg", "view3d"]}),
+        )
+    };
+    run_params.push(animate_line());
+    let mut compare_params = solve_params();
+    compare_params.push(query(
+        "format",
+        "json (default): the compare --json document; ndjson: {progress: {solve: dae|twin, rows, of}} lines during the two solves, then {twin: {columns, rows, summary}}, with animate {twin_animation}, and last {compare: document} (or {error}).",
+        json!({"type": "string", "enum": ["json", "ndjson"], "default": "json"}),
+    ));
+    compare_params.push(animate_line());
     let mut animate_params = solve_params();
     animate_params.extend([
         query(
@@ -171,8 +186,8 @@ pub fn document() -> Value {
                     "application/x-ndjson": {"schema": {"type": "string"}}
                 }
             })),
-            "/v1/compare": post("Solve the DAE (IDA) and the decoupled twin (CVODE) and compare them (the compare --json document); each solve gets half of the budget.", solve_params(), json!({
-                "description": "The comparison.", "content": {"application/json": {"schema": {"type": "object"}}}
+            "/v1/compare": post("Solve the DAE (IDA) and the decoupled twin (CVODE) and compare them (the compare --json document); each solve gets half of the budget.", compare_params, json!({
+                "description": "The comparison.", "content": {"application/json": {"schema": {"type": "object"}}, "application/x-ndjson": {"schema": {"type": "string"}}}
             })),
             "/v1/equilibrium": post("The static equilibrium nearest the scene's configuration (Newton with a line search, the joints held) and its stability: the bondmech equilibrium --json document.", vec![], json!({
                 "description": "converged, iterations, residual, coordinates, reactions, drivers, stable, stiffness_eigenvalues.", "content": {"application/json": {"schema": {"type": "object"}}}
@@ -187,6 +202,7 @@ pub fn document() -> Value {
             "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
                 query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
                 query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),
+                query("collapse", "One node per body or joint (true) or every element (false); default: collapsed above 200 elements.", json!({"type": "boolean"})),
             ], json!({
                 "description": "The drawing or the report.",
                 "content": {

@@ -278,16 +278,17 @@ async fn run_inner(
 ) -> Result<Response, Problem> {
     not_shutting_down(app)?;
     let mut allowed = SOLVE_PARAMS.to_vec();
-    allowed.push("format");
+    allowed.extend(["format", "animate"]);
     let params = Params::parse(q.as_deref(), &allowed)?;
     let format = params.choice("format", &["json", "csv", "ndjson"])?;
+    let animate = animate_param(&params, format)?;
     let solve = SolveParams::from(&params)?;
     let (scene, cost) = admit_solve(app, headers, body, solve).await?;
     let slot = app.pool.acquire_for(cost).await?;
     let stop = app.stop_flags();
     let mut guard = CancelOnDrop::new(&stop);
     if format == "ndjson" {
-        let r = run_ndjson(app, slot, scene, stop).await;
+        let r = run_ndjson(app, slot, scene, stop, animate).await;
         guard.disarm();
         return r;
     }
@@ -366,11 +367,94 @@ async fn stream_response(
     }
 }
 
+/// The animation a streamed run or comparison is asked for (`animate=svg|view3d`): drawn from
+/// the solve's own rows, so that the page needs no second solve. Only with `format=ndjson`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Animate {
+    /// The SMIL-animated SVG of `/v1/animate` (a planar or a spatial scene).
+    Svg,
+    /// The 3D view's data of `/v1/animate?format=view3d` (a spatial scene).
+    View3d,
+}
+
+fn animate_param(params: &Params, format: &str) -> Result<Option<Animate>, Problem> {
+    let Some(a) = params.text("animate") else {
+        return Ok(None);
+    };
+    let a = match a {
+        "svg" => Animate::Svg,
+        "view3d" => Animate::View3d,
+        other => {
+            return Err(Problem::bad_parameter(
+                "animate",
+                format!("animate: expected svg or view3d (got '{other}')"),
+            ))
+        }
+    };
+    if format != "ndjson" {
+        return Err(invalid_value(
+            "animate",
+            format!("animate: the animation is sent as a line of the stream: it needs format=ndjson (got format={format})"),
+        ));
+    }
+    Ok(Some(a))
+}
+
+/// The NDJSON line `{"<key>": {"format": "svg", "svg": "<svg…>"}}` or
+/// `{"<key>": {"format": "view3d", "data": {…}}}` of the motion in `sol` (its own rows, poses
+/// interpolated between rows further apart than the animation allows), or
+/// `{"<key>": {"error": <problem>}}` when it cannot be drawn (a raw bond graph, a planar
+/// scene asked for view3d).
+pub fn animation_line(scene: &Scene, sol: &crate::Solution, animate: Animate, key: &str) -> Bytes {
+    use crate::report::animate::{animation, view3d_json, AnimationFormat, AnimationOptions};
+    let aopts = AnimationOptions {
+        source: "the solution".into(),
+        ..AnimationOptions::default()
+    };
+    let refused = |detail: String| {
+        let p = invalid_value("animate", detail);
+        serde_json::json!({ key: {"error": p.to_json()} })
+    };
+    let mut line = if scene.bodies.is_empty() {
+        serde_json::to_vec(&refused(
+            "animate: a raw bond graph has no geometry to draw".into(),
+        ))
+    } else {
+        match animate {
+            Animate::View3d if scene.dimension != crate::scene::Dimension::Spatial => {
+                serde_json::to_vec(&refused(
+                    "animate=view3d: the 3D view needs a spatial scene (\"dimension\": 3); a planar scene is drawn as SVG (animate=svg)".into(),
+                ))
+            }
+            Animate::View3d => match view3d_json(scene, sol, &aopts) {
+                Ok(data) => {
+                    let mut v = format!("{{\"{key}\":{{\"format\":\"view3d\",\"data\":")
+                        .into_bytes();
+                    v.extend_from_slice(data.trim_end().as_bytes());
+                    v.extend_from_slice(b"}}");
+                    Ok(v)
+                }
+                Err(e) => serde_json::to_vec(&refused(format!("animate: {e}"))),
+            },
+            Animate::Svg => match animation(scene, sol, &aopts, AnimationFormat::Svg) {
+                Ok(svg) => {
+                    serde_json::to_vec(&serde_json::json!({ key: {"format": "svg", "svg": svg} }))
+                }
+                Err(e) => serde_json::to_vec(&refused(format!("animate: {e}"))),
+            },
+        }
+    }
+    .unwrap_or_default();
+    line.push(b'\n');
+    Bytes::from(line)
+}
+
 async fn run_ndjson(
     app: &Arc<App>,
     slot: tokio::sync::OwnedSemaphorePermit,
     scene: Scene,
     stop: StopFlags,
+    animate: Option<Animate>,
 ) -> Result<Response, Problem> {
     let (tx, rx) = mpsc::channel::<Bytes>(64);
     let (started_tx, started_rx) = oneshot::channel();
@@ -396,6 +480,9 @@ async fn run_ndjson(
         );
         match r {
             Ok(sol) => {
+                if let Some(a) = animate {
+                    let _ = tx.blocking_send(animation_line(&scene, &sol, a, "animation"));
+                }
                 send_line(&tx, &serde_json::json!({"summary": sol.summary}));
             }
             Err(f) if f.cancelled => {}
@@ -431,10 +518,17 @@ async fn compare_inner(
     body: Body,
 ) -> Result<Response, Problem> {
     not_shutting_down(app)?;
-    let params = Params::parse(q.as_deref(), &SOLVE_PARAMS)?;
+    let mut allowed = SOLVE_PARAMS.to_vec();
+    allowed.extend(["format", "animate"]);
+    let params = Params::parse(q.as_deref(), &allowed)?;
+    let format = params.choice("format", &["json", "ndjson"])?;
+    let animate = animate_param(&params, format)?;
     let solve = SolveParams::from(&params)?;
     let (scene, _) = admit_solve(app, headers, body, solve).await?;
     let slot = app.pool.acquire().await?;
+    if format == "ndjson" {
+        return compare_ndjson(app, slot, scene, animate).await;
+    }
     let limits = app.limits.clone();
     let job = app.pool.spawn(slot, move || {
         let budget = Budget::of(&scene, &limits);
@@ -455,7 +549,149 @@ async fn compare_inner(
     join(job).await
 }
 
-/// `POST /v1/graph?format=dot|svg|causality&decoupled=false`.
+/// `POST /v1/compare?format=ndjson`: the two solves streamed as progress lines
+/// `{"progress": {"solve": "dae"|"twin", "rows": k, "of": n}}`, then the twin's own run
+/// `{"twin": {"columns", "rows", "summary"}}`, with `animate=svg|view3d` the twin's motion drawn
+/// from those rows (`{"twin_animation": …}`), and last `{"compare": <the compare --json
+/// document>}` — one solve of each, so a page needs nothing else for the comparison. A failure
+/// after the first line ends the stream with `{"error": <problem>}`.
+async fn compare_ndjson(
+    app: &Arc<App>,
+    slot: tokio::sync::OwnedSemaphorePermit,
+    scene: Scene,
+    animate: Option<Animate>,
+) -> Result<Response, Problem> {
+    let (tx, rx) = mpsc::channel::<Bytes>(64);
+    let (started_tx, started_rx) = oneshot::channel();
+    let limits = app.limits.clone();
+    let metrics = app.metrics.clone();
+    let shutdown = app.stop_flags().shutdown;
+    drop(app.pool.spawn(slot, move || {
+        let mut started = Some(started_tx);
+        let fail =
+            |p: Problem, started: &mut Option<oneshot::Sender<Result<(), Problem>>>| match started
+                .take()
+            {
+                Some(s) => {
+                    let _ = s.send(Err(p));
+                }
+                None => {
+                    send_line(&tx, &serde_json::json!({"error": p.to_json()}));
+                }
+            };
+        let budget = Budget::of(&scene, &limits);
+        let model = match Model::new(&scene) {
+            Ok(m) => m,
+            Err(e) => {
+                fail(library_problem(&e, budget), &mut started);
+                return Ok(());
+            }
+        };
+        if model.is_raw_bond_graph() {
+            let e = crate::Error::Options(
+                "compare needs bodies and joints (a raw bond graph has no decoupled twin)".into(),
+            );
+            fail(library_problem(&e, budget), &mut started);
+            return Ok(());
+        }
+        // two solves: each gets half of the budget
+        let half = Budget {
+            seconds: budget.seconds / 2.0,
+            limit: budget.limit,
+        };
+        let opts = match super::solve::options(&model, half, &limits) {
+            Ok(o) => o,
+            Err(p) => {
+                fail(p, &mut started);
+                return Ok(());
+            }
+        };
+        let mut a = opts.clone();
+        if a.formulation == crate::FormulationKind::Decoupled {
+            a.formulation = crate::FormulationKind::Dae;
+        }
+        let mut b = opts.clone();
+        b.formulation = crate::FormulationKind::Decoupled;
+        let n = opts.output_times.len();
+        let every = (n / 50).max(1);
+        let mut solutions = Vec::with_capacity(2);
+        for (name, o) in [("dae", &a), ("twin", &b)] {
+            if !send_line(
+                &tx,
+                &serde_json::json!({"progress": {"solve": name, "rows": 0, "of": n}}),
+            ) {
+                return Ok(());
+            }
+            if let Some(s) = started.take() {
+                let _ = s.send(Ok(()));
+            }
+            let mut k = 0usize;
+            let mut gone = false;
+            let r = model.solve_streaming(o, &mut |_| {
+                k += 1;
+                if k.is_multiple_of(every)
+                    && !send_line(
+                        &tx,
+                        &serde_json::json!({"progress": {"solve": name, "rows": k, "of": n}}),
+                    )
+                {
+                    gone = true;
+                }
+                if gone || tx.is_closed() || shutdown.load(Ordering::SeqCst) {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            });
+            if gone || tx.is_closed() {
+                metrics.cancelled();
+                return Ok(());
+            }
+            if !k.is_multiple_of(every) {
+                send_line(
+                    &tx,
+                    &serde_json::json!({"progress": {"solve": name, "rows": k, "of": n}}),
+                );
+            }
+            match r {
+                Ok(_) if shutdown.load(Ordering::SeqCst) => {
+                    fail(
+                        Problem::unavailable(
+                            "the server is shutting down: the comparison was stopped",
+                            1,
+                        ),
+                        &mut started,
+                    );
+                    return Ok(());
+                }
+                Ok(sol) => solutions.push(sol),
+                Err(e) => {
+                    fail(library_problem(&e, half), &mut started);
+                    return Ok(());
+                }
+            }
+        }
+        let (dec, dae) = (solutions.pop(), solutions.pop());
+        let (Some(dae), Some(dec)) = (dae, dec) else {
+            return Ok(());
+        };
+        let cmp = crate::Comparison::judged(&dae, &dec, (a.rtol, a.atol));
+        let mut twin = b"{\"twin\":".to_vec();
+        twin.extend_from_slice(&solution_json(&dec));
+        twin.extend_from_slice(b"}\n");
+        if tx.blocking_send(Bytes::from(twin)).is_err() {
+            return Ok(());
+        }
+        if let Some(an) = animate {
+            let _ = tx.blocking_send(animation_line(&scene, &dec, an, "twin_animation"));
+        }
+        send_line(&tx, &serde_json::json!({ "compare": cmp }));
+        Ok(())
+    }));
+    stream_response(started_rx, rx).await
+}
+
+/// `POST /v1/graph?format=dot|svg|causality&decoupled=false&collapse=true|false`.
 pub async fn graph(
     State(app): State<Arc<App>>,
     RawQuery(q): RawQuery,
@@ -473,9 +709,11 @@ async fn graph_inner(
     body: Body,
 ) -> Result<Response, Problem> {
     not_shutting_down(app)?;
-    let params = Params::parse(q.as_deref(), &["format", "decoupled"])?;
+    let params = Params::parse(q.as_deref(), &["format", "decoupled", "collapse"])?;
     let format = params.choice("format", &["dot", "svg", "causality"])?;
     let decoupled = params.flag("decoupled")?.unwrap_or(false);
+    // one node per body or joint (`true`), every element (`false`), or by the graph's size
+    let collapse = params.flag("collapse")?;
     let scene = scene_from(app, headers, body).await?;
     let slot = app.pool.acquire_for(0.0).await?;
     let limits = app.limits.clone();
@@ -490,16 +728,20 @@ async fn graph_inner(
         let g = model
             .scene_graph(variant)
             .map_err(|e| library_problem(&e, budget))?;
+        let dot = match collapse {
+            Some(c) => g.dot_with(c),
+            None => g.dot(),
+        };
         Ok(match format {
             "causality" => {
                 let text = serde_json::to_string_pretty(&g.report()).unwrap_or_default() + "\n";
                 with_type(text, JSON)
             }
             "svg" => with_type(
-                super::svg::render(&g.dot(), budget.duration())?,
+                super::svg::render(&dot, budget.duration())?,
                 "image/svg+xml",
             ),
-            _ => with_type(g.dot(), "text/vnd.graphviz; charset=utf-8"),
+            _ => with_type(dot, "text/vnd.graphviz; charset=utf-8"),
         })
     });
     join(job).await

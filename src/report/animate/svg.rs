@@ -288,7 +288,12 @@ impl Timing {
                     match k {
                         0 => "0".to_string(),
                         _ if k == n - 1 => "1".to_string(),
-                        _ => format!("{f:.9}"),
+                        // nine decimals, without trailing zeros (`0.015`, not `0.015000000`):
+                        // the times repeat in every animated element of a large scene
+                        _ => {
+                            let t = format!("{f:.9}");
+                            t.trim_end_matches('0').trim_end_matches('.').to_string()
+                        }
                     }
                 })
                 .collect::<Vec<_>>()

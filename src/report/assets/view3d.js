@@ -5,10 +5,11 @@
 //
 // bondmechView3d(D, ui) draws the scene data D ({bodies, joints, t, poses, traces, gravity,
 // extent, speed, digits}) on ui.canvas and returns {t0, t1, seek(t), play(), pause(),
-// playing(), redraw(), ghost(data2), destroy()}; ghost draws a second motion of the same
+// playing(), redraw(), resize(), preset(name), ghost(data2), destroy()}; ghost draws a second motion of the same
 // bodies faded under the first (the playground's compare). ui: canvas (required); fit(canvas) sizes it (called on
 // window resize too); frames, labels: checkboxes (body frames off, labels on without them);
-// onTime(t, text) after every drawing; start (time), autoplay (bool).
+// onTime(t, text) after every drawing; start (time), autoplay (bool); grid (bool): the ground
+// as a grid under the lowest point of the motion; preset: iso, front, side or top.
 var bondmechView3d = function (D, ui) {
   'use strict';
   var cv = ui.canvas, g = cv.getContext('2d');
@@ -70,14 +71,18 @@ var bondmechView3d = function (D, ui) {
   for (var k = 0; k < D.poses.length; k += Math.max(1, Math.floor(D.poses.length / 50)))
     for (var b = 0; b < nb; b++) { centre = add(centre, D.poses[k].slice(7 * b, 7 * b + 3)); cn++; }
   centre = mul(centre, 1 / Math.max(cn, 1));
-  // the radius the motion sweeps about that centre (every frame's points)
-  var reach = 0.05;
+  // the radius the motion sweeps about that centre (every frame's points), and its lowest
+  // height along `up` (where ui.grid draws the ground)
+  var reach = 0.05, low = Infinity;
   for (var k = 0; k < D.poses.length; k++)
     for (var b = 0; b < nb; b++) {
       var r0 = D.poses[k].slice(7 * b, 7 * b + 3), q0 = D.poses[k].slice(7 * b + 3, 7 * b + 7);
       var d0 = sub(r0, centre); reach = Math.max(reach, Math.sqrt(dot(d0, d0)));
+      low = Math.min(low, dot(r0, up));
       D.bodies[b].points.forEach(function (pt) {
-        var d1 = sub(add(r0, rot(q0, pt[1])), centre); reach = Math.max(reach, Math.sqrt(dot(d1, d1)));
+        var w1 = add(r0, rot(q0, pt[1])), d1 = sub(w1, centre);
+        reach = Math.max(reach, Math.sqrt(dot(d1, d1)));
+        low = Math.min(low, dot(w1, up));
       });
     }
   function camera() {
@@ -150,6 +155,21 @@ var bondmechView3d = function (D, ui) {
       tr.pts.forEach(function (p, k) { var s = project(c, p); if (k) g.lineTo(s[0], s[1]); else g.moveTo(s[0], s[1]); });
       g.stroke();
     });
+    if (ui.grid && isFinite(low)) {
+      // the ground: a square grid under the lowest point of the motion, across the view
+      var ext = 1.3 * reach, raw = ext / 5, p10 = Math.pow(10, Math.floor(Math.log10(raw))), fr = raw / p10;
+      var step = (fr < 1.5 ? 1 : fr < 3.5 ? 2 : fr < 7.5 ? 5 : 10) * p10;
+      var base = add(sub(centre, mul(up, dot(centre, up))), mul(up, low - 0.02 * reach));
+      var m = Math.ceil(ext / step);
+      g.strokeStyle = '#d5dbe5'; g.lineWidth = 1;
+      for (var i = -m; i <= m; i++) {
+        [[e1, e2], [e2, e1]].forEach(function (ax) {
+          var a = project(c, add(base, add(mul(ax[0], i * step), mul(ax[1], -m * step))));
+          var b2 = project(c, add(base, add(mul(ax[0], i * step), mul(ax[1], m * step))));
+          g.beginPath(); g.moveTo(a[0], a[1]); g.lineTo(b2[0], b2[1]); g.stroke();
+        });
+      }
+    }
     if (ghost) {
       var gf = [];
       bodyFaces(posesOf(ghost, t), gf);
@@ -236,6 +256,12 @@ var bondmechView3d = function (D, ui) {
     pause: function () { playing = false; },
     playing: function () { return playing; },
     redraw: function () { draw(); },
+    resize: function () { fit(); draw(); },
+    // a view preset: iso, front, side or top
+    preset: function (name) {
+      var v = { iso: [0.8, 0.45], front: [0, 0], side: [Math.PI / 2, 0], top: [0, 1.5] }[name];
+      if (v) { yaw = v[0]; pitch = v[1]; zoom = 1; draw(); }
+    },
     // G: data of the same scene's bodies (the decoupled twin's motion), or null
     ghost: function (G) { ghost = G && G.poses && G.poses.length && G.poses[0].length === 7 * nb ? G : null; draw(); },
     destroy: function () {
