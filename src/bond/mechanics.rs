@@ -230,6 +230,16 @@ pub fn read_mechanics_in(
     graph: &BondGraph,
     arena: ExprGraph,
 ) -> Result<MechanicalEquations, MechanicsError> {
+    read_mechanics_with_names(graph, arena, &[])
+}
+
+/// [`read_mechanics_in`] where the parameters' expressions may also name `extra` (`(name,
+/// expression)`; a sensitivity run's parameter symbols, [`crate::sensitivity`]).
+pub fn read_mechanics_with_names(
+    graph: &BondGraph,
+    arena: ExprGraph,
+    extra: &[(String, Expr)],
+) -> Result<MechanicalEquations, MechanicsError> {
     let n_el = graph.elements.len();
     let mut bonds_of = vec![Vec::new(); n_el];
     for (i, b) in graph.bonds.iter().enumerate() {
@@ -248,7 +258,7 @@ pub fn read_mechanics_in(
     let r = Reader {
         g: graph,
         eg: arena,
-        names: HashMap::new(),
+        names: extra.iter().cloned().collect(),
         flows: vec![None; graph.bonds.len()],
         bonds_of,
         opened,

@@ -241,6 +241,17 @@ pub(crate) trait Formulation<'a> {
         Ok(())
     }
 
+    /// A sensitivity run's `∂F/∂p_k` for the segment just started ([`Formulation::segment`]):
+    /// one list of rows over `[t, y, y']` (in the DAE's row order) per parameter of `sym`
+    /// (default: `None`, the formulation has no sensitivities).
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<Vec<Vec<crate::expr::Expr>>, SolveError>> {
+        let _ = sym;
+        None
+    }
+
     /// The formulation's own figures in the summary at the end of the run (the executor has
     /// written the counters, CPU time, constraint error and energy).
     fn finish(

@@ -330,6 +330,13 @@ fn set_id(solver: &mut Solver, id: &[f64]) -> Result<(), SolveError> {
 }
 
 impl<'a> Formulation<'a> for Ggl {
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<Vec<Vec<crate::expr::Expr>>, SolveError>> {
+        Some(Ok(GglFormulation::parameter_rows(sym)))
+    }
+
     fn first_row_state(&self) -> Vec<f64> {
         self.y0.clone()
     }

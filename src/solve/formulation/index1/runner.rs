@@ -696,6 +696,17 @@ impl<'a> Index1<'a> {
 }
 
 impl<'a> Formulation<'a> for Index1<'a> {
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<Vec<Vec<crate::expr::Expr>>, SolveError>> {
+        let partition = (&self.dependent[..], &self.coordinates[..], &self.rows[..]);
+        Some(
+            Index1Formulation::parameter_rows(sym, partition, self.energy_e0.is_some())
+                .map_err(SolveError::from),
+        )
+    }
+
     fn first_row_state(&self) -> Vec<f64> {
         self.y_first.clone()
     }
