@@ -41,7 +41,7 @@ fn block_scene(k: f64, c: f64) -> Scene {
 
 #[test]
 fn fit_recovers_stiffness_and_damping_from_noisy_closed_form_data() {
-    let (m, k, c, x0) = (2.0, 50.0, 1.5, 0.1);
+    let (m, k, c, x0): (f64, f64, f64, f64) = (2.0, 50.0, 1.5, 0.1);
     let a = c / (2.0 * m);
     let w = (k / m - a * a).sqrt();
     let mut noise = Normal(49);

@@ -382,8 +382,10 @@ pub fn derive(
     }
     // the bond graph read again with the symbols, into the system's graph
     let g = &mut out.sys.graph;
-    let names: Vec<(String, Expr)> = (0..params.len())
-        .map(|k| (parameter_name(k), g.var(parameter_slot(k))))
+    let names: Vec<(String, u32, f64)> = params
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (parameter_name(k), parameter_slot(k), p.value))
         .collect();
     let eqs = read_mechanics_with_names(&graph, std::mem::take(g), &names).map_err(|e| {
         SensitivityError::Scene(format!(
