@@ -281,17 +281,18 @@ pub(crate) fn run(
             ))
         }
     };
-    let fp_rows = formulation.parameter_rows(&mut sym).unwrap_or_else(|| {
+    let prows = formulation.parameter_rows(&mut sym).unwrap_or_else(|| {
         Err(crate::solve::SolveError::Options(
             "the formulation has no sensitivities".into(),
         ))
     })?;
     let n = p.dae.len();
     let ns = params.len();
-    let flat: Vec<Expr> = fp_rows.iter().flatten().copied().collect();
+    let flat: Vec<Expr> = prows.rows.iter().flatten().copied().collect();
     let fp = Arc::new(sym.sys.graph.compile(&flat));
+    let hidden = Hidden::new(&mut sym, &prows.hidden, n, prows.pinned);
     // the consistent start of the sensitivities
-    let (s0, sp0) = start.sensitivities(&*p.dae, &fp, (t0, &p.y0, &p.yp0), (nq, nv))?;
+    let (s0, sp0) = start.sensitivities(&*p.dae, (&fp, &hidden), (t0, &p.y0, &p.yp0), (nq, nv))?;
     let clock = cpu_time::ThreadTime::now();
     let mut ida = build_ida(
         p.dae.clone(),
@@ -453,6 +454,75 @@ fn sens_residual(
     })
 }
 
+/// An index-2 DAE's hidden constraints `H(t, y, y'; p) = 0` at the start: `∂H/∂p_k`, `H_y`,
+/// `H_y'` compiled from the rows over `[t, y, y']` and the parameters' symbols, and the
+/// unknowns pinned at zero ([`crate::solve::formulation::ParameterRows`]).
+struct Hidden {
+    tape: Option<Tape>,
+    rows: usize,
+    ns: usize,
+    pinned: Vec<usize>,
+}
+
+impl Hidden {
+    fn new(sym: &mut SymbolicSystem, rows: &[Expr], n: usize, pinned: Vec<usize>) -> Self {
+        let ns = sym.params.len();
+        if rows.is_empty() {
+            return Hidden {
+                tape: None,
+                rows: 0,
+                ns,
+                pinned,
+            };
+        }
+        let mut exprs: Vec<Expr> = sym.derivatives(rows).into_iter().flatten().collect();
+        let g = &mut sym.sys.graph;
+        let values: Vec<(u32, Expr)> = sym
+            .params
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (symbols::parameter_slot(k), g.constant(p.value)))
+            .collect();
+        let at = g.substitute_all(rows, &values);
+        let slots: Vec<u32> = (1..=(2 * n) as u32).collect();
+        for &h in &at {
+            exprs.extend(g.gradient(h, &slots));
+        }
+        Hidden {
+            tape: Some(g.compile(&exprs)),
+            rows: rows.len(),
+            ns,
+            pinned,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.rows
+    }
+
+    /// `(∂H/∂p (parameter-major), H_y, H_y')` at `(t, y, y')`.
+    fn evaluate(
+        &self,
+        (t, y, yp): (f64, &[f64], &[f64]),
+        n: usize,
+    ) -> (Vec<f64>, DMatrix<f64>, DMatrix<f64>) {
+        let Some(tape) = &self.tape else {
+            return (Vec::new(), DMatrix::zeros(0, n), DMatrix::zeros(0, n));
+        };
+        let mut vars = vec![t];
+        vars.extend_from_slice(y);
+        vars.extend_from_slice(yp);
+        let mut out = vec![0.0; tape.n_outputs()];
+        tape.eval(&vars, &mut tape.workspace(), &mut out);
+        let nh = self.rows;
+        let dp = out[..self.ns * nh].to_vec();
+        let grads = &out[self.ns * nh..];
+        let hy = DMatrix::from_fn(nh, n, |h, c| grads[h * 2 * n + c]);
+        let hyp = DMatrix::from_fn(nh, n, |h, c| grads[h * 2 * n + n + c]);
+        (dp, hy, hyp)
+    }
+}
+
 /// What the start's sensitivities need from the mechanism with the parameters as symbols:
 /// `G_q`, `G_v`, `∂(G_v v)/∂q`, `∂g/∂p_k`, `∂(G_v v)/∂p_k` at the start, and the scene's
 /// `∂q₀/∂p_k`, `∂v₀/∂p_k`.
@@ -543,7 +613,7 @@ impl Start0 {
     fn sensitivities(
         mut self,
         dae: &dyn DaeFormulation,
-        fp: &Tape,
+        (fp, hidden): (&Tape, &Hidden),
         (t0, y0, yp0): (f64, &[f64], &[f64]),
         (nq, nv): (usize, usize),
     ) -> Result<(Vec<Vec<f64>>, Vec<Vec<f64>>), SensitivityError> {
@@ -612,10 +682,30 @@ impl Start0 {
                 fy[(r, c)]
             }
         });
-        // index 1: a regular matrix; the GGL (index 2): its multipliers are not determined by
-        // the rows at the start, and take the least-squares (least-norm) solution
+        // index 1: a regular matrix; an index-2 DAE (the GGL) adds its hidden constraints'
+        // rows and its pinned unknowns (zero), and the stacked system is solved by least
+        // squares (consistent: exactly)
         let lu = a.clone().lu();
-        let svd = a.svd(true, true);
+        let nh = hidden.len();
+        let (h_at, hy, hyp) = hidden.evaluate((t0, y0, yp0), n);
+        let pinned = &hidden.pinned;
+        let stacked = DMatrix::from_fn(n + nh + pinned.len(), n, |r, c| {
+            if r < n {
+                a[(r, c)]
+            } else if r < n + nh {
+                let h = r - n;
+                if differential[c] {
+                    hyp[(h, c)]
+                } else {
+                    hy[(h, c)]
+                }
+            } else if pinned[r - n - nh] == c {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        let svd = stacked.svd(true, true);
         let ns = self.dq0.len();
         let (mut s0, mut sp0) = (Vec::with_capacity(ns), Vec::with_capacity(ns));
         for k in 0..ns {
@@ -641,14 +731,28 @@ impl Start0 {
                 }
             }
             let b = -rhs;
-            let z = match lu.solve(&b) {
-                Some(z) if z.iter().all(|v| v.is_finite()) => z,
-                _ => svd.solve(&b, 1e-10 * svd.singular_values.max()).map_err(|e| {
-                    SensitivityError::Scene(format!(
-                        "the sensitivities' start: the DAE's matrix [F_y (algebraic), F_y' (differential)]: {e}"
-                    ))
-                })?,
+            let solved = if nh == 0 && pinned.is_empty() {
+                lu.solve(&b).filter(|z| z.iter().all(|v| v.is_finite()))
+            } else {
+                // H_y s + H_y' s' + ∂H/∂p = 0 for the same unknowns
+                let mut bb = DVector::zeros(n + nh + pinned.len());
+                bb.rows_mut(0, n).copy_from(&b);
+                for h in 0..nh {
+                    let mut r = h_at[k * nh + h];
+                    for (c, &d) in differential.iter().enumerate() {
+                        if d {
+                            r += hy[(h, c)] * s[c];
+                        }
+                    }
+                    bb[n + h] = -r;
+                }
+                svd.solve(&bb, 1e-12 * svd.singular_values.max()).ok()
             };
+            let z = solved.ok_or_else(|| {
+                SensitivityError::Scene(
+                    "the sensitivities' start: the DAE's matrix [F_y (algebraic), F_y' (differential)] is singular".into(),
+                )
+            })?;
             let mut sp = vec![0.0; n];
             for c in 0..n {
                 if differential[c] {

@@ -135,11 +135,19 @@ impl GglFormulation {
     /// `∂F/∂p_k` of the GGL residual at `ε = 0`, one list of rows (over `[t, y, y']`) per
     /// parameter of `sym`: the residual rows built from the mechanism with its parameters as
     /// symbols, differentiated ([`crate::sensitivity`]); `ε` and the restoring rate do not
-    /// depend on the parameters.
-    pub fn parameter_rows(sym: &mut crate::sensitivity::symbols::SymbolicSystem) -> Vec<Vec<Expr>> {
+    /// depend on the parameters. Also the hidden constraints `G_v v' + γ = 0` (over `[t, y,
+    /// y']` and the symbols), which determine the multipliers' sensitivities at the start.
+    pub fn parameter_rows(
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> (Vec<Vec<Expr>>, Vec<Expr>) {
         let c = ConstraintExprs::derive(&mut sym.sys);
         let rows = Self::residual_rows(&mut sym.sys, &c);
-        sym.derivatives(&rows)
+        let (nq, nv, nc) = (sym.sys.nq(), sym.sys.nv(), sym.sys.nc());
+        let n = nq + nv + 2 * nc;
+        let hidden: Vec<Expr> = (0..nc)
+            .map(|k| c.acceleration_row(&mut sym.sys.graph, k, |j| (1 + n + nq + j) as u32))
+            .collect();
+        (sym.derivatives(&rows), hidden)
     }
 
     /// `F(t, y, y')` at `ε = 0` (the rows of the module documentation) as expressions over

@@ -333,8 +333,15 @@ impl<'a> Formulation<'a> for Ggl {
     fn parameter_rows(
         &mut self,
         sym: &mut crate::sensitivity::symbols::SymbolicSystem,
-    ) -> Option<Result<Vec<Vec<crate::expr::Expr>>, SolveError>> {
-        Some(Ok(GglFormulation::parameter_rows(sym)))
+    ) -> Option<Result<crate::solve::formulation::ParameterRows, SolveError>> {
+        let (rows, hidden) = GglFormulation::parameter_rows(sym);
+        let (nq, nv, nc) = self.dae.formulation.dims;
+        Some(Ok(crate::solve::formulation::ParameterRows {
+            rows,
+            hidden,
+            // μ vanishes on the solution
+            pinned: (nq + nv + nc..nq + nv + 2 * nc).collect(),
+        }))
     }
 
     fn first_row_state(&self) -> Vec<f64> {
