@@ -231,9 +231,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
             columns,
             json,
             out,
+            max_iterations,
         } => cli::sensitivity::fit(
             &args,
-            (&data, &params, columns),
+            (&data, &params, columns, max_iterations),
             (json.as_deref(), out.as_deref()),
         ),
         Command::Serve(args) => {

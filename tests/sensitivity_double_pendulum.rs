@@ -31,7 +31,11 @@ fn check(formulation: &str) {
     let h = 2e-4;
     let (times, plus) = angle(formulation, 1.0 + h);
     let (_, minus) = angle(formulation, 1.0 - h);
-    let reference: Vec<f64> = plus.iter().zip(&minus).map(|(a, b)| (a - b) / (2.0 * h)).collect();
+    let reference: Vec<f64> = plus
+        .iter()
+        .zip(&minus)
+        .map(|(a, b)| (a - b) / (2.0 * h))
+        .collect();
     let s = sensitivity(
         &scene(formulation, 1.0, 1e-10),
         &SensitivityRequest::new(&[PATH]),
@@ -51,7 +55,10 @@ fn check(formulation: &str) {
         s.stats.steps,
         s.sens_stats.residual_evals
     );
-    assert!(err <= 1e-5 * scale, "{formulation}: {err:.3e} > 1e-5 × {scale:.3e}");
+    assert!(
+        err <= 1e-5 * scale,
+        "{formulation}: {err:.3e} > 1e-5 × {scale:.3e}"
+    );
 }
 
 #[test]

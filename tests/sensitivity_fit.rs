@@ -58,6 +58,7 @@ fn fit_recovers_stiffness_and_damping_from_noisy_closed_form_data() {
     let req = FitRequest {
         params: vec!["springs[s1].stiffness".into(), "springs[s1].damping".into()],
         columns: None,
+        max_iterations: None,
     };
     let r = fit(&scene, &data, &req).unwrap();
     eprintln!("{}", r.table());
@@ -66,10 +67,18 @@ fn fit_recovers_stiffness_and_damping_from_noisy_closed_form_data() {
         let (v, se) = (r.values[i], r.std_errors[i]);
         let rel = (v - truth).abs() / truth;
         assert!(rel < 5e-3, "{}: {v} vs {truth} ({rel:.2e})", r.paths[i]);
-        assert!(se > 0.0 && (v - truth).abs() < 3.0 * se, "{}: |{v} − {truth}| ≥ 3 × {se:.3e}", r.paths[i]);
+        assert!(
+            se > 0.0 && (v - truth).abs() < 3.0 * se,
+            "{}: |{v} − {truth}| ≥ 3 × {se:.3e}",
+            r.paths[i]
+        );
     }
     // the residual is the noise
-    assert!((r.residual_rms / SIGMA - 1.0).abs() < 0.2, "rms {}", r.residual_rms);
+    assert!(
+        (r.residual_rms / SIGMA - 1.0).abs() < 0.2,
+        "rms {}",
+        r.residual_rms
+    );
     let j = r.to_json();
     assert_eq!(j["converged"], true);
     assert!(j["parameters"]["springs[s1].stiffness"].is_number());
@@ -129,15 +138,27 @@ fn fit_recovers_a_pendulums_length_and_damping_from_a_swing() {
     let data = FitData::from_table(vec!["t".into(), "bar.angle".into()], rows).unwrap();
     let scene = pendulum_scene(0.8 * l, 1.2 * c);
     let req = FitRequest {
-        params: vec!["bodies[bar].points.O[0]".into(), "springs[drag].damping".into()],
+        params: vec![
+            "bodies[bar].points.O[0]".into(),
+            "springs[drag].damping".into(),
+        ],
         columns: Some(vec!["bar.angle".into()]),
+        max_iterations: None,
     };
     let r = fit(&scene, &data, &req).unwrap();
     eprintln!("{}", r.table());
     assert!(r.converged, "{}", r.reason);
     for (i, truth) in [-l, c].into_iter().enumerate() {
         let (v, se) = (r.values[i], r.std_errors[i]);
-        assert!((v - truth).abs() < 5e-3 * truth.abs(), "{}: {v} vs {truth}", r.paths[i]);
-        assert!((v - truth).abs() < 3.0 * se, "{}: |{v} − {truth}| ≥ 3 × {se:.3e}", r.paths[i]);
+        assert!(
+            (v - truth).abs() < 5e-3 * truth.abs(),
+            "{}: {v} vs {truth}",
+            r.paths[i]
+        );
+        assert!(
+            (v - truth).abs() < 3.0 * se,
+            "{}: |{v} − {truth}| ≥ 3 × {se:.3e}",
+            r.paths[i]
+        );
     }
 }

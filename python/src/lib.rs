@@ -697,9 +697,7 @@ impl Scene {
                 data.clone()
             };
             let dict = table.cast::<PyDict>().map_err(|_| {
-                PyTypeError::new_err(
-                    "data: CSV text, a dict of columns or a pandas DataFrame",
-                )
+                PyTypeError::new_err("data: CSV text, a dict of columns or a pandas DataFrame")
             })?;
             let mut header = Vec::new();
             let mut series: Vec<Vec<f64>> = Vec::new();
@@ -721,7 +719,11 @@ impl Scene {
         .map_err(Error::from)
         .py(py)?;
         let scene = self.scene.clone();
-        let req = FitRequest { params, columns };
+        let req = FitRequest {
+            params,
+            columns,
+            max_iterations: None,
+        };
         let r = py
             .detach(move || bondmech::sensitivity::fit(&scene, &data, &req).map_err(Error::from))
             .py(py)?;

@@ -796,10 +796,7 @@ fn probe_states(g: &BondGraph, n: usize) -> Vec<Vec<f64>> {
 fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations, symbols: &[(u32, f64)]) -> Res<()> {
     let mut eg = eqs.graph.clone();
     // extra symbols at their values
-    let values: Vec<(u32, Expr)> = symbols
-        .iter()
-        .map(|&(s, v)| (s, eg.constant(v)))
-        .collect();
+    let values: Vec<(u32, Expr)> = symbols.iter().map(|&(s, v)| (s, eg.constant(v))).collect();
     let at_values = |eg: &mut ExprGraph, e: Expr| -> Expr {
         if values.is_empty() {
             e

@@ -238,6 +238,9 @@ pub(crate) enum Command {
         /// Write the scene with the fitted values to this file.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Largest number of Levenberg–Marquardt iterations (default 60).
+        #[arg(long = "max-iterations")]
+        max_iterations: Option<usize>,
     },
     /// Serve the HTTP/JSON API until SIGTERM or Ctrl-C (routes: docs/service.md).
     Serve(bondmech::service::ServeArgs),

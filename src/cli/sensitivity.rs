@@ -41,7 +41,12 @@ pub(crate) fn sensitivity(
 /// when the fit does not converge (its last iterate is still reported).
 pub(crate) fn fit(
     args: &SolveArgs,
-    (data, params, columns): (&PathBuf, &[String], Option<Vec<String>>),
+    (data, params, columns, max_iterations): (
+        &PathBuf,
+        &[String],
+        Option<Vec<String>>,
+        Option<usize>,
+    ),
     (json, out): (Option<&Path>, Option<&Path>),
 ) -> Result<(), CliError> {
     check_outputs(&[&args.scene, data], &[("--json", json), ("--out", out)])?;
@@ -51,6 +56,7 @@ pub(crate) fn fit(
     let req = FitRequest {
         params: params.to_vec(),
         columns,
+        max_iterations,
     };
     let report = bondmech::sensitivity::fit(&scene, &data, &req).map_err(Error::from)?;
     if let Some(path) = json {

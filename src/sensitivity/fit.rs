@@ -143,6 +143,8 @@ pub struct FitRequest {
     pub params: Vec<String>,
     /// The data's columns to fit (`None`: all of them).
     pub columns: Option<Vec<String>>,
+    /// Largest number of iterations (`None`: [`MAX_ITERATIONS`]).
+    pub max_iterations: Option<usize>,
 }
 
 /// The fit's outcome (see the module documentation).
@@ -366,8 +368,9 @@ pub fn fit(scene: &Scene, data: &FitData, req: &FitRequest) -> Result<FitReport,
     let mut lambda = 1e-3;
     let mut iterations = 0;
     let mut converged = false;
-    let mut reason = format!("{MAX_ITERATIONS} iterations reached");
-    while iterations < MAX_ITERATIONS {
+    let max_iterations = req.max_iterations.unwrap_or(MAX_ITERATIONS);
+    let mut reason = format!("{max_iterations} iterations reached without meeting the tolerance");
+    while iterations < max_iterations {
         iterations += 1;
         // scaled unknowns u = p / scale: J_u = J diag(scale)
         let ju = DMatrix::from_fn(m, np, |i, k| ev.j[(i, k)] * scale[k]);

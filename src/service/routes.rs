@@ -604,8 +604,8 @@ async fn sensitivity_inner(
     let job = app.pool.spawn(slot, move || {
         let mut req = crate::sensitivity::SensitivityRequest::new(&[]);
         req.params = paths;
-        let s = crate::sensitivity::sensitivity(&scene, &req)
-            .map_err(|e| sensitivity_problem(&e))?;
+        let s =
+            crate::sensitivity::sensitivity(&scene, &req).map_err(|e| sensitivity_problem(&e))?;
         Ok(with_type(s.to_csv(), "text/csv; charset=utf-8"))
     });
     join(job).await
@@ -638,20 +638,27 @@ async fn fit_inner(
             "give the parameters' scene paths: ?param=springs[s1].stiffness,springs[s1].damping",
         ));
     }
-    let columns = params.text("columns").map(|_| query_list(&params, "columns"));
+    let columns = params
+        .text("columns")
+        .map(|_| query_list(&params, "columns"));
     let bytes = super::limits::read_body(headers, body, &app.limits).await?;
     let limits = app.limits.clone();
     let (scene, data) = tokio::task::spawn_blocking(move || fit_body(&bytes, &limits))
         .await
-        .unwrap_or_else(|e| Err(Problem::internal(format!("the admission job was lost: {e}"))))?;
+        .unwrap_or_else(|e| {
+            Err(Problem::internal(format!(
+                "the admission job was lost: {e}"
+            )))
+        })?;
     let slot = app.pool.acquire_for(0.0).await?;
     let job = app.pool.spawn(slot, move || {
         let req = crate::sensitivity::FitRequest {
             params: paths,
             columns,
+            max_iterations: None,
         };
-        let r = crate::sensitivity::fit(&scene, &data, &req)
-            .map_err(|e| sensitivity_problem(&e))?;
+        let r =
+            crate::sensitivity::fit(&scene, &data, &req).map_err(|e| sensitivity_problem(&e))?;
         let text = serde_json::to_string_pretty(&r.to_json()).unwrap_or_default() + "\n";
         Ok(with_type(text, JSON))
     });
