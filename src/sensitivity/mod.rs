@@ -8,7 +8,7 @@
 //! * [`run`]: the run with IDAS's forward sensitivities: `F_y s + F_y' s' + ∂F/∂p = 0` alongside
 //!   `F(t, y, y') = 0`, from a start consistent with the joints, and the output columns'
 //!   sensitivities `d(<column>)/d(<path>)`.
-//! * [`fit`]: Levenberg–Marquardt on the exact sensitivities: the parameters that minimise the
+//! * [`mod@fit`]: Levenberg–Marquardt on the exact sensitivities: the parameters that minimise the
 //!   squared differences between the run's columns and measured data.
 //!
 //! ```

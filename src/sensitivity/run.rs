@@ -454,6 +454,9 @@ fn sens_residual(
     })
 }
 
+/// `(s_k(t₀), s_k'(t₀))` for every parameter.
+type StartVectors = (Vec<Vec<f64>>, Vec<Vec<f64>>);
+
 /// An index-2 DAE's hidden constraints `H(t, y, y'; p) = 0` at the start: `∂H/∂p_k`, `H_y`,
 /// `H_y'` compiled from the rows over `[t, y, y']` and the parameters' symbols, and the
 /// unknowns pinned at zero ([`crate::solve::formulation::ParameterRows`]).
@@ -616,7 +619,7 @@ impl Start0 {
         (fp, hidden): (&Tape, &Hidden),
         (t0, y0, yp0): (f64, &[f64], &[f64]),
         (nq, nv): (usize, usize),
-    ) -> Result<(Vec<Vec<f64>>, Vec<Vec<f64>>), SensitivityError> {
+    ) -> Result<StartVectors, SensitivityError> {
         let n = dae.len();
         self.evaluate(t0, &y0[..nq], &y0[nq..nq + nv]);
         let pinv = |m: &DMatrix<f64>| {

@@ -337,7 +337,7 @@ pub fn derive(
             affine_slope(ps, [a, b, c])
                 .ok_or_else(|| unsupported(format!("{what} depends on it non-affinely")))
         };
-        for j in 0..nv {
+        for (j, form) in mass_forms.iter_mut().enumerate() {
             let b = slope(
                 &format!("the inertia of '{}'", sys.velocities[j].name),
                 sys.mass[j],
@@ -345,13 +345,13 @@ pub fn derive(
                 sys2.mass[j],
             )?;
             if b != 0.0 {
-                if let Some((other, _, _)) = mass_forms[j] {
+                if let Some((other, _, _)) = *form {
                     return Err(unsupported(format!(
                         "the inertia of '{}' depends on it and on --param {} too",
                         sys.velocities[j].name, params[other].path
                     )));
                 }
-                mass_forms[j] = Some((k, sys.mass[j] - b * p0, b));
+                *form = Some((k, sys.mass[j] - b * p0, b));
                 enters = true;
             }
         }

@@ -163,7 +163,10 @@ impl Ida {
                 "sensitivities need {ns} start vectors, rates and tolerances of length {n}"
             )));
         }
-        if atol.iter().flatten().any(|a| !(a.is_finite() && *a > 0.0)) || !(rtol > 0.0) {
+        if atol.iter().flatten().any(|a| !(a.is_finite() && *a > 0.0))
+            || rtol.is_nan()
+            || rtol <= 0.0
+        {
             return Err(SolverError::InvalidInput(
                 "sensitivity tolerances must be positive and finite".into(),
             ));
