@@ -88,6 +88,33 @@ fn check(formulation: &str) {
     }
 }
 
+/// `x(t)` is linear in the start: `∂x/∂x₀ = x(t)/x₀` and `∂x/∂v₀ = e^{−at} sin(ωt)/ω`.
+#[test]
+fn sensitivities_to_the_initial_position_and_velocity_match_the_closed_form() {
+    let mut v: serde_json::Value = serde_json::from_str(&block_scene("dae").to_json_string()).unwrap();
+    v["bodies"][0]["velocity"] = serde_json::json!([0.0, 0.0]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let paths = ["bodies[block].position[0]", "bodies[block].velocity[0]"];
+    let s = sensitivity(&scene, &SensitivityRequest::new(&paths)).unwrap();
+    let a = C / (2.0 * M);
+    let w = (K / M - a * a).sqrt();
+    let want = |k: usize, t: f64| match k {
+        0 => closed_form(t)[0] / X0,
+        _ => (-a * t).exp() * (w * t).sin() / w,
+    };
+    for (k, p) in paths.iter().enumerate() {
+        let got = s.column(&format!("d(block.x)/d({p})")).unwrap();
+        let scale = s.times.iter().fold(0.0f64, |m, &t| m.max(want(k, t).abs()));
+        let err = s
+            .times
+            .iter()
+            .zip(&got)
+            .fold(0.0f64, |m, (&t, g)| m.max((g - want(k, t)).abs()));
+        eprintln!("d(block.x)/d({p}): max error {err:.3e} of max {scale:.3e}");
+        assert!(err <= 1e-6 * scale, "{p}: {err:.3e} > 1e-6 × {scale:.3e}");
+    }
+}
+
 #[test]
 fn sensitivities_to_stiffness_damping_and_mass_match_the_closed_form_dae() {
     check("dae");

@@ -238,7 +238,7 @@ pub(crate) fn run(
         }
     }
     let (nq, nv) = (sys.nq(), sys.nv());
-    let start = Start0::new(&mut sym, t0)?;
+    let start = Start0::new(&mut sym)?;
     // the columns' gradients in the state [q, v]
     let slots: Vec<u32> = (1..=(nq + nv) as u32).collect();
     let outputs: Vec<(String, Vec<Expr>)> = sys
@@ -324,15 +324,14 @@ pub(crate) fn run(
     let mut sensitivity_columns = Vec::new();
     for (k, q) in params.iter().enumerate() {
         for (ci, name) in columns.iter().enumerate() {
-            let Some(oi) = outputs.iter().position(|(o, _)| o == name) else {
+            if !outputs.iter().any(|(o, _)| o == name) {
                 continue;
-            };
+            }
             if sym.explicit_columns[k].contains(name) {
                 continue;
             }
             sources.push((ci, k));
             sensitivity_columns.push(sensitivity_name(name, &q.path));
-            let _ = oi;
         }
     }
     let out_index: Vec<usize> = sources
@@ -545,7 +544,7 @@ struct Start0 {
 }
 
 impl Start0 {
-    fn new(sym: &mut SymbolicSystem, _t0: f64) -> Result<Self, SensitivityError> {
+    fn new(sym: &mut SymbolicSystem) -> Result<Self, SensitivityError> {
         let (nq, nv, nc) = (sym.sys.nq(), sym.sys.nv(), sym.sys.nc());
         let c = ConstraintExprs::derive(&mut sym.sys);
         let q_slots: Vec<u32> = (1..=nq as u32).collect();
