@@ -91,7 +91,8 @@ fn check(formulation: &str) {
 /// `x(t)` is linear in the start: `∂x/∂x₀ = x(t)/x₀` and `∂x/∂v₀ = e^{−at} sin(ωt)/ω`.
 #[test]
 fn sensitivities_to_the_initial_position_and_velocity_match_the_closed_form() {
-    let mut v: serde_json::Value = serde_json::from_str(&block_scene("dae").to_json_string()).unwrap();
+    let mut v: serde_json::Value =
+        serde_json::from_str(&block_scene("dae").to_json_string()).unwrap();
     v["bodies"][0]["velocity"] = serde_json::json!([0.0, 0.0]);
     let scene = Scene::from_json_str(&v.to_string()).unwrap();
     let paths = ["bodies[block].position[0]", "bodies[block].velocity[0]"];
