@@ -23,7 +23,11 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 const INSTALL_HINT: &str = "apt-get install libsundials-dev libclang-dev pkg-config";
-const REQUIRED_HEADERS: [&str; 3] = ["ida/ida.h", "cvode/cvode.h", "sundials/sundials_config.h"];
+const REQUIRED_HEADERS: [&str; 3] = [
+    "idas/idas.h",
+    "cvodes/cvodes.h",
+    "sundials/sundials_config.h",
+];
 
 fn candidate_dirs() -> Vec<PathBuf> {
     match env::var_os("SUNDIALS_INCLUDE_DIR") {

@@ -4,7 +4,7 @@
 # sundials-sys (links = "sundials") runs its build script *before* bondmech's build.rs, and
 # falls back to building its vendored SUNDIALS 7.x with cmake when bindgen cannot read the
 # system headers. So the system headers and libclang are checked here, up front:
-#   - $SUNDIALS_INCLUDE_DIR (default /usr/include) has ida/ida.h, cvode/cvode.h and
+#   - $SUNDIALS_INCLUDE_DIR (default /usr/include) has idas/idas.h, cvodes/cvodes.h and
 #     sundials/sundials_config.h with SUNDIALS_VERSION_MAJOR 6;
 #   - a libclang shared library is where clang-sys (used by bindgen) looks for it
 #     ($LIBCLANG_PATH if set, else /usr/lib*, /usr/lib*/*, /usr/lib/llvm-*/lib, /usr/local/lib*).
@@ -21,7 +21,7 @@ fail() {
 }
 
 inc="${SUNDIALS_INCLUDE_DIR:-/usr/include}"
-for h in ida/ida.h cvode/cvode.h sundials/sundials_config.h; do
+for h in idas/idas.h cvodes/cvodes.h sundials/sundials_config.h; do
   [ -f "$inc/$h" ] || fail "SUNDIALS header $inc/$h not found"
 done
 major=$(awk '$1 == "#define" && $2 == "SUNDIALS_VERSION_MAJOR" { print $3 }' \

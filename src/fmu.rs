@@ -630,7 +630,7 @@ impl FmuConfig {
              initialisation.</p>\n\
              <p>Requirements: Linux x86-64 and the SUNDIALS 6 shared libraries it was built \
              against, linked dynamically (Debian 12: <code>apt-get install libsundials-dev</code>, \
-             or the runtime packages <code>libsundials-ida6 libsundials-cvode6 \
+             or the runtime packages <code>libsundials-idas5 libsundials-cvodes6 \
              libsundials-arkode5 libsundials-sunlinsol3 libsundials-sunmatrix4</code>).</p>\n\
              <table><tr><th>value reference</th><th>name</th><th>kind</th><th>start</th><th>unit</th></tr>\n{rows}</table>\n\
              </body></html>\n",

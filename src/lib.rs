@@ -88,6 +88,7 @@ pub mod output;
 pub mod partition;
 pub mod report;
 pub mod scene;
+pub mod sensitivity;
 pub mod service;
 pub mod settings;
 pub mod solve;

@@ -221,6 +221,22 @@ fn run(cli: Cli) -> Result<(), CliError> {
             ))?)
         }
         Command::Fmu(args) => Ok(fmu::export(&args)?),
+        Command::Sensitivity { args, params, out } => {
+            cli::sensitivity::sensitivity(&args, &params, out.as_deref())
+        }
+        Command::Fit {
+            args,
+            data,
+            params,
+            columns,
+            json,
+            out,
+            max_iterations,
+        } => cli::sensitivity::fit(
+            &args,
+            (&data, &params, columns, max_iterations),
+            (json.as_deref(), out.as_deref()),
+        ),
         Command::Serve(args) => {
             let config = args.config().map_err(Error::Options)?;
             let addr = config.addr.to_string();

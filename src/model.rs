@@ -80,6 +80,7 @@ fn empty_system() -> MultibodySystem {
         velocities: Vec::new(),
         given_velocities: Vec::new(),
         mass: Vec::new(),
+        mass_symbols: Vec::new(),
         kinematics: Vec::new(),
         forces: Vec::new(),
         constraints: Vec::new(),

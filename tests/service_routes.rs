@@ -731,6 +731,8 @@ fn healthz_metrics_openapi_and_unknown_routes() {
         ("/v1/graph", "post"),
         ("/v1/equilibrium", "post"),
         ("/v1/linearize", "post"),
+        ("/v1/sensitivity", "post"),
+        ("/v1/fit", "post"),
         ("/v1/sweep", "post"),
     ] {
         assert!(o["paths"][path][method].is_object(), "{path} {method}");

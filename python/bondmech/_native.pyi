@@ -81,6 +81,19 @@ class Scene:
         as 2-D numpy arrays: at, t, operating_point, states, inputs, outputs, A, B, C, D,
         equilibrium, eigenvalues, modes (eigenvalue, omega_n, frequency_hz, damping_ratio,
         multiplicity, shape; empty about a moving operating point), notes, cpu_seconds."""
+    def sensitivity(
+        self, params: List[str], t_end: Optional[float] = None
+    ) -> Dict[str, Any]:
+        """Forward sensitivities (IDAS, exact dF/dp) to scene parameters given as paths
+        ("bodies[bar2].mass"): t, columns, values (the run), sensitivities
+        ({"d(<column>)/d(<path>)": 1-D array}), warnings."""
+    def fit(
+        self, data: Any, params: List[str], columns: Optional[List[str]] = None
+    ) -> Dict[str, Any]:
+        """Scene parameters fitted to data (CSV text, a dict of columns or a pandas
+        DataFrame with "t" and run columns) by Levenberg-Marquardt on the exact
+        sensitivities: the ``bondmech fit --json`` document (converged, iterations,
+        parameters, std_errors, covariance, correlation, residual_rms, ...)."""
 
 def compare(
     scene: Scene,

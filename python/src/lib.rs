@@ -85,7 +85,7 @@ fn to_py_err(py: Python<'_>, e: Error) -> PyErr {
         Error::Mechanism(me) => scene_error(py, message, vec![(me.path, me.message)]),
         Error::BondGraph(m) => scene_error(py, message, vec![("bond_graph".into(), m)]),
         Error::TooLarge(_) => scene_error(py, message.clone(), vec![(String::new(), message)]),
-        Error::Options(_) | Error::Report(_) | Error::Linearize(_) => {
+        Error::Options(_) | Error::Report(_) | Error::Linearize(_) | Error::Sensitivity(_) => {
             py_error(py, "OptionsError", (message,))
         }
         Error::Io { path, source } => {
@@ -636,6 +636,98 @@ impl Scene {
             doc.set_item(key, arr)?;
         }
         Ok(doc)
+    }
+
+    /// Forward sensitivities (IDAS, exact ∂F/∂p): a dict with `t` (1-D), `columns`, `values`
+    /// (2-D, rows × columns: the run), `sensitivities` (`{"d(<column>)/d(<path>)": 1-D array}`,
+    /// the `bondmech sensitivity` columns), `warnings`. `params` are scene paths as `set`
+    /// takes them (`"bodies[bar2].mass"`). Raises `OptionsError` naming the path, `SceneError`
+    /// or `SolveError`.
+    #[pyo3(signature = (params, t_end = None))]
+    fn sensitivity<'py>(
+        &self,
+        py: Python<'py>,
+        params: Vec<String>,
+        t_end: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let scene = self.scene.clone();
+        let mut req = bondmech::sensitivity::SensitivityRequest::new(&[]);
+        req.params = params;
+        req.t_end = t_end;
+        let s = py
+            .detach(move || bondmech::sensitivity::sensitivity(&scene, &req).map_err(Error::from))
+            .py(py)?;
+        let doc = PyDict::new(py);
+        doc.set_item("t", PyArray1::from_vec(py, s.times.clone()))?;
+        doc.set_item("columns", s.columns.clone())?;
+        let (n, m) = (s.rows.len(), s.columns.len());
+        let flat: Vec<f64> = s.rows.iter().flatten().copied().collect();
+        doc.set_item("values", PyArray1::from_vec(py, flat).reshape([n, m])?)?;
+        let sens = PyDict::new(py);
+        for (i, name) in s.sensitivity_columns.iter().enumerate() {
+            let col: Vec<f64> = s.sensitivity_rows.iter().map(|r| r[i]).collect();
+            sens.set_item(name, PyArray1::from_vec(py, col))?;
+        }
+        doc.set_item("sensitivities", sens)?;
+        doc.set_item("warnings", s.warnings.clone())?;
+        Ok(doc.into_any())
+    }
+
+    /// Fits scene parameters to measured data (Levenberg–Marquardt on the exact
+    /// sensitivities, from the scene's values): the `bondmech fit --json` document as a dict
+    /// (`converged`, `iterations`, `parameters`, `std_errors`, `covariance`, `correlation`,
+    /// `residual_rms`, …). `data`: CSV text, a dict of columns (`"t"` and run columns) or a
+    /// pandas DataFrame with those columns. Raises `OptionsError` naming the path or the column.
+    #[pyo3(signature = (data, params, columns = None))]
+    fn fit<'py>(
+        &self,
+        py: Python<'py>,
+        data: &Bound<'py, PyAny>,
+        params: Vec<String>,
+        columns: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use bondmech::sensitivity::{FitData, FitRequest};
+        let data = if let Ok(text) = data.extract::<String>() {
+            FitData::from_csv(&text)
+        } else {
+            // a DataFrame: its columns as lists; a mapping: as it is
+            let table = if data.hasattr("to_dict")? && data.hasattr("columns")? {
+                data.call_method1("to_dict", ("list",))?
+            } else {
+                data.clone()
+            };
+            let dict = table.cast::<PyDict>().map_err(|_| {
+                PyTypeError::new_err("data: CSV text, a dict of columns or a pandas DataFrame")
+            })?;
+            let mut header = Vec::new();
+            let mut series: Vec<Vec<f64>> = Vec::new();
+            for (k, v) in dict.iter() {
+                header.push(k.extract::<String>()?);
+                series.push(v.extract::<Vec<f64>>()?);
+            }
+            let rows = series.first().map_or(0, Vec::len);
+            if series.iter().any(|s| s.len() != rows) {
+                return Err(PyValueError::new_err(
+                    "data: the columns have different lengths",
+                ));
+            }
+            let table: Vec<Vec<f64>> = (0..rows)
+                .map(|i| series.iter().map(|s| s[i]).collect())
+                .collect();
+            FitData::from_table(header, table)
+        }
+        .map_err(Error::from)
+        .py(py)?;
+        let scene = self.scene.clone();
+        let req = FitRequest {
+            params,
+            columns,
+            max_iterations: None,
+        };
+        let r = py
+            .detach(move || bondmech::sensitivity::fit(&scene, &data, &req).map_err(Error::from))
+            .py(py)?;
+        from_json(py, &r.to_json().to_string())
     }
 
     fn __repr__(&self) -> String {

@@ -216,6 +216,8 @@ struct Reader<'a> {
     opened: Vec<bool>,
     /// Flow sources whose flow is prescribed into the graph (not a constraint row).
     sources: Vec<bool>,
+    /// Extra symbols' slots and values ([`read_mechanics_with_names`]).
+    symbols: Vec<(u32, f64)>,
 }
 
 /// Reads the multibody equations of a bond graph (see the module documentation).
@@ -230,6 +232,23 @@ pub fn read_mechanics_in(
     graph: &BondGraph,
     arena: ExprGraph,
 ) -> Result<MechanicalEquations, MechanicsError> {
+    read_mechanics_with_names(graph, arena, &[])
+}
+
+/// [`read_mechanics_in`] where the parameters' expressions may also name `extra` symbols
+/// (`(name, variable slot, value)`: a sensitivity run's parameters, [`crate::sensitivity`]);
+/// the build-time checks evaluate them at their values.
+pub fn read_mechanics_with_names(
+    graph: &BondGraph,
+    arena: ExprGraph,
+    extra: &[(String, u32, f64)],
+) -> Result<MechanicalEquations, MechanicsError> {
+    let mut arena = arena;
+    let names: HashMap<String, Expr> = extra
+        .iter()
+        .map(|(n, slot, _)| (n.clone(), arena.var(*slot)))
+        .collect();
+    let values: Vec<(u32, f64)> = extra.iter().map(|(_, s, v)| (*s, *v)).collect();
     let n_el = graph.elements.len();
     let mut bonds_of = vec![Vec::new(); n_el];
     for (i, b) in graph.bonds.iter().enumerate() {
@@ -248,7 +267,8 @@ pub fn read_mechanics_in(
     let r = Reader {
         g: graph,
         eg: arena,
-        names: HashMap::new(),
+        names,
+        symbols: values,
         flows: vec![None; graph.bonds.len()],
         bonds_of,
         opened,
@@ -576,7 +596,7 @@ impl Reader<'_> {
             capacitors,
             names: self.names,
         };
-        check_integrals(g, &eqs)?;
+        check_integrals(g, &eqs, &self.symbols)?;
         Ok(eqs)
     }
 
@@ -773,8 +793,17 @@ fn probe_states(g: &BondGraph, n: usize) -> Vec<Vec<f64>> {
 
 /// Checks `d/dt g_k = G_k v` for every closure and `d/dt δ = s f` for every capacitor given by
 /// its displacement, at random states near the initial one.
-fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations) -> Res<()> {
+fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations, symbols: &[(u32, f64)]) -> Res<()> {
     let mut eg = eqs.graph.clone();
+    // extra symbols at their values
+    let values: Vec<(u32, Expr)> = symbols.iter().map(|&(s, v)| (s, eg.constant(v))).collect();
+    let at_values = |eg: &mut ExprGraph, e: Expr| -> Expr {
+        if values.is_empty() {
+            e
+        } else {
+            eg.substitute(e, &values)
+        }
+    };
     let nq = eqs.nq();
     let x0 = eqs.initial_slots();
     let mut probes = probe_states(g, 3);
@@ -814,7 +843,8 @@ fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations) -> Res<()> {
     for r in &eqs.rows {
         let Some(c) = r.closure else { continue };
         let d = rate(&mut eg, c);
-        let m = mismatch(&eg, d, r.flow);
+        let (d, flow) = (at_values(&mut eg, d), at_values(&mut eg, r.flow));
+        let m = mismatch(&eg, d, flow);
         if m > 1e-9 {
             let closure = g
                 .constraint_junctions
@@ -833,6 +863,7 @@ fn check_integrals(g: &BondGraph, eqs: &MechanicalEquations) -> Res<()> {
     }
     for &(c, delta, f_in) in &eqs.capacitors {
         let d = rate(&mut eg, delta);
+        let (d, f_in) = (at_values(&mut eg, d), at_values(&mut eg, f_in));
         let m = mismatch(&eg, d, f_in);
         if m > 1e-9 {
             let el = g.element(c);

@@ -203,6 +203,45 @@ pub(crate) enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// The run's columns and their forward sensitivities `d(<column>)/d(<PATH>)` to scene
+    /// parameters (IDAS, exact ∂F/∂p; docs/scene-format.md §25), as CSV.
+    Sensitivity {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// A scene path as `--set` takes it: `bodies[bar2].mass`, `springs[s1].stiffness`,
+        /// `gravity[1]`, `bodies[block].position[0]`, … (repeatable).
+        #[arg(long = "param", value_name = "PATH", required = true)]
+        params: Vec<String>,
+        /// CSV output file (default: standard output).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Identify scene parameters from measurements: Levenberg–Marquardt on the exact
+    /// sensitivities, from the scene's values; a table on standard output, exit 1 when the
+    /// fit does not converge.
+    Fit {
+        #[command(flatten)]
+        args: SolveArgs,
+        /// The measurements: CSV whose header names `t` and run columns.
+        #[arg(long)]
+        data: PathBuf,
+        /// A scene path to fit (repeatable), as `sensitivity --param`.
+        #[arg(long = "param", value_name = "PATH", required = true)]
+        params: Vec<String>,
+        /// The data's columns to fit (comma-separated; default all).
+        #[arg(long, value_name = "COL,COL,...", value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+        /// Write the fit as JSON to this file (converged, iterations, parameters, std_errors,
+        /// covariance, residual_rms, correlation).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write the scene with the fitted values to this file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Largest number of Levenberg–Marquardt iterations (default 60).
+        #[arg(long = "max-iterations")]
+        max_iterations: Option<usize>,
+    },
     /// Serve the HTTP/JSON API until SIGTERM or Ctrl-C (routes: docs/service.md).
     Serve(bondmech::service::ServeArgs),
     /// Export a scene as a co-simulation FMU (FMI 3.0, or 2.0 with --fmi 2; docs/fmu.md).

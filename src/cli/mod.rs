@@ -9,5 +9,6 @@ pub(crate) mod graph;
 pub(crate) mod output;
 pub(crate) mod run;
 pub(crate) mod scene_input;
+pub(crate) mod sensitivity;
 pub(crate) mod signals;
 pub(crate) mod sweep;

@@ -234,6 +234,39 @@ impl ImplicitDae {
         }
     }
 
+    /// The two parts of the iteration matrix at `(t, y, y')` as `(row, col, value)` lists:
+    /// `∂F/∂y` into `dy` and `∂F/∂y'` into `dyp` (cleared first; an entry may repeat: values
+    /// add). The sensitivity residual `F_y s + F_y' s' + ∂F/∂p` reads them.
+    pub fn jacobian_parts(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        (y, yp): (&[f64], &[f64]),
+        dy: &mut Vec<(usize, usize, f64)>,
+        dyp: &mut Vec<(usize, usize, f64)>,
+    ) {
+        self.eval_jacobian(ws, t, y, yp);
+        dy.clear();
+        dyp.clear();
+        dy.extend(
+            self.dy
+                .iter()
+                .zip(&self.dy_at)
+                .map(|(e, &k)| (e.row, e.col, ws.jac[k])),
+        );
+        dyp.extend(
+            self.dyp
+                .iter()
+                .zip(&self.dyp_at)
+                .map(|(e, &k)| (e.row, e.col, ws.jac[k])),
+        );
+    }
+
+    /// The candidate row of each of the DAE's rows (`None`: every candidate in order).
+    pub fn selection(&self) -> Option<&[usize]> {
+        self.selection.as_deref()
+    }
+
     /// The Jacobian tape's outputs at `(t, y, y')` into `ws.jac`.
     fn eval_jacobian(&self, ws: &mut Workspace, t: f64, y: &[f64], yp: &[f64]) {
         fill_vars(&mut ws.vars, t, y, Some(yp));

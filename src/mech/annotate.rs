@@ -884,6 +884,7 @@ pub fn system_from_graph(g: &BondGraph) -> Result<MultibodySystem, AnnotateError
         velocities: state(&eqs.velocities),
         given_velocities: Vec::new(),
         mass: eqs.mass.clone(),
+        mass_symbols: Vec::new(),
         kinematics: eqs.kinematics.clone(),
         forces: eqs.forces.clone(),
         constraints,

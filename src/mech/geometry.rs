@@ -77,6 +77,7 @@ impl Geometry<'_> {
             velocities: self.vels,
             given_velocities: Vec::new(),
             mass: self.mass,
+            mass_symbols: Vec::new(),
             kinematics,
             forces: vec![zero; nv],
             constraints,

@@ -163,6 +163,9 @@ pub struct MultibodySystem {
     pub given_velocities: Vec<bool>,
     /// Diagonal of the mass matrix `M` (one entry per velocity; 0 for a massless rotation).
     pub mass: Vec<f64>,
+    /// The inertias `M_j` as expressions where they depend on a sensitivity run's parameter
+    /// symbols ([`crate::sensitivity`]); empty otherwise (then `mass` is all there is).
+    pub mass_symbols: Vec<Expr>,
     /// `K(q) v`, one expression per coordinate.
     pub kinematics: Vec<Expr>,
     /// Generalized forces `Q(t, q, v)`, one per velocity.

@@ -9,6 +9,8 @@
 //! | `POST /v1/graph?format=dot\|svg\|causality` | the bond graph drawing or causality report |
 //! | `POST /v1/equilibrium` | the static equilibrium (`bondmech equilibrium --json`) |
 //! | `POST /v1/linearize?at=&output=&states=` | the linear model and its modes (`bondmech linearize --json`) |
+//! | `POST /v1/sensitivity?param=` | the run's columns and their sensitivities (`bondmech sensitivity`, CSV) |
+//! | `POST /v1/fit?param=&columns=` | parameters fitted to data (`bondmech fit --json`); body `{"scene", "data"}` |
 //! | `POST /v1/sweep?quick=true` | NDJSON progress, then the sweep report |
 //! | `POST /v1/animate?view=&speed=&format=svg\|frames` | the `animate` SVG (SMIL) or its frames |
 //! | `POST /v1/validate` | `{valid, errors: [{path, message}]}`, the command line's problems (always 200) |
@@ -273,6 +275,8 @@ fn router(app: Arc<App>) -> Router {
         .route("/v1/graph", post(routes::graph))
         .route("/v1/equilibrium", post(routes::equilibrium))
         .route("/v1/linearize", post(routes::linearize))
+        .route("/v1/sensitivity", post(routes::sensitivity))
+        .route("/v1/fit", post(routes::fit))
         .route("/v1/sweep", post(routes::sweep))
         .route("/v1/animate", post(routes::animate))
         .route("/v1/validate", post(page::validate))

@@ -199,6 +199,17 @@ pub fn document() -> Value {
             ], json!({
                 "description": "at, t, operating_point, states, inputs, outputs, A, B, C, D, modes (eigenvalue, omega_n, frequency_hz, damping_ratio, shape), notes.", "content": {"application/json": {"schema": {"type": "object"}}}
             })),
+            "/v1/sensitivity": post("The run's columns and their forward sensitivities d(<column>)/d(<path>) to scene parameters (IDAS, exact ∂F/∂p): the bondmech sensitivity CSV.", vec![
+                query("param", "The parameters' scene paths, comma-separated (bodies[bar2].mass, springs[s1].stiffness, …).", json!({"type": "string"})),
+            ], json!({
+                "description": "t, the run's columns, then d(<column>)/d(<path>) for every column and parameter.", "content": {"text/csv": {"schema": {"type": "string"}}}
+            })),
+            "/v1/fit": post("Scene parameters fitted to measured data by Levenberg–Marquardt on the exact sensitivities: the bondmech fit --json document. Body: {\"scene\": {…}, \"data\": \"<CSV with t and run columns>\" or {\"t\": […], \"<column>\": […]}}.", vec![
+                query("param", "The parameters' scene paths, comma-separated.", json!({"type": "string"})),
+                query("columns", "The data's columns to fit, comma-separated (default all).", json!({"type": "string"})),
+            ], json!({
+                "description": "converged, reason, iterations, parameters, start, std_errors, covariance, correlation, residual_rms, columns, points.", "content": {"application/json": {"schema": {"type": "object"}}}
+            })),
             "/v1/graph": post("The bond graph: DOT, SVG (Graphviz on the server) or the causality report.", vec![
                 query("format", "dot (default), svg or causality.", json!({"type": "string", "enum": ["dot", "svg", "causality"], "default": "dot"})),
                 query("decoupled", "Draw the decoupled twin (joints replaced by springs).", json!({"type": "boolean", "default": false})),

@@ -28,7 +28,7 @@ use crate::report::SweepConfig;
 use crate::scene::Scene;
 
 /// The routes, for metrics labels and the 404 answer.
-pub const ROUTES: [&str; 17] = [
+pub const ROUTES: [&str; 19] = [
     "/healthz",
     "/metrics",
     "/openapi.json",
@@ -37,6 +37,8 @@ pub const ROUTES: [&str; 17] = [
     "/v1/graph",
     "/v1/equilibrium",
     "/v1/linearize",
+    "/v1/sensitivity",
+    "/v1/fit",
     "/v1/sweep",
     "/v1/animate",
     "/v1/validate",
@@ -773,6 +775,196 @@ async fn equilibrium_inner(
         Ok(with_type(text, JSON))
     });
     join(job).await
+}
+
+/// The comma-separated list of query parameter `key` (empty when absent).
+fn query_list(params: &super::solve::Params, key: &str) -> Vec<String> {
+    params
+        .text(key)
+        .map(|s| {
+            s.split(',')
+                .map(|c| c.trim().to_string())
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// A sensitivity run's or a fit's refusal: 422 naming the parameter's path or the data's
+/// column (`parameter`: `param`, or `data` for the data).
+fn sensitivity_problem(e: &crate::sensitivity::SensitivityError) -> Problem {
+    use crate::sensitivity::SensitivityError as S;
+    match e {
+        S::Path { .. } | S::Unsupported { .. } | S::Perturbed { .. } => {
+            super::solve::invalid_value("param", e.to_string())
+        }
+        S::Data(_) => super::solve::invalid_value("data", e.to_string()),
+        S::Solve(_) | S::Solver(_) => Problem::new(
+            axum::http::StatusCode::UNPROCESSABLE_ENTITY,
+            "solve-failed",
+            "The solve failed",
+            e.to_string(),
+        ),
+        S::Scene(_) | S::Fit(_) => Problem::new(
+            axum::http::StatusCode::UNPROCESSABLE_ENTITY,
+            "sensitivity-refused",
+            "Sensitivities or fit refused",
+            e.to_string(),
+        ),
+    }
+}
+
+/// `POST /v1/sensitivity?param=PATH,PATH`: the run's columns and their sensitivities
+/// `d(<column>)/d(<PATH>)` as CSV (`bondmech sensitivity`), the scene in the body.
+pub async fn sensitivity(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = sensitivity_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn sensitivity_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &["param"])?;
+    let paths = query_list(&params, "param");
+    if paths.is_empty() {
+        return Err(Problem::bad_parameter(
+            "param",
+            "give the parameters' scene paths: ?param=bodies[bar2].mass,springs[s1].stiffness",
+        ));
+    }
+    let scene = scene_from(app, headers, body).await?;
+    let slot = app.pool.acquire_for(0.0).await?;
+    let job = app.pool.spawn(slot, move || {
+        let mut req = crate::sensitivity::SensitivityRequest::new(&[]);
+        req.params = paths;
+        let s =
+            crate::sensitivity::sensitivity(&scene, &req).map_err(|e| sensitivity_problem(&e))?;
+        Ok(with_type(s.to_csv(), "text/csv; charset=utf-8"))
+    });
+    join(job).await
+}
+
+/// `POST /v1/fit?param=PATH,PATH&columns=COL,COL`: the fit's JSON (`bondmech fit --json`); the
+/// body is `{"scene": {…}, "data": "<CSV text>" | {"t": […], "<column>": […], …}}`.
+pub async fn fit(
+    State(app): State<Arc<App>>,
+    RawQuery(q): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let r = fit_inner(&app, q, &headers, body).await;
+    respond(&app, r)
+}
+
+async fn fit_inner(
+    app: &Arc<App>,
+    q: Option<String>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Response, Problem> {
+    not_shutting_down(app)?;
+    let params = Params::parse(q.as_deref(), &["param", "columns"])?;
+    let paths = query_list(&params, "param");
+    if paths.is_empty() {
+        return Err(Problem::bad_parameter(
+            "param",
+            "give the parameters' scene paths: ?param=springs[s1].stiffness,springs[s1].damping",
+        ));
+    }
+    let columns = params
+        .text("columns")
+        .map(|_| query_list(&params, "columns"));
+    let bytes = super::limits::read_body(headers, body, &app.limits).await?;
+    let limits = app.limits.clone();
+    let (scene, data) = tokio::task::spawn_blocking(move || fit_body(&bytes, &limits))
+        .await
+        .unwrap_or_else(|e| {
+            Err(Problem::internal(format!(
+                "the admission job was lost: {e}"
+            )))
+        })?;
+    let slot = app.pool.acquire_for(0.0).await?;
+    let job = app.pool.spawn(slot, move || {
+        let req = crate::sensitivity::FitRequest {
+            params: paths,
+            columns,
+            max_iterations: None,
+        };
+        let r =
+            crate::sensitivity::fit(&scene, &data, &req).map_err(|e| sensitivity_problem(&e))?;
+        let text = serde_json::to_string_pretty(&r.to_json()).unwrap_or_default() + "\n";
+        Ok(with_type(text, JSON))
+    });
+    join(job).await
+}
+
+/// The scene and the data of a fit's body (see [`fit`]).
+fn fit_body(
+    bytes: &[u8],
+    limits: &super::limits::Limits,
+) -> Result<(Scene, crate::sensitivity::FitData), Problem> {
+    use crate::sensitivity::FitData;
+    let doc = super::limits::parse_json(bytes)?;
+    let Some(obj) = doc.as_object() else {
+        return Err(super::solve::invalid_value(
+            "body",
+            "the body is {\"scene\": {…}, \"data\": \"<CSV>\" or {\"t\": […], \"<column>\": […]}}",
+        ));
+    };
+    let scene_doc = obj
+        .get("scene")
+        .ok_or_else(|| super::solve::invalid_value("body", "the body has no \"scene\""))?;
+    let text = scene_doc.to_string();
+    let scene = super::admit::parse_scene(text.as_bytes(), limits)?;
+    let data = match obj.get("data") {
+        Some(serde_json::Value::String(csv)) => FitData::from_csv(csv),
+        Some(serde_json::Value::Object(cols)) => {
+            let header: Vec<String> = cols.keys().cloned().collect();
+            let mut series = Vec::with_capacity(header.len());
+            for (k, v) in cols {
+                let values: Option<Vec<f64>> = v
+                    .as_array()
+                    .map(|a| a.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect());
+                match values {
+                    Some(v) => series.push(v),
+                    None => {
+                        return Err(super::solve::invalid_value(
+                            "data",
+                            format!("data column '{k}' is not an array of numbers"),
+                        ))
+                    }
+                }
+            }
+            let rows = series.first().map_or(0, Vec::len);
+            if let Some((k, _)) = header.iter().zip(&series).find(|(_, s)| s.len() != rows) {
+                return Err(super::solve::invalid_value(
+                    "data",
+                    format!("data column '{k}' has another length than the others"),
+                ));
+            }
+            let table: Vec<Vec<f64>> = (0..rows)
+                .map(|i| series.iter().map(|s| s[i]).collect())
+                .collect();
+            FitData::from_table(header, table)
+        }
+        _ => {
+            return Err(super::solve::invalid_value(
+                "data",
+                "the body's \"data\" is CSV text or an object of columns",
+            ))
+        }
+    }
+    .map_err(|e| super::solve::invalid_value("data", e.to_string()))?;
+    Ok((scene, data))
 }
 
 /// `POST /v1/linearize?at=&output=&states=`: the linear model about the operating point, the

@@ -340,6 +340,7 @@ pub fn library_problem(e: &Error, budget: Budget) -> Problem {
         Error::BondGraph(_) => ("invalid-bond-graph", "Invalid bond graph"),
         Error::Linearize(_) => ("linearize-refused", "The scene cannot be linearized"),
         Error::Equilibrium(_) => ("no-equilibrium", "No static equilibrium"),
+        Error::Sensitivity(_) => ("sensitivity-refused", "Sensitivities or fit refused"),
         _ => ("solve-failed", "The solve failed"),
     };
     unprocessable(kind, title, e.to_string())

@@ -11,7 +11,7 @@ pub mod bond_run;
 pub mod error;
 pub(crate) mod executor;
 pub mod formulation;
-mod integrators;
+pub(crate) mod integrators;
 pub(crate) mod kinematic;
 pub(crate) mod non_finite;
 pub mod options;

@@ -25,6 +25,9 @@ use std::os::raw::{c_int, c_long, c_void};
 use std::ptr;
 use sundials_sys as sys;
 
+mod sens;
+pub use sens::{SensResidualFn, SensStats};
+
 const P: Package = Package::Ida;
 
 /// IDA's entry points for the call sequences the integrator wrappers share
@@ -69,6 +72,8 @@ pub(crate) struct IdaData {
     last_t: f64,
     /// User error weights ([`Ida::set_error_weights`]).
     weights: Option<ErrorWeights>,
+    /// The sensitivity residual ([`Ida::enable_sensitivities`]).
+    sens: Option<sens::SensData>,
 }
 
 /// The tolerances and closure behind `IDAWFtolerances` ([`Ida::set_error_weights`]).
@@ -104,6 +109,8 @@ pub struct Ida {
     yp: NVector,
     tmp: NVector,
     data: Box<IdaData>,
+    /// The sensitivities' start and output vectors (freed after `mem`).
+    sens: Option<sens::SensVectors>,
     stepping: SteppingState,
     /// Steps accepted after recovered failures, and the failure counters seen so far.
     failures: FailureLog,
@@ -426,6 +433,7 @@ impl Ida {
             roots: None,
             last_t: t0,
             weights: None,
+            sens: None,
         });
         let (mat, mut ls) = match (custom, &smat, sparse_kind) {
             (_, Some(sm), Some(kind)) => (
@@ -586,6 +594,7 @@ impl Ida {
             yp,
             tmp,
             data,
+            sens: None,
             stepping: SteppingState::new(
                 t0,
                 opts.max_steps,
@@ -732,6 +741,12 @@ impl Ida {
         let flag = unsafe { sys::IDAReInit(self.raw(), t0, self.y.raw(), self.yp.raw()) };
         if flag < 0 {
             return Err(self.fail("IDAReInit", flag));
+        }
+        if self.sens.take().is_some() {
+            // the sensitivities started at the old start: a restart turns them off
+            // SAFETY: live IDA memory with sensitivities.
+            unsafe { sys::IDASensToggleOff(self.raw()) };
+            self.data.sens = None;
         }
         self.stepping.restart(t0);
         // IDAReInit zeroes SUNDIALS' counters

@@ -55,7 +55,7 @@ pub use custom_ls::IdaLinearSolver;
 pub use cvode::Cvode;
 pub use erk::{Erk, ErkOptions};
 pub use error::{CallbackError, CallbackResult, SolverError};
-pub use ida::Ida;
+pub use ida::{Ida, SensResidualFn, SensStats};
 pub use matrix::DenseMatrixMut;
 pub use options::{CalcIc, CvodeOptions, IdaOptions, Multistep, Step, StepEvent};
 pub use sparse::{

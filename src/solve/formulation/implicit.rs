@@ -65,6 +65,19 @@ pub trait DaeFormulation: Send + Sync {
     }
     /// The structural non-zeros `(row, col)` of `J` (the sparsity pattern of the Newton matrix).
     fn structure(&self) -> Vec<(usize, usize)>;
+    /// `∂F/∂y` into `dy` and `∂F/∂y'` into `dyp` as `(row, col, value)` at `(t, y, y')` (values
+    /// of repeated entries add), for the sensitivity residual `F_y s + F_y' s' + ∂F/∂p`;
+    /// `false` where the formulation does not give them apart.
+    fn jacobian_parts(
+        &self,
+        _ws: &mut Workspace,
+        _t: f64,
+        _state: (&[f64], &[f64]),
+        _dy: &mut Vec<(usize, usize, f64)>,
+        _dyp: &mut Vec<(usize, usize, f64)>,
+    ) -> bool {
+        false
+    }
     /// How faer's sparse LU orders the columns of `J` (where the Newton matrix is sparse):
     /// COLAMD unless the formulation knows better.
     fn sparse_ordering(&self) -> ColumnOrdering {
@@ -143,6 +156,30 @@ impl DaeFormulation for GglDae {
     fn structure(&self) -> Vec<(usize, usize)> {
         self.formulation.structure()
     }
+    fn jacobian_parts(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        state: (&[f64], &[f64]),
+        dy: &mut Vec<(usize, usize, f64)>,
+        dyp: &mut Vec<(usize, usize, f64)>,
+    ) -> bool {
+        // the restoring rate's couplings through `p` are not in the matrix (left to Newton)
+        if self.restoring() {
+            return false;
+        }
+        self.formulation.dae.jacobian_parts(ws, t, state, dy, dyp);
+        let eps = self.compliance();
+        if eps != 0.0 {
+            let (nq, nv, nc) = self.formulation.dims;
+            let (lam, mu) = (nq + nv, nq + nv + nc);
+            for k in 0..nc {
+                dy.push((lam + k, mu + k, -eps));
+                dy.push((mu + k, lam + k, -eps));
+            }
+        }
+        true
+    }
 }
 
 /// `DaeFormulation` for a type holding a compiled residual `dae: ImplicitDae` and its id vector
@@ -184,6 +221,17 @@ macro_rules! compiled_with_id {
             }
             fn structure(&self) -> Vec<(usize, usize)> {
                 self.dae.structure().collect()
+            }
+            fn jacobian_parts(
+                &self,
+                ws: &mut Workspace,
+                t: f64,
+                state: (&[f64], &[f64]),
+                dy: &mut Vec<(usize, usize, f64)>,
+                dyp: &mut Vec<(usize, usize, f64)>,
+            ) -> bool {
+                self.dae.jacobian_parts(ws, t, state, dy, dyp);
+                true
             }
             fn sparse_ordering(&self) -> ColumnOrdering {
                 $ordering

@@ -241,6 +241,17 @@ pub(crate) trait Formulation<'a> {
         Ok(())
     }
 
+    /// A sensitivity run's `∂F/∂p_k` for the segment just started ([`Formulation::segment`])
+    /// and what its start needs ([`ParameterRows`]; default: `None`, the formulation has no
+    /// sensitivities).
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<ParameterRows, SolveError>> {
+        let _ = sym;
+        None
+    }
+
     /// The formulation's own figures in the summary at the end of the run (the executor has
     /// written the counters, CPU time, constraint error and energy).
     fn finish(
@@ -277,6 +288,18 @@ pub(crate) trait RowEval {
     fn driver_work_note(&self) -> String {
         String::new()
     }
+}
+
+/// What a sensitivity run needs of a formulation ([`Formulation::parameter_rows`]).
+pub(crate) struct ParameterRows {
+    /// `∂F/∂p_k`: one list of rows over `[t, y, y']` (in the DAE's row order) per parameter.
+    pub rows: Vec<Vec<crate::expr::Expr>>,
+    /// Rows `H(t, y, y'; p) = 0` the start must also meet where `F`'s rows leave unknowns
+    /// undetermined (an index-2 DAE's hidden acceleration constraints), over `[t, y, y']` and
+    /// the parameters' symbols; empty for an index-1 DAE.
+    pub hidden: Vec<crate::expr::Expr>,
+    /// Unknowns whose sensitivity starts at zero (multipliers that vanish on the solution).
+    pub pinned: Vec<usize>,
 }
 
 /// The scene's events: their functions over the row state and what each does.

@@ -85,31 +85,10 @@ impl GglFormulation {
     pub fn build(sys: &mut MultibodySystem, c: &ConstraintExprs, compliance: f64) -> Self {
         let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
         let n = nq + nv + 2 * nc;
-        let lam = |k: usize| (1 + nq + nv + k) as u32;
         let mu = |k: usize| (1 + nq + nv + nc + k) as u32;
-        let qp = |i: usize| (1 + n + i) as u32;
-        let vp = |j: usize| (1 + n + nq + j) as u32;
+        let res = Self::residual_rows(sys, c);
         let energy = sys.energy;
         let g = &mut sys.graph;
-        let mut res: Vec<Expr> = Vec::with_capacity(n);
-        for i in 0..nq {
-            let mut terms = vec![g.var(qp(i))];
-            terms.push(g.neg(sys.kinematics[i]));
-            for k in 0..nc {
-                if !g.is_zero(c.gq[k][i]) {
-                    let m = g.var(mu(k));
-                    terms.push(g.mul(c.gq[k][i], m));
-                }
-            }
-            res.push(g.sum(&terms));
-        }
-        for j in 0..nv {
-            let a = g.var(vp(j));
-            let ma = g.scale(sys.mass[j], a);
-            res.push(c.effort_row(g, (j, sys.forces[j]), &[ma], lam));
-        }
-        res.extend(c.g.iter().copied());
-        res.extend(c.gvv.iter().copied());
         // the slip power ∂E/∂q · G_qᵀ μ (what the position multipliers' slip q' − K v takes
         // from the energy)
         let q_slots: Vec<u32> = (0..nq).map(|i| (1 + i) as u32).collect();
@@ -151,6 +130,60 @@ impl GglFormulation {
             mass: sys.mass.clone(),
             slip_power,
         }
+    }
+
+    /// `∂F/∂p_k` of the GGL residual at `ε = 0`, one list of rows (over `[t, y, y']`) per
+    /// parameter of `sym`: the residual rows built from the mechanism with its parameters as
+    /// symbols, differentiated ([`crate::sensitivity`]); `ε` and the restoring rate do not
+    /// depend on the parameters. Also the hidden constraints `G_v v' + γ = 0` (over `[t, y,
+    /// y']` and the symbols), which determine the multipliers' sensitivities at the start.
+    pub fn parameter_rows(
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> (Vec<Vec<Expr>>, Vec<Expr>) {
+        let c = ConstraintExprs::derive(&mut sym.sys);
+        let rows = Self::residual_rows(&mut sym.sys, &c);
+        let (nq, nv, nc) = (sym.sys.nq(), sym.sys.nv(), sym.sys.nc());
+        let n = nq + nv + 2 * nc;
+        let hidden: Vec<Expr> = (0..nc)
+            .map(|k| c.acceleration_row(&mut sym.sys.graph, k, |j| (1 + n + nq + j) as u32))
+            .collect();
+        (sym.derivatives(&rows), hidden)
+    }
+
+    /// `F(t, y, y')` at `ε = 0` (the rows of the module documentation) as expressions over
+    /// `[t, y, y']`.
+    pub fn residual_rows(sys: &mut MultibodySystem, c: &ConstraintExprs) -> Vec<Expr> {
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
+        let n = nq + nv + 2 * nc;
+        let lam = |k: usize| (1 + nq + nv + k) as u32;
+        let mu = |k: usize| (1 + nq + nv + nc + k) as u32;
+        let qp = |i: usize| (1 + n + i) as u32;
+        let vp = |j: usize| (1 + n + nq + j) as u32;
+        let g = &mut sys.graph;
+        let mut res: Vec<Expr> = Vec::with_capacity(n);
+        for i in 0..nq {
+            let mut terms = vec![g.var(qp(i))];
+            terms.push(g.neg(sys.kinematics[i]));
+            for k in 0..nc {
+                if !g.is_zero(c.gq[k][i]) {
+                    let m = g.var(mu(k));
+                    terms.push(g.mul(c.gq[k][i], m));
+                }
+            }
+            res.push(g.sum(&terms));
+        }
+        for j in 0..nv {
+            let a = g.var(vp(j));
+            // M_j v_j' (a sensitivity run's system may hold M_j as an expression of a parameter)
+            let ma = match sys.mass_symbols.get(j) {
+                Some(&m) => g.mul(m, a),
+                None => g.scale(sys.mass[j], a),
+            };
+            res.push(c.effort_row(g, (j, sys.forces[j]), &[ma], lam));
+        }
+        res.extend(c.g.iter().copied());
+        res.extend(c.gvv.iter().copied());
+        res
     }
 
     /// The structural non-zeros of `∂F/∂y + cj ∂F/∂y'` for any compliance: the compiled

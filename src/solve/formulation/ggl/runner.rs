@@ -331,6 +331,20 @@ fn set_id(solver: &mut Solver, id: &[f64]) -> Result<(), SolveError> {
 }
 
 impl<'a> Formulation<'a> for Ggl {
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<crate::solve::formulation::ParameterRows, SolveError>> {
+        let (rows, hidden) = GglFormulation::parameter_rows(sym);
+        let (nq, nv, nc) = self.dae.formulation.dims;
+        Some(Ok(crate::solve::formulation::ParameterRows {
+            rows,
+            hidden,
+            // μ vanishes on the solution
+            pinned: (nq + nv + nc..nq + nv + 2 * nc).collect(),
+        }))
+    }
+
     fn first_row_state(&self) -> Vec<f64> {
         self.y0.clone()
     }

@@ -292,6 +292,39 @@ impl Index1Formulation {
         (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
         e0: Option<f64>,
     ) -> Result<Self, MechError> {
+        let (res, n, id) = Self::residual_rows(sys, c, (dependent, coordinates, rows), e0)?;
+        let (nq, nc) = (sys.nq(), sys.nc());
+        let g = &mut sys.graph;
+        let dae = if e0.is_none() {
+            ImplicitDae::build_selected(g, &res, n, Some(coordinate_rows(nq, n, coordinates)))
+        } else {
+            ImplicitDae::build(g, &res, n)
+        };
+        Ok(Index1Formulation {
+            dae,
+            dependent: dependent.to_vec(),
+            coordinates: coordinates.to_vec(),
+            rows: rows.to_vec(),
+            multipliers: nc,
+            energy: e0.map(|e0| EnergyInvariant {
+                e0,
+                offset: nq + sys.nv() + rows.len() + nc,
+            }),
+            id,
+        })
+    }
+
+    /// The residual's rows `R` of [`Index1Formulation::build_with_energy`] as expressions over
+    /// `[t, y, y']` (without the invariant: the `n + r` candidate rows, the DAE's rows a
+    /// selection of them, [`Index1Formulation::dae_rows`]), the number of unknowns `n` and the
+    /// error-test mask. The sensitivity run differentiates them with respect to a parameter
+    /// ([`crate::sensitivity`]).
+    pub fn residual_rows(
+        sys: &mut MultibodySystem,
+        c: &ConstraintExprs,
+        (dependent, coordinates, rows): (&[usize], &[usize], &[usize]),
+        e0: Option<f64>,
+    ) -> Result<(Vec<Expr>, usize, Vec<f64>), MechError> {
         let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
         let r = rows.len();
         if dependent.len() != r || coordinates.len() != r || rows.iter().any(|&k| k >= nc) {
@@ -392,7 +425,11 @@ impl Index1Formulation {
         // dynamics with the multipliers, for v_j' (independent) or a_j (dependent)
         let keep = e0.is_some();
         let dyn_row = |g: &mut crate::expr::ExprGraph, j: usize, acc: Expr| {
-            let mut inertia = vec![g.scale(sys.mass[j], acc)];
+            // M_j a_j (a sensitivity run's system may hold M_j as an expression of a parameter)
+            let mut inertia = vec![match sys.mass_symbols.get(j) {
+                Some(&m) => g.mul(m, acc),
+                None => g.scale(sys.mass[j], acc),
+            }];
             if keep && sys.mass[j] != 0.0 {
                 // + μ M_j v_j
                 let v = g.var(v_slots[j]);
@@ -454,23 +491,13 @@ impl Index1Formulation {
             res.push(g.sub(energy, e));
         }
         let id = error_test_mask((nq, nv, n), coordinates, dependent, &measured);
-        let dae = if selectable {
-            ImplicitDae::build_selected(g, &res, n, Some(coordinate_rows(nq, n, coordinates)))
-        } else {
-            ImplicitDae::build(g, &res, n)
-        };
-        Ok(Index1Formulation {
-            dae,
-            dependent: dependent.to_vec(),
-            coordinates: coordinates.to_vec(),
-            rows: rows.to_vec(),
-            multipliers: nc,
-            energy: e0.map(|e0| EnergyInvariant {
-                e0,
-                offset: nq + nv + r + nc,
-            }),
-            id,
-        })
+        Ok((res, n, id))
+    }
+
+    /// The DAE's rows among [`Index1Formulation::residual_rows`]'s (the candidate row of each
+    /// row, in order) for the dependent coordinates `coordinates`, without the invariant.
+    pub fn dae_rows(nq: usize, n: usize, coordinates: &[usize]) -> Vec<usize> {
+        coordinate_rows(nq, n, coordinates)
     }
 }
 

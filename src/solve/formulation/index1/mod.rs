@@ -5,5 +5,6 @@
 
 pub mod equations;
 pub(crate) mod runner;
+mod sensitivity;
 
 pub use equations::*;

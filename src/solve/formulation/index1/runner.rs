@@ -697,6 +697,22 @@ impl<'a> Index1<'a> {
 }
 
 impl<'a> Formulation<'a> for Index1<'a> {
+    fn parameter_rows(
+        &mut self,
+        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+    ) -> Option<Result<super::super::ParameterRows, SolveError>> {
+        let partition = (&self.dependent[..], &self.coordinates[..], &self.rows[..]);
+        Some(
+            Index1Formulation::parameter_rows(sym, partition, self.energy_e0.is_some())
+                .map(|rows| super::super::ParameterRows {
+                    rows,
+                    hidden: Vec::new(),
+                    pinned: Vec::new(),
+                })
+                .map_err(SolveError::from),
+        )
+    }
+
     fn first_row_state(&self) -> Vec<f64> {
         self.y_first.clone()
     }
