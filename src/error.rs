@@ -84,7 +84,7 @@ pub enum Error {
     /// A sensitivity run or a fit was refused or failed (the parameter's path or the data's
     /// column in the message).
     #[error("{0}")]
-    Sensitivity(Box<crate::sensitivity::SensitivityError>),
+    Sensitivity(Box<crate::analysis::sensitivity::SensitivityError>),
     /// The solve stopped before its last output time — a budget (`max_steps`,
     /// `max_wall_seconds`) ran out or the solver failed — and kept what it had computed:
     /// `partial` holds the rows up to the time reached (its summary has `completed: false`,
@@ -171,8 +171,8 @@ impl From<crate::report::vary::VaryError> for Error {
 /// `Result` with bondmech's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-impl From<crate::sensitivity::SensitivityError> for Error {
-    fn from(e: crate::sensitivity::SensitivityError) -> Self {
+impl From<crate::analysis::sensitivity::SensitivityError> for Error {
+    fn from(e: crate::analysis::sensitivity::SensitivityError) -> Self {
         Error::Sensitivity(Box::new(e))
     }
 }

@@ -21,13 +21,12 @@
 //! assert_eq!(col[0], 0.0); // the start does not depend on the mass
 //! ```
 
-pub mod error;
 pub mod fit;
 pub mod parameter;
 pub mod run;
 pub mod symbols;
 
-pub use error::SensitivityError;
+pub use crate::analysis::sensitivity::SensitivityError;
 pub use fit::{fit, FitData, FitReport, FitRequest};
 pub use parameter::SceneParameter;
 pub use run::{sensitivity, Sensitivities, SensitivityRequest};

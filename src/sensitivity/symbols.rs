@@ -87,6 +87,16 @@ impl SymbolicSystem {
     }
 }
 
+impl crate::solve::formulation::ParameterSymbols for SymbolicSystem {
+    fn system(&mut self) -> &mut MultibodySystem {
+        &mut self.sys
+    }
+
+    fn derivatives(&mut self, exprs: &[Expr]) -> Vec<Vec<Expr>> {
+        SymbolicSystem::derivatives(self, exprs)
+    }
+}
+
 /// The value's form as a function of the parameter, from three exact samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Form {

@@ -246,7 +246,7 @@ pub(crate) trait Formulation<'a> {
     /// sensitivities).
     fn parameter_rows(
         &mut self,
-        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+        sym: &mut dyn ParameterSymbols,
     ) -> Option<Result<ParameterRows, SolveError>> {
         let _ = sym;
         None
@@ -320,4 +320,15 @@ pub(crate) struct Job<'a> {
     /// The scene's events (none: `None`), registered as root functions on the implicit and
     /// explicit problems; a reduced problem brings its own root functions, the events first.
     pub events: Option<Events>,
+}
+
+/// A mechanism whose parameters are symbols in its expressions (a sensitivity run's:
+/// `crate::sensitivity::symbols::SymbolicSystem` implements it): what a formulation needs to
+/// build `∂F/∂p_k` from its own residual rows ([`Formulation::parameter_rows`]).
+pub trait ParameterSymbols {
+    /// The system, its expressions over `[t, q, v]` and the parameters' slots.
+    fn system(&mut self) -> &mut crate::mech::MultibodySystem;
+    /// `∂e/∂p_k` at the parameters' values, for every parameter `k` (expressions over the
+    /// other slots).
+    fn derivatives(&mut self, exprs: &[crate::expr::Expr]) -> Vec<Vec<crate::expr::Expr>>;
 }

@@ -138,14 +138,15 @@ impl GglFormulation {
     /// depend on the parameters. Also the hidden constraints `G_v v' + γ = 0` (over `[t, y,
     /// y']` and the symbols), which determine the multipliers' sensitivities at the start.
     pub fn parameter_rows(
-        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+        sym: &mut dyn crate::solve::formulation::ParameterSymbols,
     ) -> (Vec<Vec<Expr>>, Vec<Expr>) {
-        let c = ConstraintExprs::derive(&mut sym.sys);
-        let rows = Self::residual_rows(&mut sym.sys, &c);
-        let (nq, nv, nc) = (sym.sys.nq(), sym.sys.nv(), sym.sys.nc());
+        let sys = sym.system();
+        let c = ConstraintExprs::derive(sys);
+        let rows = Self::residual_rows(sys, &c);
+        let (nq, nv, nc) = (sys.nq(), sys.nv(), sys.nc());
         let n = nq + nv + 2 * nc;
         let hidden: Vec<Expr> = (0..nc)
-            .map(|k| c.acceleration_row(&mut sym.sys.graph, k, |j| (1 + n + nq + j) as u32))
+            .map(|k| c.acceleration_row(&mut sys.graph, k, |j| (1 + n + nq + j) as u32))
             .collect();
         (sym.derivatives(&rows), hidden)
     }

@@ -333,7 +333,7 @@ fn set_id(solver: &mut Solver, id: &[f64]) -> Result<(), SolveError> {
 impl<'a> Formulation<'a> for Ggl {
     fn parameter_rows(
         &mut self,
-        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+        sym: &mut dyn crate::solve::formulation::ParameterSymbols,
     ) -> Option<Result<crate::solve::formulation::ParameterRows, SolveError>> {
         let (rows, hidden) = GglFormulation::parameter_rows(sym);
         let (nq, nv, nc) = self.dae.formulation.dims;

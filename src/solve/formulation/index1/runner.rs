@@ -699,7 +699,7 @@ impl<'a> Index1<'a> {
 impl<'a> Formulation<'a> for Index1<'a> {
     fn parameter_rows(
         &mut self,
-        sym: &mut crate::sensitivity::symbols::SymbolicSystem,
+        sym: &mut dyn crate::solve::formulation::ParameterSymbols,
     ) -> Option<Result<super::super::ParameterRows, SolveError>> {
         let partition = (&self.dependent[..], &self.coordinates[..], &self.rows[..]);
         Some(

@@ -14,7 +14,7 @@ use super::Index1Formulation;
 use crate::dae::ConstraintExprs;
 use crate::expr::Expr;
 use crate::mech::MechError;
-use crate::sensitivity::symbols::SymbolicSystem;
+use crate::solve::formulation::ParameterSymbols;
 
 impl Index1Formulation {
     /// `∂F/∂p_k` of the index-1 DAE with the dependent velocities, coordinates and joint rows
@@ -22,7 +22,7 @@ impl Index1Formulation {
     /// parameter of `sym`. Refused with the energy invariant (its rows hold the energy `E₀` of
     /// the start).
     pub fn parameter_rows(
-        sym: &mut SymbolicSystem,
+        sym: &mut dyn ParameterSymbols,
         partition: (&[usize], &[usize], &[usize]),
         energy: bool,
     ) -> Result<Vec<Vec<Expr>>, MechError> {
@@ -32,9 +32,10 @@ impl Index1Formulation {
                 "sensitivities are not computed with the energy invariant (its rows hold the start's energy)",
             ));
         }
-        let c = ConstraintExprs::derive(&mut sym.sys);
-        let (res, n, _) = Self::residual_rows(&mut sym.sys, &c, partition, None)?;
-        let rows: Vec<Expr> = Self::dae_rows(sym.sys.nq(), n, partition.1)
+        let sys = sym.system();
+        let c = ConstraintExprs::derive(sys);
+        let (res, n, _) = Self::residual_rows(sys, &c, partition, None)?;
+        let rows: Vec<Expr> = Self::dae_rows(sys.nq(), n, partition.1)
             .iter()
             .map(|&i| res[i])
             .collect();
