@@ -324,7 +324,7 @@ pub(crate) struct Job<'a> {
 
 /// A mechanism whose parameters are symbols in its expressions (a sensitivity run's:
 /// `crate::sensitivity::symbols::SymbolicSystem` implements it): what a formulation needs to
-/// build `∂F/∂p_k` from its own residual rows ([`Formulation::parameter_rows`]).
+/// build `∂F/∂p_k` from its own residual rows (a formulation's `parameter_rows`).
 pub trait ParameterSymbols {
     /// The system, its expressions over `[t, q, v]` and the parameters' slots.
     fn system(&mut self) -> &mut crate::mech::MultibodySystem;
